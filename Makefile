@@ -1,0 +1,52 @@
+# persistri: the two commands of the README.
+#   make demo   create .venv, install, run the main job, write results to out/
+#   make test   create .venv, install with the dev extras, run every check
+PY      ?= python3
+VENV    := .venv
+BIN     := $(VENV)/bin
+# Hypothesis profile: `ci` (thorough) when CI is set, `dev` (quick) otherwise.
+PROFILE ?= $(if $(CI),ci,dev)
+export HYPOTHESIS_PROFILE := $(PROFILE)
+
+.PHONY: demo test install install-dev links typecheck pytest proofs docs clean
+
+$(BIN)/python:
+	@$(PY) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "persistri needs Python 3.11 or newer; set PY=python3.11")'
+	$(PY) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --upgrade pip "setuptools>=69" wheel
+
+$(VENV)/.installed: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install -q -e . --config-settings editable_mode=strict
+	touch $@
+
+$(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install -q -e ".[dev]" --config-settings editable_mode=strict
+	touch $@ $(VENV)/.installed
+
+# A strict editable install is a tree of links made at install time: refresh it
+# so that modules added since are importable (and visible to mypy).
+links: | $(BIN)/python
+	$(BIN)/python -m pip install -q --no-deps --no-build-isolation -e . --config-settings editable_mode=strict
+
+install: $(VENV)/.installed links
+install-dev: $(VENV)/.installed-dev links
+
+demo: install
+	$(BIN)/persistri demo --out out
+
+typecheck: install-dev
+	$(BIN)/mypy -p persistri.spec -p persistri.impl
+	$(BIN)/mypy tests/typing/consumer.py
+	$(BIN)/python tests/typing/check_rejections.py
+
+pytest: install-dev
+	$(BIN)/python -m pytest -n 2 -p no:cacheprovider
+
+proofs: install-dev
+	$(BIN)/python -m proofs
+
+test: typecheck pytest proofs
+	@echo "make test: all checks passed"
+
+clean:
+	rm -rf $(VENV) out build site .mypy_cache .pytest_cache .hypothesis

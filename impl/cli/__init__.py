@@ -1,0 +1,1 @@
+"""The ``persistri`` command line (``persistri --help``)."""

@@ -1,0 +1,22 @@
+"""``persistri``: the command-line entry point; each sub-command lives in its own module."""
+
+from __future__ import annotations
+
+import click
+
+from persistri.impl.cli.bench import bench
+from persistri.impl.cli.conformance import conformance
+from persistri.impl.cli.demo import demo
+
+__all__ = ["main"]
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="persistri")
+def main() -> None:
+    """persistri: persistent triangulations (Blelloch et al.), typed and checked."""
+
+
+main.add_command(conformance)
+main.add_command(bench)
+main.add_command(demo)
