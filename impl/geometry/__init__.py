@@ -1,0 +1,1 @@
+"""Exact geometric predicates: integer scaling, float filters, Simulation of Simplicity."""
