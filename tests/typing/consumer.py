@@ -1,0 +1,155 @@
+"""A downstream consumer of persistri, typed the way user code is.
+
+This file lives OUTSIDE the package on purpose: it imports the *installed*
+``persistri.spec`` and ``persistri.impl`` (the strict editable install) and must
+pass ``mypy tests/typing/consumer.py`` under the project's strict settings
+(``make typecheck`` runs it).  ``assert_type`` pins the types mypy infers, so a
+change that silently widens a signature to ``Any`` (or narrows it wrongly) makes
+the type check fail, not just the run.
+
+It also runs: ``python tests/typing/consumer.py`` prints nothing and exits 0,
+its ``assert`` statements checking the results of the generic code below on
+every backend that exists.
+"""
+
+from __future__ import annotations
+
+import operator
+from collections.abc import Iterable
+from typing import Any, TypeVar, assert_never, assert_type
+
+from persistri.impl.maps.assoc_list import ALMap, AssocListMap, assoc_list
+from persistri.impl.maps.counted import counted
+from persistri.impl.stats import Stats
+from persistri.spec import NATURAL_ORDER, SOME, NotFound, Option, OrdKey, OrdMap, Order, valOf
+
+K = TypeVar("K")
+V = TypeVar("V")
+M = TypeVar("M")
+
+
+# -- generic code over any ORD_MAP structure -----------------------------------
+
+
+def from_items(s: OrdMap[K, V, M], items: Iterable[tuple[K, V]]) -> M:
+    """The map of ``items`` (later items win), built with structure ``s``."""
+    m = s.empty()
+    for k, v in items:
+        m = s.insert(m, k, v)
+    return m
+
+
+def count(s: OrdMap[K, int, M], words: Iterable[K]) -> M:
+    """How often each word occurs: ``insertWith (op +)`` over ``words``."""
+    m = s.empty()
+    for w in words:
+        m = s.insertWith(operator.add, m, w, 1)
+    return m
+
+
+def get_or(s: OrdMap[K, V, M], m: M, k: K, default: V) -> V:
+    """The value of ``k`` in ``m``, or ``default``: the ``Option`` convention read with ``match``."""
+    found: Option[V] = s.find(m, k)
+    match found:
+        case (v,):
+            return v
+        case None:
+            return default
+        case _:
+            assert_never(found)
+
+
+def lookup_or_none(s: OrdMap[K, V, M], m: M, k: K) -> V | None:
+    """``lookup``, with SML's ``NotFound`` caught as a ``KeyError`` subclass."""
+    try:
+        return s.lookup(m, k)
+    except NotFound:
+        return None
+
+
+def total(s: OrdMap[K, int, M], m: M) -> int:
+    """The sum of the values of ``m`` (``foldli``)."""
+    return s.foldli(lambda _k, v, acc: acc + v, 0, m)
+
+
+def pop_all(s: OrdMap[K, V, M], m: M) -> list[V]:
+    """Remove every key in increasing order; the values in that order."""
+    out: list[V] = []
+    for k in s.listKeys(m):
+        m, v = s.remove(m, k)
+        out.append(v)
+    assert s.isEmpty(m)
+    return out
+
+
+def is_sorted(order: OrdKey[K], keys: list[K]) -> bool:
+    """Whether ``keys`` increase strictly under ``order`` (an ``ORD_KEY`` structure)."""
+    return all(order.compare(a, b) is Order.LESS for a, b in zip(keys, keys[1:]))
+
+
+def exercise(s: OrdMap[str, int, M]) -> None:
+    """Run the generic code above with structure ``s`` and check its results."""
+    words = "the cat saw the dog and the cat ran".split()
+    counts = count(s, words)
+    assert s.listItemsi(counts) == [("and", 1), ("cat", 2), ("dog", 1), ("ran", 1), ("saw", 1), ("the", 3)]
+    assert s.numItems(counts) == 6
+    assert total(s, counts) == len(words)
+    assert is_sorted(s.Key, s.listKeys(counts))
+    assert get_or(s, counts, "cat", 0) == 2
+    assert get_or(s, counts, "cow", 0) == 0
+    assert lookup_or_none(s, counts, "cow") is None
+    assert s.find(counts, "the") == SOME(3)
+    assert valOf(s.find(counts, "dog")) == 1
+    # Persistence: removing from a later version leaves the earlier one intact.
+    before = s.listItemsi(counts)
+    values = pop_all(s, counts)
+    assert values == [v for _, v in before]
+    assert s.listItemsi(counts) == before
+    m1 = from_items(s, [("b", 2), ("a", 1), ("b", 20)])
+    m2 = s.insert(m1, "c", 3)
+    assert s.listItemsi(m1) == [("a", 1), ("b", 20)]
+    assert s.listItemsi(m2) == [("a", 1), ("b", 20), ("c", 3)]
+
+
+# -- the concrete backends, at concrete types ----------------------------------
+
+# The association-list structure: its class at concrete types, and the polymorphic constant.
+al: AssocListMap[int, str] = AssocListMap()
+al_map = from_items(al, [(2, "two"), (1, "one")])
+assert_type(al_map, "ALMap[int, str]")
+assert_type(al.find(al_map, 1), "Option[str]")
+assert_type(al.remove(al_map, 1), "tuple[ALMap[int, str], str]")
+
+# Ascription to the signature hides the representation (SML's opaque ascription).
+al_sig: OrdMap[int, str, ALMap[int, str]] = al
+assert_type(al_sig.listItemsi(al_map), list[tuple[int, str]])
+assert al_sig.listItemsi(al_map) == [(1, "one"), (2, "two")]
+
+exercise(assoc_list)
+
+# Counting: the counted structure has the same type and the same results.
+stats = Stats()
+al_counted = counted(al_sig, stats)
+assert_type(al_counted, "OrdMap[int, str, ALMap[int, str]]")
+assert al_counted.find(al_map, 2) == ("two",)
+assert stats.dict_ops == 1 and stats.key_comparisons == 2
+assert counted(al_sig, None) is al_sig
+
+# The natural order as an ORD_KEY structure.
+assert_type(NATURAL_ORDER.compare(1, 2), Order)
+assert NATURAL_ORDER.compare("b", "a") is Order.GREATER
+assert -Order.LESS is Order.GREATER
+key_order: OrdKey[int] = NATURAL_ORDER
+assert is_sorted(key_order, [1, 2, 3]) and not is_sorted(key_order, [1, 1])
+
+# SML's NotFound is a KeyError.
+try:
+    al.lookup(al_map, 3)
+except KeyError as exc:
+    assert isinstance(exc, NotFound)
+else:
+    raise AssertionError("lookup of an absent key must raise NotFound")
+
+backends: list[OrdMap[str, int, Any]] = [assoc_list]
+for b in backends:
+    exercise(b)
