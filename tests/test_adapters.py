@@ -8,6 +8,7 @@ adapting an unordered third-party hash map: ``None`` values, sorted listing,
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import pytest
@@ -137,7 +138,7 @@ UNORDERABLE: list[Any] = [object(), 1j, None]
 def test_bad_keys_raise_TypeError_at_every_keyed_operation(s: Any, library_map: type, name: str, key: Any) -> None:
     m = build(s, [(1, "a")])
     reason = "not hashable" if any(key is k for k in UNHASHABLE) else "not orderable"
-    calls = {
+    calls: dict[str, Callable[[], object]] = {
         "singleton": lambda: s.singleton(key, 0),
         "insert": lambda: s.insert(m, key, 0),
         "insert into empty": lambda: s.insert(s.empty(), key, 0),

@@ -1,10 +1,118 @@
-"""Placeholder for `persistri bench` (being written)."""
+"""``persistri bench``: benchmarks that measure persistri against its peers in the same run.
+
+A click group; each benchmark is a sub-command (``maps`` now; ``complex``,
+``hull`` and ``terrain`` join it later).  The measuring code lives in
+:mod:`persistri.impl.bench`; the commands parse options, show progress on
+stderr and print results on stdout.
+"""
 
 from __future__ import annotations
 
+import json
+from collections.abc import Iterator
+from contextlib import contextmanager
+
 import click
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+from persistri.impl.bench.maps import DEFAULT_REPEAT, DEFAULT_SEED, DEFAULT_SIZES, SUBJECTS, ProgressCallback, run_map_bench
+from persistri.impl.bench.maps_report import print_maps
+
+__all__ = ["bench", "parse_sizes", "progress_bar", "stdout_console"]
+
+_PIPE_WIDTH = 120
+
+
+def parse_sizes(text: str) -> tuple[int, ...]:
+    """``"1000,100_000,1e6"`` → ``(1000, 100000, 1000000)``: positive integers separated by commas.
+
+    Raises :class:`click.BadParameter` naming the bad item.
+    """
+    sizes: list[int] = []
+    for item in text.split(","):
+        item = item.strip()
+        try:
+            value = float(item) if "e" in item.lower() else int(item)
+        except ValueError:
+            raise click.BadParameter(f"{item!r} is not a key count (give integers separated by commas)") from None
+        if value != int(value) or int(value) < 1:
+            raise click.BadParameter(f"{item!r} is not a positive integer")
+        sizes.append(int(value))
+    return tuple(sizes)
+
+
+def _sizes_option(ctx: click.Context, param: click.Parameter, value: str) -> tuple[int, ...]:
+    return parse_sizes(value)
+
+
+def stdout_console() -> Console:
+    """A rich console on stdout; at least 120 columns wide when stdout is a file or a pipe.
+
+    (rich assumes 80 columns when it cannot ask a terminal: too narrow for the tables.)
+    """
+    console = Console()
+    return console if console.is_terminal else Console(width=_PIPE_WIDTH)
+
+
+@contextmanager
+def progress_bar(console: Console, title: str) -> Iterator[ProgressCallback]:
+    """A rich progress bar on ``console`` for the duration of the block, fed by the callback it yields.
+
+    The bar is transient (erased when done) and, like all of rich's live
+    displays, drawn only when ``console`` is a terminal.
+    """
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    with Progress(*columns, console=console, transient=True) as progress:
+        task = progress.add_task(title, total=None)
+
+        def update(done: int, total: int, what: str) -> None:
+            progress.update(task, completed=done, total=total, description=f"{title}: {what}")
+
+        yield update
 
 
 @click.group()
 def bench() -> None:
-    """Not yet available."""
+    """Measure persistri against its peers, in the same run (see each sub-command)."""
+
+
+@bench.command("maps")
+@click.option(
+    "--sizes",
+    default=",".join(str(n) for n in DEFAULT_SIZES),
+    show_default=True,
+    callback=_sizes_option,
+    help="Key counts, separated by commas.",
+)
+@click.option("--repeat", type=click.IntRange(min=1), default=DEFAULT_REPEAT, show_default=True, help="Timed runs per figure; the best is kept.")
+@click.option("--seed", type=int, default=DEFAULT_SEED, show_default=True, help="Seed of the random key orders.")
+@click.option(
+    "--only",
+    default=None,
+    metavar="NAMES",
+    help=f"Measure only these maps (comma-separated; dict always runs, as the baseline). Maps: {', '.join(s.name for s in SUBJECTS)}.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
+def maps(sizes: tuple[int, ...], repeat: int, seed: int, only: str | None, as_json: bool) -> None:
+    """Per-operation cost of insert, find and remove, for every map backend and its peers.
+
+    Builds an n-key map from empty (a random permutation of range(n)), finds
+    every key and removes every key (each in another random order), for
+    persistri's backends, its adapters, Python's dict and the third-party
+    persistent maps (immutables' C and pure-Python HAMTs, pyrsistent).  Prints
+    µs per operation and the ratio to dict.  Exit status 1 if a map failed.
+    """
+    only_names = None if only is None else [name.strip() for name in only.split(",") if name.strip()]
+    err = Console(stderr=True)
+    try:
+        with progress_bar(err, "bench maps") as update:
+            result = run_map_bench(sizes, repeat=repeat, seed=seed, only=only_names, on_progress=update)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--only") from None
+    if as_json:
+        click.echo(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
+    else:
+        print_maps(result, stdout_console())
+    if result.errors():
+        raise SystemExit(1)

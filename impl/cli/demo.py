@@ -1,10 +1,146 @@
-"""Placeholder for `persistri demo` (being written)."""
+"""``persistri demo --out DIR``: the main job of ``make demo``, a sequence of stages that write results to DIR.
+
+Each stage is a :class:`DemoStage`: a name, a title for the progress bar, and a
+function that does the work, writes its files into the output directory and
+returns them with an optional renderable summary.  :data:`STAGES` lists them in
+order; adding a stage (the convex hull, the terrain) is adding an entry.
+
+Stages now:
+
+``maps``
+    the map benchmark (:mod:`persistri.impl.bench.maps`) at 10³ and 10⁴ keys:
+    ``bench_maps.json`` (the records), ``bench_maps.txt`` (the table) and
+    ``bench_maps.png`` (µs/op per map and operation, log scale).
+"""
 
 from __future__ import annotations
 
+import json
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
 import click
+from rich.console import Console, RenderableType
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TextColumn, TimeElapsedColumn
+
+from persistri.impl.bench.maps import DEFAULT_SEED, ProgressCallback, run_map_bench
+from persistri.impl.bench.maps_report import maps_report, maps_text, save_maps_chart
+from persistri.impl.cli.bench import parse_sizes, stdout_console
+
+__all__ = ["DemoSettings", "DemoStage", "StageContext", "StageResult", "STAGES", "demo", "run_demo"]
+
+DEMO_BENCH_SIZES = (1_000, 10_000)
+"""Key counts of the demo's map benchmark: small enough for the association list."""
 
 
-@click.group()
-def demo() -> None:
-    """Not yet available."""
+@dataclass(frozen=True, slots=True)
+class DemoSettings:
+    """What the whole demo is asked to do."""
+
+    out: Path
+    """The directory the stages write into (created if missing)."""
+    bench_sizes: tuple[int, ...] = DEMO_BENCH_SIZES
+    repeat: int = 3
+    seed: int = DEFAULT_SEED
+
+
+@dataclass(frozen=True, slots=True)
+class StageContext:
+    """What a stage is given: the settings, and a callback that moves its progress bar."""
+
+    settings: DemoSettings
+    progress: ProgressCallback
+    """``(steps done, steps in all, what runs now)``."""
+
+
+@dataclass(frozen=True, slots=True)
+class StageResult:
+    """What a stage made: the files it wrote, a summary to print, and any failures (which fail the demo)."""
+
+    files: list[Path]
+    summary: RenderableType | None = None
+    failures: list[str] = field(default_factory=list)
+
+
+@dataclass(frozen=True, slots=True)
+class DemoStage:
+    """One step of the demo."""
+
+    name: str
+    title: str
+    run: Callable[[StageContext], StageResult]
+
+
+def maps_stage(ctx: StageContext) -> StageResult:
+    """Run the map benchmark and write ``bench_maps.json``, ``bench_maps.txt`` and ``bench_maps.png``."""
+    s = ctx.settings
+    result = run_map_bench(s.bench_sizes, repeat=s.repeat, seed=s.seed, on_progress=ctx.progress)
+    json_path, txt_path, png_path = (s.out / f"bench_maps.{ext}" for ext in ("json", "txt", "png"))
+    json_path.write_text(json.dumps(result.as_dict(), indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+    txt_path.write_text(maps_text(result), encoding="utf-8")
+    save_maps_chart(result, png_path)
+    failures = [f"bench maps: {r.map} at n={r.n:,}: {r.note}" for r in result.errors()]
+    return StageResult([json_path, txt_path, png_path], maps_report(result), failures)
+
+
+STAGES: tuple[DemoStage, ...] = (DemoStage("maps", "persistent maps vs. their peers", maps_stage),)
+"""The demo's stages, in the order they run."""
+
+
+def run_demo(settings: DemoSettings, console: Console, stages: Sequence[DemoStage] | None = None) -> list[StageResult]:
+    """Run ``stages`` (default :data:`STAGES`) in order under one rich progress display on ``console``.
+
+    Each stage's summary is printed as it finishes.
+    """
+    if stages is None:
+        stages = STAGES
+    settings.out.mkdir(parents=True, exist_ok=True)
+    results: list[StageResult] = []
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    with Progress(*columns, console=console) as progress:
+        for stage in stages:
+            task = progress.add_task(stage.title, total=None)
+
+            def update(done: int, total: int, what: str, task: TaskID = task, title: str = stage.title) -> None:
+                progress.update(task, completed=done, total=total, description=f"{title}: {what}")
+
+            result = stage.run(StageContext(settings, update))
+            progress.update(task, description=f"{stage.title}: done")
+            if result.summary is not None:
+                progress.console.print(result.summary)
+            results.append(result)
+    return results
+
+
+@click.command()
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False, dir_okay=True, writable=True, path_type=Path),
+    default=Path("out"),
+    show_default=True,
+    help="Directory to write the results into (created if missing).",
+)
+@click.option(
+    "--bench-sizes",
+    default=",".join(map(str, DEMO_BENCH_SIZES)),
+    callback=lambda ctx, param, value: parse_sizes(value),
+    hidden=True,
+    help="Key counts of the map benchmark (for quick runs and tests).",
+)
+@click.option("--repeat", type=click.IntRange(min=1), default=3, hidden=True, help="Timed runs per benchmark figure.")
+def demo(out: Path, bench_sizes: tuple[int, ...], repeat: int) -> None:
+    """Run the demo: every stage in turn, writing its results into --out.
+
+    Now: the map benchmark at 10^3 and 10^4 keys (bench_maps.json, .txt, .png).
+    Exit status 1 if a stage reports a failure.
+    """
+    settings = DemoSettings(out=out, bench_sizes=bench_sizes, repeat=repeat)
+    console = stdout_console()
+    results = run_demo(settings, console)
+    console.print("wrote:", *(str(p) for r in results for p in r.files), sep="\n  ")
+    failures = [f for r in results for f in r.failures]
+    for failure in failures:
+        click.echo(f"persistri demo: {failure}", err=True)
+    if failures:
+        raise SystemExit(1)

@@ -1,0 +1,86 @@
+"""``persistri demo --out DIR`` at tiny sizes: the files it writes, and how stages compose."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from rich.console import Console
+
+from persistri.impl.bench.maps import RECORD_FIELDS, SUBJECTS
+from persistri.impl.cli import demo as demo_module
+from persistri.impl.cli.demo import DemoSettings, DemoStage, StageContext, StageResult, run_demo
+from persistri.impl.cli.main import main
+
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
+def test_demo_writes_the_map_benchmark(tmp_path: Path) -> None:
+    out = tmp_path / "results" / "nested"  # created if missing
+    result = CliRunner().invoke(
+        main, ["demo", "--out", str(out), "--bench-sizes", "60,90", "--repeat", "1"], catch_exceptions=False
+    )
+    assert result.exit_code == 0, result.output
+    files = {p.name for p in out.iterdir()}
+    assert files == {"bench_maps.json", "bench_maps.txt", "bench_maps.png"}
+
+    doc = json.loads((out / "bench_maps.json").read_text(encoding="utf-8"))
+    assert doc["sizes"] == [60, 90] and doc["repeat"] == 1
+    assert len(doc["records"]) == 2 * len(SUBJECTS)
+    assert all(tuple(r) == RECORD_FIELDS for r in doc["records"])
+    assert {r["map"] for r in doc["records"] if r["status"] == "ok"} >= {"dict", "assoc_list"}
+
+    text = (out / "bench_maps.txt").read_text(encoding="utf-8")
+    assert "Persistent maps: µs per operation" in text
+    assert "measured: dict" in text
+    assert "\x1b[" not in text  # plain text, no terminal colour codes
+
+    png = (out / "bench_maps.png").read_bytes()
+    assert png.startswith(PNG_MAGIC)
+    from matplotlib.image import imread
+
+    height, width = imread(out / "bench_maps.png").shape[:2]
+    assert width > height > 100
+
+    for name in files:
+        assert str(out / name) in result.stdout
+
+
+def _stage(name: str, log: list[str], failures: list[str] | None = None) -> DemoStage:
+    def run(ctx: StageContext) -> StageResult:
+        log.append(name)
+        ctx.progress(0, 1, "working")
+        path = ctx.settings.out / f"{name}.txt"
+        path.write_text(name, encoding="utf-8")
+        ctx.progress(1, 1, "done")
+        return StageResult([path], f"summary of {name}", failures or [])
+
+    return DemoStage(name, f"stage {name}", run)
+
+
+def test_stages_run_in_order_and_report_their_files(tmp_path: Path) -> None:
+    log: list[str] = []
+    with open(tmp_path / "console.txt", "w", encoding="utf-8") as fh:
+        results = run_demo(DemoSettings(out=tmp_path / "o"), Console(file=fh, width=100), [_stage("a", log), _stage("b", log)])
+    assert log == ["a", "b"]
+    assert [r.files for r in results] == [[tmp_path / "o" / "a.txt"], [tmp_path / "o" / "b.txt"]]
+    printed = (tmp_path / "console.txt").read_text(encoding="utf-8")
+    assert printed.index("summary of a") < printed.index("summary of b")
+
+
+def test_a_failing_stage_fails_the_demo(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    log: list[str] = []
+    monkeypatch.setattr(demo_module, "STAGES", (_stage("bad", log, ["bad: it broke"]), _stage("after", log)))
+    result = CliRunner().invoke(main, ["demo", "--out", str(tmp_path)], catch_exceptions=False)
+    assert result.exit_code == 1
+    assert log == ["bad", "after"]  # later stages still run and write their files
+    assert "persistri demo: bad: it broke" in result.stderr
+    assert (tmp_path / "after.txt").read_text(encoding="utf-8") == "after"
+
+
+def test_bad_sizes_are_a_usage_error(tmp_path: Path) -> None:
+    result = CliRunner().invoke(main, ["demo", "--out", str(tmp_path), "--bench-sizes", "ten"])
+    assert result.exit_code == 2
+    assert "'ten' is not a key count" in result.output
