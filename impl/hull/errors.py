@@ -1,0 +1,19 @@
+"""The exceptions of the convex hull: what is wrong with an input, said plainly."""
+
+from __future__ import annotations
+
+__all__ = ["DegenerateInputError"]
+
+
+class DegenerateInputError(ValueError):
+    """The distinct input points do not span 3D space, so they have no 3D convex hull.
+
+    ``affine_dimension`` is the dimension of the affine hull actually found:
+    0 (all points identical), 1 (collinear), 2 (coplanar); ``distinct`` is the
+    number of distinct points.
+    """
+
+    def __init__(self, message: str, *, affine_dimension: int, distinct: int) -> None:
+        super().__init__(message)
+        self.affine_dimension = affine_dimension
+        self.distinct = distinct
