@@ -1,0 +1,349 @@
+"""The specialised 2-complex the algorithms use (paper §2 and §4): per vertex, a list of triangles.
+
+One map of the ``ORD_MAP`` backend takes each vertex to an immutable tuple of
+entries ``(second vertex, third vertex, datum)``.  An oriented triangle
+``(a, b, c)`` with datum x is stored three times, once per rotation:
+
+    under a: ``(b, c, x)``     under b: ``(c, a, x)``     under c: ``(a, b, x)``
+
+so every order of the orientation is found by looking up its first vertex and
+scanning that vertex's list for the other two.  The reverse side
+``(a, c, b)`` would be ``(c, b, _)`` under a: ``add`` refuses it while
+``(a, b, c)`` is present.  These per-vertex lists are the paper's
+"association lists": its key comparisons are the tree nodes visited plus the
+list entries visited, and so are persistri's (:class:`~persistri.impl.stats.Stats`).
+
+Work per operation (δ = length of the list scanned, about 6 on average in a
+triangulated sphere; O(lg V) per map operation with the red-black backend):
+
+==========================  ==================================================
+``data``, ``find``          one map lookup + δ entries
+``add``                     three ``insertWith`` (the first also scans for the
+                            triangle in either orientation)
+``rem``, ``update``         one lookup + three updates (plus one ``remove``
+                            for each vertex left with no triangle)
+``vertices``                O(V);  ``simplices``, ``items``: O(V + N)
+``grep``                    one lookup + δ (then the faces of the star)
+==========================  ==================================================
+
+Persistence: a list is a tuple, replaced (never changed) when one of its
+entries is added, dropped or updated; the map is the backend's persistent map.
+The hot operations validate their arguments in O(1) before touching the map.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from typing import Any, TypeAlias, TypeVar
+
+from persistri.impl.complex.errors import (
+    AbsentSimplexError,
+    DuplicateSimplexError,
+    OppositeOrientationError,
+    OrientationError,
+    RepresentationError,
+)
+from persistri.impl.complex.simplex import Simplex
+from persistri.impl.complex.structure import Complex, ComplexStructure, Family, same_datum
+from persistri.impl.complex.vertex import Lineage, Vertex
+from persistri.impl.stats import Stats
+from persistri.spec.option import Option
+
+__all__ = ["TwoComplex", "Triangle", "Edge"]
+
+D = TypeVar("D")
+
+Triangle: TypeAlias = tuple[Vertex, Vertex, Vertex]
+"""A 2-simplex as the 2-complex returns it (a :data:`~persistri.impl.complex.simplex.Simplex` of length 3)."""
+
+Edge: TypeAlias = tuple[Vertex, Vertex]
+"""A 1-simplex."""
+
+Entry = tuple[Vertex, Vertex, Any]
+"""``(second vertex, third vertex, datum)`` in the list of the first vertex."""
+
+_new_complex = tuple.__new__
+
+
+class _Emptied(Exception):
+    """Raised inside ``insertWith`` when dropping an entry would leave a vertex's list empty."""
+
+
+def _cat(old: tuple[Entry, ...], new: tuple[Entry, ...]) -> tuple[Entry, ...]:
+    return old + new
+
+
+def _fast_tri(s: Any, lin: Lineage | None) -> bool:
+    """O(1): whether ``s`` is certainly a valid triangle of lineage ``lin`` (else the slow check decides)."""
+    if type(s) is not tuple or len(s) != 3:
+        return False
+    a, b, c = s
+    try:
+        la = a.lineage
+        return (
+            (la is lin or lin is None)
+            and b.lineage is la
+            and c.lineage is la
+            and a != b
+            and b != c
+            and a != c
+        )
+    except AttributeError:
+        return False
+
+
+def _fast_edge(s: Any, lin: Lineage | None) -> bool:
+    """O(1): whether ``s`` is certainly a valid edge of lineage ``lin``."""
+    if type(s) is not tuple or len(s) != 2:
+        return False
+    a, b = s
+    try:
+        la = a.lineage
+        return (la is lin or lin is None) and b.lineage is la and a != b
+    except AttributeError:
+        return False
+
+
+class TwoComplex(ComplexStructure[D]):
+    """``structure TwoComplex : SIMPCOMP`` for n = 2, specialised as in the paper's §4 (module docstring).
+
+    ``TwoComplex(backend)`` is uncounted; ``TwoComplex(backend, stats)`` reports
+    dictionary operations and key comparisons (tree nodes plus list entries
+    visited), faces created and faces deleted to ``stats``.
+    """
+
+    kind = "two"
+
+    def __init__(self, backend: Any, stats: Stats | None = None) -> None:
+        self.n = 2
+        self._init_maps(backend, stats)
+        if stats is None:
+            self.family = Family(self.kind, 2, backend, None, self)
+        else:
+            self.family = TwoComplex[D](backend).family
+
+    # -- hot public operations: O(1) validation, then the representation ------------
+
+    def _unpack(self, c: Any, what: str) -> tuple[Any, Lineage | None]:
+        if type(c) is Complex:
+            fam, rep, lin = c
+            if fam is self.family:
+                return rep, lin
+        return self._open(c, what)
+
+    def data(self, c: Complex[D], s: Simplex, /) -> Option[D]:
+        """``data (c, s)``: ``(x,)`` if the triangle ``s`` is held in this orientation with datum x, else None.
+
+        One map lookup and a scan of the list of ``s[0]``.
+        """
+        rep, lin = self._unpack(c, "data")
+        if not _fast_tri(s, lin):
+            s, _ = self._arg(s, 2, lin, "data")
+        return self._data(rep, s)
+
+    def find(self, c: Complex[D], s: Simplex, /) -> list[Triangle]:
+        """``find (c, (u, w))``: the triangles ``(u, w, x)`` having the oriented edge ``(u, w)`` as a face.
+
+        In a closed surface there is exactly one: the neighbour across the
+        reverse edge ``(w, u)`` of the triangle that holds ``(w, u)``.  One map
+        lookup (u) and a scan of u's list for second vertex w.
+        """
+        rep, lin = self._unpack(c, "find")
+        if not _fast_edge(s, lin):
+            s, _ = self._arg(s, 1, lin, "find")
+        return self._find(rep, s)
+
+    def findi(self, c: Complex[D], s: Simplex, /) -> list[tuple[Triangle, D]]:
+        """``find`` with each triangle's datum: ``[((u, w, x), datum), …]``.  One map lookup."""
+        rep, lin = self._unpack(c, "findi")
+        if not _fast_edge(s, lin):
+            s, _ = self._arg(s, 1, lin, "findi")
+        u, w = s
+        found = self._m.find(rep, u)
+        if found is None:
+            return []
+        lst = found[0]
+        if self._stats is not None:
+            self._stats.key_comparisons += len(lst)
+        return [((u, w, t), x) for v, t, x in lst if v == w]
+
+    def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
+        """``add (c, s, x)``: ``c`` with the triangle ``s`` carrying ``x``: three ``insertWith``.
+
+        Raises DimensionError, RepeatedVertexError, ForeignVertexError,
+        DuplicateSimplexError or OppositeOrientationError; ``c`` is unchanged.
+        """
+        rep, lin = self._unpack(c, "add")
+        if not _fast_tri(s, lin):
+            s, _ = self._arg(s, 2, lin, "add")
+        rep = self._add(rep, s, x)
+        if self._stats is not None:
+            self._stats.faces_created += 1
+        return _new_complex(Complex, (self.family, rep, s[0].lineage))
+
+    def rem(self, c: Complex[D], s: Simplex, /) -> Complex[D]:
+        """``rem (c, s)``: ``c`` without the triangle ``s``: one lookup, three updates.  AbsentSimplexError if absent."""
+        rep, lin = self._unpack(c, "rem")
+        if not _fast_tri(s, lin):
+            s, _ = self._arg(s, 2, lin, "rem")
+        rep = self._rem(rep, s)
+        if self._stats is not None:
+            self._stats.faces_deleted += 1
+        return _new_complex(Complex, (self.family, rep, lin))
+
+    def items(self, c: Complex[D], /) -> list[tuple[Triangle, D]]:
+        """Each triangle once (as the rotation starting at its smallest vertex), with its datum.  O(V + N)."""
+        rep, _ = self._unpack(c, "items")
+        return list(self._items(rep))
+
+    # -- internal operations ----------------------------------------------------------
+
+    def _scan(self, lst: tuple[Entry, ...], b: Vertex, c: Vertex) -> int:
+        """The index of entry ``(b, c, _)`` in ``lst``, or -1; counts the entries visited."""
+        for i, e in enumerate(lst):
+            if e[0] == b and e[1] == c:
+                if self._stats is not None:
+                    self._stats.key_comparisons += i + 1
+                return i
+        if self._stats is not None:
+            self._stats.key_comparisons += len(lst)
+        return -1
+
+    def _data(self, rep: Any, s: Simplex) -> Option[D]:
+        a, b, c = s
+        found = self._m.find(rep, a)
+        if found is None:
+            return None
+        lst = found[0]
+        i = self._scan(lst, b, c)
+        return None if i < 0 else (lst[i][2],)
+
+    def _find(self, rep: Any, f: Simplex) -> list[Triangle]:
+        u, w = f
+        found = self._m.find(rep, u)
+        if found is None:
+            return []
+        lst = found[0]
+        if self._stats is not None:
+            self._stats.key_comparisons += len(lst)
+        return [(u, w, t) for v, t, _ in lst if v == w]
+
+    def _star(self, rep: Any, v: Vertex) -> list[Triangle]:
+        found = self._m.find(rep, v)
+        if found is None:
+            return []
+        lst = found[0]
+        if self._stats is not None:
+            self._stats.key_comparisons += len(lst)
+        return [(v, b, c) for b, c, _ in lst]
+
+    def _items(self, rep: Any) -> Iterator[tuple[Triangle, D]]:
+        for a, lst in self._m.listItemsi(rep):
+            for b, c, x in lst:
+                if a < b and a < c:
+                    yield (a, b, c), x
+
+    def _add(self, rep: Any, s: Simplex, x: D) -> Any:
+        a, b, c = s
+        stats = self._stats
+
+        def check_cat(old: tuple[Entry, ...], new: tuple[Entry, ...]) -> tuple[Entry, ...]:
+            # The triangle, in either orientation, would be in a's list: (b, c) or (c, b).
+            for e in old:
+                e0 = e[0]
+                if e0 == b:
+                    if e[1] == c:
+                        raise DuplicateSimplexError(f"add: triangle {s!r} is already present")
+                elif e0 == c and e[1] == b:
+                    raise OppositeOrientationError(
+                        f"add: triangle {s!r} is present with the opposite orientation {(a, c, b)!r}"
+                    )
+            if stats is not None:
+                stats.key_comparisons += len(old)
+            return old + new
+
+        m = self._m
+        rep = m.insertWith(check_cat, rep, a, ((b, c, x),))
+        rep = m.insertWith(_cat, rep, b, ((c, a, x),))
+        return m.insertWith(_cat, rep, c, ((a, b, x),))
+
+    def _change(self, rep: Any, key: Vertex, b: Vertex, c: Vertex, y: Any, drop: bool) -> Any:
+        """Drop (or give datum ``y`` to) entry ``(b, c, _)`` of ``key``'s list: one ``insertWith``
+        (plus a ``remove`` if the list empties)."""
+        stats = self._stats
+
+        def change(old: tuple[Entry, ...], _: tuple[Entry, ...]) -> tuple[Entry, ...]:
+            for i, e in enumerate(old):
+                if e[0] == b and e[1] == c:
+                    if stats is not None:
+                        stats.key_comparisons += i + 1
+                    if drop:
+                        if len(old) == 1:
+                            raise _Emptied
+                        return old[:i] + old[i + 1 :]
+                    return old[:i] + ((b, c, y),) + old[i + 1 :]
+            raise RepresentationError(f"2-complex: entry {(b, c)!r} missing from the list of {key!r}")
+
+        m = self._m
+        try:
+            return m.insertWith(change, rep, key, ())
+        except _Emptied:
+            return m.remove(rep, key)[0]
+
+    def _locate(self, rep: Any, s: Simplex, what: str) -> tuple[tuple[Entry, ...], int]:
+        a, b, c = s
+        found = self._m.find(rep, a)
+        if found is not None:
+            lst = found[0]
+            i = self._scan(lst, b, c)
+            if i >= 0:
+                return lst, i
+        raise AbsentSimplexError(f"{what}: triangle {s!r} is not in the complex (in this orientation)")
+
+    def _rem(self, rep: Any, s: Simplex) -> Any:
+        a, b, c = s
+        lst, i = self._locate(rep, s, "rem")
+        m = self._m
+        rest = lst[:i] + lst[i + 1 :]
+        rep = m.insert(rep, a, rest) if rest else m.remove(rep, a)[0]
+        rep = self._change(rep, b, c, a, None, True)
+        return self._change(rep, c, a, b, None, True)
+
+    def _update(self, rep: Any, s: Simplex, f: Callable[[D], D]) -> Any:
+        a, b, c = s
+        lst, i = self._locate(rep, s, "update")
+        y = f(lst[i][2])
+        rep = self._m.insert(rep, a, lst[:i] + ((b, c, y),) + lst[i + 1 :])
+        rep = self._change(rep, b, c, a, y, False)
+        return self._change(rep, c, a, b, y, False)
+
+    def _check_rep(self, rep: Any) -> None:
+        check = getattr(self._raw, "_check", None)
+        if check is not None:
+            check(rep)
+        table: dict[Vertex, tuple[Entry, ...]] = dict(self._raw.listItemsi(rep))
+        for a, lst in table.items():
+            if not lst:
+                raise RepresentationError(f"2-complex: vertex {a!r} is mapped to an empty list (it is in no triangle)")
+            pairs: dict[tuple[Vertex, Vertex], int] = {}
+            for b, c, x in lst:
+                if len({a, b, c}) != 3:
+                    raise RepresentationError(f"2-complex: the list of {a!r} holds {(b, c)!r}, a degenerate triangle")
+                if (b, c) in pairs:
+                    raise OrientationError(f"2-complex: triangle {(a, b, c)!r} is held twice in the list of {a!r}")
+                if (c, b) in pairs:
+                    raise OrientationError(
+                        f"2-complex: triangle {(a, b, c)!r} is held in both orientations ({(a, c, b)!r} too)"
+                    )
+                pairs[(b, c)] = 1
+                for key, p, q in ((b, c, a), (c, a, b)):
+                    copies = [e for e in table.get(key, ()) if e[0] == p and e[1] == q]
+                    if len(copies) != 1:
+                        raise RepresentationError(
+                            f"2-complex: triangle {(a, b, c)!r} is in the list of {a!r} but "
+                            f"{len(copies)} times in the list of {key!r} (as {(p, q)!r})"
+                        )
+                    if not same_datum(copies[0][2], x):
+                        raise RepresentationError(
+                            f"2-complex: triangle {(a, b, c)!r} carries different data under {a!r} and {key!r}"
+                        )
