@@ -1,0 +1,254 @@
+"""``convex_hull``: the exact 3D convex hull of a point array, with every intermediate hull kept.
+
+The public face of the bulldozer (:mod:`persistri.impl.hull.bulldozer`, paper §3
+and Appendix A): validation and duplicate merging at the boundary, exact
+predicates with Simulation of Simplicity, the hull as a persistent 2-complex
+over any ``ORD_MAP`` backend, and the result as numpy arrays of input row
+indices.
+
+>>> import numpy as np
+>>> cube = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=float)
+>>> h = convex_hull(cube)
+>>> h.vertices.tolist(), len(h.simplices)
+([0, 1, 2, 3, 4, 5, 6, 7], 12)
+"""
+
+from __future__ import annotations
+
+import gc
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.two_complex import TwoComplex
+from persistri.impl.geometry.points import as_points, unique_rows
+from persistri.impl.geometry.predicates import Predicates3
+from persistri.impl.hull.bulldozer import Bulldozer, FaceDatum, initial_tetrahedron
+from persistri.impl.hull.errors import DegenerateInputError
+from persistri.impl.maps import backend as map_backend
+from persistri.impl.stats import Stats
+
+__all__ = ["convex_hull", "Hull", "HullHistory"]
+
+IntArray = NDArray[np.intp]
+
+
+def _triangles(structure: TwoComplex[FaceDatum], c: Complex[FaceDatum], rows: IntArray) -> IntArray:
+    """The triangles of hull version ``c`` as an (m, 3) array of input rows, outward, sorted for stability."""
+    tris = [t for t, _ in structure.items(c)]
+    if not tris:
+        return np.zeros((0, 3), dtype=np.intp)
+    arr = rows[np.array(tris, dtype=np.intp)]
+    # Rotate each triangle to start at its smallest row (same orientation), then sort the rows.
+    k = np.argmin(arr, axis=1)
+    idx = (k[:, None] + np.arange(3)[None, :]) % 3
+    arr = np.take_along_axis(arr, idx, axis=1)
+    out: IntArray = arr[np.lexsort(arr.T[::-1])]
+    return out
+
+
+@dataclass(frozen=True)
+class HullHistory:
+    """Every hull version of a run, oldest first: time travel (the versions share structure).
+
+    ``versions[0]`` is the first tetrahedron; ``versions[k]`` the hull after the
+    k-th insertion, of the point ``inserted[k]`` (input rows; ``inserted[0]`` is
+    the tetrahedron's first row).  Keeping them costs O(lg n) new nodes per
+    changed face, not a copy per version.
+    """
+
+    structure: TwoComplex[FaceDatum]
+    rows: IntArray
+    versions: tuple[Complex[FaceDatum], ...]
+    inserted: tuple[int, ...]
+
+    def __len__(self) -> int:
+        return len(self.versions)
+
+    def __getitem__(self, k: int) -> Complex[FaceDatum]:
+        return self.versions[k]
+
+    def __iter__(self) -> Iterator[Complex[FaceDatum]]:
+        return iter(self.versions)
+
+    def simplices(self, k: int) -> IntArray:
+        """The outward triangles of version ``k`` as input rows (like :attr:`Hull.simplices`). O(size)."""
+        return _triangles(self.structure, self.versions[k], self.rows)
+
+    def vertices(self, k: int) -> IntArray:
+        """The sorted input rows that are vertices of version ``k``."""
+        return np.unique(self.simplices(k))
+
+    def pending(self, k: int) -> IntArray:
+        """The input rows still outside version ``k`` (the union of its conflict lists), sorted."""
+        lists = [x[1] for _, x in self.structure.items(self.versions[k])]
+        if not lists:
+            return np.zeros(0, dtype=np.intp)
+        return np.sort(self.rows[np.concatenate(lists)])
+
+
+@dataclass(frozen=True)
+class Hull:
+    """The result of :func:`convex_hull`.
+
+    * ``points`` — the input as validated (n × 3 float64);
+    * ``simplices`` — (m × 3) input row indices, each triangle outward by the
+      right-hand rule;
+    * ``vertices`` — the sorted input rows that are hull vertices;
+    * ``complex`` — the final SIMPCOMP value (data: ``(face id, conflict list)``)
+      and ``structure`` — the structure that reads it;
+    * ``history`` — every intermediate hull (``history=True``), else None;
+    * ``duplicates`` — ``(row, earlier equal row)`` for every merged duplicate;
+    * ``stats`` — the counts, when a :class:`Stats` was given.
+    """
+
+    points: NDArray[np.float64]
+    simplices: IntArray
+    vertices: IntArray
+    complex: Complex[FaceDatum]
+    structure: TwoComplex[FaceDatum]
+    history: HullHistory | None
+    duplicates: tuple[tuple[int, int], ...]
+    seed: int
+    backend: str
+    stats: Stats | None = field(default=None)
+    insertions: int = 0
+
+
+def convex_hull(
+    points: ArrayLike,
+    *,
+    backend: str = "red_black",
+    seed: int = 0,
+    check: bool = False,
+    history: bool = False,
+    stats: Stats | None = None,
+    progress: bool | Any = False,
+) -> Hull:
+    """The exact convex hull of ``points`` (n × 3) by the bulldozer algorithm (paper §3, Appendix A).
+
+    * ``backend`` — the ``ORD_MAP`` backend of the complex (``persistri.impl.maps.BACKENDS``);
+    * ``seed`` — the random insertion order; the same seed gives the same hull;
+    * ``check`` — assert the theorems of Appendix A at every insertion and verify the
+      final hull exactly (:func:`persistri.impl.hull.verify.verify_hull`);
+    * ``history`` — keep every intermediate hull version (:class:`HullHistory`);
+    * ``stats`` — a :class:`Stats` to count dictionary operations, key comparisons,
+      plane-side tests and flops into;
+    * ``progress`` — True for a progress bar on stderr, or a callable taking the
+      number of points processed since the last call.
+
+    Errors: ``TypeError``/``ValueError`` for input that is not an n × 3 array of
+    finite reals (NaN/inf names the first bad row); :class:`DegenerateInputError`
+    when the distinct points are fewer than 4 or do not span space (it names the
+    affine dimension); ``UnknownBackendError`` for an unknown backend.  Exactly
+    equal rows are merged (reported in :attr:`Hull.duplicates`).
+
+    Expected O(n lg n) time (Theorem 11, §3).
+    """
+    arr = as_points(points, 3)
+    structure: TwoComplex[FaceDatum] = TwoComplex(map_backend(backend), stats)
+    uniq = unique_rows(arr)
+    rows = uniq.first
+    n_rows = arr.shape[0]
+    merged = tuple(
+        (int(i), int(rows[uniq.inverse[i]])) for i in np.flatnonzero(rows[uniq.inverse] != np.arange(n_rows))
+    )
+    m = rows.size
+    if m < 4:
+        pred0 = Predicates3(arr[rows])
+        dim = len(pred0.affine_basis()) - 1
+        raise DegenerateInputError(
+            f"no 3D convex hull: {m} distinct point{'s' if m != 1 else ''} (at least 4 not on one plane are needed; "
+            f"affine dimension {max(dim, 0)})",
+            affine_dimension=max(dim, 0),
+            distinct=m,
+        )
+    pred = Predicates3(arr[rows], stats=stats)
+    tetra = initial_tetrahedron(pred, m)
+    pred = pred.with_centroid(*tetra)
+
+    collector = gc.isenabled()
+    gc.disable()  # persistent nodes form no reference cycles: the cyclic collector only costs time here
+    try:
+        bd = Bulldozer(pred, structure, tetra, check=check)
+        order = np.random.default_rng(seed).permutation(
+            np.setdiff1d(np.arange(m, dtype=np.intp), np.array(tetra, dtype=np.intp))
+        )
+        versions: list[Complex[FaceDatum]] = [bd.complex]
+        inserted: list[int] = [int(rows[tetra[0]])]
+        tick = _progress_callback(progress, order.size)
+        count = 0
+        try:
+            for p, version in bd.run(order, tick):
+                count += 1
+                if history:
+                    versions.append(version)
+                    inserted.append(int(rows[p]))
+        finally:
+            if hasattr(tick, "close"):
+                tick.close()
+        final = bd.complex
+    finally:
+        if collector:
+            gc.enable()
+    simplices = _triangles(structure, final, rows)
+    hull = Hull(
+        points=arr,
+        simplices=simplices,
+        vertices=np.unique(simplices),
+        complex=final,
+        structure=structure,
+        history=HullHistory(structure, rows, tuple(versions), tuple(inserted)) if history else None,
+        duplicates=merged,
+        seed=seed,
+        backend=backend,
+        stats=stats,
+        insertions=count,
+    )
+    if check:
+        from persistri.impl.complex.checks import check_closed_surface
+        from persistri.impl.hull.verify import verify_hull
+
+        check_closed_surface(final)
+        verify_hull(arr, simplices).raise_if_failed()
+    return hull
+
+
+class _Bar:
+    """A rich progress bar over the insertion order (used when ``progress=True``)."""
+
+    def __init__(self, total: int) -> None:
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+        self._p = Progress(
+            TextColumn("hull"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(), transient=True
+        )
+        self._task = self._p.add_task("hull", total=total)
+        self._p.start()
+        self._pending = 0
+
+    def __call__(self, k: int) -> None:
+        self._pending += k
+        if self._pending >= 1024:
+            self._p.advance(self._task, self._pending)
+            self._pending = 0
+
+    def close(self) -> None:
+        self._p.advance(self._task, self._pending)
+        self._p.stop()
+
+
+def _progress_callback(progress: bool | Any, total: int) -> Any:
+    if progress is True:
+        return _Bar(total)
+    if progress is False or progress is None:
+        return None
+    if callable(progress):
+        return progress
+    raise TypeError(f"progress must be a bool or a callable, not {type(progress).__name__}")
+
+
