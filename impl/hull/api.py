@@ -29,6 +29,7 @@ from persistri.impl.geometry.points import as_points, unique_rows
 from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.hull.bulldozer import Bulldozer, FaceDatum, initial_tetrahedron
 from persistri.impl.hull.errors import DegenerateInputError
+from persistri.impl.hull.slivers import remove_slivers
 from persistri.impl.maps import backend as map_backend
 from persistri.impl.stats import Stats
 
@@ -101,7 +102,9 @@ class Hull:
     * ``vertices`` — the sorted input rows that are hull vertices;
     * ``complex`` — the final SIMPCOMP value (data: ``(face id, conflict list)``)
       and ``structure`` — the structure that reads it;
-    * ``history`` — every intermediate hull (``history=True``), else None;
+    * ``history`` — every intermediate hull (``history=True``), else None; its last
+      version is the bulldozer's, before zero-area triangles were flipped away
+      (:mod:`persistri.impl.hull.slivers`, counted in ``slivers_flipped``);
     * ``duplicates`` — ``(row, earlier equal row)`` for every merged duplicate;
     * ``stats`` — the counts, when a :class:`Stats` was given.
     """
@@ -117,6 +120,7 @@ class Hull:
     backend: str
     stats: Stats | None = field(default=None)
     insertions: int = 0
+    slivers_flipped: int = 0
 
 
 def convex_hull(
@@ -191,7 +195,7 @@ def convex_hull(
         finally:
             if hasattr(tick, "close"):
                 tick.close()
-        final = bd.complex
+        final, flips = remove_slivers(structure, bd.complex, pred)
     finally:
         if collector:
             gc.enable()
@@ -208,6 +212,7 @@ def convex_hull(
         backend=backend,
         stats=stats,
         insertions=count,
+        slivers_flipped=flips,
     )
     if check:
         from persistri.impl.complex.checks import check_closed_surface

@@ -126,7 +126,12 @@ def verify_hull(
         tri = np.where((below < 0)[:, None], tri[:, [0, 2, 1]], tri)
         below = np.abs(below)
     for k in np.flatnonzero(below <= 0)[:max_problems].tolist():
-        what = "contains the interior point in its plane" if below[k] == 0 else "faces inward"
+        if below[k] != 0:
+            what = "faces inward"
+        elif pred.collinear(*(int(v) for v in tri[k])):
+            what = "has zero area (its vertices are collinear)"
+        else:
+            what = "contains the interior point in its plane"
         if problem(f"triangle {k} {tri[k].tolist()} {what}"):
             return rep
     if rep.problems:
