@@ -1,0 +1,199 @@
+"""The bulldozer convex hull: agreement with Qhull, exact verification, degenerate and bad input, history."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+from scipy.spatial import ConvexHull
+
+from persistri.impl.geometry.predicates import affine_dimension
+from persistri.impl.hull.api import convex_hull
+from persistri.impl.hull.bulldozer import BulldozerCheckError
+from persistri.impl.hull.distributions import DISTRIBUTIONS, generate
+from persistri.impl.hull.errors import DegenerateInputError
+from persistri.impl.hull.verify import verify_hull
+from persistri.impl.maps import UnknownBackendError
+from persistri.impl.stats import Stats
+
+
+def facets(simplices: np.ndarray) -> set[frozenset[int]]:
+    return {frozenset(t) for t in simplices.tolist()}
+
+
+def outward(points: np.ndarray, simplices: np.ndarray) -> bool:
+    """Every triangle's right-hand normal points away from the centroid of the points (float, generic data)."""
+    g = points.mean(axis=0)
+    a, b, c = (points[simplices[:, i]] for i in range(3))
+    normal = np.cross(b - a, c - a)
+    return bool(np.all(np.einsum("ij,ij->i", normal, a - g) > 0))
+
+
+@pytest.mark.parametrize("dist", sorted(DISTRIBUTIONS))
+def test_agrees_with_qhull(dist: str) -> None:
+    pts = generate(dist, 400, seed=7)
+    hull = convex_hull(pts, seed=1)
+    assert facets(hull.simplices) == facets(ConvexHull(pts).simplices)
+    assert outward(pts, hull.simplices)
+    assert verify_hull(pts, hull.simplices).ok
+    assert hull.vertices.tolist() == sorted(set(hull.simplices.ravel().tolist()))
+
+
+@pytest.mark.parametrize("dist", sorted(DISTRIBUTIONS))
+def test_check_mode_asserts_the_theorems(dist: str) -> None:
+    pts = generate(dist, 150, seed=3)
+    hull = convex_hull(pts, check=True, seed=2)  # raises BulldozerCheckError / HullVerificationError on failure
+    assert verify_hull(pts, hull.simplices).ok
+
+
+@pytest.mark.parametrize("backend", ["red_black", "hamt", "assoc_list", "immutables", "pyrsistent"])
+def test_every_backend_gives_the_same_hull(backend: str) -> None:
+    pts = generate("InBall", 300, seed=5)
+    ref = convex_hull(pts, seed=4)
+    got = convex_hull(pts, seed=4, backend=backend)
+    assert got.simplices.tolist() == ref.simplices.tolist()
+
+
+def test_same_seed_same_result_and_seeds_agree_on_the_hull() -> None:
+    pts = generate("OnSphere", 300, seed=9)
+    a, b, c = convex_hull(pts, seed=11), convex_hull(pts, seed=11), convex_hull(pts, seed=12)
+    assert a.simplices.tolist() == b.simplices.tolist()
+    assert facets(a.simplices) == facets(c.simplices)  # general position: the hull is unique
+
+
+@pytest.mark.parametrize("k", [2, 3, 5, 10])
+def test_integer_grid_cube(k: int) -> None:
+    grid = np.array([[x, y, z] for x in range(k) for y in range(k) for z in range(k)], dtype=float)
+    hull = convex_hull(grid, seed=k)
+    report = verify_hull(grid, hull.simplices)
+    assert report.ok, str(report)
+    corners = {i for i, p in enumerate(grid.tolist()) if all(v in (0, k - 1) for v in p)}
+    assert corners <= set(hull.vertices.tolist())  # every extreme point is a vertex
+    interior = {i for i, p in enumerate(grid.tolist()) if all(0 < v < k - 1 for v in p)}
+    assert not interior & set(hull.vertices.tolist())
+
+
+def test_points_on_a_few_planes_and_coplanar_facet_points() -> None:
+    rng = np.random.default_rng(0)
+    planes = []
+    for z in (0.0, 1.0, 2.5):
+        xy = rng.integers(-5, 6, size=(40, 2)).astype(float)
+        planes.append(np.column_stack([xy, np.full(40, z)]))
+    pts = np.vstack(planes)
+    hull = convex_hull(pts, check=True)
+    assert verify_hull(pts, hull.simplices).ok
+
+
+@pytest.mark.parametrize("offset", [1e9, 1e12])
+def test_large_offsets_are_exact(offset: float) -> None:
+    rng = np.random.default_rng(3)
+    pts = rng.random((100, 3)) + offset
+    hull = convex_hull(pts)
+    assert verify_hull(pts, hull.simplices).ok
+
+
+def test_tiny_and_mixed_scales_are_exact() -> None:
+    rng = np.random.default_rng(4)
+    tiny = rng.random((80, 3)) * 1e-300
+    assert verify_hull(tiny, convex_hull(tiny).simplices).ok
+    mixed = np.vstack([rng.random((30, 3)) * 1e-300, rng.random((30, 3)) * 1e300])
+    assert verify_hull(mixed, convex_hull(mixed).simplices).ok
+
+
+def test_duplicates_are_merged_and_reported() -> None:
+    pts = generate("InBall", 60, seed=1)
+    doubled = np.vstack([pts, pts[:10], pts[:1]])
+    hull = convex_hull(doubled)
+    assert len(hull.duplicates) == 11
+    assert all(doubled[r].tolist() == doubled[rep].tolist() and rep < r for r, rep in hull.duplicates)
+    assert set(hull.vertices.tolist()) <= set(range(60))
+    assert facets(hull.simplices) == facets(convex_hull(pts).simplices)
+
+
+@pytest.mark.parametrize(
+    ("points", "dim"),
+    [
+        (np.ones((6, 3)), 0),
+        (np.outer(np.arange(7.0), [1.0, 2.0, 3.0]), 1),
+        (np.column_stack([np.random.default_rng(0).random((9, 2)), np.zeros(9)]), 2),
+        (np.eye(3), 2),
+        (np.array([[0.0, 0, 0], [1, 0, 0]]), 1),
+    ],
+)
+def test_degenerate_input_names_the_affine_dimension(points: np.ndarray, dim: int) -> None:
+    with pytest.raises(DegenerateInputError, match=f"affine dimension {dim}") as err:
+        convex_hull(points)
+    assert err.value.affine_dimension == dim
+
+
+@pytest.mark.parametrize(
+    ("bad", "exc", "message"),
+    [
+        ([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, np.nan]], ValueError, "row 3"),
+        ([[0, 0, 0], [np.inf, 0, 0], [0, 1, 0], [0, 0, 1]], ValueError, "row 1"),
+        (np.zeros((5, 2)), ValueError, r"\(n, 3\)"),
+        (np.zeros(6), ValueError, r"\(n, 3\)"),
+        ("points", TypeError, "real numbers"),
+        ([["a", "b", "c"]] * 4, TypeError, "real"),
+        ([[0, 0, 0], [1, 0]], ValueError, "rectangular"),
+    ],
+)
+def test_bad_input_gets_a_clear_error(bad: object, exc: type[Exception], message: str) -> None:
+    with pytest.raises(exc, match=message):
+        convex_hull(bad)  # type: ignore[arg-type]
+
+
+def test_unknown_backend() -> None:
+    with pytest.raises(UnknownBackendError, match="known backends"):
+        convex_hull(generate("InBall", 10), backend="btree")
+
+
+@settings(max_examples=40)
+@given(arrays(np.int8, st.tuples(st.integers(4, 24), st.just(3)), elements=st.integers(-2, 2)))
+def test_small_integer_clouds_are_exact(raw: np.ndarray) -> None:
+    pts = raw.astype(float)
+    if affine_dimension(pts) < 3:
+        with pytest.raises(DegenerateInputError):
+            convex_hull(pts)
+        return
+    hull = convex_hull(pts, check=True)
+    report = verify_hull(pts, hull.simplices)
+    assert report.ok, str(report)
+
+
+def test_history_versions_are_the_hulls_of_their_prefixes() -> None:
+    pts = generate("BordHeavy", 120, seed=2)
+    hull = convex_hull(pts, history=True, seed=3)
+    hist = hull.history
+    assert hist is not None and len(hist) == hull.insertions + 1
+    tetra = list(hist.vertices(0))
+    assert len(tetra) == 4
+    seen = list(tetra)
+    snapshots = [hist.simplices(k) for k in range(len(hist))]
+    for k in range(1, len(hist)):
+        seen.append(hist.inserted[k])
+        sub = np.array(sorted(seen))
+        local = {row: i for i, row in enumerate(sub.tolist())}
+        tri = np.vectorize(local.__getitem__)(snapshots[k])
+        assert verify_hull(pts[sub], tri).ok
+        # every pending point of version k is outside it, every other point inside or on it
+        pending = set(hist.pending(k).tolist())
+        assert pending.isdisjoint(seen)
+    # persistence: re-reading every version after the run gives the same triangles
+    for k in range(len(hist)):
+        assert np.array_equal(hist.simplices(k), snapshots[k])
+    assert np.array_equal(hist.simplices(len(hist) - 1), hull.simplices) or hull.slivers_flipped
+
+
+def test_counts_are_reported() -> None:
+    stats = Stats()
+    convex_hull(generate("OnSphere", 500, seed=1), stats=stats)
+    assert stats.plane_side_tests > 0 and stats.key_comparisons > 0 and stats.dict_ops > 0
+    assert stats.flops > stats.plane_side_tests
+    assert stats.faces_created - stats.faces_deleted == 2 * 500 - 4  # a sphere with 500 vertices
+
+
+def test_check_error_type_is_an_assertion() -> None:
+    assert issubclass(BulldozerCheckError, AssertionError)
