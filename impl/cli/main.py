@@ -7,6 +7,7 @@ import click
 from persistri.impl.cli.bench import bench
 from persistri.impl.cli.conformance import conformance
 from persistri.impl.cli.demo import demo
+from persistri.impl.cli.hull import hull
 
 __all__ = ["main"]
 
@@ -20,3 +21,4 @@ def main() -> None:
 main.add_command(conformance)
 main.add_command(bench)
 main.add_command(demo)
+main.add_command(hull)
