@@ -41,6 +41,11 @@ class OrientationBlindFind(TwoComplex[Any]):
                 out.append((u, v, w))
         return out
 
+    def find(self, c: Any, s: Simplex, /) -> list[Any]:
+        rep, lin = self._open(c, "find")
+        t, _ = self._arg(s, 1, lin, "find")
+        return self._find(rep, t)
+
 
 class StaleRem(TwoComplex[Any]):
     """``rem`` drops the triangle from the lists of its first two vertices only."""

@@ -87,6 +87,7 @@ def test_random_histories_keep_every_law(make: Make, n: int, steps: list[tuple[s
 
 
 @pytest.mark.parametrize("n", [2, 3])
+@settings(max_examples=max(8, settings.default.max_examples // 4))
 @given(steps=st.lists(st.tuples(st.sampled_from(OPS), st.randoms(use_true_random=False), st.integers(0, 1000)),
                       min_size=10, max_size=40))
 def test_long_histories_red_black(n: int, steps: list[tuple[str, Any, int]]) -> None:

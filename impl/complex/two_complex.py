@@ -73,37 +73,6 @@ def _cat(old: tuple[Entry, ...], new: tuple[Entry, ...]) -> tuple[Entry, ...]:
     return old + new
 
 
-def _fast_tri(s: Any, lin: Lineage | None) -> bool:
-    """O(1): whether ``s`` is certainly a valid triangle of lineage ``lin`` (else the slow check decides)."""
-    if type(s) is not tuple or len(s) != 3:
-        return False
-    a, b, c = s
-    try:
-        la = a.lineage
-        return (
-            (la is lin or lin is None)
-            and b.lineage is la
-            and c.lineage is la
-            and a != b
-            and b != c
-            and a != c
-        )
-    except AttributeError:
-        return False
-
-
-def _fast_edge(s: Any, lin: Lineage | None) -> bool:
-    """O(1): whether ``s`` is certainly a valid edge of lineage ``lin``."""
-    if type(s) is not tuple or len(s) != 2:
-        return False
-    a, b = s
-    try:
-        la = a.lineage
-        return (la is lin or lin is None) and b.lineage is la and a != b
-    except AttributeError:
-        return False
-
-
 class TwoComplex(ComplexStructure[D]):
     """``structure TwoComplex : SIMPCOMP`` for n = 2, specialised as in the paper's §4 (module docstring).
 
@@ -122,24 +91,49 @@ class TwoComplex(ComplexStructure[D]):
         else:
             self.family = TwoComplex[D](backend).family
 
-    # -- hot public operations: O(1) validation, then the representation ------------
+    # -- hot public operations ---------------------------------------------------------
+    #
+    # Each validates in O(1) inline (a complex of this family; vertices of its
+    # lineage, distinct, and the right number of them) and only when that quick
+    # test fails calls the general validator, which raises the precise error.
+    # Inline because a function call costs as much as a third of a map lookup.
 
-    def _unpack(self, c: Any, what: str) -> tuple[Any, Lineage | None]:
-        if type(c) is Complex:
-            fam, rep, lin = c
-            if fam is self.family:
-                return rep, lin
-        return self._open(c, what)
+    def _slow(self, c: Any, s: Any, k: int, what: str) -> tuple[Any, Lineage | None, Simplex]:
+        """The general validation (raises the specific error, or accepts e.g. a list of vertices)."""
+        rep, lin = self._open(c, what)
+        t, slin = self._arg(s, k, lin, what)
+        return rep, slin, t
 
     def data(self, c: Complex[D], s: Simplex, /) -> Option[D]:
         """``data (c, s)``: ``(x,)`` if the triangle ``s`` is held in this orientation with datum x, else None.
 
         One map lookup and a scan of the list of ``s[0]``.
         """
-        rep, lin = self._unpack(c, "data")
-        if not _fast_tri(s, lin):
-            s, _ = self._arg(s, 2, lin, "data")
-        return self._data(rep, s)
+        try:
+            fam, rep, lin = c
+            a, b, cc = s
+            la = a.lineage
+            ok = (
+                fam is self.family
+                and type(s) is tuple
+                and (la is lin or lin is None)
+                and b.lineage is la
+                and cc.lineage is la
+                and a != b
+                and b != cc
+                and a != cc
+            )
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            rep, _, s = self._slow(c, s, 2, "data")
+            a, b, cc = s
+        found = self._m.find(rep, a)
+        if found is None:
+            return None
+        lst = found[0]
+        i = self._scan(lst, b, cc)
+        return None if i < 0 else (lst[i][2],)
 
     def find(self, c: Complex[D], s: Simplex, /) -> list[Triangle]:
         """``find (c, (u, w))``: the triangles ``(u, w, x)`` having the oriented edge ``(u, w)`` as a face.
@@ -148,24 +142,43 @@ class TwoComplex(ComplexStructure[D]):
         reverse edge ``(w, u)`` of the triangle that holds ``(w, u)``.  One map
         lookup (u) and a scan of u's list for second vertex w.
         """
-        rep, lin = self._unpack(c, "find")
-        if not _fast_edge(s, lin):
-            s, _ = self._arg(s, 1, lin, "find")
-        return self._find(rep, s)
-
-    def findi(self, c: Complex[D], s: Simplex, /) -> list[tuple[Triangle, D]]:
-        """``find`` with each triangle's datum: ``[((u, w, x), datum), …]``.  One map lookup."""
-        rep, lin = self._unpack(c, "findi")
-        if not _fast_edge(s, lin):
-            s, _ = self._arg(s, 1, lin, "findi")
-        u, w = s
+        try:
+            fam, rep, lin = c
+            u, w = s
+            lu = u.lineage
+            ok = fam is self.family and type(s) is tuple and (lu is lin or lin is None) and w.lineage is lu and u != w
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            rep, _, s = self._slow(c, s, 1, "find")
+            u, w = s
         found = self._m.find(rep, u)
         if found is None:
             return []
         lst = found[0]
         if self._stats is not None:
             self._stats.key_comparisons += len(lst)
-        return [((u, w, t), x) for v, t, x in lst if v == w]
+        return [(u, w, e[1]) for e in lst if e[0] == w]
+
+    def findi(self, c: Complex[D], s: Simplex, /) -> list[tuple[Triangle, D]]:
+        """``find`` with each triangle's datum: ``[((u, w, x), datum), …]``.  One map lookup."""
+        try:
+            fam, rep, lin = c
+            u, w = s
+            lu = u.lineage
+            ok = fam is self.family and type(s) is tuple and (lu is lin or lin is None) and w.lineage is lu and u != w
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            rep, _, s = self._slow(c, s, 1, "findi")
+            u, w = s
+        found = self._m.find(rep, u)
+        if found is None:
+            return []
+        lst = found[0]
+        if self._stats is not None:
+            self._stats.key_comparisons += len(lst)
+        return [((u, w, e[1]), e[2]) for e in lst if e[0] == w]
 
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
         """``add (c, s, x)``: ``c`` with the triangle ``s`` carrying ``x``: three ``insertWith``.
@@ -173,23 +186,62 @@ class TwoComplex(ComplexStructure[D]):
         Raises DimensionError, RepeatedVertexError, ForeignVertexError,
         DuplicateSimplexError or OppositeOrientationError; ``c`` is unchanged.
         """
-        rep, lin = self._unpack(c, "add")
-        if not _fast_tri(s, lin):
-            s, _ = self._arg(s, 2, lin, "add")
+        try:
+            fam, rep, lin = c
+            a, b, cc = s
+            la = a.lineage
+            ok = (
+                fam is self.family
+                and type(s) is tuple
+                and (la is lin or lin is None)
+                and b.lineage is la
+                and cc.lineage is la
+                and a != b
+                and b != cc
+                and a != cc
+            )
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            rep, slin, s = self._slow(c, s, 2, "add")
+            assert slin is not None  # a validated triangle has a lineage
+            la = slin
         rep = self._add(rep, s, x)
         if self._stats is not None:
             self._stats.faces_created += 1
-        return _new_complex(Complex, (self.family, rep, s[0].lineage))
+        return _new_complex(Complex, (self.family, rep, la))
 
     def rem(self, c: Complex[D], s: Simplex, /) -> Complex[D]:
         """``rem (c, s)``: ``c`` without the triangle ``s``: one lookup, three updates.  AbsentSimplexError if absent."""
-        rep, lin = self._unpack(c, "rem")
-        if not _fast_tri(s, lin):
-            s, _ = self._arg(s, 2, lin, "rem")
+        try:
+            fam, rep, lin = c
+            a, b, cc = s
+            la = a.lineage
+            ok = (
+                fam is self.family
+                and type(s) is tuple
+                and la is lin
+                and b.lineage is la
+                and cc.lineage is la
+                and a != b
+                and b != cc
+                and a != cc
+            )
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            rep, lin, s = self._slow(c, s, 2, "rem")
         rep = self._rem(rep, s)
         if self._stats is not None:
             self._stats.faces_deleted += 1
         return _new_complex(Complex, (self.family, rep, lin))
+
+    def _unpack(self, c: Any, what: str) -> tuple[Any, Lineage | None]:
+        if type(c) is Complex:
+            fam, rep, lin = c
+            if fam is self.family:
+                return rep, lin
+        return self._open(c, what)
 
     def items(self, c: Complex[D], /) -> list[tuple[Triangle, D]]:
         """Each triangle once (as the rotation starting at its smallest vertex), with its datum.  O(V + N)."""
