@@ -20,8 +20,9 @@ triangulated sphere; O(lg V) per map operation with the red-black backend):
 ``data``, ``find``          one map lookup + δ entries
 ``add``                     three ``insertWith`` (the first also scans for the
                             triangle in either orientation)
-``rem``, ``update``         one lookup + three updates (plus one ``remove``
-                            for each vertex left with no triangle)
+``rem``, ``update``         one lookup + three updates (a vertex left with
+                            no triangle is removed from the map: for the
+                            second and third vertex that is one more operation)
 ``vertices``                O(V);  ``simplices``, ``items``: O(V + N)
 ``grep``                    one lookup + δ (then the faces of the star)
 ==========================  ==================================================
