@@ -16,6 +16,7 @@ module                                  what
 """
 
 from persistri.impl.complex.bootstrap import Bootstrap
+from persistri.impl.complex.checks import SurfaceReport, check_closed_surface, check_complex
 from persistri.impl.complex.one_complex import OneComplex
 from persistri.impl.complex.simpcomp import SimpComp, complex_structure
 from persistri.impl.complex.simplex import Simplex, TupleSimplex, canonical, tuple_simplex
@@ -41,4 +42,7 @@ __all__ = [
     "Bootstrap",
     "SimpComp",
     "complex_structure",
+    "check_complex",
+    "check_closed_surface",
+    "SurfaceReport",
 ]
