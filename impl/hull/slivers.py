@@ -21,6 +21,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
@@ -39,6 +40,31 @@ def _middle(pts: Any, a: int, b: int, c: int) -> tuple[int, int, int] | None:
     return None
 
 
+_U = 2.0**-53
+_CCW_BOUND = (3.0 + 16.0 * _U) * _U
+"""Shewchuk's bound for a 2D orientation determinant evaluated in doubles (error < bound × permanent)."""
+
+
+def _maybe_collinear(pts: NDArray[np.float64], tri: NDArray[np.intp]) -> NDArray[np.bool_]:
+    """False where triangle ``tri[k]`` is certainly not collinear (a float filter, proven bound); True = ask exactly.
+
+    A triangle is collinear iff all three axis-parallel projections of it are
+    degenerate; one projection whose filtered determinant is provably nonzero
+    settles it.  Overflow or NaN leaves the answer to exact arithmetic.
+    """
+    a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
+    u, v = b - a, c - a
+    maybe = np.ones(tri.shape[0], dtype=bool)
+    with np.errstate(all="ignore"):
+        for i, j in ((0, 1), (1, 2), (2, 0)):
+            left, right = u[:, i] * v[:, j], u[:, j] * v[:, i]
+            det = left - right
+            perm = np.abs(left) + np.abs(right)
+            sure = np.isfinite(perm) & (np.abs(det) > _CCW_BOUND * perm)
+            maybe &= ~sure
+    return maybe
+
+
 def remove_slivers(structure: TwoComplex[Any], c: Complex[Any], pred: Predicates3) -> tuple[Complex[Any], int]:
     """``c`` with every zero-area triangle flipped away; also the number of flips made.
 
@@ -48,7 +74,11 @@ def remove_slivers(structure: TwoComplex[Any], c: Complex[Any], pred: Predicates
     O(#slivers) complex operations after an O(N) scan.
     """
     pts = pred.points
-    work = [t for t, _ in structure.items(c) if pred.collinear(t[0], t[1], t[2])]
+    tris = [t for t, _ in structure.items(c)]
+    if not tris:
+        return c, 0
+    maybe = _maybe_collinear(pts, np.array(tris, dtype=np.intp))
+    work = [t for t, m in zip(tris, maybe.tolist()) if m and pred.collinear(t[0], t[1], t[2])]
     flips = 0
     budget = 4 * len(work) + 8
     while work and budget > 0:
