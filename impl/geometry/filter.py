@@ -1,0 +1,259 @@
+"""Floating-point filters with proven error bounds (Shewchuk 1997, stage A).
+
+A *filter* evaluates a predicate's determinant in float64 together with its
+*permanent* (the same expression with every product of differences replaced by
+its absolute value, so ``|det| <= permanent`` term by term).  If
+
+    |det_computed| > fl(ERRBOUND · permanent_computed)
+
+the sign of the computed determinant is the sign of the exact one; otherwise the
+caller decides the test exactly (:mod:`persistri.impl.geometry.exact`).  The
+constants are proved sufficient in ``proofs/proof_predicates.py`` by a symbolic
+forward error analysis of *these very functions*: the proof runs them on
+tracking numbers that model every operation as ``exact · (1 + δ)`` with
+``|δ| <= u = 2^-53``.
+
+The expressions are written once, generically, so that the scalar path (Python
+floats), the batch path (numpy arrays, one element per query point) and the
+proof all evaluate the same operations in the same order: numpy's float64
+arithmetic rounds exactly like Python's, so scalar and batch agree bit for bit.
+
+When the model holds
+--------------------
+The model ``fl(x ∘ y) = (x ∘ y)(1 + δ)`` fails on overflow and, for products,
+on underflow.
+
+* *Overflow* is detected at run time: the permanent dominates the determinant
+  operation by operation (rounding is monotone and ``|x ± y| <= |x| + |y|``), so
+  a finite permanent means no intermediate value overflowed; an infinite or NaN
+  permanent makes the threshold ``inf``/``NaN``, which no comparison accepts.
+* *Underflow* is excluded by the **grain** argument.  If every coordinate of
+  the points of a test is an integer multiple of ``2^G`` (``G`` the smallest
+  *grain*, the exponent of the lowest set bit, over those coordinates), then
+  every computed value of degree ``j`` (a rounded polynomial of degree ``j`` in
+  the coordinate differences) is a multiple of ``2^(jG)``: round-to-nearest
+  maps a multiple of ``2^m`` to a multiple of ``2^m`` whenever
+  ``2^m >= 2^-1074``.  A nonzero product of degree ``j <= 4`` therefore has
+  magnitude at least ``2^(4G) >= 2^-960`` when ``G >= GRAIN_MIN = -240``: it is
+  a normal number and the relative-error model holds (sums obey it even in the
+  subnormal range, where they are exact).  The threshold ``ERRBOUND ·
+  permanent`` is then at least ``2^-1012``, also normal.  The filters are fed
+  a copy of the points scaled by a power of two (exact) chosen by
+  :func:`choose_scaling` so that every grain satisfies the bound when the
+  data's dynamic range allows it; otherwise each test checks the grains of its
+  own points (:attr:`FilterScaling.uniform` is False).
+
+Operation counts
+----------------
+``FLOPS_*`` is the number of floating-point operations (``+``, ``-``, ``×``,
+``|·|``) one filtered test performs: the expression below plus the threshold
+product.  They are what :class:`~persistri.impl.stats.Stats` ``flops`` counts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Final, Protocol, Self, TypeVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "Arith",
+    "U",
+    "ERRBOUND_ORIENT2D",
+    "ERRBOUND_ORIENT3D",
+    "ERRBOUND_INCIRCLE",
+    "FLOPS_ORIENT2D",
+    "FLOPS_ORIENT3D",
+    "FLOPS_INCIRCLE",
+    "GRAIN_MIN",
+    "TOP_MAX",
+    "orient2d_terms",
+    "orient3d_terms",
+    "incircle_terms",
+    "FilterScaling",
+    "choose_scaling",
+]
+
+
+class Arith(Protocol):
+    """Numbers the filter expressions run on: floats, float64 arrays, the proof's tracking numbers."""
+
+    def __add__(self, other: Self, /) -> Self: ...
+
+    def __sub__(self, other: Self, /) -> Self: ...
+
+    def __mul__(self, other: Self, /) -> Self: ...
+
+    def __abs__(self) -> Self: ...
+
+
+T = TypeVar("T", bound=Arith)
+
+if TYPE_CHECKING:
+
+    def _abs(x: T, /) -> T:
+        """``abs``, typed so that it keeps the argument's type."""
+        ...
+
+else:
+    # The builtin itself: a generic wrapper would cost a call per use on the hot path.
+    _abs = abs
+
+
+U: Final[float] = 2.0**-53
+"""The unit roundoff of float64 under round-to-nearest: ``|δ| <= U``."""
+
+ERRBOUND_ORIENT2D: Final[float] = (3.0 + 2.0**-40) * U
+"""Filter constant of :func:`orient2d_terms`: 3u plus slack for the second-order terms (proved)."""
+
+ERRBOUND_ORIENT3D: Final[float] = (7.0 + 2.0**-40) * U
+"""Filter constant of :func:`orient3d_terms`: 7u plus slack for the second-order terms (proved)."""
+
+ERRBOUND_INCIRCLE: Final[float] = (10.0 + 2.0**-40) * U
+"""Filter constant of :func:`incircle_terms`: 10u plus slack for the second-order terms (proved)."""
+
+FLOPS_ORIENT2D: Final[int] = 11
+"""Floating-point operations of one filtered orient2d: 4 differences, 2 products, 1 difference,
+2 absolute values, 1 sum (the permanent), 1 threshold product."""
+
+FLOPS_ORIENT3D: Final[int] = 41
+"""Floating-point operations of one filtered orient3d: 9 differences, 6 products,
+3 differences, 3 products, 2 sums (the determinant: 23); 9 absolute values, 3 sums,
+3 products, 2 sums (the permanent: 17); 1 threshold product."""
+
+FLOPS_INCIRCLE: Final[int] = 44
+"""Floating-point operations of one filtered incircle: 6 differences, 6 products and
+3 sums (the lifts), 6 products, 3 differences, 3 products, 2 sums (the determinant: 29);
+6 absolute values, 3 sums, 3 products, 2 sums (the permanent: 14); 1 threshold product."""
+
+GRAIN_MIN: Final[int] = -240
+"""The smallest grain (exponent of the lowest set bit of a scaled coordinate) for which
+the filters' error model provably holds: degree-4 products stay ``>= 2^-960``."""
+
+TOP_MAX: Final[int] = 250
+"""Largest exponent ``e`` with ``|x| < 2^e`` that :func:`choose_scaling` allows for the scaled
+coordinates, so that degree-4 expressions of coordinate differences stay below ``2^1016``."""
+
+
+def orient2d_terms(ax: T, ay: T, bx: T, by: T, cx: T, cy: T) -> tuple[T, T]:
+    """``(det, permanent)`` of orient2d in floating point, translated to ``c``.
+
+    ``det = (a - c) × (b - c)`` is the 3×3 determinant with rows ``(x, y, 1)``:
+    positive when ``a, b, c`` turn counterclockwise.  O(1).
+    """
+    acx = ax - cx
+    bcx = bx - cx
+    acy = ay - cy
+    bcy = by - cy
+    detleft = acx * bcy
+    detright = acy * bcx
+    det = detleft - detright
+    permanent = _abs(detleft) + _abs(detright)
+    return det, permanent
+
+
+def orient3d_terms(
+    ax: T, ay: T, az: T, bx: T, by: T, bz: T, cx: T, cy: T, cz: T, dx: T, dy: T, dz: T
+) -> tuple[T, T]:
+    """``(det, permanent)`` of orient3d in floating point, translated to ``d``.
+
+    ``det = det[a - d; b - d; c - d]`` equals the 4×4 determinant with rows
+    ``(x, y, z, 1)``: positive when ``d`` lies below the plane of ``a, b, c``
+    (``a, b, c`` counterclockwise seen from above).  O(1).
+    """
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+    adz = az - dz
+    bdz = bz - dz
+    cdz = cz - dz
+    bdxcdy = bdx * cdy
+    cdxbdy = cdx * bdy
+    cdxady = cdx * ady
+    adxcdy = adx * cdy
+    adxbdy = adx * bdy
+    bdxady = bdx * ady
+    det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady)
+    permanent = (
+        (_abs(bdxcdy) + _abs(cdxbdy)) * _abs(adz)
+        + (_abs(cdxady) + _abs(adxcdy)) * _abs(bdz)
+        + (_abs(adxbdy) + _abs(bdxady)) * _abs(cdz)
+    )
+    return det, permanent
+
+
+def incircle_terms(ax: T, ay: T, bx: T, by: T, cx: T, cy: T, dx: T, dy: T) -> tuple[T, T]:
+    """``(det, permanent)`` of incircle in floating point, translated to ``d``.
+
+    ``det`` is the 3×3 determinant with rows ``(p - d, |p - d|²)`` for ``p = a, b, c``,
+    which equals the 4×4 determinant with rows ``(x, y, x² + y², 1)`` — the
+    orient3d determinant of the lifted points: positive when ``d`` is inside the
+    circle through ``a, b, c`` (counterclockwise).  The lifts are sums of squares,
+    nonnegative as computed, so they enter the permanent as they are.  O(1).
+    """
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+    bdxcdy = bdx * cdy
+    cdxbdy = cdx * bdy
+    alift = adx * adx + ady * ady
+    cdxady = cdx * ady
+    adxcdy = adx * cdy
+    blift = bdx * bdx + bdy * bdy
+    adxbdy = adx * bdy
+    bdxady = bdx * ady
+    clift = cdx * cdx + cdy * cdy
+    det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady)
+    permanent = (
+        (_abs(bdxcdy) + _abs(cdxbdy)) * alift
+        + (_abs(cdxady) + _abs(adxcdy)) * blift
+        + (_abs(adxbdy) + _abs(bdxady)) * clift
+    )
+    return det, permanent
+
+
+@dataclass(frozen=True, slots=True)
+class FilterScaling:
+    """How the filters' copy of the points is scaled: ``copy = points · 2^shift`` (exact).
+
+    ``uniform`` is True when every coordinate's scaled grain is at least
+    :data:`GRAIN_MIN`, so no test needs a grain check; otherwise each test
+    checks ``min(grain of its points) >= GRAIN_MIN`` and leaves the others to
+    exact arithmetic.
+    """
+
+    shift: int
+    uniform: bool
+
+
+def choose_scaling(low: NDArray[np.int64], high: NDArray[np.int64]) -> FilterScaling:
+    """The power-of-two scale for the filters' copy of the points.
+
+    ``low`` and ``high`` hold, for the *nonzero* coordinates only, the grain
+    (``x = odd · 2^low``) and the magnitude exponent (``2^(high-1) <= |x| <
+    2^high``).  The scale wants every grain ``>= GRAIN_MIN`` (validity) and
+    every magnitude ``<= TOP_MAX`` (no overflow in degree-4 expressions).  When
+    both are possible the data is centred in the allowed window; when the
+    dynamic range is too wide for both, overflow is avoided and the points with
+    too fine a grain are left to per-test checks (the bulk of typical data is
+    then still filtered; only tests touching the extreme points go exact).
+    O(n) on the arrays.
+    """
+    if low.size == 0:
+        return FilterScaling(0, True)
+    g = int(low.min())
+    h = int(high.max())
+    lo = GRAIN_MIN - g  # the smallest shift giving every grain >= GRAIN_MIN
+    hi = TOP_MAX - h  # the largest shift keeping every magnitude <= TOP_MAX
+    if lo <= hi:
+        centre = -((h + g) // 2)
+        return FilterScaling(min(max(centre, lo), hi), True)
+    return FilterScaling(hi, False)

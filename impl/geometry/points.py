@@ -1,0 +1,85 @@
+"""Point arrays at the API boundary: validation and exact duplicate detection.
+
+:func:`as_points` turns array-like input into a C-contiguous ``(n, dim)``
+float64 array whose every entry is the exact value given, or raises a one-line
+error naming what is wrong (the first offending row for NaN/inf).
+:func:`unique_rows` finds exactly equal rows: two doubles are equal exactly when
+the rationals they denote are, so this never merges distinct points.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["as_points", "UniqueRows", "unique_rows"]
+
+
+def as_points(points: ArrayLike, dim: int, *, what: str = "points") -> NDArray[np.float64]:
+    """``points`` as a C-contiguous ``(n, dim)`` float64 array, converted exactly.
+
+    Raises :class:`TypeError` for non-numeric input (strings, objects, complex
+    numbers) and :class:`ValueError` for a ragged or wrongly shaped array (the
+    shape found is named), for a NaN or infinite coordinate (the first such row
+    is named), or for a number that float64 cannot hold exactly (integers
+    beyond 2^53, long doubles with more precision): persistri never rounds its
+    input.  Booleans and integers are accepted as reals.  ``-0.0`` becomes
+    ``0.0`` (the same number).  O(n).
+    """
+    if isinstance(points, (str, bytes)):
+        raise TypeError(f"{what} must be an array of real numbers, not {type(points).__name__}")
+    try:
+        raw = np.asarray(points)
+    except (ValueError, TypeError) as exc:  # ragged nested sequences
+        raise ValueError(f"{what} must be a rectangular (n, {dim}) array of reals: {exc}") from None
+    if raw.dtype == object:
+        raise TypeError(f"{what} must be real numbers (got Python objects: ragged rows or non-numeric entries)")
+    if raw.dtype.kind not in "biuf":
+        raise TypeError(f"{what} must be real numbers, not {raw.dtype}")
+    if raw.ndim != 2 or raw.shape[1] != dim:
+        raise ValueError(f"{what} must be an (n, {dim}) array, got shape {raw.shape}")
+    arr = np.ascontiguousarray(raw, dtype=np.float64)
+    if raw.dtype != np.float64 and raw.size:
+        with np.errstate(all="ignore"):  # out-of-range casts are caught by the comparison
+            inexact = (arr.astype(raw.dtype) != raw) & (raw == raw)  # NaN is reported below
+        if inexact.any():
+            row = int(np.argmax(inexact.any(axis=1)))
+            raise ValueError(f"{what}: row {row} is not exactly representable as float64: {raw[row].tolist()}")
+    finite = np.isfinite(arr)
+    if not finite.all():
+        row = int(np.argmax(~finite.all(axis=1)))
+        raise ValueError(f"{what}: row {row} is not finite: {arr[row].tolist()}")
+    out: NDArray[np.float64] = arr + 0.0  # -0.0 + 0.0 == +0.0
+    return out
+
+
+class UniqueRows(NamedTuple):
+    """The distinct rows of a point array.
+
+    ``first[j]`` is the row index of the first occurrence of distinct point
+    ``j`` (increasing); ``inverse[i]`` is the distinct point of row ``i``, so
+    ``points[first][inverse] == points`` row for row.
+    """
+
+    first: NDArray[np.intp]
+    inverse: NDArray[np.intp]
+
+
+def unique_rows(points: NDArray[np.float64]) -> UniqueRows:
+    """The exactly distinct rows of a validated ``(n, d)`` array (:func:`as_points`). O(n log n).
+
+    >>> u = unique_rows(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 0.0]]))
+    >>> u.first.tolist(), u.inverse.tolist()
+    ([0, 1], [0, 1, 0])
+    """
+    n = points.shape[0]
+    if n == 0:
+        empty = np.zeros(0, dtype=np.intp)
+        return UniqueRows(empty, empty.copy())
+    _, first, inverse = np.unique(points + 0.0, axis=0, return_index=True, return_inverse=True)
+    order = np.argsort(first, kind="stable")
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    return UniqueRows(first[order].astype(np.intp), rank[inverse.reshape(-1)].astype(np.intp))
