@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from numpy.typing import NDArray
 
 from persistri.impl.geometry.filter import FLOPS_ORIENT3D
-from persistri.impl.geometry.predicates import SMALL_BATCH, Predicates3, affine_dimension
+from persistri.impl.geometry.predicates import SMALL_BATCH, Predicates2, Predicates3, affine_dimension
 from persistri.impl.stats import Stats
 
 # -- point sets ------------------------------------------------------------------------------
@@ -96,6 +96,28 @@ def test_many_and_batch_equal_scalar(pts: NDArray[np.float64]) -> None:
     assert batch.tolist() == [p.orient3d(a, b, c, int(q)) for q in others]
     signs = p.orient3d_sign_batch(a, b, c, others)
     assert signs.tolist() == [ref.orient(pts, a, b, c, int(q)) for q in others[: len(pts) - 3]] * 8
+
+
+@pytest.mark.parametrize("kind", ["random", "grid"])
+def test_many_with_fixed_points_in_any_position(kind: str) -> None:
+    """Fixed points are moved to the filter's translation slot with a parity correction: check every placement."""
+    rng = np.random.default_rng(11)
+    pts = rng.random((40, 3)) if kind == "random" else rng.integers(0, 3, size=(40, 3)).astype(float)
+    p = Predicates3(pts)
+    q = np.arange(3, 40)
+    for perm in itertools.permutations(range(4)):
+        args: list[object] = [0, 1, 2, q]
+        args = [args[k] for k in perm]
+        got = p.orient3d_many(*args)  # type: ignore[arg-type]  # a mix of ints and an array
+        expected = [p.orient3d(*[int(a) if isinstance(a, int) else int(x) for a in args]) for x in q]
+        assert got.tolist() == expected, perm
+    q2 = np.arange(2, 40)
+    p2 = Predicates2(pts[:, :2])
+    for perm in itertools.permutations(range(3)):
+        args2: list[object] = [0, 1, q2]
+        args2 = [args2[k] for k in perm]
+        got = p2.orient2d_many(*args2)  # type: ignore[arg-type]  # a mix of ints and an array
+        assert got.tolist() == [p2.orient2d(*[int(a) if isinstance(a, int) else int(x) for a in args2]) for x in q2]
 
 
 def test_orient3d_sos_matches_explicit_perturbation() -> None:
