@@ -20,6 +20,8 @@ from typing import Any, TypeVar, assert_never, assert_type
 
 from persistri.impl.maps.assoc_list import ALMap, AssocListMap, assoc_list
 from persistri.impl.maps.counted import counted
+from persistri.impl.maps.hamt import HamtMap, HMap, hamt
+from persistri.impl.maps.red_black import RBMap, RedBlackMap, red_black
 from persistri.impl.stats import Stats
 from persistri.spec import NATURAL_ORDER, SOME, NotFound, Option, OrdKey, OrdMap, Order, valOf
 
@@ -125,7 +127,24 @@ al_sig: OrdMap[int, str, ALMap[int, str]] = al
 assert_type(al_sig.listItemsi(al_map), list[tuple[int, str]])
 assert al_sig.listItemsi(al_map) == [(1, "one"), (2, "two")]
 
-exercise(assoc_list)
+# The red-black tree at concrete types.
+rb = RedBlackMap[int, str]()
+rb_map = from_items(rb, [(3, "three"), (1, "one"), (2, "two")])
+assert_type(rb_map, "RBMap[int, str]")
+assert_type(rb.find(rb_map, 1), "Option[str]")
+rb_sig: OrdMap[int, str, RBMap[int, str]] = rb
+rb_smaller, removed = rb_sig.remove(rb_map, 2)
+assert_type(removed, str)
+assert removed == "two" and rb_sig.listKeys(rb_smaller) == [1, 3] and rb_sig.listKeys(rb_map) == [1, 2, 3]
+assert get_or(rb_sig, rb_smaller, 2, "none") == "none"
+
+# The HAMT at concrete types (keys must be hashable as well as ordered).
+hm = HamtMap[str, int]()
+hm_map = count(hm, ["b", "a", "b"])
+assert_type(hm_map, HMap[str, int])
+assert_type(hm.lookup(hm_map, "b"), int)
+hm_sig: OrdMap[str, int, HMap[str, int]] = hm
+assert hm_sig.listItemsi(hm_map) == [("a", 1), ("b", 2)]
 
 # Counting: the counted structure has the same type and the same results.
 stats = Stats()
@@ -150,6 +169,11 @@ except KeyError as exc:
 else:
     raise AssertionError("lookup of an absent key must raise NotFound")
 
-backends: list[OrdMap[str, int, Any]] = [assoc_list]
+rb_counted = counted(rb_sig, stats)
+assert_type(rb_counted, "OrdMap[int, str, RBMap[int, str]]")
+before_ops = stats.dict_ops
+assert rb_counted.inDomain(rb_map, 3) and stats.dict_ops == before_ops + 1
+
+backends: list[OrdMap[str, int, Any]] = [assoc_list, red_black, hamt, counted(hamt, Stats())]
 for b in backends:
     exercise(b)
