@@ -14,8 +14,6 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-import pytest
-
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
@@ -25,7 +23,6 @@ from proofs.runner import discover_contracts, run_crosshair  # noqa: E402
 FIXTURE = Path(__file__).resolve().parent / "crosshair_fixtures" / "broken_laws.py"
 
 
-@pytest.mark.slow
 def test_crosshair_reports_each_false_contract_and_passes_the_true_one() -> None:
     contracts = discover_contracts([FIXTURE])
     names = sorted(c.function for c in contracts)

@@ -29,6 +29,7 @@ each violated expectation is printed and the exit status is 1.
 
 from __future__ import annotations
 
+import os
 import re
 import sys
 import tempfile
@@ -39,8 +40,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 """The repository root (the directory holding ``pyproject.toml``)."""
 
-CACHE_DIR = ROOT / ".mypy_cache" / "check_rejections"
-"""mypy's cache for these snippets, kept apart from the package's own cache."""
+CACHE_DIR = ROOT / ".mypy_cache" / "check_rejections" / os.environ.get("PYTEST_XDIST_WORKER", "main")
+"""mypy's cache for these snippets, kept apart from the package's own cache (one per pytest-xdist worker,
+so that two concurrent mypy runs never share a cache)."""
 
 MARK = "# reject"
 """The comment that marks the line on which a snippet must be rejected."""
