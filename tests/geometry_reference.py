@@ -76,7 +76,7 @@ def lifted(points: NDArray[np.float64], idx: Sequence[int]) -> list[list[Fractio
 
 def incircle(points: NDArray[np.float64], *idx: int) -> int:
     """Sign of det[[x, y, x² + y², 1]] over points[idx] (4 2D points)."""
-    return sign(leibniz([r + [Fraction(1)] for r in lifted(points, idx)]))
+    return sign(det([r + [Fraction(1)] for r in lifted(points, idx)]))
 
 
 def small(coords: Sequence[Sequence[Fraction]], bits: int = 64) -> bool:

@@ -91,11 +91,12 @@ def test_many_and_batch_equal_scalar(pts: NDArray[np.float64]) -> None:
     assert many.dtype == np.int8
     assert many.tolist() == [p.orient3d(*map(int, q)) for q in quads]
     a, b, c = 0, 1, 2
-    others = np.array([q for q in range(len(pts)) if q not in (a, b, c)] * 8, dtype=np.intp)
+    others = np.array([q for q in range(len(pts)) if q not in (a, b, c)] * 16, dtype=np.intp)
+    assert others.size >= SMALL_BATCH
     batch = p.orient3d_batch(a, b, c, others)
     assert batch.tolist() == [p.orient3d(a, b, c, int(q)) for q in others]
     signs = p.orient3d_sign_batch(a, b, c, others)
-    assert signs.tolist() == [ref.orient(pts, a, b, c, int(q)) for q in others[: len(pts) - 3]] * 8
+    assert signs.tolist() == [ref.orient(pts, a, b, c, int(q)) for q in others[: len(pts) - 3]] * 16
 
 
 @pytest.mark.parametrize("kind", ["random", "grid"])
@@ -172,7 +173,8 @@ def test_filter_failures_counted_on_degenerate_input() -> None:
     # The filter cannot decide an exact zero (its decisions are proved), and it decides the rest here.
     assert stats.filter_failures == zeros
     before = stats.filter_failures
-    qs = np.arange(3, 27)
+    qs = np.tile(np.arange(3, 27), 2)
+    assert qs.size >= SMALL_BATCH
     expected = sum(ref.orient(grid, 0, 1, 2, int(q)) == 0 for q in qs)
     p.orient3d_batch(0, 1, 2, qs)  # 0, 1, 2 are collinear: every test is an exact zero
     assert expected == qs.size
@@ -304,6 +306,7 @@ def test_needle_tetrahedron_falls_back_to_the_exact_centroid() -> None:
         assert c.orient3d(*quad) == s
     assert stats.filter_failures - before == 4  # the exact centre is never filtered
     qs = np.array([0, 1, 2, 3] * 8)
+    assert qs.size >= SMALL_BATCH
     batch = c.orient3d_many(qs, np.roll(qs, 1), 4, np.roll(qs, 2))
     assert batch.tolist() == [c.orient3d(int(a), int(b), 4, int(d)) for a, b, d in zip(qs, np.roll(qs, 1), np.roll(qs, 2))]
 

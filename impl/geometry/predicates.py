@@ -46,6 +46,8 @@ from collections.abc import Callable, Sequence
 from fractions import Fraction
 from typing import Final
 
+import itertools
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -79,7 +81,7 @@ __all__ = ["Predicates2", "Predicates3", "affine_dimension"]
 _INVALID_GRAIN: Final[int] = -ZERO_LOW
 """Grain of a point with no valid float copy: fails every grain check."""
 
-SMALL_BATCH: Final[int] = 24
+SMALL_BATCH: Final[int] = 32
 """Below this many entries a batch loops over the scalar test: numpy's fixed cost per
 call (about 50 array operations) outweighs the scalar tests it would replace."""
 
@@ -176,10 +178,21 @@ class _IndexedPoints:
             if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < self._n:
                 raise self._bad_index(indices)
 
-    def _index_arrays(self, *args: ArrayLike) -> list[IntArray]:
-        """Validate point indices (ints or 1-D integer arrays) and broadcast them to one length."""
-        arrays = []
+    def _index_arrays(self, *args: ArrayLike) -> tuple[list[int | IntArray], int]:
+        """Validate point indices and their common length: ``(arguments, length)``.
+
+        Each argument is an index (kept as an ``int``: a fixed point) or a 1-D
+        integer array; the arrays must have one length (a 1-element array counts
+        as a fixed point).  With no array the length is 1.
+        """
+        out: list[int | IntArray] = []
+        m = -1
         for arg in args:
+            if isinstance(arg, (int, np.integer)) and not isinstance(arg, (bool, np.bool_)):
+                if not 0 <= arg < self._n:
+                    raise IndexError(f"point index {arg} out of range for {self._n} points")
+                out.append(int(arg))
+                continue
             q = np.asarray(arg)
             if q.ndim > 1:
                 raise ValueError(f"point indices must be an int or a 1-D array, got shape {q.shape}")
@@ -189,12 +202,14 @@ class _IndexedPoints:
                 lo, hi = int(q.min()), int(q.max())
                 if lo < 0 or hi >= self._n:
                     raise IndexError(f"point index {lo if lo < 0 else hi} out of range for {self._n} points")
-            arrays.append(q.astype(np.intp, copy=False))
-        try:
-            shaped = np.broadcast_arrays(*arrays)
-        except ValueError:
-            raise ValueError(f"index arrays of different lengths: {[a.shape for a in arrays]}") from None
-        return [np.atleast_1d(a) for a in shaped]
+            if q.ndim == 0 or q.size == 1:
+                out.append(int(q.reshape(-1)[0]))
+                continue
+            if m >= 0 and q.size != m:
+                raise ValueError(f"index arrays of different lengths: {m} and {q.size}")
+            m = q.size
+            out.append(q.astype(np.intp, copy=False))
+        return out, max(m, 1) if m != 0 else 0
 
     # -- exact integers ------------------------------------------------------------------
 
@@ -229,7 +244,7 @@ class _IndexedPoints:
 
     def _many(
         self,
-        idx: Sequence[IntArray],
+        args: tuple[list[int | IntArray], int],
         terms: _Terms,
         errbound: float,
         flops: int,
@@ -237,24 +252,24 @@ class _IndexedPoints:
         scalar: Callable[..., int],
         sos: Callable[..., int] | None,
     ) -> SignArray:
-        """Signs of one predicate over aligned index arrays ``idx`` (one per argument).
+        """Signs of one predicate over validated arguments (:meth:`_index_arrays`): ints are fixed points.
 
         ``scalar`` decides one entry (used below :data:`SMALL_BATCH` entries);
         ``sos`` breaks exact zeros, or None for true signs.
 
-        A fixed point (an index broadcast to every entry) enters the filter as
-        0-d arrays, not gathered copies.  The filter expressions translate every
-        point by their *last* argument, so when some argument is fixed and the
-        last is not, the filter is run with that fixed point moved to the end
-        (and the sign corrected by the parity of the move): the products among
-        fixed points are then computed once instead of once per entry.  The
-        error bound is proved for every assignment of inputs, so any order of
-        the arguments is sound.
+        A fixed point enters the filter as 0-d arrays, not gathered copies.  The
+        filter expressions translate every point by their *last* argument, so
+        when some argument is fixed and the last is not, the filter is run with
+        that fixed point moved to the end (and the sign corrected by the parity
+        of the move): the products among fixed points are then computed once
+        instead of once per entry.  The error bound is proved for every
+        assignment of inputs, so any order of the arguments is sound.
         """
-        m = idx[0].size
+        idx, m = args
         if m < SMALL_BATCH:
-            return np.array([scalar(*(int(i[k]) for i in idx)) for k in range(m)], dtype=np.int8)
-        fixed = [i.strides == (0,) for i in idx]
+            columns = [itertools.repeat(i, m) if isinstance(i, int) else i.tolist() for i in idx]
+            return np.array([scalar(*entry) for entry in zip(*columns)], dtype=np.int8)
+        fixed = [isinstance(i, int) for i in idx]
         order = list(range(len(idx)))
         flip = False
         if not fixed[-1] and any(fixed):
@@ -263,11 +278,11 @@ class _IndexedPoints:
             flip = (len(idx) - 1 - j) % 2 == 1  # moving j to the end takes len - 1 - j transpositions
         coords: list[NDArray[np.float64]] = []
         for k in order:
-            if fixed[k]:
-                point = int(idx[k][0])
-                coords.extend(np.asarray(col[point]) for col in self._cols)
+            i = idx[k]
+            if isinstance(i, int):
+                coords.extend(np.asarray(col[i]) for col in self._cols)
             else:
-                coords.extend(col[idx[k]] for col in self._cols)
+                coords.extend(col[i] for col in self._cols)
         if self._uniform:
             # No overflow is possible (magnitudes <= 2^TOP_MAX) and NaN is quiet: no warnings to silence.
             det, perm = terms(*coords)
@@ -281,14 +296,14 @@ class _IndexedPoints:
         if flip:
             np.negative(out, out=out)
         if not self._uniform:
-            grain = self._grain[idx[0]]
-            for i in idx[1:]:
+            grain = np.full(m, ZERO_LOW, dtype=np.int64)
+            for i in idx:
                 grain = np.minimum(grain, self._grain[i])
             out[grain < GRAIN_MIN] = 0
         todo = np.flatnonzero(out == 0)
         self._count(m, flops, int(todo.size))
         if todo.size:
-            sub = [i[todo] for i in idx]
+            sub = [np.full(todo.size, i, dtype=np.intp) if isinstance(i, int) else i[todo] for i in idx]
             exact = exact_det(*[c for i in sub for c in self._int_columns(i)])
             signs = (exact > 0).view(np.int8) - (exact < 0).view(np.int8)
             if sos is not None:
@@ -551,7 +566,8 @@ class Predicates3(_IndexedPoints):
             n_input = self._n if self._centre is None else self._centre
             idx = np.arange(n_input, dtype=np.intp)
         else:
-            idx = self._index_arrays(order)[0]
+            (first,), _ = self._index_arrays(order)
+            idx = np.array([first], dtype=np.intp) if isinstance(first, int) else first
             if self._centre is not None and bool(np.any(idx == self._centre)):
                 raise ValueError("the affine basis is taken over input points, not the centre")
         if idx.size == 0:
