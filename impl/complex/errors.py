@@ -16,6 +16,7 @@ exception                          base            raised when
 :class:`OppositeOrientationError`  ValueError      ``add`` of a simplex whose reverse is present
 :class:`AbsentSimplexError`        ValueError      ``rem``/``update`` of a simplex not present
 :class:`ForeignComplexError`       TypeError       a complex made by another structure
+:class:`StaleVersionError`         RuntimeError    an old version of the *ephemeral* baseline
 =================================  ==============  ==============================================
 
 :class:`DuplicateSimplexError` and :class:`OppositeOrientationError` share the
@@ -37,6 +38,7 @@ __all__ = [
     "OppositeOrientationError",
     "AbsentSimplexError",
     "ForeignComplexError",
+    "StaleVersionError",
     "ComplexCheckError",
     "RepresentationError",
     "OrientationError",
@@ -95,6 +97,15 @@ class AbsentSimplexError(ValueError):
 class ForeignComplexError(TypeError):
     """A complex value that this structure did not make (another representation, backend or dimension),
     or something that is not a complex at all."""
+
+
+class StaleVersionError(RuntimeError):
+    """A version of the *ephemeral* 2-complex (:mod:`persistri.impl.complex.ephemeral`) used after a later
+    operation changed its table in place.
+
+    Not bad input but the price of giving up persistence: only the newest
+    version of an ephemeral complex is valid.  The persistent complexes never raise it.
+    """
 
 
 # -- failed invariant checks -------------------------------------------------------

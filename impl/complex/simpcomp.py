@@ -16,8 +16,13 @@ n      representation (``specialised=True``, the default)
 With ``specialised=False`` the 2-complex is the functor applied to the
 1-complex too: the paper's generic construction, slower, kept for teaching and
 as a cross-check.  Code that works in one dimension (the convex hull) should
-take the structure of that dimension from :func:`complex_structure` and skip
-the dispatch.
+take the structure of that dimension from :func:`complex_structure` (or, for
+2-complexes, :func:`two_complex`) and skip the dispatch.
+
+The backend name ``"ephemeral"`` (:data:`~persistri.impl.complex.ephemeral.EPHEMERAL`)
+selects the NOT persistent baseline
+:class:`~persistri.impl.complex.ephemeral.EphemeralTwoComplex` — dimension 2,
+specialised, only; it exists to measure what persistence costs.
 
 >>> from persistri.impl.complex.vertex import VertexState, int_vertex
 >>> C = complex_structure(2, "assoc_list")
@@ -33,6 +38,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, Generic, TypeVar
 
 from persistri.impl.complex.bootstrap import Bootstrap
+from persistri.impl.complex.ephemeral import EPHEMERAL, EphemeralTwoComplex
 from persistri.impl.complex.errors import DimensionError, ForeignComplexError
 from persistri.impl.complex.one_complex import OneComplex
 from persistri.impl.complex.simplex import Simplex, TupleSimplex, tuple_simplex
@@ -46,7 +52,7 @@ from persistri.spec.simpcomp import SIMPCOMP
 from persistri.spec.simplex import SIMPLEX
 from persistri.spec.vertex import VERTEX
 
-__all__ = ["complex_structure", "SimpComp", "MAX_DIM"]
+__all__ = ["complex_structure", "two_complex", "SimpComp", "MAX_DIM"]
 
 D = TypeVar("D")
 
@@ -66,12 +72,20 @@ def complex_structure(
     """The ``SIMPCOMP`` structure of n-complexes over ``backend`` (an ``ORD_MAP`` structure or its registry name).
 
     ``stats`` is attached at every level (the inner complexes of the functor
-    report to it too).  See the module docstring for the representations.
+    report to it too).  See the module docstring for the representations;
+    ``backend="ephemeral"`` is the NOT persistent baseline (n = 2, specialised).
     """
     if isinstance(n, bool) or not isinstance(n, int):
         raise TypeError(f"complex_structure: dimension must be an int, got {type(n).__name__}")
     if not 1 <= n <= MAX_DIM:
         raise DimensionError(f"complex_structure: dimension {n} is outside 1..{MAX_DIM}")
+    if isinstance(backend, str) and backend == EPHEMERAL:
+        if n != 2 or not specialised:
+            raise ValueError(
+                f"complex_structure: the ephemeral baseline is the specialised 2-complex only "
+                f"(asked for n={n}, specialised={specialised})"
+            )
+        return EphemeralTwoComplex(stats)
     b = _resolve(backend)
     structure: ComplexStructure[Any] = OneComplex(b, stats)
     for k in range(2, n + 1):
@@ -80,6 +94,18 @@ def complex_structure(
         else:
             structure = Bootstrap(structure, b, stats)
     return structure
+
+
+def two_complex(backend: Any = "red_black", stats: Stats | None = None) -> TwoComplex[Any]:
+    """The specialised 2-complex (paper §4) over ``backend`` — an ``ORD_MAP`` structure or its registry
+    name — or, for ``backend="ephemeral"``, the NOT persistent baseline over a ``dict``.
+
+    What the 2-complex algorithms (the convex hull) build on.  Raises
+    :class:`~persistri.impl.maps.UnknownBackendError` for an unknown name.
+    """
+    if isinstance(backend, str) and backend == EPHEMERAL:
+        return EphemeralTwoComplex(stats)
+    return TwoComplex(_resolve(backend), stats)
 
 
 class SimpComp(Generic[D]):

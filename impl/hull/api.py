@@ -23,6 +23,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from persistri.impl.complex.ephemeral import EphemeralTwoComplex
+from persistri.impl.complex.simpcomp import two_complex
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.geometry.points import as_points, unique_rows
@@ -30,7 +32,6 @@ from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.hull.bulldozer import Bulldozer, FaceDatum, initial_tetrahedron
 from persistri.impl.hull.errors import DegenerateInputError
 from persistri.impl.hull.slivers import remove_slivers
-from persistri.impl.maps import backend as map_backend
 from persistri.impl.stats import Stats
 
 __all__ = ["convex_hull", "Hull", "HullHistory"]
@@ -132,10 +133,13 @@ def convex_hull(
     history: bool = False,
     stats: Stats | None = None,
     progress: bool | Any = False,
+    structure: TwoComplex[FaceDatum] | None = None,
 ) -> Hull:
     """The exact convex hull of ``points`` (n × 3) by the bulldozer algorithm (paper §3, Appendix A).
 
-    * ``backend`` — the ``ORD_MAP`` backend of the complex (``persistri.impl.maps.BACKENDS``);
+    * ``backend`` — the ``ORD_MAP`` backend of the complex (``persistri.impl.maps.BACKENDS``),
+      or ``"ephemeral"`` for the NOT persistent baseline over a ``dict``
+      (:mod:`persistri.impl.complex.ephemeral`; no ``history``);
     * ``seed`` — the random insertion order; the same seed gives the same hull;
     * ``check`` — assert the theorems of Appendix A at every insertion and verify the
       final hull exactly (:func:`persistri.impl.hull.verify.verify_hull`);
@@ -143,7 +147,10 @@ def convex_hull(
     * ``stats`` — a :class:`Stats` to count dictionary operations, key comparisons,
       plane-side tests and flops into;
     * ``progress`` — True for a progress bar on stderr, or a callable taking the
-      number of points processed since the last call.
+      number of points processed since the last call;
+    * ``structure`` — the 2-complex structure to build the hull in, instead of the one
+      ``backend`` and ``stats`` name (e.g. a :class:`~persistri.impl.complex.trace.TracingTwoComplex`
+      recording the run's complex operations); ``backend`` then only labels the result.
 
     Errors: ``TypeError``/``ValueError`` for input that is not an n × 3 array of
     finite reals (NaN/inf names the first bad row); :class:`DegenerateInputError`
@@ -154,7 +161,10 @@ def convex_hull(
     Expected O(n lg n) time (Theorem 11, §3).
     """
     arr = as_points(points, 3)
-    structure: TwoComplex[FaceDatum] = TwoComplex(map_backend(backend), stats)
+    if structure is None:
+        structure = two_complex(backend, stats)
+    if history and isinstance(structure, EphemeralTwoComplex):
+        raise ValueError("convex_hull: the ephemeral complex keeps no old versions, so history=True is impossible")
     uniq = unique_rows(arr)
     rows = uniq.first
     n_rows = arr.shape[0]

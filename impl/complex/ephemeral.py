@@ -1,0 +1,434 @@
+"""The EPHEMERAL baseline: the specialised 2-complex over one mutable ``dict`` — NOT persistent.
+
+This module exists only to measure what persistence costs (the issue's
+"ephemeral baseline"; ``persistri bench complex`` runs it beside every
+persistent backend).  Never use it for anything else: **every operation that
+makes a new version changes the one table in place**, so the version it was
+given is gone.
+
+It is the specialised 2-complex of :mod:`~persistri.impl.complex.two_complex`
+(paper §4) with one difference, the map: Python's mutable ``dict`` from each
+vertex to its immutable tuple of entries ``(second vertex, third vertex,
+datum)``, instead of a persistent ``ORD_MAP``.  Everything else is the same —
+the per-vertex lists, each triangle stored under its three vertices by
+rotation, the scans, and the argument validation (the same O(1) inline test on
+the hot operations, the same exceptions for bad input) — so the difference in
+time between the two is the price of the persistent map.
+
+Versions.  A complex value of this structure is a
+:class:`~persistri.impl.complex.structure.Complex` whose ``rep`` is a 1-tuple
+token ``(table,)``; the table remembers the one token that is current.
+``add``, ``rem`` and ``update`` mutate the table and make a new token, so every
+*older* value becomes **stale**: using it for anything — a query included —
+raises :class:`~persistri.impl.complex.errors.StaleVersionError` instead of
+silently reading the newer contents.  A call that raises for bad input changes
+nothing (every check runs before the first mutation), so the version it was
+given stays current.  ``new(2)`` starts a fresh table.
+
+Selected by the backend name :data:`EPHEMERAL` (``"ephemeral"``) in
+:func:`~persistri.impl.complex.simpcomp.complex_structure` and
+:func:`~persistri.impl.complex.simpcomp.two_complex`, so
+``convex_hull(points, backend="ephemeral")`` runs the bulldozer on it (without
+``history``: there are no old versions to keep).  It is deliberately *not* in
+the map registry :data:`persistri.impl.maps.BACKENDS`, whose every entry is a
+persistent ``ORD_MAP``.
+
+Costs (δ = the length of a vertex's list, about 6 on a triangulated sphere):
+``data``, ``find``, ``findi`` one dict lookup + δ entries; ``add`` three dict
+updates (the first also scans for the triangle in either orientation);
+``rem`` three lookups + three updates; each O(δ) expected, independent of the
+number of vertices.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from typing import Any, Final, TypeVar
+
+from persistri.impl.complex.errors import (
+    AbsentSimplexError,
+    DuplicateSimplexError,
+    OppositeOrientationError,
+    OrientationError,
+    RepresentationError,
+    StaleVersionError,
+)
+from persistri.impl.complex.simplex import Simplex
+from persistri.impl.complex.structure import Complex, Family, same_datum
+from persistri.impl.complex.two_complex import Entry, Triangle, TwoComplex
+from persistri.impl.complex.vertex import Vertex
+from persistri.impl.stats import Stats
+from persistri.spec.option import Option
+
+__all__ = ["EPHEMERAL", "EphemeralTwoComplex", "EphemeralDict"]
+
+D = TypeVar("D")
+
+EPHEMERAL: Final = "ephemeral"
+"""The backend name that selects :class:`EphemeralTwoComplex` in the complex factories."""
+
+_new_complex = tuple.__new__
+
+
+class EphemeralDict:
+    """Stands where a persistent complex's ``ORD_MAP`` backend would (in its :class:`Family`): Python's ``dict``.
+
+    Not an ``ORD_MAP`` — it has no operations; it names the representation in
+    messages and makes the family of every ephemeral complex the same.
+    """
+
+    __slots__ = ()
+
+    name = "dict (ephemeral, NOT persistent)"
+
+    def __repr__(self) -> str:
+        return "EphemeralDict"
+
+
+_DICT = EphemeralDict()
+
+
+class _Table:
+    """The one mutable table of an ephemeral complex's history, and its current version token."""
+
+    __slots__ = ("lists", "current")
+
+    lists: dict[Vertex, tuple[Entry, ...]]
+    current: tuple[_Table]
+
+    def __init__(self) -> None:
+        self.lists = {}
+        self.current = (self,)
+
+
+def _stale(what: str) -> StaleVersionError:
+    return StaleVersionError(
+        f"{what}: this version of an EPHEMERAL 2-complex is stale — a later operation changed its table in place "
+        "(only the newest version of the ephemeral baseline is valid; use a persistent backend to keep versions)"
+    )
+
+
+class EphemeralTwoComplex(TwoComplex[D]):
+    """The 2-complex of :class:`TwoComplex` over one mutable ``dict``: NOT persistent (module docstring).
+
+    ``EphemeralTwoComplex()`` is uncounted; ``EphemeralTwoComplex(stats)``
+    counts each dict access as one dictionary operation and one key
+    comparison, plus the list entries scanned, faces created and deleted.
+    """
+
+    kind = EPHEMERAL
+
+    def __init__(self, stats: Stats | None = None) -> None:
+        self.n = 2
+        self._raw = _DICT
+        self._m = _DICT
+        self._stats = stats
+        if stats is None:
+            self.family = Family(self.kind, 2, _DICT, None, self)
+        else:
+            self.family = EphemeralTwoComplex[D]().family
+
+    # -- versions -----------------------------------------------------------------------
+
+    @staticmethod
+    def _live(rep: Any, what: str) -> dict[Vertex, tuple[Entry, ...]]:
+        """The table of ``rep`` if ``rep`` is its current version; StaleVersionError otherwise."""
+        table: _Table = rep[0]
+        if table.current is not rep:
+            raise _stale(what)
+        return table.lists
+
+    def _count(self, lookups: int, scanned: int) -> None:
+        st = self._stats
+        if st is not None:
+            st.dict_ops += lookups
+            st.key_comparisons += lookups + scanned
+
+    # -- hot public operations (same inline validation as TwoComplex) --------------------
+
+    def data(self, c: Complex[D], s: Simplex, /) -> Option[D]:
+        """``data (c, s)``: ``(x,)`` if the triangle ``s`` is held in this orientation, else None.  One dict lookup."""
+        try:
+            fam, rep, lin = c
+            a, b, cc = s
+            la = a.lineage
+            ok = (
+                fam is self.family
+                and type(s) is tuple
+                and (la is lin or lin is None)
+                and b.lineage is la
+                and cc.lineage is la
+                and a != b
+                and b != cc
+                and a != cc
+            )
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            rep, _, s = self._slow(c, s, 2, "data")
+            a, b, cc = s
+        table: _Table = rep[0]
+        if table.current is not rep:
+            raise _stale("data")
+        lst = table.lists.get(a)
+        if lst is None:
+            self._count(1, 0)
+            return None
+        for i, e in enumerate(lst):
+            if e[0] == b and e[1] == cc:
+                self._count(1, i + 1)
+                return (e[2],)
+        self._count(1, len(lst))
+        return None
+
+    def find(self, c: Complex[D], s: Simplex, /) -> list[Triangle]:
+        """``find (c, (u, w))``: the triangles ``(u, w, x)``.  One dict lookup and a scan of u's list."""
+        try:
+            fam, rep, lin = c
+            u, w = s
+            lu = u.lineage
+            ok = fam is self.family and type(s) is tuple and (lu is lin or lin is None) and w.lineage is lu and u != w
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            rep, _, s = self._slow(c, s, 1, "find")
+            u, w = s
+        table: _Table = rep[0]
+        if table.current is not rep:
+            raise _stale("find")
+        lst = table.lists.get(u)
+        if lst is None:
+            self._count(1, 0)
+            return []
+        self._count(1, len(lst))
+        return [(u, w, e[1]) for e in lst if e[0] == w]
+
+    def findi(self, c: Complex[D], s: Simplex, /) -> list[tuple[Triangle, D]]:
+        """``find`` with each triangle's datum.  One dict lookup."""
+        try:
+            fam, rep, lin = c
+            u, w = s
+            lu = u.lineage
+            ok = fam is self.family and type(s) is tuple and (lu is lin or lin is None) and w.lineage is lu and u != w
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            rep, _, s = self._slow(c, s, 1, "findi")
+            u, w = s
+        table: _Table = rep[0]
+        if table.current is not rep:
+            raise _stale("findi")
+        lst = table.lists.get(u)
+        if lst is None:
+            self._count(1, 0)
+            return []
+        self._count(1, len(lst))
+        return [((u, w, e[1]), e[2]) for e in lst if e[0] == w]
+
+    def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
+        """``add (c, s, x)``: the triangle ``s`` with datum ``x`` put in the table IN PLACE; ``c`` becomes stale.
+
+        Raises DimensionError, RepeatedVertexError, ForeignVertexError,
+        DuplicateSimplexError or OppositeOrientationError before changing
+        anything (``c`` then stays current); StaleVersionError for a stale ``c``.
+        """
+        try:
+            fam, rep, lin = c
+            a, b, cc = s
+            la = a.lineage
+            ok = (
+                fam is self.family
+                and type(s) is tuple
+                and (la is lin or lin is None)
+                and b.lineage is la
+                and cc.lineage is la
+                and a != b
+                and b != cc
+                and a != cc
+            )
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            rep, slin, s = self._slow(c, s, 2, "add")
+            assert slin is not None  # a validated triangle has a lineage
+            la = slin
+            a, b, cc = s
+        table: _Table = rep[0]
+        if table.current is not rep:
+            raise _stale("add")
+        lists = table.lists
+        old = lists.get(a)
+        if old is None:
+            lists[a] = ((b, cc, x),)
+            scanned = 0
+        else:
+            # The triangle, in either orientation, would be in a's list: (b, c) or (c, b).
+            for e in old:
+                e0 = e[0]
+                if e0 == b:
+                    if e[1] == cc:
+                        raise DuplicateSimplexError(f"add: triangle {s!r} is already present")
+                elif e0 == cc and e[1] == b:
+                    raise OppositeOrientationError(
+                        f"add: triangle {s!r} is present with the opposite orientation {(a, cc, b)!r}"
+                    )
+            lists[a] = old + ((b, cc, x),)
+            scanned = len(old)
+        old = lists.get(b)
+        lists[b] = ((cc, a, x),) if old is None else old + ((cc, a, x),)
+        old = lists.get(cc)
+        lists[cc] = ((a, b, x),) if old is None else old + ((a, b, x),)
+        st = self._stats
+        if st is not None:
+            self._count(6, scanned)
+            st.faces_created += 1
+        new = (table,)
+        table.current = new
+        return _new_complex(Complex, (self.family, new, la))
+
+    def rem(self, c: Complex[D], s: Simplex, /) -> Complex[D]:
+        """``rem (c, s)``: the triangle ``s`` taken out of the table IN PLACE; ``c`` becomes stale.
+
+        AbsentSimplexError (before changing anything) if ``s`` is not held in this orientation.
+        """
+        try:
+            fam, rep, lin = c
+            a, b, cc = s
+            la = a.lineage
+            ok = (
+                fam is self.family
+                and type(s) is tuple
+                and la is lin
+                and b.lineage is la
+                and cc.lineage is la
+                and a != b
+                and b != cc
+                and a != cc
+            )
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            rep, lin, s = self._slow(c, s, 2, "rem")
+            a, b, cc = s
+        table: _Table = rep[0]
+        if table.current is not rep:
+            raise _stale("rem")
+        self._drop(table.lists, a, b, cc, "rem")
+        st = self._stats
+        if st is not None:
+            st.faces_deleted += 1
+        new = (table,)
+        table.current = new
+        return _new_complex(Complex, (self.family, new, lin))
+
+    def _drop(self, lists: dict[Vertex, tuple[Entry, ...]], a: Vertex, b: Vertex, c: Vertex, what: str) -> None:
+        """Take triangle (a, b, c) out of the three lists; every entry is located before the first change."""
+        la, lb, lc = lists.get(a), lists.get(b), lists.get(c)
+        i = -1 if la is None else _index(la, b, c)
+        if i < 0:
+            raise AbsentSimplexError(f"{what}: triangle {(a, b, c)!r} is not in the complex (in this orientation)")
+        j = -1 if lb is None else _index(lb, c, a)
+        k = -1 if lc is None else _index(lc, a, b)
+        if j < 0 or k < 0:
+            raise RepresentationError(f"ephemeral 2-complex: triangle {(a, b, c)!r} is missing from a vertex list")
+        assert la is not None and lb is not None and lc is not None
+        for key, lst, at in ((a, la, i), (b, lb, j), (c, lc, k)):
+            if len(lst) == 1:
+                del lists[key]
+            else:
+                lists[key] = lst[:at] + lst[at + 1 :]
+        self._count(6, i + j + k + 3)
+
+    # -- internal operations (what the base class's other public operations use) ---------
+
+    def _empty(self) -> Any:
+        return _Table().current
+
+    def _is_empty(self, rep: Any) -> bool:
+        return not self._live(rep, "isEmpty")
+
+    def _vertices(self, rep: Any) -> list[Vertex]:
+        lists = self._live(rep, "vertices")
+        self._count(len(lists), 0)
+        return sorted(lists)
+
+    def _data(self, rep: Any, s: Simplex) -> Option[D]:
+        lists = self._live(rep, "data")
+        a, b, c = s
+        lst = lists.get(a)
+        if lst is None:
+            return None
+        i = _index(lst, b, c)
+        return None if i < 0 else (lst[i][2],)
+
+    def _find(self, rep: Any, f: Simplex) -> list[Triangle]:
+        lists = self._live(rep, "find")
+        u, w = f
+        return [(u, w, t) for v, t, _ in lists.get(u, ()) if v == w]
+
+    def _star(self, rep: Any, v: Vertex) -> list[Triangle]:
+        lists = self._live(rep, "grep")
+        return [(v, b, c) for b, c, _ in lists.get(v, ())]
+
+    def _items(self, rep: Any) -> Iterator[tuple[Triangle, D]]:
+        lists = self._live(rep, "items")
+        out: list[tuple[Triangle, D]] = []
+        for a in sorted(lists):
+            for b, c, x in lists[a]:
+                if a < b and a < c:
+                    out.append(((a, b, c), x))
+        return iter(out)
+
+    def _add(self, rep: Any, s: Simplex, x: D) -> Any:  # pragma: no cover - add is overridden whole
+        raise NotImplementedError("EphemeralTwoComplex.add works on the table directly")
+
+    def _rem(self, rep: Any, s: Simplex) -> Any:  # pragma: no cover - rem is overridden whole
+        raise NotImplementedError("EphemeralTwoComplex.rem works on the table directly")
+
+    def _update(self, rep: Any, s: Simplex, f: Callable[[D], D]) -> Any:
+        lists = self._live(rep, "update")
+        a, b, c = s
+        la = lists.get(a)
+        i = -1 if la is None else _index(la, b, c)
+        if i < 0:
+            raise AbsentSimplexError(f"update: triangle {s!r} is not in the complex (in this orientation)")
+        assert la is not None
+        y = f(la[i][2])  # f may raise: nothing has changed yet
+        for key, p, q in ((a, b, c), (b, c, a), (c, a, b)):
+            lst = lists[key]
+            j = _index(lst, p, q)
+            lists[key] = lst[:j] + ((p, q, y),) + lst[j + 1 :]
+        table: _Table = rep[0]
+        new = (table,)
+        table.current = new
+        return new
+
+    def _check_rep(self, rep: Any) -> None:
+        lists = self._live(rep, "check")
+        for a, lst in lists.items():
+            if not lst:
+                raise RepresentationError(f"ephemeral 2-complex: vertex {a!r} is mapped to an empty list")
+            pairs: set[tuple[Vertex, Vertex]] = set()
+            for b, c, x in lst:
+                if len({a, b, c}) != 3:
+                    raise RepresentationError(f"ephemeral 2-complex: the list of {a!r} holds {(b, c)!r}, a degenerate triangle")
+                if (b, c) in pairs:
+                    raise OrientationError(f"ephemeral 2-complex: triangle {(a, b, c)!r} is held twice")
+                if (c, b) in pairs:
+                    raise OrientationError(f"ephemeral 2-complex: triangle {(a, b, c)!r} is held in both orientations")
+                pairs.add((b, c))
+                for key, p, q in ((b, c, a), (c, a, b)):
+                    copies = [e for e in lists.get(key, ()) if e[0] == p and e[1] == q]
+                    if len(copies) != 1 or not same_datum(copies[0][2], x):
+                        raise RepresentationError(
+                            f"ephemeral 2-complex: triangle {(a, b, c)!r} is not held exactly once, with its datum, "
+                            f"in the list of {key!r}"
+                        )
+
+
+def _index(lst: tuple[Entry, ...], b: Vertex, c: Vertex) -> int:
+    """The index of entry ``(b, c, _)`` in ``lst``, or -1."""
+    for i, e in enumerate(lst):
+        if e[0] == b and e[1] == c:
+            return i
+    return -1
