@@ -32,6 +32,14 @@ Sign conventions (Shewchuk's; all are determinants with a last column of ones):
 * ``incircle(a, b, c, d) = orient3d`` of the lifted points ``(x, y, x² + y²)``:
   +1 when ``d`` is inside the circle through ``a, b, c`` (counterclockwise).
 
+Batches: ``*_batch(a, b, c, qs)`` tests many query points against fixed
+points (a conflict list against a plane); ``*_many(a, b, c, d)`` takes any
+mix of indices and index arrays, broadcast together (e.g. every (face, point)
+pair of a visible region at once).  Both return int8 arrays equal, entry for
+entry, to the scalar test; below :data:`SMALL_BATCH` entries they loop over
+the scalar test, above it the filter runs vectorised and only the undecided
+entries go to exact (vectorised) integer arithmetic and SoS.
+
 Counting: with a :class:`~persistri.impl.stats.Stats` attached (``stats=``),
 each test adds 1 to ``plane_side_tests`` (orient2d and incircle count as
 orientation tests too), its filter's ``FLOPS_*`` to ``flops`` (the filter runs
@@ -97,7 +105,13 @@ def _sign(v: int) -> int:
 
 class _IndexedPoints:
     """What both dimensions share: validation, the filter's scaled copy, exact integers,
-    counting, and the batch engine."""
+    counting, and the batch engine.
+
+    The attribute ``stats`` is the :class:`~persistri.impl.stats.Stats` that tests
+    report to, or None (nothing is counted); it may be reassigned at any time.
+    Everything else is fixed at construction (a memo of exact integer
+    coordinates aside).
+    """
 
     __slots__ = ("_points", "_n", "_dim", "_cols", "_rows", "_grain", "_uniform", "_shift", "_scale", "_ints", "stats")
 
