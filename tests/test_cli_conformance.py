@@ -1,0 +1,97 @@
+"""``persistri conformance maps MODULE:ATTR``: exit 0 conforms, 1 a law fails, 2 not a loadable ORD_MAP structure."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner, Result
+
+from persistri.impl.cli.main import main
+
+QUICK = ["--max-examples", "10", "--workload-size", "200"]
+
+
+def run(*args: str) -> Result:
+    return CliRunner().invoke(main, ["conformance", "maps", *args])
+
+
+def test_a_conforming_structure_exits_0_with_a_summary() -> None:
+    r = run("persistri.impl.maps.assoc_list:assoc_list", *QUICK)
+    assert r.exit_code == 0, r.output
+    assert r.stdout.splitlines() == [
+        "persistri.impl.maps.assoc_list:assoc_list conforms to ORD_MAP: 26 passed, 0 failed, 0 skipped "
+        "(max_examples=10, workload_size=200, hashing=True, check=True)"
+    ]
+
+
+def test_a_class_is_instantiated_and_no_hashing_skips_the_collision_test() -> None:
+    r = run("persistri.impl.maps.assoc_list:AssocListMap", "--max-examples", "5", "--workload-size", "0", "--no-hashing")
+    assert r.exit_code == 0, r.output
+    assert "conforms to ORD_MAP: 23 passed, 0 failed, 3 skipped" in r.stdout
+    assert "hashing=False" in r.stdout
+    assert "skipped edge_colliding_hashes: hashing is off" in r.stdout
+    assert "skipped workload_random: workload_size = 0" in r.stdout
+
+
+def test_a_broken_structure_exits_1_with_law_statement_and_counterexample() -> None:
+    r = run("broken_maps:mutating", *QUICK)
+    assert r.exit_code == 1, r.output
+    out = r.stdout
+    assert out.startswith("broken_maps:mutating does NOT conform to ORD_MAP:")
+    assert "FAILED persistence — law persistence: every earlier version is unchanged by any later operation" in out
+    assert "counterexample:" in out and "Failing test case: persistence(" in out
+    assert "FAILED stateful_history — law persistence" in out and "state = OrdMapHistory()" in out
+
+
+@pytest.mark.parametrize(
+    ("target", "line"),
+    [
+        (
+            "builtins:dict",
+            "persistri: builtins:dict is not an ORD_MAP structure: missing Key, empty, isEmpty, singleton, insert, "
+            "insertWith, find, lookup, inDomain, remove, numItems, listItemsi, listKeys, foldli",
+        ),
+        ("no_such_module_xyz:thing", "persistri: cannot import module 'no_such_module_xyz': No module named 'no_such_module_xyz'"),
+        ("persistri.impl.maps:no_such_thing", "persistri: module 'persistri.impl.maps' has no attribute 'no_such_thing'"),
+        ("persistri.impl.maps.assoc_list", "persistri: expected MODULE:ATTR (e.g. persistri.impl.maps.red_black:red_black), got 'persistri.impl.maps.assoc_list'"),
+    ],
+)
+def test_unusable_targets_exit_2_with_one_line(target: str, line: str) -> None:
+    r = run(target)
+    assert r.exit_code == 2
+    assert r.stdout == ""
+    assert r.stderr == line + "\n"
+
+
+def test_a_structure_lacking_some_operations_is_named_in_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    (tmp_path / "partial_map_mod.py").write_text(
+        "from persistri.impl.maps.assoc_list import AssocListMap\n"
+        "class Partial(AssocListMap):\n"
+        "    remove = None\n"
+        "    foldli = 3\n"
+        "thing = Partial()\n"
+        "class NeedsArgs:\n"
+        "    def __init__(self, x):\n"
+        "        pass\n"
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    r = run("partial_map_mod:thing")
+    assert r.exit_code == 2
+    assert r.stderr == "persistri: partial_map_mod:thing is not an ORD_MAP structure: missing remove, foldli\n"
+    r = run("partial_map_mod:NeedsArgs")
+    assert r.exit_code == 2 and r.stderr.count("\n") == 1
+    assert r.stderr.startswith("persistri: partial_map_mod:NeedsArgs is a class that cannot be instantiated with no arguments")
+
+
+def test_a_module_that_fails_to_import_is_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    (tmp_path / "exploding_mod.py").write_text("raise RuntimeError('boom\\nsecond line')\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    r = run("exploding_mod:x")
+    assert r.exit_code == 2
+    assert r.stderr == "persistri: importing module 'exploding_mod' failed: RuntimeError: boom\n"
+
+
+def test_bad_option_values_are_usage_errors() -> None:
+    r = run("persistri.impl.maps.assoc_list:assoc_list", "--max-examples", "0")
+    assert r.exit_code == 2 and "--max-examples" in r.output

@@ -1,0 +1,67 @@
+"""Every persistri map backend passes the ``ORD_MAP`` conformance suite (as an outsider would run it).
+
+One subclass of :class:`~persistri.spec.conformance.OrdMapConformance` per entry
+of :data:`persistri.impl.maps.BACKENDS`.  A backend whose module does not exist
+(yet) is skipped, and only then: a module that exists but fails to import is an
+error.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from typing import Any
+
+import pytest
+
+from persistri.impl.maps import BACKENDS, backend
+from persistri.spec.conformance import ORD_MAP_TESTS, OrdMapConformance
+
+
+def _module_exists(name: str) -> bool:
+    return importlib.util.find_spec(BACKENDS[name].split(":")[0]) is not None
+
+
+def _load(name: str) -> Any:
+    """The backend's structure, or None when its module does not exist."""
+    return backend(name) if _module_exists(name) else None
+
+
+def _needs(name: str) -> pytest.MarkDecorator:
+    return pytest.mark.skipif(not _module_exists(name), reason=f"{BACKENDS[name]} does not exist yet")
+
+
+@_needs("assoc_list")
+class TestAssocList(OrdMapConformance):
+    structure = _load("assoc_list")
+    # O(n) per operation: 10^5 sequential keys would be ~5·10^9 cell visits per workload.
+    workload_size = 2_000
+
+
+@_needs("red_black")
+class TestRedBlack(OrdMapConformance):
+    structure = _load("red_black")
+
+
+@_needs("hamt")
+class TestHamt(OrdMapConformance):
+    structure = _load("hamt")
+
+
+@_needs("immutables")
+class TestImmutables(OrdMapConformance):
+    structure = _load("immutables")
+
+
+@_needs("pyrsistent")
+class TestPyrsistent(OrdMapConformance):
+    structure = _load("pyrsistent")
+
+
+def test_every_backend_has_a_conformance_class() -> None:
+    covered = {"assoc_list", "red_black", "hamt", "immutables", "pyrsistent"}
+    assert covered == set(BACKENDS)
+
+
+def test_base_class_has_one_method_per_suite_test() -> None:
+    methods = {n for n in vars(OrdMapConformance) if n.startswith("test_")}
+    assert methods == {f"test_{t.name}" for t in ORD_MAP_TESTS}
