@@ -13,7 +13,7 @@ export HYPOTHESIS_PROFILE := $(PROFILE)
 $(BIN)/python:
 	@$(PY) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "persistri needs Python 3.11 or newer; set PY=python3.11")'
 	$(PY) -m venv $(VENV)
-	$(BIN)/python -m pip install -q --upgrade pip "setuptools>=69" wheel
+	$(BIN)/python -m pip install -q --upgrade pip "setuptools>=77" wheel
 
 $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e . --config-settings editable_mode=strict
@@ -26,7 +26,8 @@ $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 # A strict editable install is a tree of links made at install time: refresh it
 # so that modules added since are importable (and visible to mypy).
 links: | $(BIN)/python
-	$(BIN)/python -m pip install -q --no-deps --no-build-isolation -e . --config-settings editable_mode=strict
+	@$(BIN)/python -m pip install -q --no-deps --no-build-isolation -e . --config-settings editable_mode=strict \
+		>$(VENV)/links.log 2>&1 || (cat $(VENV)/links.log; exit 1)
 
 install: $(VENV)/.installed links
 install-dev: $(VENV)/.installed-dev links
