@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 from rich.console import Console
@@ -13,18 +14,25 @@ from persistri.impl.bench.maps import RECORD_FIELDS, SUBJECTS
 from persistri.impl.cli import demo as demo_module
 from persistri.impl.cli.demo import DemoSettings, DemoStage, StageContext, StageResult, run_demo
 from persistri.impl.cli.main import main
+from persistri.impl.hull.verify import verify_hull
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
-def test_demo_writes_the_map_benchmark(tmp_path: Path) -> None:
+def test_demo_writes_the_hull_and_the_map_benchmark(tmp_path: Path) -> None:
     out = tmp_path / "results" / "nested"  # created if missing
     result = CliRunner().invoke(
-        main, ["demo", "--out", str(out), "--bench-sizes", "60,90", "--repeat", "1"], catch_exceptions=False
+        main,
+        ["demo", "--out", str(out), "--bench-sizes", "60,90", "--repeat", "1", "--hull-points", "300"],
+        catch_exceptions=False,
     )
     assert result.exit_code == 0, result.output
     files = {p.name for p in out.iterdir()}
-    assert files == {"bench_maps.json", "bench_maps.txt", "bench_maps.png"}
+    assert files == {"bench_maps.json", "bench_maps.txt", "bench_maps.png", "hull.npz", "hull.ply", "hull.png"}
+    hull = np.load(out / "hull.npz")
+    assert verify_hull(hull["points"], hull["simplices"]).ok
+    assert hull["points"].shape == (300, 3)
+    assert (out / "hull.png").read_bytes().startswith(PNG_MAGIC)
 
     doc = json.loads((out / "bench_maps.json").read_text(encoding="utf-8"))
     assert doc["sizes"] == [60, 90] and doc["repeat"] == 1

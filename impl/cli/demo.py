@@ -7,6 +7,11 @@ order; adding a stage (the convex hull, the terrain) is adding an entry.
 
 Stages now:
 
+``hull``
+    the exact convex hull (:func:`persistri.impl.hull.api.convex_hull`) of
+    generated BordHeavy points (paper §4), checked at every insertion and verified
+    exactly, with every intermediate hull kept: ``hull.npz`` (points, simplices,
+    vertices), ``hull.ply`` and ``hull.png``;
 ``maps``
     the map benchmark (:mod:`persistri.impl.bench.maps`) at 10³ and 10⁴ keys:
     ``bench_maps.json`` (the records), ``bench_maps.txt`` (the table) and
@@ -30,6 +35,9 @@ from persistri.impl.cli.bench import parse_sizes, stdout_console
 
 __all__ = ["DemoSettings", "DemoStage", "StageContext", "StageResult", "STAGES", "demo", "run_demo"]
 
+DEMO_HULL_POINTS = 4_000
+"""Points of the demo's hull (BordHeavy): checked at every insertion, so kept modest."""
+
 DEMO_BENCH_SIZES = (1_000, 10_000)
 """Key counts of the demo's map benchmark: small enough for the association list."""
 
@@ -41,6 +49,7 @@ class DemoSettings:
     out: Path
     """The directory the stages write into (created if missing)."""
     bench_sizes: tuple[int, ...] = DEMO_BENCH_SIZES
+    hull_points: int = DEMO_HULL_POINTS
     repeat: int = 3
     seed: int = DEFAULT_SEED
 
@@ -84,7 +93,65 @@ def maps_stage(ctx: StageContext) -> StageResult:
     return StageResult([json_path, txt_path, png_path], maps_report(result), failures)
 
 
-STAGES: tuple[DemoStage, ...] = (DemoStage("maps", "persistent maps vs. their peers", maps_stage),)
+def hull_stage(ctx: StageContext) -> StageResult:
+    """The exact hull of BordHeavy points, checked and verified; ``hull.npz``, ``hull.ply``, ``hull.png``."""
+    import time
+
+    from rich.table import Table
+
+    from persistri.impl.files import write_mesh
+    from persistri.impl.hull.api import convex_hull
+    from persistri.impl.hull.distributions import generate
+    from persistri.impl.hull.plot import plot_hull
+    from persistri.impl.hull.verify import verify_hull
+    from persistri.impl.stats import Stats
+
+    s = ctx.settings
+    n = s.hull_points
+    points = generate("BordHeavy", n, s.seed)
+    total = max(n - 4, 1)
+    done = [0]
+
+    def tick(k: int) -> None:
+        done[0] += k
+        if done[0] % 256 == 0 or done[0] == total:
+            ctx.progress(done[0], total, f"BordHeavy n={n:,}, checked at every insertion")
+
+    stats = Stats()
+    start = time.perf_counter()
+    hull = convex_hull(points, seed=s.seed, check=True, history=True, stats=stats, progress=tick)
+    seconds = time.perf_counter() - start
+    report = verify_hull(points, hull.simplices)
+    out = s.out
+    npz = write_mesh(
+        out / "hull.npz", points, hull.simplices,
+        npz_arrays={"points": points, "simplices": hull.simplices, "vertices": hull.vertices},
+    )
+    ply = write_mesh(out / "hull.ply", points, hull.simplices)
+    png = plot_hull(points, hull.simplices, out / "hull.png", title=f"BordHeavy, n = {n:,}: {report}")
+    table = Table(title="convex hull (bulldozer, red-black backend)")
+    table.add_column("")
+    table.add_column("", justify="right")
+    assert hull.history is not None
+    for name, value in (
+        ("points", f"{n:,}"),
+        ("faces", f"{len(hull.simplices):,}"),
+        ("vertices", f"{len(hull.vertices):,}"),
+        ("hull versions kept", f"{len(hull.history):,}"),
+        ("key comparisons", f"{stats.key_comparisons:,}"),
+        ("plane-side tests", f"{stats.plane_side_tests:,}"),
+        ("exact verification", str(report)),
+        ("seconds (with check=True)", f"{seconds:.1f}"),
+    ):
+        table.add_row(name, value)
+    failures = [] if report.ok else [f"hull: {report}"]
+    return StageResult([npz, ply, png], table, failures)
+
+
+STAGES: tuple[DemoStage, ...] = (
+    DemoStage("hull", "exact convex hull", hull_stage),
+    DemoStage("maps", "persistent maps vs. their peers", maps_stage),
+)
 """The demo's stages, in the order they run."""
 
 
@@ -129,13 +196,15 @@ def run_demo(settings: DemoSettings, console: Console, stages: Sequence[DemoStag
     help="Key counts of the map benchmark (for quick runs and tests).",
 )
 @click.option("--repeat", type=click.IntRange(min=1), default=3, hidden=True, help="Timed runs per benchmark figure.")
-def demo(out: Path, bench_sizes: tuple[int, ...], repeat: int) -> None:
+@click.option("--hull-points", type=click.IntRange(min=4), default=DEMO_HULL_POINTS, hidden=True, help="Points of the hull stage.")
+def demo(out: Path, bench_sizes: tuple[int, ...], repeat: int, hull_points: int) -> None:
     """Run the demo: every stage in turn, writing its results into --out.
 
-    Now: the map benchmark at 10^3 and 10^4 keys (bench_maps.json, .txt, .png).
-    Exit status 1 if a stage reports a failure.
+    Now: the exact convex hull of 4,000 BordHeavy points, checked at every
+    insertion (hull.npz, .ply, .png), and the map benchmark at 10^3 and 10^4 keys
+    (bench_maps.json, .txt, .png).  Exit status 1 if a stage reports a failure.
     """
-    settings = DemoSettings(out=out, bench_sizes=bench_sizes, repeat=repeat)
+    settings = DemoSettings(out=out, bench_sizes=bench_sizes, repeat=repeat, hull_points=hull_points)
     console = stdout_console()
     results = run_demo(settings, console)
     console.print("wrote:", *(str(p) for r in results for p in r.files), sep="\n  ")
