@@ -37,11 +37,12 @@ demo: install
 
 typecheck: install-dev
 	$(BIN)/mypy -p persistri.spec -p persistri.impl
-	$(BIN)/mypy tests/typing/consumer.py
+	$(BIN)/mypy tests/typing/consumer.py proofs
 	$(BIN)/python tests/typing/check_rejections.py
 
 pytest: install-dev
 	$(BIN)/python -m pytest -n 2 -p no:cacheprovider
+	$(BIN)/python -m pytest -q -p no:cacheprovider --doctest-modules --pyargs persistri.spec persistri.impl
 
 proofs: install-dev
 	$(BIN)/python -m proofs

@@ -248,7 +248,7 @@ class _Rounded:
         const = self.poly.get(next(iter(d_parts)) + (0,) * (_ATOMS + _DELTAS), 0)
         assert const != 0, "a product's exact part is nonzero"
         sign = 1 if const > 0 else -1
-        flipped = {}
+        flipped: dict[tuple[int, ...], Fraction] = {}
         for mon, c in self.poly.items():
             d, a, e = mon[:_ATOMS], mon[_ATOMS : 2 * _ATOMS], mon[2 * _ATOMS :]
             assert not any(a)
@@ -309,7 +309,7 @@ def _check_filter(
         c0[t] = abs(const)
         rho = max(rho, dev / abs(const))
     # The permanent: differences appear only as |D| or squared (the lifts).
-    flipped = {}
+    flipped: dict[tuple[int, ...], int] = {}
     for mon, c in perm.poly.items():
         d, a, e = mon[:_ATOMS], mon[_ATOMS : 2 * _ATOMS], mon[2 * _ATOMS :]
         assert all(x % 2 == 0 for x in d), "a difference enters the permanent with its sign"
@@ -409,5 +409,6 @@ def proof_lifting_identity() -> None:
     assert sp.expand(orient - lifted) == 0
     ccw = [(1, 0), (0, 1), (-1, 0)]
     assert exact.orient2d_det(*[v for p in ccw for v in p]) > 0
-    assert exact.incircle_det(*[v for p in ccw for v in p], 0, 0) > 0
-    assert exact.incircle_det(*[v for p in ccw for v in p], 2, 0) < 0
+    (ax, ay), (bx, by), (cx, cy) = ccw
+    assert exact.incircle_det(ax, ay, bx, by, cx, cy, 0, 0) > 0
+    assert exact.incircle_det(ax, ay, bx, by, cx, cy, 2, 0) < 0
