@@ -14,6 +14,16 @@
   extra probe of an existing key; the listing reports them
   (:func:`sorted_items` raises a :class:`TypeError` naming the backend).
 
+A hash map finds keys by ``hash`` and ``==``, where ``ORD_MAP`` identifies keys
+that ``Key.compare`` calls ``EQUAL``.  The two agree only for keys whose ``==``
+matches their order (``a == b`` exactly when neither ``a < b`` nor ``b < a``)
+and whose hash matches ``==`` — true of numbers, strings, tuples of them and
+well-behaved dataclasses, but not of a class that defines ``<`` and leaves
+``==`` as identity: two separately built, order-equal keys would be two
+different keys to an adapter and one key to a tree.  That is a precondition of
+the adapters, documented rather than checked (checking it would cost a
+comparison with a neighbour the hash map does not have).
+
 Python's ``sorted`` uses only ``<``, the same order as
 :data:`persistri.spec.order.NATURAL_ORDER`, and compares keys only (never values,
 which need not be orderable).
