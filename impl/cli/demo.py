@@ -50,7 +50,7 @@ class DemoSettings:
     """The directory the stages write into (created if missing)."""
     bench_sizes: tuple[int, ...] = DEMO_BENCH_SIZES
     hull_points: int = DEMO_HULL_POINTS
-    repeat: int = 3
+    repeat: int = 1
     seed: int = DEFAULT_SEED
 
 
@@ -195,7 +195,7 @@ def run_demo(settings: DemoSettings, console: Console, stages: Sequence[DemoStag
     hidden=True,
     help="Key counts of the map benchmark (for quick runs and tests).",
 )
-@click.option("--repeat", type=click.IntRange(min=1), default=3, hidden=True, help="Timed runs per benchmark figure.")
+@click.option("--repeat", type=click.IntRange(min=1), default=1, hidden=True, help="Timed runs per benchmark figure.")
 @click.option("--hull-points", type=click.IntRange(min=4), default=DEMO_HULL_POINTS, hidden=True, help="Points of the hull stage.")
 def demo(out: Path, bench_sizes: tuple[int, ...], repeat: int, hull_points: int) -> None:
     """Run the demo: every stage in turn, writing its results into --out.
