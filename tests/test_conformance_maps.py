@@ -14,7 +14,8 @@ from typing import Any
 import pytest
 
 from persistri.impl.maps import BACKENDS, backend
-from persistri.spec.conformance import ORD_MAP_TESTS, OrdMapConformance
+from persistri.spec.conformance import ORD_MAP_OPERATIONS, ORD_MAP_TESTS, OrdMapConformance, missing_operations
+from persistri.spec.ord_map import OrdMap
 
 
 def _module_exists(name: str) -> bool:
@@ -65,3 +66,31 @@ def test_every_backend_has_a_conformance_class() -> None:
 def test_base_class_has_one_method_per_suite_test() -> None:
     methods = {n for n in vars(OrdMapConformance) if n.startswith("test_")}
     assert methods == {f"test_{t.name}" for t in ORD_MAP_TESTS}
+
+
+def test_the_operation_list_is_the_protocol() -> None:
+    members = [n for n in vars(OrdMap) if not n.startswith("_")]
+    assert list(ORD_MAP_OPERATIONS) == members
+
+
+class _Odd:
+    """An object with every kind of defect missing_operations looks for."""
+
+    empty = 3  # not callable
+
+    @property
+    def Key(self) -> object:
+        return object()  # no compare
+
+    @property
+    def find(self) -> object:
+        raise RuntimeError("a property that raises is unusable")
+
+
+def test_missing_operations() -> None:
+    assert missing_operations(backend("assoc_list")) == []
+    assert missing_operations(_Odd()) == [
+        "Key.compare", "empty", "isEmpty", "singleton", "insert", "insertWith", "find", "lookup",
+        "inDomain", "remove", "numItems", "listItemsi", "listKeys", "foldli",
+    ]
+    assert missing_operations(object()) == list(ORD_MAP_OPERATIONS)

@@ -23,6 +23,10 @@ from persistri.impl.maps.assoc_list import assoc_list
 from persistri.spec.conformance import ORD_MAP_TESTS, NotAnOrdMap, OrdMapConformance, run_conformance
 from persistri.spec.ord_map_laws import ORD_MAP_LAWS, LawViolation
 
+# Laws a history may legitimately find broken first: the miscounting map's insertWith
+# miscounts as its insert does, and the insertWith law checks the count too.
+ALSO = {"miscounting": {"insertWith"}}
+
 # The base class runs under the active profile.  Here every run *fails*, so the profile's
 # failure-time work (the explain phase, shrinking several distinct bugs) dominates; these
 # tests load a profile derived from the active one without it.
@@ -34,6 +38,7 @@ settings.register_profile(
     phases=[p for p in Phase if p is not Phase.explain],
     report_multiple_bugs=False,
     database=None,
+    derandomize=True,
 )
 
 
@@ -50,7 +55,7 @@ def rejects_profile() -> Iterator[None]:
 def test_runner_names_the_broken_law(name: str) -> None:
     structure, law = BROKEN[name]
     tests = (law, "stateful_history")  # the test named after the law, and the stateful history test
-    report = run_conformance(structure, max_examples=30, workload_size=200, name=name, tests=tests)
+    report = run_conformance(structure, max_examples=30, workload_size=200, name=name, tests=tests, derandomize=True)
     assert not report.ok
     assert "does NOT conform to ORD_MAP" in report.summary()
     by_test = {f.test: f for f in report.failures}
@@ -60,7 +65,7 @@ def test_runner_names_the_broken_law(name: str) -> None:
     assert failure.detail and f"{law}(" in failure.example
     # ... and the stateful history test finds the same defect by itself.
     stateful = by_test["stateful_history"]
-    assert stateful.law == law, stateful.format()
+    assert stateful.law in {law, *ALSO.get(name, ())}, stateful.format()
     assert "state = OrdMapHistory()" in stateful.example
     # The full text an outsider reads carries law, statement and counterexample.
     text = report.format()
@@ -69,14 +74,14 @@ def test_runner_names_the_broken_law(name: str) -> None:
 
 def test_the_same_selection_passes_on_a_conforming_map() -> None:
     tests = ("persistence", "remove", "numItems_insert", "invariants", "stateful_history")
-    report = run_conformance(assoc_list, max_examples=30, workload_size=200, tests=tests)
+    report = run_conformance(assoc_list, max_examples=30, workload_size=200, tests=tests, derandomize=True)
     assert report.ok, report.format()
     assert report.count("passed") == len(tests)
 
 
 def test_full_run_on_a_mutating_map_blames_persistence_only() -> None:
     structure, law = BROKEN["mutating"]
-    report = run_conformance(structure, max_examples=20, workload_size=200)
+    report = run_conformance(structure, max_examples=20, workload_size=200, derandomize=True)
     assert report.failed_laws == {"persistence"}, report.format()
     assert [o.test for o in report.outcomes] == [t.name for t in ORD_MAP_TESTS]
     assert report.count("skipped") == 1  # no _check

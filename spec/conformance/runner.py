@@ -129,14 +129,15 @@ class ConformanceReport:
         return "\n".join(lines)
 
 
-def explicit_settings(max_examples: int) -> settings:
+def explicit_settings(max_examples: int, *, derandomize: bool = False) -> settings:
     """Settings independent of any loaded profile: hypothesis's defaults, ``max_examples``, no deadline
     (the suite checks results, not speed), no example database (nothing is saved between runs),
     one reported bug per test, and no *explain* phase (it traces coverage: slow, and the report
-    already names the law)."""
+    already names the law).  ``derandomize`` makes every run generate the same examples."""
     return settings(
         settings.get_profile("default"),
         max_examples=max_examples,
+        derandomize=derandomize,
         deadline=None,
         database=None,
         report_multiple_bugs=False,
