@@ -42,7 +42,7 @@ typecheck: install-dev
 
 pytest: install-dev
 	$(BIN)/python -m pytest -n 2 -p no:cacheprovider
-	$(BIN)/python -m pytest -q -p no:cacheprovider --doctest-modules --pyargs persistri.spec persistri.impl
+	$(BIN)/python -m pytest -q -p no:cacheprovider --doctest-modules --doctest-glob='*.md' README.md --pyargs persistri.spec persistri.impl
 
 proofs: install-dev
 	$(BIN)/python -m proofs
