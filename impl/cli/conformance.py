@@ -18,11 +18,11 @@ from typing import NoReturn
 
 import click
 
-__all__ = ["conformance", "maps", "load_target"]
+__all__ = ["conformance", "maps", "load_target", "TargetError"]
 
 
-class _Unusable(Exception):
-    """``MODULE:ATTR`` cannot be used; the message is the one line the CLI prints."""
+class TargetError(Exception):
+    """``MODULE:ATTR`` names nothing usable; the message is the one line the CLI prints."""
 
 
 def _fail(ctx: click.Context, message: str) -> NoReturn:
@@ -31,23 +31,26 @@ def _fail(ctx: click.Context, message: str) -> NoReturn:
 
 
 def load_target(target: str) -> object:
-    """The object ``MODULE:ATTR`` names (``ATTR`` may be dotted); raises :class:`_Unusable` with one line."""
+    """The object ``MODULE:ATTR`` names (``ATTR`` may be dotted); raises :class:`TargetError` with one line.
+
+    Shared by every ``persistri conformance`` sub-command.
+    """
     module_name, sep, attr_path = target.partition(":")
     if not sep or not module_name or not attr_path:
-        raise _Unusable(f"expected MODULE:ATTR (e.g. persistri.impl.maps.red_black:red_black), got {target!r}")
+        raise TargetError(f"expected MODULE:ATTR (e.g. persistri.impl.maps.red_black:red_black), got {target!r}")
     try:
         module = importlib.import_module(module_name)
     except ModuleNotFoundError as exc:
-        raise _Unusable(f"cannot import module {module_name!r}: {exc}") from None
+        raise TargetError(f"cannot import module {module_name!r}: {exc}") from None
     except Exception as exc:  # the user's module failed while importing: say how, in one line
         first = str(exc).splitlines()[0] if str(exc) else ""
-        raise _Unusable(f"importing module {module_name!r} failed: {type(exc).__name__}: {first}") from None
+        raise TargetError(f"importing module {module_name!r} failed: {type(exc).__name__}: {first}") from None
     obj: object = module
     for part in attr_path.split("."):
         try:
             obj = getattr(obj, part)
         except AttributeError:
-            raise _Unusable(f"module {module_name!r} has no attribute {attr_path!r}") from None
+            raise TargetError(f"module {module_name!r} has no attribute {attr_path!r}") from None
     return obj
 
 
@@ -92,7 +95,7 @@ def maps(ctx: click.Context, target: str, max_examples: int, workload_size: int,
         _fail(ctx, str(exc))
     try:
         structure = as_structure(load_target(target), target)
-    except (_Unusable, NotAnOrdMap) as exc:
+    except (TargetError, NotAnOrdMap) as exc:
         _fail(ctx, str(exc))
     click.echo(f"persistri: running the ORD_MAP conformance suite on {target} …", err=True)
     from hypothesis.configuration import set_hypothesis_home_dir
