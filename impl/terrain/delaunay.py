@@ -1,0 +1,415 @@
+"""Incremental Delaunay triangulation on the persistent 2-complex (paper §5, Bowyer–Watson through the lifting map).
+
+A :class:`Triangulator` keeps a Delaunay triangulation of some of the points of
+a :class:`~persistri.impl.geometry.predicates.Predicates2` as a *closed* surface
+in a :class:`~persistri.impl.complex.two_complex.TwoComplex`: the finite
+triangles, counterclockwise, plus one **ghost triangle** ``(u, w, ∞)`` on every
+convex-hull edge, where ``∞`` is a symbolic vertex (label ``len(pred)``, no
+coordinates).  With the ghosts every oriented edge has exactly one triangle on
+each side, so the neighbour of a triangle across its edge ``(u, w)`` is always
+``findi(c, (w, u))`` — the same walk as the bulldozer's (paper Appendix A) — and
+the convex hull needs no special case: it is where the ghosts are.
+
+Why a symbolic vertex rather than a big enclosing triangle of constructed
+points: through the lifting map the Delaunay triangulation is the lower convex
+hull of the points lifted to the paraboloid ``z = x² + y²``, and the ghosts are
+the vertical faces that close it off *at infinity*.  A finite enclosing triangle
+would be a different point set whose Delaunay triangulation differs from the
+input's near the hull unless its vertices are far enough — a distance that
+depends on the input and must itself be computed exactly.  The symbolic vertex
+is at the right place by construction, costs nothing, and its tests reduce to
+``orient2d``: the "circumcircle" of ghost ``(u, w, ∞)`` is the open half-plane
+left of ``u → w`` (outside the hull) together with the open segment ``(u, w)``.
+
+The conflict rule (Shewchuk's, exact):
+
+* a finite triangle ``(a, b, c)`` is in conflict with ``p`` iff
+  ``incircle(a, b, c, p) = +1`` — the exact sign, ties among cocircular points
+  broken by the predicates' Simulation of Simplicity (one consistent perturbed
+  point set for ``orient2d`` and ``incircle``);
+* a ghost ``(u, w, ∞)`` iff ``orient2d_sign(u, w, p) > 0`` (``p`` strictly
+  outside the hull edge), or the exact sign is 0 and ``p`` lies strictly between
+  ``u`` and ``w``.  The true sign, not SoS: a point exactly on a hull edge
+  *splits* it.  Were SoS to put such a point infinitesimally inside, the fan
+  would contain the zero-area triangle ``(u, w, p)``; infinitesimally outside, a
+  zero-area triangle would appear on the next collinear insertion.  With this
+  rule no finite triangle ever has zero area (:meth:`Triangulator.insert` says why).
+
+One insertion of ``p`` (:meth:`Triangulator.insert`), from a triangle in
+conflict with it:
+
+1. the **cavity** — the triangles in conflict with ``p`` — is found by a walk
+   over the complex across edges, testing each neighbour once (it is connected
+   and star-shaped from ``p``: the classical Bowyer–Watson lemma, which the
+   lifting map turns into the bulldozer's "the visible region is connected");
+2. the cavity is removed and the **fan** (the 2D tent) from ``p`` to every edge of
+   its boundary is added: one new persistent version;
+3. the **conflict lists** of the removed finite triangles — here *samples*, points
+   not yet inserted that lie in the triangle, as if the bulldozer's centre sat at
+   vertical infinity — are pooled and each sample goes to the fan triangle whose
+   angular sector around ``p`` contains it: ``orient2d(p, v, q)`` against every
+   boundary vertex ``v`` (the 2D version of the bulldozer's projected rays;
+   :mod:`persistri.impl.terrain.sectors`).
+
+Costs per insertion: the cavity's ``k`` triangles cost ``O(k)`` complex
+operations (O(lg n) each with the red-black backend) and ``O(k)`` exact
+``incircle`` tests; the redistribution ``O(m · k)`` ``orient2d`` tests for ``m``
+pooled samples, in one vectorised batch.
+
+Points are indices into the predicates' point array; each is a
+:class:`~persistri.impl.complex.vertex.Vertex` whose label is its index.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.two_complex import TwoComplex
+from persistri.impl.complex.vertex import Vertex, VertexState, int_vertex
+from persistri.impl.geometry.predicates import Predicates2
+from persistri.impl.terrain.sectors import sector_of, sector_sides, small_integer_points
+
+__all__ = [
+    "TriDatum",
+    "Triangle",
+    "Insertion",
+    "Triangulator",
+    "TriangulationCheckError",
+    "EMPTY",
+    "canonical_triangles",
+]
+
+IntArray = NDArray[np.intp]
+Triangle = tuple[Vertex, Vertex, Vertex]
+TriDatum = tuple[int, IntArray]
+"""The datum of a triangle: ``(triangle id, samples)``; the samples are a read-only array of point indices."""
+
+EMPTY: Final[IntArray] = np.zeros(0, dtype=np.intp)
+"""The empty (read-only) sample list of ghosts and of triangles without samples."""
+EMPTY.setflags(write=False)
+
+
+class TriangulationCheckError(AssertionError):
+    """A ``check=True`` assertion of the incremental Delaunay triangulation failed (the message says which)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Insertion:
+    """What one insertion did (the caller, e.g. greedy insertion, reads the new triangles from it).
+
+    * ``point`` — the inserted point;
+    * ``version`` — the complex after it;
+    * ``removed`` — ids of the triangles of the cavity (ghosts included);
+    * ``created`` — the new *finite* triangles, ``(id, triangle)``, in the order of
+      the fan around ``point``;
+    * ``samples`` — the pooled samples of the cavity, sorted by the position of
+      their new triangle in ``created`` (``point`` excluded); ``counts[i]`` of them
+      belong to ``created[i]``, consecutively;
+    * ``hull_vertex`` — whether ``point`` is a vertex of the new convex hull (it lay on or
+      beyond the old one: ghosts were in the cavity).
+    """
+
+    point: int
+    version: Complex[TriDatum]
+    removed: tuple[int, ...]
+    created: tuple[tuple[int, Triangle], ...]
+    samples: IntArray
+    counts: IntArray
+    hull_vertex: bool
+
+
+def canonical_triangles(tris: IntArray) -> IntArray:
+    """Each row rotated to start at its smallest index (orientation kept), rows sorted: a canonical mesh. O(m log m)."""
+    t = np.asarray(tris, dtype=np.intp).reshape(-1, 3)
+    if t.size == 0:
+        return np.zeros((0, 3), dtype=np.intp)
+    k = np.argmin(t, axis=1)
+    rot = np.take_along_axis(t, (k[:, None] + np.arange(3)[None, :]) % 3, axis=1)
+    out: IntArray = rot[np.lexsort(rot.T[::-1])]
+    return out
+
+
+def _frozen(a: IntArray) -> IntArray:
+    a.setflags(write=False)
+    return a
+
+
+class Triangulator:
+    """The state of an incremental Delaunay triangulation: the current complex version and its bookkeeping.
+
+    ``Triangulator(pred, structure)`` makes the vertices (one per point of
+    ``pred``, label = index, plus the symbolic :attr:`infinite` vertex) and an
+    empty state; :meth:`begin` lays the first triangles, :meth:`insert` adds one
+    point and returns the new version (every old version stays valid: the
+    complex is persistent).  :meth:`locate` finds a triangle in conflict with a
+    point by walking, for inputs without conflict lists.
+
+    ``tri_of`` maps the id of every live triangle (ghosts included) to its
+    vertices; it is the run's scratch index, not part of any version (a version
+    is read through the complex alone).
+    """
+
+    def __init__(self, pred: Predicates2, structure: TwoComplex[TriDatum], *, check: bool = False) -> None:
+        self.pred = pred
+        self.S = structure
+        self.check = check
+        self.n = len(pred)
+        _, verts = int_vertex.new_many(VertexState.initial(), [*range(self.n), None])
+        self.verts: list[Vertex] = verts
+        self.infinite: Vertex = verts[self.n]
+        self.tri_of: dict[int, Triangle] = {}
+        self._next_id = 0
+        self.complex: Complex[TriDatum] = structure.new(2)
+        self._xy: NDArray[np.float64] = pred.points
+        self.small_integers = small_integer_points(pred.points)
+
+    # -- construction ------------------------------------------------------------------
+
+    def _new_id(self, tri: Triangle) -> int:
+        tid = self._next_id
+        self._next_id += 1
+        self.tri_of[tid] = tri
+        return tid
+
+    def begin(self, triangles: list[tuple[tuple[int, int, int], IntArray]]) -> Complex[TriDatum]:
+        """Lay the first triangulation: finite counterclockwise triangles with their samples, plus the ghosts.
+
+        ``triangles`` must triangulate a convex polygon (exact checks with
+        ``check=True``; :class:`ValueError` for a triangle that is not strictly
+        counterclockwise).  A ghost ``(w, u, ∞)`` is added on every boundary edge
+        ``(u, w)``.  Returns the first version.  O(size).
+        """
+        if self.tri_of:
+            raise ValueError("begin: the triangulation has already begun")
+        P, V, S = self.pred, self.verts, self.S
+        cx = self.complex
+        edges: set[tuple[int, int]] = set()
+        for (a, b, c), samples in triangles:
+            if P.orient2d_sign(a, b, c) <= 0:
+                raise ValueError(f"begin: triangle {(a, b, c)} is not strictly counterclockwise")
+            tri = (V[a], V[b], V[c])
+            cx = S.add(cx, tri, (self._new_id(tri), _frozen(np.array(samples, dtype=np.intp))))
+            edges.update(((a, b), (b, c), (c, a)))
+        for u, w in sorted(edges):
+            if (w, u) not in edges:
+                ghost = (V[w], V[u], self.infinite)
+                cx = S.add(cx, ghost, (self._new_id(ghost), EMPTY))
+        self.complex = cx
+        return cx
+
+    # -- the conflict tests --------------------------------------------------------------
+
+    def _between(self, u: int, w: int, p: int) -> bool:
+        """Whether ``p``, known to be on the line ``uw``, lies strictly between ``u`` and ``w`` (exact comparisons)."""
+        xy = self._xy
+        ux, uy = xy[u]
+        wx, wy = xy[w]
+        px, py = xy[p]
+        if ux != wx:
+            return bool(min(ux, wx) < px < max(ux, wx))
+        return bool(min(uy, wy) < py < max(uy, wy))
+
+    def ghost_conflict(self, u: int, w: int, p: int) -> bool:
+        """Whether ``p`` is in conflict with the ghost ``(u, w, ∞)``: strictly outside the hull edge, or on its open segment."""
+        s = self.pred.orient2d_sign(u, w, p)
+        if s:
+            return s > 0
+        return self._between(u, w, p)
+
+    def conflicts(self, tri: Triangle, p: int) -> bool:
+        """Whether ``p`` is in conflict with ``tri`` (module docstring: incircle with SoS, or the ghost rule). O(1)."""
+        a, b, c = tri
+        inf = self.infinite
+        if c == inf:
+            return self.ghost_conflict(a, b, p)
+        if a == inf:
+            return self.ghost_conflict(b, c, p)
+        if b == inf:
+            return self.ghost_conflict(c, a, p)
+        return self.pred.incircle(a, b, c, p) > 0
+
+    # -- one insertion -------------------------------------------------------------------
+
+    def insert(self, p: int, start: int) -> Insertion:
+        """Insert point ``p`` from the live triangle ``start``, which must be in conflict with it.
+
+        Returns the :class:`Insertion` (the new version is also :attr:`complex`).
+        The fan triangles all have positive area: a fan triangle ``(u, w, p)`` over a
+        cavity boundary edge ``(u, w)`` could only be flat if ``p`` were on the line
+        ``uw``; outside the segment, ``p`` is strictly outside every circle through
+        ``u`` and ``w``, so the cavity triangle on ``(u, w)`` would not be in conflict
+        (unless it is ``start``, which contains ``p``, so ``p`` is on the segment);
+        on the open segment, ``p`` is strictly inside every such circle and in
+        conflict with the ghost there, so both sides of ``(u, w)`` are in the cavity
+        and ``(u, w)`` is not on its boundary.  ``check=True`` asserts it exactly.
+        """
+        S, V = self.S, self.verts
+        cx = self.complex
+        findi = S.findi
+        conflicts = self.conflicts
+        vp = V[p]
+        tri0 = self.tri_of[start]
+        if self.check and not conflicts(tri0, p):
+            raise TriangulationCheckError(f"insert: point {p} is not in conflict with the start triangle {tri0}")
+        found = S.data(cx, tri0)
+        if found is None:
+            raise TriangulationCheckError(f"insert: start triangle {tri0} is not in the current version")
+        cavity: dict[int, tuple[Triangle, IntArray]] = {start: (tri0, found[0][1])}
+        rejected: set[int] = set()
+        boundary: list[tuple[Vertex, Vertex]] = []
+        stack = [tri0]
+        while stack:
+            a, b, c = stack.pop()
+            for u, w in ((a, b), (b, c), (c, a)):
+                ((ntri, (nid, nsamples)),) = findi(cx, (w, u))
+                if nid in cavity:
+                    continue
+                if nid in rejected:
+                    boundary.append((u, w))
+                elif conflicts(ntri, p):
+                    cavity[nid] = (ntri, nsamples)
+                    stack.append(ntri)
+                else:
+                    rejected.add(nid)
+                    boundary.append((u, w))
+
+        # The cavity boundary as one cycle; a ghost edge puts ∞ on it (the point is on or beyond the hull).
+        succ = {u: w for u, w in boundary}
+        if self.check and len(succ) != len(boundary):
+            raise TriangulationCheckError(f"insert: the cavity of point {p} is not a disc (its boundary is not one cycle)")
+        inf = self.infinite
+        first = succ[inf] if inf in succ else boundary[0][0]
+        ring = [first]
+        v = succ[first]
+        while v != first and v != inf:
+            ring.append(v)
+            v = succ[v]
+        closed = v == first
+        if self.check and len(ring) + (0 if closed else 1) != len(boundary):
+            raise TriangulationCheckError(f"insert: the cavity boundary of point {p} is not a simple cycle")
+
+        # Pool the samples of the removed finite triangles and sort them into the fan's sectors.
+        lists = [s for _, s in cavity.values() if s.size]
+        pooled = lists[0] if len(lists) == 1 else (np.concatenate(lists) if lists else EMPTY)
+        if pooled.size:
+            pooled = pooled[pooled != p]
+        nfan = len(ring) if closed else len(ring) - 1
+        if pooled.size and nfan > 1:
+            sector = self._sectors(p, ring, closed, pooled)
+            pooled = pooled[np.argsort(sector, kind="stable")]
+            counts = np.bincount(sector, minlength=nfan).astype(np.intp)
+        else:
+            counts = np.zeros(nfan, dtype=np.intp)
+            if pooled.size:
+                counts[0] = pooled.size
+        _frozen(pooled)
+
+        # The new version: the cavity removed, the fan added.
+        for tri, _ in cavity.values():
+            cx = S.rem(cx, tri)
+        tri_of = self.tri_of
+        for tid in cavity:
+            del tri_of[tid]
+        created: list[tuple[int, Triangle]] = []
+        start_at = 0
+        check = self.check
+        for i in range(nfan):
+            u = ring[i]
+            w = ring[(i + 1) % len(ring)]
+            tri = (u, w, vp)
+            if check and self.pred.orient2d_sign(u, w, p) <= 0:
+                raise TriangulationCheckError(f"insert: point {p} makes the flat or inverted triangle {tri}")
+            tid = self._new_id(tri)
+            cnt = int(counts[i])
+            part = pooled[start_at : start_at + cnt] if cnt else EMPTY
+            start_at += cnt
+            cx = S.add(cx, tri, (tid, part))
+            created.append((tid, tri))
+        if not closed:
+            # The two ghosts on the new hull edges (ring[-1], p) and (p, ring[0]).
+            for tri in ((ring[-1], inf, vp), (inf, ring[0], vp)):
+                cx = S.add(cx, tri, (self._new_id(tri), EMPTY))
+        self.complex = cx
+        return Insertion(
+            point=p,
+            version=cx,
+            removed=tuple(cavity),
+            created=tuple(created),
+            samples=pooled,
+            counts=counts,
+            hull_vertex=not closed,
+        )
+
+    def _sectors(self, p: int, ring: list[Vertex], closed: bool, pooled: IntArray) -> NDArray[np.intp]:
+        """For each pooled sample, the fan triangle ``i`` (``(ring[i], ring[i+1], p)``) that holds it.
+
+        The sector test of :mod:`persistri.impl.terrain.sectors`: true orient2d
+        signs against the ray to every ring vertex (the two ends of an open chain
+        are known: ``p`` split a hull edge and every sample is on its inner side).
+        """
+        ring_idx = np.array(ring, dtype=np.intp)
+        inner = ring_idx if closed else ring_idx[1:-1]
+        sides = sector_sides(self.pred, p, inner, pooled, exact_floats=self.small_integers, stats=self.pred.stats)
+        try:
+            return sector_of(sides, closed, check=self.check)
+        except ValueError as exc:
+            raise TriangulationCheckError(f"inserting point {p}: {exc}") from None
+
+    # -- point location --------------------------------------------------------------------
+
+    def locate(self, p: int, hint: int, *, seed: int = 0) -> int:
+        """The id of a live triangle in conflict with ``p``, by a visibility walk from triangle ``hint``.
+
+        From a finite triangle the walk crosses an edge that has ``p`` strictly on
+        its far side (SoS ``orient2d``), choosing among such edges in a rotating
+        order (Devillers' stochastic walk, which cannot cycle forever); a finite
+        triangle with no such edge contains ``p`` (closed) and so is in conflict.
+        A ghost it reaches is in conflict unless ``p`` lies exactly on the line of
+        that hull edge and outside it; then, and if the walk were ever to exceed
+        a linear number of steps, every live triangle is tested (O(n), never
+        needed on inputs in general position).
+        """
+        S, P = self.S, self.pred
+        cx = self.complex
+        inf = self.infinite
+        tri = self.tri_of[hint]
+        tid = hint
+        came: tuple[Vertex, Vertex] | None = None
+        limit = 4 * len(self.tri_of) + 16
+        turn = seed
+        for _ in range(limit):
+            if inf in tri:
+                if self.conflicts(tri, p):
+                    return tid
+                break
+            a, b, c = tri
+            edges = ((a, b), (b, c), (c, a))
+            turn += 1
+            moved = False
+            for j in range(3):
+                u, w = edges[(turn + j) % 3]
+                if came is not None and came == (u, w):
+                    continue
+                if P.orient2d(u, w, p) < 0:
+                    ((tri, (tid, _)),) = S.findi(cx, (w, u))
+                    came = (w, u)
+                    moved = True
+                    break
+            if not moved:
+                return tid
+        for tid, tri in self.tri_of.items():
+            if self.conflicts(tri, p):
+                return tid
+        raise TriangulationCheckError(f"locate: no triangle is in conflict with point {p}")
+
+    # -- reading a version -------------------------------------------------------------------
+
+    def finite_triangles(self, c: Complex[TriDatum] | None = None) -> list[tuple[Triangle, TriDatum]]:
+        """The finite triangles of version ``c`` (default: the current one) with their data. O(V + N)."""
+        inf = self.infinite
+        return [(t, d) for t, d in self.S.items(self.complex if c is None else c) if inf not in t]

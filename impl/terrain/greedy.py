@@ -1,0 +1,494 @@
+"""Greedy insertion (Garland & Heckbert) on the persistent Delaunay triangulation: ``greedy_insertion`` and ``Tin``.
+
+Paper §5.  Given a 2D array of height samples, start from the rectangle of the
+four corner samples split into two triangles; every triangle carries the
+samples inside it (its conflict list) and its *candidate*, the sample of
+maximum vertical error against the triangle's plane.  A priority queue holds one
+candidate per triangle; repeatedly the worst sample is inserted into the
+Delaunay triangulation (:class:`~persistri.impl.terrain.delaunay.Triangulator`:
+exact predicates, Simulation of Simplicity for ties, hull edges split by samples
+lying exactly on them), the new triangles are assessed, and their candidates are
+queued.  A queue entry whose triangle has died is skipped when it surfaces (lazy
+invalidation).  The run stops when the maximum error is at most ``max_error``,
+when the mesh has ``max_points`` vertices, or when the mesh is exact (error 0).
+
+Every insertion is a new version of the persistent complex, and all of them are
+kept (:class:`TinHistory`): any level of detail is read back afterwards —
+``history.at(points=k)``, ``history.at(error=e)`` — without running anything
+again, and it equals the mesh of a fresh run stopped there.
+
+The error measure is a *measurement*, not a predicate: the vertical distance
+``|z − plane(x, y)|`` is evaluated in float64, vectorised with numpy, by
+:func:`plane_errors` (the plane through the triangle's three samples,
+written around its first vertex).  Grid coordinates are small integers, so the
+plane's gradient has one rounding per operation; the errors are accurate to a
+few units in the last place of the heights.  All geometry (which triangle a
+sample is in, which triangles are Delaunay) is decided exactly.  Ties between
+equal errors are broken deterministically: within a triangle the first sample of
+its list, in the queue the older triangle.
+
+Grid convention: sample ``heights[row, col]`` is the point ``x = col``,
+``y = row`` (row 0 is the array's first row; nothing is flipped).  Triangles are
+counterclockwise in the ``(x, y)`` plane — ``orient2d > 0`` — which is clockwise
+when drawn with row 0 at the top.
+"""
+
+from __future__ import annotations
+
+import gc
+import heapq
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.two_complex import TwoComplex
+from persistri.impl.geometry.predicates import Predicates2
+from persistri.impl.maps import backend as map_backend
+from persistri.impl.stats import Stats
+from persistri.impl.terrain.delaunay import Insertion, TriDatum, Triangulator, canonical_triangles
+from persistri.impl.terrain.grids import GridTransform, as_heights, as_transform
+
+__all__ = ["greedy_insertion", "Tin", "TinHistory", "plane_errors", "grid_points"]
+
+IntArray = NDArray[np.intp]
+FloatArray = NDArray[np.float64]
+
+
+def grid_points(shape: tuple[int, int]) -> FloatArray:
+    """The ``(rows·cols, 2)`` array of grid coordinates ``(x, y) = (col, row)`` in row-major order (float64)."""
+    rows, cols = shape
+    xy = np.empty((rows * cols, 2), dtype=np.float64)
+    xy[:, 0] = np.tile(np.arange(cols, dtype=np.float64), rows)
+    xy[:, 1] = np.repeat(np.arange(rows, dtype=np.float64), cols)
+    return xy
+
+
+def plane_errors(x: FloatArray, y: FloatArray, z: FloatArray, tri: IntArray, counts: IntArray, samples: IntArray) -> FloatArray:
+    """Vertical errors ``|z[s] − plane(t)(x[s], y[s])|`` of samples grouped by triangle (float64).
+
+    ``tri`` is ``(k, 3)`` vertex indices (nonzero area); the first ``counts[0]``
+    entries of ``samples`` lie in ``tri[0]``, the next ``counts[1]`` in ``tri[1]``,
+    and so on.  The plane of a triangle is written around its vertex ``a`` of
+    smallest index (``(a, b, c)`` its rotation starting there):
+    ``z_a + g_x (x − x_a) + g_y (y − y_a)``, its gradient ``g`` by Cramer's rule,
+    computed once per triangle.  Every error of a run goes through this one
+    function and a triangle always gives the same floats whatever rotation it
+    comes in, so the queue's errors and a mesh's reported errors agree bit for
+    bit.  O(k + len(samples)), vectorised.
+    """
+    first = np.argmin(tri, axis=1)
+    rot = np.take_along_axis(tri, (first[:, None] + np.arange(3)[None, :]) % 3, axis=1)
+    a, b, c = rot[:, 0], rot[:, 1], rot[:, 2]
+    xa, ya, za = x[a], y[a], z[a]
+    dx1, dy1, dz1 = x[b] - xa, y[b] - ya, z[b] - za
+    dx2, dy2, dz2 = x[c] - xa, y[c] - ya, z[c] - za
+    det = dx1 * dy2 - dx2 * dy1
+    gx = (dz1 * dy2 - dz2 * dy1) / det
+    gy = (dx1 * dz2 - dx2 * dz1) / det
+    if tri.shape[0] == 1:
+        xr, yr, zr, gxr, gyr = xa[0], ya[0], za[0], gx[0], gy[0]
+        err: FloatArray = np.abs(z[samples] - (zr + gxr * (x[samples] - xr) + gyr * (y[samples] - yr)))
+        return err
+    rep = np.repeat(np.arange(tri.shape[0]), counts)
+    err = np.abs(z[samples] - (za[rep] + gx[rep] * (x[samples] - xa[rep]) + gy[rep] * (y[samples] - ya[rep])))
+    return err
+
+
+@dataclass(frozen=True)
+class Tin:
+    """A triangulated irregular network: the result of :func:`greedy_insertion` (or one level of its history).
+
+    * ``vertices`` — ``(k, 3)`` float64: ``x`` = column index, ``y`` = row index,
+      ``z`` = height, in insertion order (the four corners first), so the mesh at
+      ``j`` points has the first ``j`` of these vertices;
+    * ``triangles`` — ``(m, 3)`` indices into ``vertices``, counterclockwise in ``(x, y)``
+      (rotated to start at their smallest index, rows sorted);
+    * ``samples`` — the flat grid index ``row · cols + col`` of each vertex;
+    * ``max_error``, ``rms_error`` — over every sample of the grid (vertices count as 0);
+    * ``shape`` — the grid's ``(rows, cols)``; ``transform`` — the optional
+      :class:`~persistri.impl.terrain.grids.GridTransform` (see :meth:`world_vertices`);
+    * ``history`` — every level of detail of the run (:class:`TinHistory`), or None
+      when the run was asked not to keep it;
+    * ``complex`` / ``structure`` — the persistent complex version of this mesh
+      (ghost triangles included) and the structure that reads it;
+    * ``stats`` — the counts, when a :class:`~persistri.impl.stats.Stats` was given.
+    """
+
+    vertices: FloatArray
+    triangles: IntArray
+    samples: IntArray
+    max_error: float
+    rms_error: float
+    shape: tuple[int, int]
+    transform: GridTransform | None
+    history: TinHistory | None
+    complex: Complex[TriDatum]
+    structure: TwoComplex[TriDatum]
+    stats: Stats | None = field(default=None, compare=False)
+
+    @property
+    def n_points(self) -> int:
+        """The number of vertices."""
+        return int(self.vertices.shape[0])
+
+    def world_vertices(self) -> FloatArray:
+        """The vertices in world coordinates (through :attr:`transform`; a copy of :attr:`vertices` if there is none)."""
+        if self.transform is None:
+            return self.vertices.copy()
+        return self.transform.apply(self.vertices)
+
+
+@dataclass(frozen=True, eq=False)
+class TinHistory:
+    """Every level of detail of a greedy-insertion run, oldest first; the versions share structure.
+
+    ``versions[j]`` is the mesh with ``4 + j`` vertices: the corners plus the
+    first ``j`` inserted samples (``inserted[4 + j - 1]``); ``max_errors[j]`` is its
+    maximum error.  Keeping every version costs the persistent complex's new
+    nodes per insertion — O(lg n) per changed vertex with the red-black backend —
+    plus the triangles' sample lists, not a copy of the mesh per version.
+    """
+
+    heights: FloatArray
+    shape: tuple[int, int]
+    xy: FloatArray
+    structure: TwoComplex[TriDatum]
+    versions: tuple[Complex[TriDatum], ...]
+    inserted: IntArray
+    max_errors: FloatArray
+    transform: GridTransform | None
+    infinite: int
+
+    def __len__(self) -> int:
+        return len(self.versions)
+
+    @property
+    def points(self) -> range:
+        """The vertex counts available: ``range(4, 4 + len(self))``."""
+        return range(4, 4 + len(self.versions))
+
+    def index(self, *, points: int | None = None, error: float | None = None) -> int:
+        """The version with ``points`` vertices, or the first (fewest vertices) whose maximum error is ≤ ``error``.
+
+        Exactly one of the two must be given.  :class:`ValueError` when the run has no
+        such version (it stopped before, or ``points`` < 4).  O(1) for points, O(len) for error.
+        """
+        if (points is None) == (error is None):
+            raise ValueError("give exactly one of points= or error=")
+        if points is not None:
+            if isinstance(points, bool) or not isinstance(points, (int, np.integer)):
+                raise TypeError(f"points must be an integer, not {type(points).__name__}")
+            j = int(points) - 4
+            if not 0 <= j < len(self.versions):
+                raise ValueError(f"this run has meshes of 4 to {3 + len(self.versions)} points, not {points}")
+            return j
+        e = float(error)  # type: ignore[arg-type]  # error is not None here
+        if not e >= 0:
+            raise ValueError(f"error must be a number >= 0, got {error}")
+        hits = np.flatnonzero(self.max_errors <= e)
+        if not hits.size:
+            raise ValueError(
+                f"this run never reached a maximum error of {e:g} (its smallest is {float(self.max_errors.min()):g} "
+                f"at {4 + int(np.argmin(self.max_errors))} points)"
+            )
+        return int(hits[0])
+
+    def at(self, *, points: int | None = None, error: float | None = None) -> Tin:
+        """The mesh of one level of detail (see :meth:`index`), read from the kept version. O(mesh + samples)."""
+        j = self.index(points=points, error=error)
+        return tin_of_version(self, j)
+
+
+def tin_of_version(h: TinHistory, j: int) -> Tin:
+    """The :class:`Tin` of version ``j`` of history ``h``: vertices, triangles and errors read from the complex."""
+    k = 4 + j
+    inserted = h.inserted[:k]
+    version = h.versions[j]
+    return _tin(h.structure, version, inserted, h.xy, h.heights, h.shape, h.transform, h, h.infinite, None)
+
+
+def _tin(
+    structure: TwoComplex[TriDatum],
+    version: Complex[TriDatum],
+    inserted: IntArray,
+    xy: FloatArray,
+    z: FloatArray,
+    shape: tuple[int, int],
+    transform: GridTransform | None,
+    history: TinHistory | None,
+    infinite: int,
+    stats: Stats | None,
+) -> Tin:
+    items = [(t, d) for t, d in structure.items(version) if infinite not in t]
+    tri = np.array([t for t, _ in items], dtype=np.intp).reshape(-1, 3)
+    lists = [d[1] for _, d in items]
+    counts = np.array([s.size for s in lists], dtype=np.intp)
+    n_total = z.size
+    if counts.sum():
+        samples = np.concatenate(lists)
+        err = plane_errors(xy[:, 0], xy[:, 1], z, tri, counts, samples)
+        max_error = float(err.max())
+        rms = float(np.sqrt(np.sum(err * err) / n_total))
+    else:
+        max_error = rms = 0.0
+    rank = np.full(n_total, -1, dtype=np.intp)
+    rank[inserted] = np.arange(inserted.size, dtype=np.intp)
+    vertices = np.column_stack([xy[inserted], z[inserted]])
+    return Tin(
+        vertices=vertices,
+        triangles=canonical_triangles(rank[tri]),
+        samples=inserted.copy(),
+        max_error=max_error,
+        rms_error=rms,
+        shape=shape,
+        transform=transform,
+        history=history,
+        complex=version,
+        structure=structure,
+        stats=stats,
+    )
+
+
+def _stop_criteria(max_error: Any, max_points: Any) -> tuple[float | None, int | None]:
+    if max_error is None and max_points is None:
+        raise ValueError("give max_error, max_points or both: greedy insertion needs to know when to stop")
+    e: float | None = None
+    if max_error is not None:
+        if isinstance(max_error, bool) or not isinstance(max_error, (int, float, np.integer, np.floating)):
+            raise TypeError(f"max_error must be a number, not {type(max_error).__name__}")
+        e = float(max_error)
+        if not (e >= 0 and np.isfinite(e)):
+            raise ValueError(f"max_error must be a finite number >= 0, got {max_error}")
+    k: int | None = None
+    if max_points is not None:
+        if isinstance(max_points, bool) or not isinstance(max_points, (int, np.integer)):
+            raise TypeError(f"max_points must be an integer, not {type(max_points).__name__}")
+        k = int(max_points)
+        if k < 4:
+            raise ValueError(f"max_points must be at least 4 (the grid's corners), got {k}")
+    return e, k
+
+
+class _Greedy:
+    """One greedy-insertion run: the triangulator, the priority queue, the kept versions."""
+
+    def __init__(self, z: FloatArray, shape: tuple[int, int], backend: str, stats: Stats | None, check: bool) -> None:
+        rows, cols = shape
+        self.z = z
+        self.xy = grid_points(shape)
+        self.x = np.ascontiguousarray(self.xy[:, 0])
+        self.y = np.ascontiguousarray(self.xy[:, 1])
+        self.pred = Predicates2(self.xy, stats=stats)
+        self.structure: TwoComplex[TriDatum] = TwoComplex(map_backend(backend), stats)
+        self.T = Triangulator(self.pred, self.structure, check=check)
+        self.heap: list[tuple[float, int, int]] = []
+        n = rows * cols
+        # Corners counterclockwise in (x, y): (0, 0), (cols-1, 0), (cols-1, rows-1), (0, rows-1).
+        a, b, c, d = 0, cols - 1, n - 1, n - cols
+        self.corners = (a, b, c, d)
+        inside = np.ones(n, dtype=bool)
+        inside[[a, b, c, d]] = False
+        samples = np.flatnonzero(inside).astype(np.intp)
+        P = self.pred
+        # The diagonal: the one that is Delaunay under the predicates' tie-breaking (the corners are cocircular).
+        if P.incircle(a, b, c, d) < 0:
+            t1, t2, u, w = (a, b, c), (a, c, d), a, c
+        else:
+            t1, t2, u, w = (b, c, d), (a, b, d), b, d
+        side = P.orient2d_batch(u, w, samples) if samples.size else np.zeros(0, dtype=np.int8)
+        # t1 is right of the diagonal u → w, t2 left of it (closed triangles: a sample on the diagonal goes by SoS).
+        self.T.begin([(t1, samples[side < 0]), (t2, samples[side > 0])])
+        first = [(tid, tri) for tid, tri in self.T.tri_of.items() if self.T.infinite not in tri]
+        for tid, tri in first:
+            found = self.structure.data(self.T.complex, tri)
+            assert found is not None
+            own = found[0][1]
+            self._assess([(tid, tri)], own, np.array([own.size], dtype=np.intp))
+
+    def _assess(self, created: list[tuple[int, Any]] | tuple[tuple[int, Any], ...], samples: IntArray, counts: IntArray) -> None:
+        """Queue the candidate (worst sample) of each new triangle; ``samples`` grouped by triangle, ``counts`` each."""
+        if not samples.size:
+            return
+        tri = np.array([t for _, t in created], dtype=np.intp)
+        err = plane_errors(self.x, self.y, self.z, tri, counts, samples)
+        heap = self.heap
+        start = 0
+        for (tid, _), cnt in zip(created, counts.tolist()):
+            if cnt:
+                seg = err[start : start + cnt]
+                i = int(seg.argmax())
+                e = float(seg[i])
+                if e > 0.0:
+                    heapq.heappush(heap, (-e, tid, int(samples[start + i])))
+                start += cnt
+
+    def current_error(self) -> float:
+        """The maximum error of the current mesh: the queue's top, once dead triangles are popped."""
+        heap, alive = self.heap, self.T.tri_of
+        while heap and heap[0][1] not in alive:
+            heapq.heappop(heap)
+        return -heap[0][0] if heap else 0.0
+
+    def step(self) -> Insertion:
+        """Insert the current worst sample; return what the insertion did."""
+        _, tid, p = heapq.heappop(self.heap)
+        ins = self.T.insert(p, tid)
+        self._assess(ins.created, ins.samples, ins.counts)
+        return ins
+
+
+def greedy_insertion(
+    heights: ArrayLike,
+    *,
+    max_error: float | None = None,
+    max_points: int | None = None,
+    backend: str = "red_black",
+    check: bool = False,
+    stats: Stats | None = None,
+    progress: bool | Callable[[int], Any] = False,
+    transform: Any = None,
+    nodata: str | float = "error",
+    history: bool = True,
+) -> Tin:
+    """Approximate the height grid ``heights`` by a Delaunay TIN, greedily (Garland–Heckbert; paper §5).
+
+    * ``max_error`` — stop once every sample is within this vertical distance of the mesh;
+    * ``max_points`` — stop once the mesh has this many vertices (≥ 4: the corners);
+      at least one of the two is required; the run also stops when the mesh is exact;
+    * ``backend`` — the ``ORD_MAP`` backend of the complex (``persistri.impl.maps.BACKENDS``);
+    * ``check`` — assert the insertion invariants at every step and verify the result
+      exactly (:func:`persistri.impl.terrain.check.verify_tin`: every interior edge
+      Delaunay by exact ``incircle``, every sample in exactly one triangle, the
+      errors recomputed independently); raises
+      :class:`~persistri.impl.terrain.check.TerrainCheckError` on failure;
+    * ``stats`` — a :class:`Stats` counting dictionary operations, key comparisons,
+      plane-side (orient2d/incircle) tests and their flops;
+    * ``progress`` — True for a progress bar on stderr, or a callable taking the
+      number of insertions since its last call;
+    * ``transform`` — georeferencing for :meth:`Tin.world_vertices`
+      (:func:`persistri.impl.terrain.grids.as_transform`);
+    * ``nodata`` — what to do with NaN cells (:func:`persistri.impl.terrain.grids.as_heights`);
+    * ``history`` — keep every level of detail (:attr:`Tin.history`); False keeps only the final mesh.
+
+    Errors: :class:`TypeError`/:class:`ValueError` for bad heights (see
+    ``as_heights``: empty, 1-row, 1-column or ragged grids, NaN without a
+    ``nodata`` rule), bad stopping criteria, an unknown backend.
+
+    Cost: per insertion O(k) complex operations (O(lg n) each) and exact tests
+    for a cavity of k triangles, plus O(m·k) orient2d tests and O(m) float work
+    for the m samples that change triangle.
+    """
+    grid = as_heights(heights, nodata=nodata)
+    e_stop, k_stop = _stop_criteria(max_error, max_points)
+    tf = as_transform(transform)
+    if not isinstance(history, bool):
+        raise TypeError(f"history must be a bool, not {type(history).__name__}")
+    shape = (int(grid.shape[0]), int(grid.shape[1]))
+    z = grid.ravel()
+    tick = _progress_callback(progress, None if k_stop is None else k_stop - 4)
+
+    collector = gc.isenabled()
+    gc.disable()  # persistent nodes form no reference cycles: the cyclic collector only costs time here
+    try:
+        run = _Greedy(z, shape, backend, stats, check)
+        T = run.T
+        versions: list[Complex[TriDatum]] = [T.complex]
+        inserted: list[int] = list(run.corners)
+        errors: list[float] = []
+        try:
+            while True:
+                err = run.current_error()
+                errors.append(err)
+                if (
+                    err == 0.0
+                    or (e_stop is not None and err <= e_stop)
+                    or (k_stop is not None and len(inserted) >= k_stop)
+                ):
+                    break
+                ins = run.step()
+                inserted.append(ins.point)
+                if history:
+                    versions.append(ins.version)
+                else:
+                    versions[0] = ins.version
+                if tick is not None:
+                    tick(1)
+        finally:
+            if hasattr(tick, "close"):
+                tick.close()
+        inserted_arr = np.array(inserted, dtype=np.intp)
+        inserted_arr.setflags(write=False)
+        errors_arr = np.array(errors, dtype=np.float64)
+        errors_arr.setflags(write=False)
+        kept: TinHistory | None = None
+        if history:
+            kept = TinHistory(
+                heights=z,
+                shape=shape,
+                xy=run.xy,
+                structure=run.structure,
+                versions=tuple(versions),
+                inserted=inserted_arr,
+                max_errors=errors_arr,
+                transform=tf,
+                infinite=int(T.infinite),
+            )
+        tin = _tin(run.structure, T.complex, inserted_arr, run.xy, z, shape, tf, kept, int(T.infinite), stats)
+    finally:
+        if collector:
+            gc.enable()
+    if check:
+        from persistri.impl.terrain.check import verify_tin
+
+        verify_tin(tin, grid.reshape(shape)).raise_if_failed()
+        if tin.max_error != errors[-1]:
+            from persistri.impl.terrain.check import TerrainCheckError
+
+            raise TerrainCheckError(
+                f"the queue's maximum error {errors[-1]!r} differs from the mesh's {tin.max_error!r} (lazy invalidation)"
+            )
+    return tin
+
+
+class _Bar:
+    """A rich progress bar over the insertions (``progress=True``)."""
+
+    def __init__(self, total: int | None) -> None:
+        from rich.console import Console
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+        self._p = Progress(
+            TextColumn("terrain"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TimeElapsedColumn(),
+            transient=True,
+            console=Console(stderr=True),
+        )
+        self._task = self._p.add_task("terrain", total=total)
+        self._p.start()
+        self._pending = 0
+
+    def __call__(self, k: int) -> None:
+        self._pending += k
+        if self._pending >= 256:
+            self._p.advance(self._task, self._pending)
+            self._pending = 0
+
+    def close(self) -> None:
+        self._p.advance(self._task, self._pending)
+        self._p.stop()
+
+
+def _progress_callback(progress: bool | Callable[[int], Any], total: int | None) -> Any:
+    if progress is True:
+        return _Bar(total)
+    if progress is False or progress is None:
+        return None
+    if callable(progress):
+        return progress
+    raise TypeError(f"progress must be a bool or a callable, not {type(progress).__name__}")

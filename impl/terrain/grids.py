@@ -1,0 +1,382 @@
+"""Height grids: validation at the API boundary, georeferencing, and reading them from files.
+
+A height grid is a 2D array of samples: ``heights[row, col]``.  persistri puts
+sample ``(row, col)`` at ``x = col``, ``y = row`` — row 0 is the array's first
+row, nothing is flipped — and an optional :class:`GridTransform` maps these grid
+coordinates to world coordinates (``x0 + col·dx``, ``y0 + row·dy``; north-up
+rasters have ``dy < 0``).
+
+Inputs (:func:`read_grid`):
+
+* ``.npy`` — a 2D array;
+* ``.npz`` — the array named ``elevation``, ``heights``, ``z`` or ``dem``, or the
+  only 2D array in the file; if the file also holds ``xmin``, ``ymin``, ``dx`` and
+  ``dy`` (as matplotlib's Jacksboro sample does), they give the transform;
+* ``.asc`` — an ESRI ASCII grid (header ``ncols``, ``nrows``, ``xllcorner`` or
+  ``xllcenter``, ``yllcorner`` or ``yllcenter``, ``cellsize`` or ``dx``/``dy``,
+  optional ``NODATA_value``; rows from north to south, which become rows 0, 1, …);
+* ``.tif`` / ``.tiff`` — a GeoTIFF through ``tifffile`` (the optional extra
+  ``persistri[geotiff]``): the first page, its ``ModelPixelScale`` and
+  ``ModelTiepoint`` tags for the transform and ``GDAL_NODATA`` for no-data;
+* the word ``jacksboro``: the DEM shipped with matplotlib
+  (``jacksboro_fault_dem.npz``, 344 × 403 integer heights in metres, cells of
+  1/1200 degree).
+
+No-data cells (the file's no-data value, NaN) become NaN in :attr:`HeightGrid.heights`;
+:func:`as_heights` decides what happens to them (``nodata=``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "GRID_FORMATS",
+    "NODATA_RULES",
+    "GridTransform",
+    "HeightGrid",
+    "as_heights",
+    "as_transform",
+    "read_grid",
+    "jacksboro",
+    "write_asc",
+]
+
+GRID_FORMATS: Final = (".npy", ".npz", ".asc", ".tif", ".tiff")
+"""The file extensions :func:`read_grid` reads (and the word ``jacksboro``)."""
+
+NODATA_RULES: Final = ("error", "fill", "min")
+"""The named no-data rules of :func:`as_heights` (a number is accepted too)."""
+
+_NPZ_NAMES: Final = ("elevation", "heights", "z", "dem")
+
+
+@dataclass(frozen=True, slots=True)
+class GridTransform:
+    """The affine map from grid coordinates to world coordinates: ``(x0 + col·dx, y0 + row·dy)``.
+
+    ``(x0, y0)`` is the world position of sample ``(row 0, col 0)`` and ``dx``,
+    ``dy`` the cell size along columns and rows (``dy`` negative for north-up
+    rasters, whose row 0 is the northernmost).  A presentation of results: the
+    triangulation itself is computed in exact grid coordinates.
+    """
+
+    x0: float
+    y0: float
+    dx: float
+    dy: float
+
+    def apply(self, xy: NDArray[np.float64]) -> NDArray[np.float64]:
+        """World coordinates of the grid coordinates ``xy`` (``(k, 2)`` or ``(k, 3)``; a third column is copied)."""
+        out = np.array(xy, dtype=np.float64, copy=True)
+        out[:, 0] = self.x0 + out[:, 0] * self.dx
+        out[:, 1] = self.y0 + out[:, 1] * self.dy
+        return out
+
+
+def as_transform(transform: Any) -> GridTransform | None:
+    """``transform`` as a :class:`GridTransform`: None, a GridTransform, ``(x0, y0, dx, dy)``, or
+    ``((x0, y0), (dx, dy))`` / ``((x0, y0), cell)`` (origin and cell size).
+
+    Raises :class:`TypeError`/:class:`ValueError` for anything else, for non-finite
+    numbers or for a zero cell size.
+    """
+    if transform is None or isinstance(transform, GridTransform):
+        return transform
+    try:
+        parts = list(transform)
+        if len(parts) == 2:
+            origin = list(parts[0])
+            cell = parts[1]
+            size = [cell, cell] if np.ndim(cell) == 0 else list(cell)
+            values = [*origin, *size]
+        else:
+            values = parts
+        nums = [float(v) for v in values]
+    except (TypeError, ValueError):
+        raise TypeError(
+            "transform must be (x0, y0, dx, dy) or ((x0, y0), (dx, dy)) or ((x0, y0), cell) of real numbers"
+        ) from None
+    if len(nums) != 4:
+        raise ValueError(f"transform needs 4 numbers (x0, y0, dx, dy), got {len(nums)}")
+    if not all(np.isfinite(nums)):
+        raise ValueError(f"transform has a non-finite number: {nums}")
+    if nums[2] == 0 or nums[3] == 0:
+        raise ValueError(f"transform has a zero cell size: dx={nums[2]}, dy={nums[3]}")
+    return GridTransform(*nums)
+
+
+@dataclass(frozen=True)
+class HeightGrid:
+    """A grid as read from a file: ``heights`` (float64, NaN where the file had no data), its transform, and its source."""
+
+    heights: NDArray[np.float64]
+    transform: GridTransform | None
+    source: str
+
+
+def as_heights(heights: ArrayLike, *, nodata: str | float = "error", what: str = "heights") -> NDArray[np.float64]:
+    """``heights`` as a validated, C-contiguous ``(rows, cols)`` float64 array with no NaN. O(size).
+
+    Raises :class:`TypeError` for non-numeric input and :class:`ValueError` for
+    a ragged, empty, 1-D, 1-row or 1-column array (a terrain needs at least
+    2 × 2 samples), for an infinite height, and for NaN (no-data) cells unless
+    ``nodata`` says how to treat them:
+
+    * ``"error"`` (default) — a :class:`ValueError` naming how many cells and the first one;
+    * ``"fill"`` — each no-data cell takes the height of the nearest valid cell
+      (Euclidean distance in grid cells; among equally near cells, the one
+      ``scipy.ndimage.distance_transform_edt`` returns, which is deterministic);
+    * ``"min"`` — each no-data cell takes the lowest valid height;
+    * a number — each no-data cell takes that height.
+
+    A grid with no valid cell at all is an error whatever ``nodata`` says.
+    Integer heights must be exactly representable as float64 (|h| ≤ 2^53).
+    """
+    if isinstance(heights, (str, bytes)):
+        raise TypeError(f"{what} must be a 2D array of real numbers, not {type(heights).__name__}")
+    try:
+        raw = np.asarray(heights)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(f"{what} must be a rectangular 2D array (ragged rows?): {exc}") from None
+    if raw.dtype == object:
+        raise ValueError(f"{what} must be a rectangular 2D array of real numbers (ragged rows or non-numeric entries)")
+    if raw.dtype.kind not in "biuf":
+        raise TypeError(f"{what} must be real numbers, not {raw.dtype}")
+    if raw.ndim != 2:
+        raise ValueError(f"{what} must be a 2D array (rows, cols), got {raw.ndim} dimension(s) of shape {raw.shape}")
+    rows, cols = raw.shape
+    if rows < 2 or cols < 2:
+        raise ValueError(f"{what} must have at least 2 rows and 2 columns, got shape {raw.shape}")
+    arr = np.ascontiguousarray(raw, dtype=np.float64)
+    if raw.dtype.kind in "iu" and bool(np.any(arr.astype(raw.dtype) != raw)):
+        raise ValueError(f"{what}: an integer height is not exactly representable as float64")
+    if bool(np.any(np.isinf(arr))):
+        r, c = np.argwhere(np.isinf(arr))[0]
+        raise ValueError(f"{what}: cell (row {r}, col {c}) is infinite")
+    missing = np.isnan(arr)
+    if not bool(missing.any()):
+        out: NDArray[np.float64] = arr + 0.0  # -0.0 becomes 0.0
+        return out
+    count = int(missing.sum())
+    r, c = (int(v) for v in np.argwhere(missing)[0])
+    if count == arr.size:
+        raise ValueError(f"{what}: every cell is no-data (NaN); nothing to triangulate")
+    if isinstance(nodata, str):
+        if nodata == "error":
+            raise ValueError(
+                f"{what}: {count} no-data cell{'s' if count != 1 else ''} (NaN), the first at (row {r}, col {c}); "
+                "say how to treat them with nodata='fill', 'min' or a height"
+            )
+        if nodata == "fill":
+            from scipy.ndimage import distance_transform_edt
+
+            _, (ri, ci) = distance_transform_edt(missing, return_indices=True)
+            arr = arr[ri, ci]
+        elif nodata == "min":
+            arr = np.where(missing, np.nanmin(arr), arr)
+        else:
+            raise ValueError(f"nodata must be one of {', '.join(NODATA_RULES)} or a number, got {nodata!r}")
+    else:
+        if isinstance(nodata, bool) or not isinstance(nodata, (int, float, np.integer, np.floating)):
+            raise TypeError(f"nodata must be one of {', '.join(NODATA_RULES)} or a number, got {nodata!r}")
+        fill = float(nodata)
+        if not np.isfinite(fill):
+            raise ValueError(f"nodata fill height must be finite, got {fill}")
+        arr = np.where(missing, fill, arr)
+    filled: NDArray[np.float64] = np.ascontiguousarray(arr, dtype=np.float64) + 0.0
+    return filled
+
+
+# -- reading -------------------------------------------------------------------------------
+
+
+def jacksboro() -> HeightGrid:
+    """The Jacksboro fault DEM shipped with matplotlib: 344 × 403 heights (m), row 0 the northernmost.
+
+    Its transform is in degrees: ``x0 = xmin`` (west edge), ``y0`` the first row's
+    latitude (the file's ``ymin`` key, which is the *north* edge), ``dy = -dy``.
+    """
+    from matplotlib import cbook
+
+    data = cbook.get_sample_data("jacksboro_fault_dem.npz")
+    grid = _from_npz(data, "jacksboro")
+    return grid
+
+
+def _from_npz(data: Any, source: str) -> HeightGrid:
+    names = list(data.keys())
+    arrays = {k: np.asarray(data[k]) for k in names}
+    chosen = next((k for k in _NPZ_NAMES if k in arrays and arrays[k].ndim == 2), None)
+    if chosen is None:
+        two_d = [k for k, a in arrays.items() if a.ndim == 2]
+        if len(two_d) != 1:
+            raise ValueError(
+                f"{source}: cannot tell which array holds the heights (2D arrays: {two_d or 'none'}); "
+                f"name it one of {', '.join(_NPZ_NAMES)}"
+            )
+        chosen = two_d[0]
+    heights = _float_heights(arrays[chosen], source)
+    transform = None
+    if all(k in arrays and arrays[k].ndim == 0 for k in ("xmin", "ymin", "dx", "dy")):
+        # matplotlib's sample: 'ymin' is the latitude of row 0 (the north edge), rows go south.
+        transform = GridTransform(float(arrays["xmin"]), float(arrays["ymin"]), float(arrays["dx"]), -abs(float(arrays["dy"])))
+    return HeightGrid(heights, transform, source)
+
+
+def _float_heights(a: NDArray[Any], source: str) -> NDArray[np.float64]:
+    if a.dtype.kind not in "biuf":
+        raise ValueError(f"{source}: the heights are not numbers (dtype {a.dtype})")
+    out: NDArray[np.float64] = np.asarray(a, dtype=np.float64)
+    return out
+
+
+def _read_asc(path: Path) -> HeightGrid:
+    header: dict[str, float] = {}
+    with path.open("r", encoding="ascii", errors="replace") as fh:
+        lines = fh.read().splitlines()
+    body_start = 0
+    for i, line in enumerate(lines):
+        parts = line.split()
+        if len(parts) == 2 and parts[0][:1].isalpha():
+            try:
+                header[parts[0].lower()] = float(parts[1])
+            except ValueError:
+                raise ValueError(f"{path}: header line {i + 1} is not 'key value': {line!r}") from None
+            body_start = i + 1
+        else:
+            break
+    for key in ("ncols", "nrows"):
+        if key not in header:
+            raise ValueError(f"{path}: not an ESRI ASCII grid (no {key} in the header)")
+    ncols, nrows = int(header["ncols"]), int(header["nrows"])
+    try:
+        values = np.array(" ".join(lines[body_start:]).split(), dtype=np.float64)
+    except ValueError:
+        raise ValueError(f"{path}: the grid holds something that is not a number") from None
+    if values.size != ncols * nrows:
+        raise ValueError(f"{path}: the header says {nrows} rows × {ncols} columns but the file holds {values.size} values")
+    heights = values.reshape(nrows, ncols)
+    if "nodata_value" in header:
+        heights = np.where(heights == header["nodata_value"], np.nan, heights)
+    if "cellsize" in header:
+        dx = dy = header["cellsize"]
+    elif "dx" in header and "dy" in header:
+        dx, dy = header["dx"], header["dy"]
+    else:
+        raise ValueError(f"{path}: no cellsize (or dx and dy) in the header")
+    if "xllcenter" in header:
+        x0 = header["xllcenter"]
+    elif "xllcorner" in header:
+        x0 = header["xllcorner"] + dx / 2
+    else:
+        raise ValueError(f"{path}: no xllcorner or xllcenter in the header")
+    if "yllcenter" in header:
+        ylow = header["yllcenter"]
+    elif "yllcorner" in header:
+        ylow = header["yllcorner"] + dy / 2
+    else:
+        raise ValueError(f"{path}: no yllcorner or yllcenter in the header")
+    # The first data row is the northernmost: row 0 sits (nrows - 1) cells above the lowest row's centre.
+    return HeightGrid(heights, GridTransform(x0, ylow + (nrows - 1) * dy, dx, -dy), str(path))
+
+
+def _read_tiff(path: Path) -> HeightGrid:
+    try:
+        import tifffile
+    except ImportError:
+        raise ValueError(f"{path}: reading GeoTIFF needs tifffile: pip install 'persistri[geotiff]'") from None
+    try:
+        with tifffile.TiffFile(path) as tif:
+            page = tif.pages[0]
+            data = np.asarray(page.asarray())
+            tags = {tag.code: tag.value for tag in page.tags.values()}  # type: ignore[union-attr]  # pages[0] is a TiffPage here
+    except Exception as exc:  # tifffile raises many types for malformed files
+        raise ValueError(f"{path}: cannot read TIFF ({exc})") from None
+    if data.ndim == 3 and data.shape[-1] == 1:
+        data = data[..., 0]
+    if data.ndim != 2:
+        raise ValueError(f"{path}: expected a single-band raster, got shape {data.shape}")
+    heights = _float_heights(data, str(path)).copy()
+    nodata = tags.get(42113)
+    if nodata is not None:
+        try:
+            value = float(str(nodata).strip().strip("\x00"))
+        except ValueError:
+            raise ValueError(f"{path}: GDAL_NODATA tag is not a number: {nodata!r}") from None
+        heights[heights == value] = np.nan
+    transform = None
+    scale, tie = tags.get(33550), tags.get(33922)
+    if scale is not None and tie is not None and len(scale) >= 2 and len(tie) >= 6:
+        i, j, x, y = float(tie[0]), float(tie[1]), float(tie[3]), float(tie[4])
+        sx, sy = float(scale[0]), float(scale[1])
+        # Raster type (GeoKey 1025): 1 = PixelIsArea (the default; tie point at a corner), 2 = PixelIsPoint.
+        area = True
+        keys = tags.get(34735)
+        if keys is not None:
+            k = list(keys)
+            for n in range(4, len(k) - 3, 4):
+                if k[n] == 1025 and k[n + 1] == 0:
+                    area = k[n + 3] != 2
+        shift = 0.5 if area else 0.0
+        transform = GridTransform(x + (shift - i) * sx, y - (shift - j) * sy, sx, -sy)
+    return HeightGrid(heights, transform, str(path))
+
+
+def read_grid(source: str | Path) -> HeightGrid:
+    """The height grid in ``source`` (a path with one of :data:`GRID_FORMATS`, or the word ``jacksboro``).
+
+    Every failure is a :class:`ValueError` with one readable line.  The heights
+    are returned as read (NaN for no-data); validate them with :func:`as_heights`.
+    """
+    if isinstance(source, str) and source.lower() == "jacksboro":
+        return jacksboro()
+    path = Path(source)
+    if not path.exists():
+        raise ValueError(f"{path}: no such file")
+    suffix = path.suffix.lower()
+    if suffix == ".npy":
+        try:
+            arr = np.load(path, allow_pickle=False)
+        except ValueError as exc:
+            raise ValueError(f"{path}: not a numeric .npy array ({exc})") from None
+        return HeightGrid(_float_heights(np.asarray(arr), str(path)), None, str(path))
+    if suffix == ".npz":
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                return _from_npz(data, str(path))
+        except (ValueError, OSError) as exc:
+            raise ValueError(f"{path}: cannot read .npz ({exc})") from None
+    if suffix == ".asc":
+        return _read_asc(path)
+    if suffix in (".tif", ".tiff"):
+        return _read_tiff(path)
+    raise ValueError(f"{path}: unknown grid format {suffix!r}; use one of {', '.join(GRID_FORMATS)} or 'jacksboro'")
+
+
+def write_asc(path: str | Path, heights: ArrayLike, *, x0: float = 0.0, y0: float = 0.0, cellsize: float = 1.0,
+              nodata: float = -9999.0) -> Path:
+    """Write ``heights`` as an ESRI ASCII grid (row 0 first, i.e. northernmost); NaN cells as ``nodata``.
+
+    ``(x0, y0)`` is the lower-left corner (``xllcorner``, ``yllcorner``).  For tests and examples.
+    """
+    arr = np.asarray(heights, dtype=np.float64)
+    p = Path(path)
+    rows, cols = arr.shape
+    lines = [
+        f"ncols {cols}",
+        f"nrows {rows}",
+        f"xllcorner {x0!r}",
+        f"yllcorner {y0!r}",
+        f"cellsize {cellsize!r}",
+        f"NODATA_value {nodata!r}",
+    ]
+    for row in arr:
+        lines.append(" ".join(repr(float(nodata)) if np.isnan(v) else repr(float(v)) for v in row))
+    p.write_text("\n".join(lines) + "\n", encoding="ascii")
+    return p

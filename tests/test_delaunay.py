@@ -1,0 +1,156 @@
+"""Scattered-point Delaunay (issue item 7): Qhull where it is reliable, the exact check where it is not."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from numpy.typing import NDArray
+
+from persistri.impl.complex.checks import check_closed_surface
+from persistri.impl.geometry.predicates import Predicates2
+from persistri.impl.stats import Stats
+from persistri.impl.terrain.check import exact_hull, verify_triangulation
+from persistri.impl.terrain.delaunay import canonical_triangles
+from persistri.impl.terrain.errors import DegenerateInputError
+from persistri.impl.terrain.scattered import DelaunayTriangulation, delaunay, hilbert_keys, insertion_order
+
+
+def qhull_ccw(points: NDArray[np.float64]) -> NDArray[np.intp]:
+    from scipy.spatial import Delaunay
+
+    s = Delaunay(points).simplices.astype(np.intp)
+    a, b, c = points[s[:, 0]], points[s[:, 1]], points[s[:, 2]]
+    turn = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    s[turn < 0] = s[turn < 0][:, [0, 2, 1]]
+    return canonical_triangles(s)
+
+
+def assert_exact_delaunay(d: DelaunayTriangulation) -> None:
+    """Every distinct point a vertex, the exact hull as boundary, every edge Delaunay, no flat triangle."""
+    rows = np.array(sorted({r for r in range(len(d.points))} - {r for r, _ in d.duplicates}), dtype=np.intp)
+    pred = Predicates2(d.points)
+    verify_triangulation(pred, d.triangles, vertices=rows).raise_if_failed()
+    check_closed_surface(d.complex)
+    h = len(exact_hull(pred, rows))
+    assert len(d.triangles) == 2 * rows.size - h - 2  # Euler, with h points on the hull's boundary
+    assert sorted(d.hull.tolist()) == sorted(exact_hull(pred, rows))
+
+
+@pytest.mark.parametrize("n", [3, 10, 500])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_same_triangles_as_qhull_in_general_position(n: int, seed: int) -> None:
+    pts = np.random.default_rng(seed).random((n, 2))
+    d = delaunay(pts, check=True)
+    assert np.array_equal(d.triangles, qhull_ccw(pts))
+    assert_exact_delaunay(d)
+
+
+def test_the_utm_tile_comes_out_complete_and_exact() -> None:
+    # 300 random points in a 10 m square at easting 5e5, northing 4e6 (a LiDAR tile in UTM metres).
+    pts = np.random.default_rng(2024).random((300, 2)) * 10.0 + np.array([5e5, 4e6])
+    d = delaunay(pts, check=True)
+    assert np.unique(d.triangles).size == 300
+    assert_exact_delaunay(d)
+    # The same points translated to the origin (exactly, power-of-two offsets aside) give the same
+    # combinatorics wherever the Delaunay triangulation is unique: compare with Qhull there.
+    local = (pts - np.array([5e5, 4e6]))
+    assert np.array_equal(delaunay(local).triangles, qhull_ccw(local))
+
+
+def test_stats_and_seeds() -> None:
+    pts = np.random.default_rng(9).random((200, 2))
+    stats = Stats()
+    a = delaunay(pts, stats=stats)
+    assert stats.plane_side_tests > 0 and stats.key_comparisons > 0
+    assert a.stats is stats
+    for seed in (1, 2, 3):
+        assert np.array_equal(delaunay(pts, seed=seed).triangles, a.triangles)
+
+
+@st.composite
+def integer_clouds(draw: st.DrawFn) -> NDArray[np.float64]:
+    n = draw(st.integers(3, 40))
+    side = draw(st.integers(1, 6))
+    pts = draw(st.lists(st.tuples(st.integers(0, side), st.integers(0, side)), min_size=n, max_size=n))
+    return np.array(pts, dtype=np.float64)
+
+
+@given(integer_clouds(), st.integers(0, 3))
+@settings(max_examples=60)
+def test_integer_clouds_cocircular_and_collinear_everywhere(pts: NDArray[np.float64], seed: int) -> None:
+    distinct = np.unique(pts, axis=0)
+    collinear = len(distinct) < 3 or all(
+        (b[0] - distinct[0][0]) * (distinct[-1][1] - distinct[0][1]) == (b[1] - distinct[0][1]) * (distinct[-1][0] - distinct[0][0])
+        for b in distinct
+    )
+    if collinear:
+        with pytest.raises(DegenerateInputError):
+            delaunay(pts)
+        return
+    d = delaunay(pts, check=True, seed=seed)
+    assert_exact_delaunay(d)
+    # The triangulation does not depend on the insertion order (SoS breaks ties the same way).
+    assert np.array_equal(delaunay(pts, seed=seed + 7).triangles, d.triangles)
+
+
+def test_full_grid_and_collinear_hull_points() -> None:
+    grid = np.array([[x, y] for x in range(7) for y in range(6)], dtype=float)
+    d = delaunay(grid, check=True)
+    assert len(d.triangles) == 2 * 6 * 5  # every unit square split in two: 2n - h - 2 with h = 22
+    assert len(d.hull) == 22
+    line_plus_apex = np.array([[0, 0], [1, 0], [2, 0], [3, 0], [1.5, 1.0]])
+    d = delaunay(line_plus_apex, check=True)
+    assert d.triangles.tolist() == [[0, 1, 4], [1, 2, 4], [2, 3, 4]]
+    assert d.hull.tolist() == [0, 1, 2, 3, 4]
+
+
+def test_duplicates_are_merged_and_reported() -> None:
+    pts = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 0.0], [0.0, 0.0], [1.0, 1.0]])
+    d = delaunay(pts, check=True)
+    assert d.duplicates == ((3, 1), (4, 0))
+    assert set(np.unique(d.triangles).tolist()) == {0, 1, 2, 5}
+
+
+def test_tiny_and_huge_scales_and_offsets() -> None:
+    base = np.random.default_rng(11).random((60, 2))
+    for scale, offset in ((1e-200, 0.0), (1e200, 0.0), (1.0, 1e15), (2.0**-30, 7.0)):
+        d = delaunay(base * scale + offset, check=True)
+        assert np.unique(d.triangles).size == len(np.unique(base * scale + offset, axis=0))
+
+
+@pytest.mark.parametrize(
+    ("points", "kind", "message"),
+    [
+        (np.zeros((0, 2)), DegenerateInputError, "0 distinct points"),
+        (np.array([[1.0, 1.0], [1.0, 1.0]]), DegenerateInputError, "1 distinct point:"),
+        (np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0], [5.0, 5.0]]), DegenerateInputError, "collinear"),
+        (np.array([[0.0, 0.0, 0.0]]), ValueError, r"\(n, 2\)"),
+        (np.array([[0.0, np.nan], [1.0, 0.0], [0.0, 1.0]]), ValueError, "row 0 is not finite"),
+        ("points", TypeError, "array of real numbers"),
+    ],
+)
+def test_bad_input(points: object, kind: type[Exception], message: str) -> None:
+    with pytest.raises(kind, match=message):
+        delaunay(points)  # type: ignore[arg-type]
+
+
+def test_bad_options() -> None:
+    pts = np.random.default_rng(0).random((5, 2))
+    with pytest.raises(TypeError, match="seed"):
+        delaunay(pts, seed=1.5)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="unknown map backend"):
+        delaunay(pts, backend="nope")
+
+
+def test_insertion_order_is_a_permutation_with_locality() -> None:
+    pts = np.random.default_rng(3).random((1000, 2))
+    order = insertion_order(pts, 5)
+    assert np.array_equal(np.sort(order), np.arange(1000))
+    keys = hilbert_keys(pts)
+    assert keys.min() >= 0 and len(np.unique(keys)) > 900
+    # Consecutive points of the last round are close: the Hilbert sort gives locality.
+    last = order[-488:]
+    steps = np.linalg.norm(np.diff(pts[last], axis=0), axis=1)
+    assert float(np.median(steps)) < 0.1
