@@ -8,6 +8,8 @@ from persistri.impl.cli.bench import bench
 from persistri.impl.cli.conformance import conformance
 from persistri.impl.cli.demo import demo
 from persistri.impl.cli.hull import hull
+from persistri.impl.cli.terrain import terrain
+from persistri.impl.cli.delaunay import delaunay_command
 
 __all__ = ["main"]
 
@@ -22,3 +24,5 @@ main.add_command(conformance)
 main.add_command(bench)
 main.add_command(demo)
 main.add_command(hull)
+main.add_command(terrain)
+main.add_command(delaunay_command)

@@ -1,0 +1,135 @@
+"""``persistri terrain``: mesh a height grid by greedy insertion on the persistent Delaunay triangulation (paper §5)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+import numpy as np
+from rich.console import Console
+
+from persistri.impl.cli.hull import one_line, stats_table
+from persistri.impl.files import write_mesh
+from persistri.impl.maps import BACKENDS, UnknownBackendError
+from persistri.impl.stats import Stats
+from persistri.impl.terrain.check import TerrainCheckError
+from persistri.impl.terrain.grids import GRID_FORMATS, NODATA_RULES, read_grid
+
+__all__ = ["terrain", "TERRAIN_MESH_FORMATS", "parse_nodata"]
+
+TERRAIN_MESH_FORMATS = (".ply", ".obj", ".stl", ".off", ".npz")
+"""Output formats of ``persistri terrain`` (by extension)."""
+
+
+def parse_nodata(text: str) -> str | float:
+    """``--nodata`` as :func:`persistri.impl.terrain.grids.as_heights` takes it: a rule name or a height."""
+    if text in NODATA_RULES:
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        raise click.BadParameter(f"{text!r}: give one of {', '.join(NODATA_RULES)} or a height") from None
+    if not np.isfinite(value):
+        raise click.BadParameter(f"{text!r}: the fill height must be finite")
+    return value
+
+
+@click.command("terrain")
+@click.argument("source", metavar="INPUT")
+@click.option("--max-error", type=click.FloatRange(min=0), help="Stop once every sample is within this vertical distance.")
+@click.option("--max-points", type=click.IntRange(min=4), help="Stop once the mesh has this many vertices.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), help=f"Output mesh ({', '.join(TERRAIN_MESH_FORMATS)}).")
+@click.option("--plot", type=click.Path(dir_okay=False, path_type=Path), help="Draw the mesh over the shaded relief to this PNG.")
+@click.option(
+    "--nodata",
+    default="error",
+    show_default=True,
+    help="No-data (NaN) cells: error, fill (nearest valid cell), min (lowest valid height) or a height.",
+)
+@click.option("--world", is_flag=True, help="Write vertices in the input's world coordinates (.asc, GeoTIFF, jacksboro).")
+@click.option("--backend", default="red_black", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
+@click.option("--check", is_flag=True, help="Assert the insertion invariants and verify the mesh exactly.")
+@click.option("--stats", "show_stats", is_flag=True, help="Print the operation counts (paper §4–5) as a table.")
+@click.option("--quiet", is_flag=True, help="No progress bar and no summary.")
+def terrain(
+    source: str,
+    max_error: float | None,
+    max_points: int | None,
+    output: Path | None,
+    plot: Path | None,
+    nodata: str,
+    world: bool,
+    backend: str,
+    check: bool,
+    show_stats: bool,
+    quiet: bool,
+) -> None:
+    """Approximate the height grid INPUT by a Delaunay TIN, greedily (Garland–Heckbert).
+
+    INPUT is a grid file (.npy, .npz, .asc, .tif/.tiff) or the word jacksboro
+    (the DEM shipped with matplotlib).  Give --max-error, --max-points or both.
+    Vertices are x = column, y = row, z = height (row 0 is the grid's first row),
+    triangles counterclockwise in (x, y).  OUTPUT by extension: .ply, .obj, .stl,
+    .off, or .npz with the arrays vertices, triangles, max_error, rms_error and
+    samples (the flat grid index of each vertex).
+    """
+    from persistri.impl.terrain.greedy import greedy_insertion
+
+    err = Console(stderr=True)
+    if max_error is None and max_points is None:
+        raise click.UsageError("give --max-error, --max-points or both")
+    rule = parse_nodata(nodata)
+    try:
+        if output is not None and output.suffix.lower() not in TERRAIN_MESH_FORMATS:
+            raise ValueError(f"{output}: unknown mesh format; use one of {', '.join(TERRAIN_MESH_FORMATS)}")
+        if source.lower() != "jacksboro" and Path(source).suffix.lower() not in GRID_FORMATS:
+            raise ValueError(f"{source}: unknown grid format; use one of {', '.join(GRID_FORMATS)} or 'jacksboro'")
+        grid = read_grid(source)
+        if world and grid.transform is None:
+            raise ValueError(f"{source}: --world needs georeferencing, and this input has none")
+        stats = Stats() if show_stats else None
+        tin = greedy_insertion(
+            grid.heights,
+            max_error=max_error,
+            max_points=max_points,
+            backend=backend,
+            check=check,
+            stats=stats,
+            progress=not quiet,
+            transform=grid.transform,
+            nodata=rule,
+        )
+    except (ValueError, TypeError, OSError, UnknownBackendError, TerrainCheckError) as exc:
+        raise click.ClickException(one_line(exc)) from None
+    vertices = tin.world_vertices() if world else tin.vertices
+    if output is not None:
+        write_mesh(
+            output,
+            vertices,
+            tin.triangles,
+            npz_arrays={
+                "vertices": vertices,
+                "triangles": tin.triangles,
+                "max_error": np.float64(tin.max_error),
+                "rms_error": np.float64(tin.rms_error),
+                "samples": tin.samples,
+            },
+        )
+    if plot is not None:
+        from persistri.impl.terrain.plot import plot_tin
+
+        heights = np.nan_to_num(grid.heights, nan=float(np.nanmin(grid.heights)))
+        name = "jacksboro" if source.lower() == "jacksboro" else Path(source).name
+        plot_tin(heights, tin.vertices, tin.triangles, plot,
+                 title=f"{name}: {tin.n_points:,} points, max error {tin.max_error:.4g}")
+    if not quiet:
+        verified = " (verified exactly)" if check else ""
+        rows, cols = tin.shape
+        err.print(
+            f"terrain {source} ({rows} × {cols}): {tin.n_points:,} points, {len(tin.triangles):,} triangles, "
+            f"max error {tin.max_error:.6g}, rms {tin.rms_error:.6g}{verified}"
+        )
+    if show_stats and tin.stats is not None:
+        Console().print(stats_table(tin.stats, f"operation counts ({backend})"))
+    if output is None and plot is None and quiet:
+        click.echo(f"{tin.n_points} points, {len(tin.triangles)} triangles, max error {tin.max_error:.6g}")
