@@ -95,3 +95,11 @@ def test_a_module_that_fails_to_import_is_one_line(tmp_path: Path, monkeypatch: 
 def test_bad_option_values_are_usage_errors() -> None:
     r = run("persistri.impl.maps.assoc_list:assoc_list", "--max-examples", "0")
     assert r.exit_code == 2 and "--max-examples" in r.output
+
+
+def test_a_module_in_the_current_directory_is_found(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    (tmp_path / "cwd_map_mod.py").write_text("thing = object()\n")
+    monkeypatch.chdir(tmp_path)
+    r = run("cwd_map_mod:thing")
+    assert r.exit_code == 2
+    assert r.stderr.startswith("persistri: cwd_map_mod:thing is not an ORD_MAP structure: missing Key, empty")

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import importlib
 import os
+import sys
 import tempfile
 from typing import NoReturn
 
@@ -33,11 +34,16 @@ def _fail(ctx: click.Context, message: str) -> NoReturn:
 def load_target(target: str) -> object:
     """The object ``MODULE:ATTR`` names (``ATTR`` may be dotted); raises :class:`TargetError` with one line.
 
-    Shared by every ``persistri conformance`` sub-command.
+    ``MODULE`` is imported with the current directory on ``sys.path`` (a console
+    script does not put it there; ``python -m`` and pytest do), so a module next
+    to the user is found.  Shared by every ``persistri conformance`` sub-command.
     """
     module_name, sep, attr_path = target.partition(":")
     if not sep or not module_name or not attr_path:
         raise TargetError(f"expected MODULE:ATTR (e.g. persistri.impl.maps.red_black:red_black), got {target!r}")
+    cwd = os.getcwd()
+    if cwd not in sys.path and "" not in sys.path:
+        sys.path.insert(0, cwd)
     try:
         module = importlib.import_module(module_name)
     except ModuleNotFoundError as exc:
@@ -85,7 +91,8 @@ def conformance() -> None:
 def maps(ctx: click.Context, target: str, max_examples: int, workload_size: int, hashing: bool) -> None:
     """Run the ORD_MAP conformance suite on the structure MODULE:ATTR.
 
-    ATTR names an ORD_MAP structure, or a class instantiated with no arguments.
+    ATTR names an ORD_MAP structure, or a class instantiated with no arguments;
+    MODULE is imported with the current directory on the module path.
     Exit status 0: it conforms; 1: some law fails (printed with its minimal
     counterexample); 2: MODULE:ATTR is not a loadable ORD_MAP structure.
     """
