@@ -60,6 +60,7 @@ __all__ = [
     "proof_sos_orient3d_order",
     "proof_filter_bound_orient2d",
     "proof_filter_bound_orient3d",
+    "proof_filter_bound_orient3d_plane",
     "proof_filter_bound_incircle",
     "proof_filter_flop_counts",
     "proof_lifting_identity",
@@ -171,7 +172,7 @@ def proof_sos_orient3d_order() -> None:
 # -- the floating-point filters -----------------------------------------------------------
 
 _ATOMS = 12  # exact coordinate differences (at most 9 in orient3d)
-_DELTAS = 64  # rounding errors (orient3d's filter has 40 operations)
+_DELTAS = 64  # rounding errors (orient3d's filter has 40 operations, the prepared plane's 34 roundings)
 
 
 class _Model:
@@ -355,6 +356,15 @@ def proof_filter_bound_orient3d() -> None:
     _check_filter(fp.orient3d_terms, names, expected, fp.ERRBOUND_ORIENT3D)
 
 
+def proof_filter_bound_orient3d_plane() -> None:
+    """ERRBOUND_PLANE_SIDE is a sufficient filter constant for orient3d_plane_terms (plane_terms, then
+    plane_side_terms), whose exact value is det[[x, y, z, 1]] of a, b, c, q."""
+    names = [f"{p}{c}" for p in "abcq" for c in "xyz"]
+    s = [sp.Symbol(n) for n in names]
+    expected = sp.Matrix([[s[3 * i], s[3 * i + 1], s[3 * i + 2], 1] for i in range(4)]).det()
+    _check_filter(fp.orient3d_plane_terms, names, expected, fp.ERRBOUND_PLANE_SIDE)
+
+
 def proof_filter_bound_incircle() -> None:
     """ERRBOUND_INCIRCLE is a sufficient filter constant for incircle_terms, whose exact value is det[[x, y, x²+y², 1]]."""
     names = [f"{p}{c}" for p in "abcd" for c in "xy"]
@@ -387,6 +397,13 @@ def proof_filter_flop_counts() -> None:
         _Counter.count = 0
         terms(*[_Counter() for _ in range(arity)])
         assert _Counter.count + 1 == flops, (terms.__name__, _Counter.count + 1, flops)
+    # A prepared plane: its preparation once (no threshold), then per point the side test and its threshold.
+    _Counter.count = 0
+    fp.plane_terms(*[_Counter() for _ in range(9)])
+    assert _Counter.count == fp.FLOPS_PLANE, ("plane_terms", _Counter.count, fp.FLOPS_PLANE)
+    _Counter.count = 0
+    fp.plane_side_terms(*[_Counter() for _ in range(12)])
+    assert _Counter.count + 1 == fp.FLOPS_PLANE_SIDE, ("plane_side_terms", _Counter.count + 1, fp.FLOPS_PLANE_SIDE)
 
 
 # -- lifting ------------------------------------------------------------------------------

@@ -45,6 +45,7 @@ __all__ = [
     "proof_projected_orientation_is_triple_product",
     "proof_routing_test_is_orient3d",
     "proof_projected_edge_test_is_definition1",
+    "proof_signs_the_bulldozer_derives",
 ]
 
 
@@ -134,3 +135,22 @@ def proof_projected_edge_test_is_definition1() -> None:
     Theorem 3 and the 3D test of Definition 1 are the same determinant.
     """
     _zero(triple(w - u, ctr - u, p - ctr) + orient3d(u, w, ctr, p), "projected edge test")
+
+
+def proof_signs_the_bulldozer_derives() -> None:
+    """The permutations behind the signs the bulldozer derives instead of testing (``check=True`` tests them).
+
+    * ``orient3d(u, w, c, f) = −orient3d(u, w, f, c)``: the centre is strictly
+      behind every outward face ``(u, w, f)`` (``orient3d(u, w, f, c) = +1``), so
+      Definition 1's comparison sign is always −1 and the arc test is the one
+      sign ``orient3d(u, w, c, p) = −1``;
+    * ``orient3d(w, u, c, p) = −orient3d(u, w, c, p)``: the neighbour across the
+      edge sees the opposite sign, so each edge is an arc in one direction only;
+    * ``orient3d(c, p, x, y) = orient3d(x, y, c, p)`` and ``orient3d(c, p, y, x) =
+      −orient3d(x, y, c, p)``: the routing comparisons of a face with two or three
+      out-edges are out-arc signs, known from the walking graph.
+    """
+    _zero(orient3d(u, w, ctr, f) + orient3d(u, w, f, ctr), "centre behind the face")
+    _zero(orient3d(w, u, ctr, p) + orient3d(u, w, ctr, p), "the edge seen from both faces")
+    _zero(orient3d(ctr, p, u, w) - orient3d(u, w, ctr, p), "routing sign of an out-edge (x, y)")
+    _zero(orient3d(ctr, p, w, u) + orient3d(u, w, ctr, p), "routing sign of an out-edge (y, x)")

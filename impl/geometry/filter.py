@@ -67,11 +67,17 @@ __all__ = [
     "FLOPS_ORIENT2D",
     "FLOPS_ORIENT3D",
     "FLOPS_INCIRCLE",
+    "FLOPS_PLANE",
+    "FLOPS_PLANE_SIDE",
+    "ERRBOUND_PLANE_SIDE",
     "GRAIN_MIN",
     "TOP_MAX",
     "orient2d_terms",
     "orient3d_terms",
     "incircle_terms",
+    "plane_terms",
+    "plane_side_terms",
+    "orient3d_plane_terms",
     "FilterScaling",
     "choose_scaling",
 ]
@@ -114,6 +120,11 @@ ERRBOUND_ORIENT3D: Final[float] = (7.0 + 2.0**-40) * U
 ERRBOUND_INCIRCLE: Final[float] = (10.0 + 2.0**-40) * U
 """Filter constant of :func:`incircle_terms`: 10u plus slack for the second-order terms (proved)."""
 
+ERRBOUND_PLANE_SIDE: Final[float] = (7.0 + 2.0**-40) * U
+"""Filter constant of :func:`orient3d_plane_terms` (a plane-side test through :func:`plane_terms`
+and :func:`plane_side_terms`): 7u plus slack for the second-order terms (proved), as for
+:func:`orient3d_terms` — the same depth of rounding, in another order."""
+
 FLOPS_ORIENT2D: Final[int] = 11
 """Floating-point operations of one filtered orient2d: 4 differences, 2 products, 1 difference,
 2 absolute values, 1 sum (the permanent), 1 threshold product."""
@@ -127,6 +138,15 @@ FLOPS_INCIRCLE: Final[int] = 44
 """Floating-point operations of one filtered incircle: 6 differences, 6 products and
 3 sums (the lifts), 6 products, 3 differences, 3 products, 2 sums (the determinant: 29);
 6 absolute values, 3 sums, 3 products, 2 sums (the permanent: 14); 1 threshold product."""
+
+FLOPS_PLANE: Final[int] = 24
+"""Floating-point operations of :func:`plane_terms`, done once per plane: 6 differences,
+6 products, 3 differences (the normal); 6 absolute values, 3 sums (its permanents)."""
+
+FLOPS_PLANE_SIDE: Final[int] = 17
+"""Floating-point operations of one filtered plane-side test against a prepared plane
+(:func:`plane_side_terms`): 3 differences, 3 products, 2 sums (the determinant: 8);
+3 absolute values, 3 products, 2 sums (the permanent: 8); 1 threshold product."""
 
 GRAIN_MIN: Final[int] = -240
 """The smallest grain (exponent of the lowest set bit of a scaled coordinate) for which
@@ -185,6 +205,62 @@ def orient3d_terms(
         + (_abs(adxbdy) + _abs(bdxady)) * _abs(cdz)
     )
     return det, permanent
+
+
+def plane_terms(ax: T, ay: T, az: T, bx: T, by: T, bz: T, cx: T, cy: T, cz: T) -> tuple[T, T, T, T, T, T]:
+    """The plane through ``a, b, c``, prepared for many plane-side tests: ``(nx, ny, nz, px, py, pz)``.
+
+    ``n = (b - a) × (c - a)`` is the right-hand normal in floating point and
+    ``p`` its permanents (``px = |(b - a)_y (c - a)_z| + |(b - a)_z (c - a)_y|``
+    and so on: each component's two products, without their signs).
+    :func:`plane_side_terms` finishes one test per query point.  Done once per
+    plane (:data:`FLOPS_PLANE`), so that a conflict list tested against one
+    face costs :data:`FLOPS_PLANE_SIDE` per point instead of
+    :data:`FLOPS_ORIENT3D`.  O(1).
+    """
+    bax = bx - ax
+    bay = by - ay
+    baz = bz - az
+    cax = cx - ax
+    cay = cy - ay
+    caz = cz - az
+    yz = bay * caz
+    zy = baz * cay
+    zx = baz * cax
+    xz = bax * caz
+    xy = bax * cay
+    yx = bay * cax
+    return yz - zy, zx - xz, xy - yx, _abs(yz) + _abs(zy), _abs(zx) + _abs(xz), _abs(xy) + _abs(yx)
+
+
+def plane_side_terms(nx: T, ny: T, nz: T, px: T, py: T, pz: T, ax: T, ay: T, az: T, qx: T, qy: T, qz: T) -> tuple[T, T]:
+    """``(det, permanent)`` of ``orient3d(a, b, c, q)`` from the plane of ``a, b, c`` (:func:`plane_terms`).
+
+    ``det = (a - q) · n``, which equals the 4×4 determinant with rows ``(x, y, z, 1)``
+    of ``a, b, c, q`` (``det[a - q; b - q; c - q]``, subtracting the first row from
+    the others); ``permanent = Σ |a - q|_j p_j``.  The filter constant is
+    :data:`ERRBOUND_PLANE_SIDE` (proved for :func:`orient3d_plane_terms`, the
+    two functions composed).  O(1).
+    """
+    aqx = ax - qx
+    aqy = ay - qy
+    aqz = az - qz
+    det = aqx * nx + aqy * ny + aqz * nz
+    permanent = _abs(aqx) * px + _abs(aqy) * py + _abs(aqz) * pz
+    return det, permanent
+
+
+def orient3d_plane_terms(
+    ax: T, ay: T, az: T, bx: T, by: T, bz: T, cx: T, cy: T, cz: T, qx: T, qy: T, qz: T
+) -> tuple[T, T]:
+    """``(det, permanent)`` of orient3d through the prepared plane: :func:`plane_side_terms` ∘ :func:`plane_terms`.
+
+    The same determinant as :func:`orient3d_terms`, expanded along the query
+    point's row instead of translated to it; this composition is what the
+    proof analyses.  O(1).
+    """
+    nx, ny, nz, px, py, pz = plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
+    return plane_side_terms(nx, ny, nz, px, py, pz, ax, ay, az, qx, qy, qz)
 
 
 def incircle_terms(ax: T, ay: T, bx: T, by: T, cx: T, cy: T, dx: T, dy: T) -> tuple[T, T]:

@@ -78,8 +78,24 @@ def unique_rows(points: NDArray[np.float64]) -> UniqueRows:
     if n == 0:
         empty = np.zeros(0, dtype=np.intp)
         return UniqueRows(empty, empty.copy())
-    _, first, inverse = np.unique(points + 0.0, axis=0, return_index=True, return_inverse=True)
-    order = np.argsort(first, kind="stable")
-    rank = np.empty_like(order)
-    rank[order] = np.arange(order.size)
-    return UniqueRows(first[order].astype(np.intp), rank[inverse.reshape(-1)].astype(np.intp))
+    if points.shape[1]:
+        first_column = np.sort(points[:, 0])
+        if not bool(np.any(first_column[1:] == first_column[:-1])):
+            # Distinct first coordinates (typical of real-valued data): every row is distinct.
+            every = np.arange(n, dtype=np.intp)
+            return UniqueRows(every, every.copy())
+    # Sort the rows lexicographically (stable: equal rows keep their input order, so each
+    # run of equal rows starts at its first occurrence); a run starts where a row differs
+    # from the previous one.  Float comparison: -0.0 and 0.0 are one number.
+    order = np.lexsort(points.T[::-1])
+    ranked = points[order]
+    starts = np.ones(n, dtype=bool)
+    starts[1:] = np.any(ranked[1:] != ranked[:-1], axis=1)
+    run = np.cumsum(starts) - 1  # the run of each sorted row
+    heads = order[starts]  # the first occurrence of each distinct row, in sorted-row order
+    by_row = np.argsort(heads, kind="stable")
+    rank = np.empty_like(by_row)
+    rank[by_row] = np.arange(by_row.size)
+    inverse = np.empty(n, dtype=np.intp)
+    inverse[order] = rank[run]
+    return UniqueRows(heads[by_row].astype(np.intp), inverse)

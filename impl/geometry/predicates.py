@@ -52,7 +52,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from fractions import Fraction
-from typing import Final
+from typing import Any, Final
 
 import itertools
 
@@ -71,20 +71,25 @@ from persistri.impl.geometry.filter import (
     ERRBOUND_INCIRCLE,
     ERRBOUND_ORIENT2D,
     ERRBOUND_ORIENT3D,
+    ERRBOUND_PLANE_SIDE,
     FLOPS_INCIRCLE,
     FLOPS_ORIENT2D,
     FLOPS_ORIENT3D,
+    FLOPS_PLANE,
+    FLOPS_PLANE_SIDE,
     GRAIN_MIN,
     choose_scaling,
     incircle_terms,
     orient2d_terms,
     orient3d_terms,
+    plane_side_terms,
+    plane_terms,
 )
 from persistri.impl.geometry.points import as_points
 from persistri.impl.geometry.sos import sort_with_parity, sos_orient2d, sos_orient3d
 from persistri.impl.stats import Stats
 
-__all__ = ["Predicates2", "Predicates3", "affine_dimension"]
+__all__ = ["Predicates2", "Predicates3", "Orient3dKernel", "Indices", "affine_dimension"]
 
 _INVALID_GRAIN: Final[int] = -ZERO_LOW
 """Grain of a point with no valid float copy: fails every grain check."""
@@ -113,7 +118,9 @@ class _IndexedPoints:
     coordinates aside).
     """
 
-    __slots__ = ("_points", "_n", "_dim", "_cols", "_rows", "_grain", "_uniform", "_shift", "_scale", "_ints", "stats")
+    __slots__ = (
+        "_points", "_n", "_dim", "_cols", "_rows", "_grain", "_uniform", "_shift", "_scale", "_span", "_ints", "stats"
+    )
 
     _points: NDArray[np.float64]
     _n: int
@@ -124,6 +131,7 @@ class _IndexedPoints:
     _uniform: bool
     _shift: int
     _scale: IntegerScale
+    _span: tuple[int, int] | None
     _ints: dict[int, tuple[int, ...]]
     stats: Stats | None
 
@@ -143,6 +151,7 @@ class _IndexedPoints:
         nonzero = low < ZERO_LOW
         scaling = choose_scaling(low[nonzero], high[nonzero])
         shift = self._shift = scaling.shift
+        self._span = (int(low[nonzero].min()), int(high[nonzero].max())) if nonzero.any() else None
         self._scale = IntegerScale.of(low, extra)
         grain = np.full(n, _INVALID_GRAIN, dtype=np.int64)
         fl = np.full((n, dim), np.nan)
@@ -158,7 +167,7 @@ class _IndexedPoints:
         self._cols = tuple(np.ascontiguousarray(fl[:, j]) for j in range(dim))
         # One tuple per point: a test touches a few points, and a point's coordinates
         # then sit together in memory (a quarter faster than one list per axis at 10^5 points).
-        self._rows = [tuple(r) for r in fl.tolist()]
+        self._rows = list(zip(*(col.tolist() for col in self._cols)))
         self._ints = {}
 
     # -- sizes and data ----------------------------------------------------------------
@@ -401,10 +410,13 @@ class Predicates3(_IndexedPoints):
             guess = ((p[0] + p[1]) + (p[2] + p[3])) * 0.25
         n = self._n
         if np.all(np.isfinite(guess)):
-            cand = Predicates3.__new__(Predicates3)
+            guess = guess + 0.0
+            cand = self._with_row(guess)
+            if cand is None:
+                cand = Predicates3.__new__(Predicates3)
+                cand._setup(np.vstack([self._points, guess[None, :]]), exact_rows=n + 1, extra=0, stats=self.stats)
             cand._centre = n
             cand._centre_exact = None
-            cand._setup(np.vstack([self._points, guess[None, :] + 0.0]), exact_rows=n + 1, extra=0, stats=self.stats)
             if cand._strictly_inside(tetra, n, s):
                 return cand
         # The exact centroid: at the integer scale ×4 it is the sum of the four points.
@@ -419,6 +431,45 @@ class Predicates3(_IndexedPoints):
         out._centre_exact = exact
         out._ints[n] = exact  # the memo of exact integers serves the centre's from the start
         assert out._strictly_inside(tetra, n, s), "the exact centroid of a tetrahedron is interior"
+        return out
+
+    def _with_row(self, row: NDArray[np.float64]) -> Predicates3 | None:
+        """A copy with ``row`` appended as an ordinary exact point, or None if that changes the filter scaling.
+
+        What :meth:`_setup` would build for the ``n + 1`` rows, without redoing it
+        for the first ``n``: when the power-of-two scale of the filter copy stays
+        the same (the usual case: a centroid's exponents lie within the data's),
+        the filter rows and columns are the parent's plus one.  O(n) copying, no
+        per-point Python work.
+        """
+        if self._span is None or not self._uniform:
+            return None
+        low, high = binary_exponents(row[None, :])
+        nonzero = low < ZERO_LOW
+        g, h = self._span
+        if nonzero.any():
+            g, h = min(g, int(low[nonzero].min())), max(h, int(high[nonzero].max()))
+        scaling = choose_scaling(np.array([g], dtype=np.int64), np.array([h], dtype=np.int64))
+        if not scaling.uniform or scaling.shift != self._shift:
+            return None
+        shift = self._shift
+        scaled = np.ldexp(row, shift)
+        out = Predicates3.__new__(Predicates3)
+        pts = np.vstack([self._points, row[None, :]])
+        pts.setflags(write=False)
+        out._points = pts
+        out._n = self._n + 1
+        out._dim = self._dim
+        out.stats = self.stats
+        out._shift = shift
+        out._span = (g, h)
+        out._scale = IntegerScale(min(self._scale.exponent, g), 0)
+        # Grains of the row's zero coordinates are ZERO_LOW: its grain is that of its nonzero ones.
+        out._grain = np.append(self._grain, int(low.min()) + shift)
+        out._uniform = True  # the scaling is uniform: every grain, the new one included, is >= GRAIN_MIN
+        out._cols = tuple(np.append(col, x) for col, x in zip(self._cols, scaled.tolist()))
+        out._rows = self._rows + [tuple(scaled.tolist())]
+        out._ints = dict(self._ints) if out._scale == self._scale else {}
         return out
 
     def _strictly_inside(self, tetra: tuple[int, int, int, int], c: int, s: int) -> bool:
@@ -528,6 +579,13 @@ class Predicates3(_IndexedPoints):
         idx = self._index_arrays(a, b, c, d)
         return self._many(idx, orient3d_terms, ERRBOUND_ORIENT3D, FLOPS_ORIENT3D, orient3d_det, self.orient3d, self._sos3)
 
+    def kernel(self) -> Orient3dKernel:
+        """The trusted fast path of :meth:`orient3d` for internal algorithms (the bulldozer): no validation.
+
+        See :class:`Orient3dKernel`.  O(1); make it once per run.
+        """
+        return Orient3dKernel(self)
+
     # -- affine structure -----------------------------------------------------------------
 
     def collinear(self, a: int, b: int, c: int) -> bool:
@@ -612,6 +670,153 @@ class Predicates3(_IndexedPoints):
             start += size
             size *= 8
         return None
+
+
+Indices = Sequence[int] | IntArray
+"""Point indices as the kernel takes and returns them: a tuple or list of ints, or an int array."""
+
+
+class Orient3dKernel:
+    """``orient3d`` without validation, for algorithms that only ever pass valid, distinct indices.
+
+    Made by :meth:`Predicates3.kernel`.  The signs are those of
+    :meth:`Predicates3.orient3d` — the same proven filter
+    (:func:`~persistri.impl.geometry.filter.orient3d_terms`), the same exact
+    fallback and Simulation of Simplicity — and so is the counting
+    (``plane_side_tests``, ``flops``, ``filter_failures`` of the predicates'
+    ``stats``, read at every call).  What is left out is the work of the
+    checked API on every call: index validation, per-call type tests,
+    attribute lookups, and for batches ``np.asarray``/``min``/``max`` of the
+    indices and broadcasting.  Indices out of range or repeated are the
+    caller's error and are not diagnosed (a repeated index reaches SoS, which
+    raises ``ValueError``).
+
+    * :attr:`orient3d` ``(a, b, c, d) -> ±1`` — one test (about a microsecond);
+    * :attr:`partition` ``(a, b, c, qs) -> (minus, plus)`` — the ``qs`` with
+      ``orient3d(a, b, c, q) = -1`` (beyond the plane of the outward face
+      ``(a, b, c)``: they see it) and those with ``+1``, each in the order of
+      ``qs``.  The plane is prepared once
+      (:func:`~persistri.impl.geometry.filter.plane_terms`: its normal and
+      the normal's permanents), so each point costs the 17 flops of
+      :func:`~persistri.impl.geometry.filter.plane_side_terms` instead of
+      orient3d's 41, under a filter constant proved for that composition
+      (``proofs/proof_predicates.py``).  Below :data:`SMALL_BATCH` points it
+      loops over the points and returns lists; from there on the same
+      expression runs vectorised over numpy (the plane's terms enter as
+      Python floats) and it returns int arrays.  Entries the filter leaves
+      undecided are settled one by one, exactly (then by SoS).  Counted as
+      ``len(qs)`` plane-side tests and ``FLOPS_PLANE + len(qs) ·
+      FLOPS_PLANE_SIDE`` flops.  O(len(qs)).
+
+    When the point set needs per-test grain checks (``filter_scale[1]`` is
+    False: an extreme dynamic range) both fall back to the checked methods.
+    """
+
+    __slots__ = ("orient3d", "partition")
+
+    orient3d: Callable[[int, int, int, int], int]
+    partition: Callable[[int, int, int, Indices], tuple[Indices, Indices]]
+
+    def __init__(self, pred: Predicates3) -> None:
+        if not pred._uniform:
+            self.orient3d = pred.orient3d
+            self.partition = _checked_partition(pred)
+            return
+        rows = pred._rows
+        xs, ys, zs = pred._cols
+        terms = orient3d_terms
+        errbound = ERRBOUND_ORIENT3D
+        flops = FLOPS_ORIENT3D
+        exact = pred._orient3d_exact
+        plane, side = plane_terms, plane_side_terms
+        side_errbound = ERRBOUND_PLANE_SIDE
+        plane_flops, side_flops = FLOPS_PLANE, FLOPS_PLANE_SIDE
+        small = SMALL_BATCH
+        ndarray = np.ndarray
+        count_nonzero = np.count_nonzero
+
+        def orient3d(a: int, b: int, c: int, d: int) -> int:
+            ax, ay, az = rows[a]
+            bx, by, bz = rows[b]
+            cx, cy, cz = rows[c]
+            dx, dy, dz = rows[d]
+            det, perm = terms(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
+            st = pred.stats
+            if st is not None:
+                st.plane_side_tests += 1
+                st.flops += flops
+            thr = errbound * perm
+            if det > thr:
+                return 1
+            if det < -thr:
+                return -1
+            if st is not None:
+                st.filter_failures += 1
+            return exact(a, b, c, d, True)
+
+        def partition(a: int, b: int, c: int, qs: Indices) -> tuple[Indices, Indices]:
+            m = len(qs)
+            if m == 0:
+                return [], []
+            ax, ay, az = rows[a]
+            bx, by, bz = rows[b]
+            cx, cy, cz = rows[c]
+            nx, ny, nz, px, py, pz = plane(ax, ay, az, bx, by, bz, cx, cy, cz)
+            failures = 0
+            if m < small:
+                minus: list[int] = []
+                plus: list[int] = []
+                for q in qs.tolist() if type(qs) is ndarray else qs:
+                    qx, qy, qz = rows[q]
+                    det, perm = side(nx, ny, nz, px, py, pz, ax, ay, az, qx, qy, qz)
+                    thr = side_errbound * perm
+                    if det < -thr:
+                        minus.append(q)
+                    elif det > thr:
+                        plus.append(q)
+                    else:
+                        failures += 1
+                        (minus if exact(a, b, c, q, True) < 0 else plus).append(q)
+                _count(pred.stats, m, failures)
+                return minus, plus
+            q_arr: IntArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
+            qx_: Any = xs[q_arr]
+            det_, perm_ = side(nx, ny, nz, px, py, pz, ax, ay, az, qx_, ys[q_arr], zs[q_arr])
+            thr_ = side_errbound * perm_
+            neg = det_ < -thr_
+            pos = det_ > thr_
+            failures = m - int(count_nonzero(neg)) - int(count_nonzero(pos))
+            if failures:
+                for i in np.flatnonzero(~(neg | pos)).tolist():
+                    if exact(a, b, c, int(q_arr[i]), True) < 0:
+                        neg[i] = True
+                    else:
+                        pos[i] = True
+            _count(pred.stats, m, failures)
+            # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry.
+            return q_arr[np.flatnonzero(neg)], q_arr[np.flatnonzero(pos)]
+
+        def _count(st: Stats | None, m: int, failures: int) -> None:
+            if st is not None:
+                st.plane_side_tests += m
+                st.flops += plane_flops + side_flops * m
+                st.filter_failures += failures
+
+        self.orient3d = orient3d
+        self.partition = partition
+
+
+def _checked_partition(pred: Predicates3) -> Callable[[int, int, int, Indices], tuple[Indices, Indices]]:
+    """:attr:`Orient3dKernel.partition` through the checked batch (per-test grain checks)."""
+
+    def partition(a: int, b: int, c: int, qs: Indices) -> tuple[Indices, Indices]:
+        q_arr = np.asarray(qs, dtype=np.intp)
+        if q_arr.size == 0:
+            return [], []
+        signs = pred.orient3d_batch(a, b, c, q_arr)
+        return q_arr[signs < 0], q_arr[signs > 0]
+
+    return partition
 
 
 def affine_dimension(points: ArrayLike | Predicates3) -> int:

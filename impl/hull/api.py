@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import gc
 from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -29,7 +30,7 @@ from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.geometry.points import as_points, unique_rows
 from persistri.impl.geometry.predicates import Predicates3
-from persistri.impl.hull.bulldozer import Bulldozer, FaceDatum, initial_tetrahedron
+from persistri.impl.hull.bulldozer import Bulldozer, FaceDatum, all_but, initial_tetrahedron
 from persistri.impl.hull.errors import DegenerateInputError
 from persistri.impl.hull.slivers import remove_slivers
 from persistri.impl.stats import Stats
@@ -87,7 +88,7 @@ class HullHistory:
 
     def pending(self, k: int) -> IntArray:
         """The input rows still outside version ``k`` (the union of its conflict lists), sorted."""
-        lists = [x[1] for _, x in self.structure.items(self.versions[k])]
+        lists = [np.asarray(x[1], dtype=np.intp) for _, x in self.structure.items(self.versions[k])]
         if not lists:
             return np.zeros(0, dtype=np.intp)
         return np.sort(self.rows[np.concatenate(lists)])
@@ -165,6 +166,35 @@ def convex_hull(
         structure = two_complex(backend, stats)
     if history and isinstance(structure, EphemeralTwoComplex):
         raise ValueError("convex_hull: the ephemeral complex keeps no old versions, so history=True is impossible")
+    # Persistent nodes form no reference cycles, so the cyclic collector only costs time here — a
+    # great deal of it: each full collection walks every node of every version kept so far.
+    with _collector_paused():
+        return _convex_hull(arr, structure, backend, seed, check, history, stats, progress)
+
+
+@contextmanager
+def _collector_paused() -> Iterator[None]:
+    """Python's cyclic garbage collector off for the block, restored (if it was on) however the block ends."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
+def _convex_hull(
+    arr: NDArray[np.float64],
+    structure: TwoComplex[FaceDatum],
+    backend: str,
+    seed: int,
+    check: bool,
+    history: bool,
+    stats: Stats | None,
+    progress: bool | Any,
+) -> Hull:
+    """:func:`convex_hull` on validated points, in the given 2-complex structure."""
     uniq = unique_rows(arr)
     rows = uniq.first
     n_rows = arr.shape[0]
@@ -185,30 +215,22 @@ def convex_hull(
     tetra = initial_tetrahedron(pred, m)
     pred = pred.with_centroid(*tetra)
 
-    collector = gc.isenabled()
-    gc.disable()  # persistent nodes form no reference cycles: the cyclic collector only costs time here
+    bd = Bulldozer(pred, structure, tetra, check=check)
+    order = np.random.default_rng(seed).permutation(all_but(m, tetra))
+    versions: list[Complex[FaceDatum]] = [bd.complex]
+    inserted: list[int] = [int(rows[tetra[0]])]
+    tick = _progress_callback(progress, order.size)
+    count = 0
     try:
-        bd = Bulldozer(pred, structure, tetra, check=check)
-        order = np.random.default_rng(seed).permutation(
-            np.setdiff1d(np.arange(m, dtype=np.intp), np.array(tetra, dtype=np.intp))
-        )
-        versions: list[Complex[FaceDatum]] = [bd.complex]
-        inserted: list[int] = [int(rows[tetra[0]])]
-        tick = _progress_callback(progress, order.size)
-        count = 0
-        try:
-            for p, version in bd.run(order, tick):
-                count += 1
-                if history:
-                    versions.append(version)
-                    inserted.append(int(rows[p]))
-        finally:
-            if hasattr(tick, "close"):
-                tick.close()
-        final, flips = remove_slivers(structure, bd.complex, pred)
+        for p, version in bd.run(order, tick):
+            count += 1
+            if history:
+                versions.append(version)
+                inserted.append(int(rows[p]))
     finally:
-        if collector:
-            gc.enable()
+        if hasattr(tick, "close"):
+            tick.close()
+    final, flips = remove_slivers(structure, bd.complex, pred)
     simplices = _triangles(structure, final, rows)
     hull = Hull(
         points=arr,

@@ -20,29 +20,47 @@ operations done together:
    joins the conflict list of the tent face there (Theorem 6) or is interior.
 
 Every test is an exact ``orient3d`` with Simulation of Simplicity
-(:class:`~persistri.impl.geometry.predicates.Predicates3`), so the algorithm
-runs on a point set in general position — the paper's standing assumption —
-and its output is a valid hull of the real points.  With the sign convention
-``orient3d(a, b, c, q) = -1`` iff ``q`` is beyond the plane of the
+(:class:`~persistri.impl.geometry.predicates.Predicates3`, through its
+unvalidated :class:`~persistri.impl.geometry.predicates.Orient3dKernel`), so
+the algorithm runs on a point set in general position — the paper's standing
+assumption — and its output is a valid hull of the real points.  With the sign
+convention ``orient3d(a, b, c, q) = -1`` iff ``q`` is beyond the plane of the
 outward face ``(a, b, c)``:
 
 * ``p`` sees face ``F = (a, b, d)``  ⇔  ``orient3d(a, b, d, p) < 0``;
 * arc ``F → G`` across the edge ``e = (u, w)`` of ``F`` (third vertex ``f``)  ⇔
   the plane through ``e`` and ``c`` has ``p`` on ``f``'s side:
   ``orient3d(u, w, c, p) == orient3d(u, w, c, f)`` (Definition 1; the proof in
-  ``proofs/proof_walking.py`` reduces it to this sign);
+  ``proofs/proof_walking.py`` reduces it to this sign).  The centre is strictly
+  behind every face, ``orient3d(u, w, f, c) = +1``, and swapping the last two
+  points negates the sign, so ``orient3d(u, w, c, f) = -1`` always: the arc
+  test is **one** sign per edge, ``orient3d(u, w, c, p) = -1``.  Seen from
+  ``G``, across ``(w, u)``, the sign is the opposite one, so the edge is tested
+  once and each edge between two visible faces is an arc in exactly one
+  direction;
 * which of two out-edges sharing the vertex ``v`` the projected ray ``p → q``
   crosses: the side of ``q`` with respect to the plane through ``c``, ``p``
-  and ``v`` (it contains the projection direction ``c → p``).
+  and ``v`` (it contains the projection direction ``c → p``), compared with the
+  side of the out-edge's other end ``x`` — which is again a sign already known:
+  ``orient3d(c, p, v, x) = ±orient3d(v, x, c, p)``, an out-arc's sign.
+
+``check=True`` recomputes every sign the code derives instead of testing.
 
 Per point and face this is at most two plane-side tests (one "can q see F",
-one "which out-edge"), as the paper says (§3).  Conflict lists are numpy
-arrays of point indices, tested in batches.
+one "which out-edge"), as the paper says (§3).  Conflict lists are tuples of
+point indices, or read-only numpy arrays from
+:data:`~persistri.impl.geometry.predicates.SMALL_BATCH` entries on; the
+kernel's ``partition`` tests a short list point by point and a long one in a
+vectorised batch.
 
 Insertion order: a random permutation of the points from the seed; a point
 that is interior when its turn comes is skipped.  This is equivalent to the
 paper's choice (a face with probability proportional to its list, then a point
 of it): both pick the next point uniformly among the points still outside.
+
+Vertices: the vertex of input point ``i`` has label ``i`` and is made (from
+the state ``VertexState(lineage, i)``, so labels stay unique: each point is
+inserted at most once) when ``i`` joins the hull, not for every input point.
 
 Everything is iterative (no recursion), so any input size works.
 """
@@ -50,7 +68,6 @@ Everything is iterative (no recursion), so any input size works.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
 from typing import Final
 
 import numpy as np
@@ -59,15 +76,27 @@ from numpy.typing import NDArray
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Vertex, VertexState, int_vertex
-from persistri.impl.geometry.predicates import Predicates3
+from persistri.impl.geometry.predicates import SMALL_BATCH, Indices, Predicates3
 from persistri.impl.hull.errors import DegenerateInputError
 
-__all__ = ["Bulldozer", "FaceDatum", "BulldozerCheckError", "initial_tetrahedron", "PENDING", "INTERIOR", "ON_HULL"]
+__all__ = [
+    "Bulldozer",
+    "Conflict",
+    "FaceDatum",
+    "BulldozerCheckError",
+    "initial_tetrahedron",
+    "all_but",
+    "PENDING",
+    "INTERIOR",
+    "ON_HULL",
+]
 
 IntArray = NDArray[np.intp]
 Triangle = tuple[Vertex, Vertex, Vertex]
-FaceDatum = tuple[int, IntArray]
-"""The datum of a hull face: ``(face id, conflict list)``; the list is a read-only array of point indices."""
+Conflict = tuple[int, ...] | IntArray
+"""A conflict list: point indices, a tuple below ``SMALL_BATCH`` entries, else a read-only int array."""
+FaceDatum = tuple[int, Conflict]
+"""The datum of a hull face: ``(face id, conflict list)``."""
 
 PENDING: Final = 0
 """Status of a point outside the current hull (in the conflict list of its associated face)."""
@@ -76,17 +105,54 @@ INTERIOR: Final = 1
 ON_HULL: Final = 2
 """Status of a point that was inserted (a vertex of the hull when inserted)."""
 
-_EMPTY: Final[IntArray] = np.zeros(0, dtype=np.intp)
-_EMPTY.setflags(write=False)
+_HORIZON: Final = -1
+"""The face id of an out-edge that leads off the visible region (a horizon edge)."""
 
 
 class BulldozerCheckError(AssertionError):
     """A ``check=True`` assertion of the bulldozer failed: a theorem of Appendix A did not hold."""
 
 
-def _frozen(a: IntArray) -> IntArray:
-    a.setflags(write=False)
-    return a
+def _freeze(pts: Indices) -> Conflict:
+    """``pts`` as a conflict list: a tuple when short, else a read-only array (no copy)."""
+    if isinstance(pts, np.ndarray):
+        if len(pts) < SMALL_BATCH:
+            return tuple(pts.tolist())
+        pts.setflags(write=False)
+        return pts
+    return tuple(pts)
+
+
+def _join(parts: list[Indices]) -> Indices:
+    """The concatenation of point lists (one array if any part is an array, else a list)."""
+    if len(parts) == 1:
+        return parts[0]
+    if any(isinstance(x, np.ndarray) for x in parts):
+        return np.concatenate([np.asarray(x, dtype=np.intp) for x in parts])
+    out: list[int] = []
+    for x in parts:
+        out.extend(x)
+    return out
+
+
+def _as_list(pts: Indices) -> list[int]:
+    return pts.tolist() if isinstance(pts, np.ndarray) else list(pts)
+
+
+def _assign(target: NDArray[np.int8] | IntArray, pts: Indices, value: int) -> None:
+    """``target[q] = value`` for every ``q`` in ``pts`` (vectorised for arrays)."""
+    if isinstance(pts, np.ndarray):
+        target[pts] = value
+    else:
+        for q in pts:
+            target[q] = value
+
+
+def all_but(n: int, tetra: tuple[int, int, int, int]) -> IntArray:
+    """``0 … n-1`` without the four points of ``tetra``, increasing. O(n)."""
+    keep = np.ones(n, dtype=bool)
+    keep[list(tetra)] = False
+    return np.flatnonzero(keep).astype(np.intp, copy=False)
 
 
 def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
@@ -129,15 +195,22 @@ def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
     return (a, b, c, d)
 
 
-@dataclass
+Out = tuple[Vertex, Vertex, int, Triangle | None, Conflict]
+"""An out-edge ``(u, w, face id, triangle, conflict list)`` of a visible face; the id is
+:data:`_HORIZON` (and the triangle None) for a horizon edge."""
+
+
 class _Visible:
     """Bookkeeping of one visible face during one insertion (local to the insertion, never persistent)."""
 
-    tri: Triangle
-    own: IntArray
-    incoming: list[IntArray] = field(default_factory=list)
-    indeg: int = 0
-    outs: list[tuple[Vertex, Vertex, Vertex, int, Triangle | None, IntArray]] = field(default_factory=list)
+    __slots__ = ("tri", "own", "incoming", "indeg", "outs")
+
+    def __init__(self, tri: Triangle, own: Indices) -> None:
+        self.tri = tri
+        self.own = own  # its conflict list (all see it)
+        self.incoming: list[Indices] = []  # points bulldozed into it along arcs (not yet tested)
+        self.indeg = 0  # arcs into it from faces not processed yet
+        self.outs: list[Out] = []  # in the edge order (a, b), (b, d), (d, a)
 
 
 class Bulldozer:
@@ -166,16 +239,28 @@ class Bulldozer:
         if centre is None:
             raise ValueError("the predicates need the centre point: use pred.with_centroid(*tetra)")
         self.pred = pred
+        kernel = pred.kernel()
+        self._o3 = kernel.orient3d
+        self._partition = kernel.partition
         self.S = structure
         self.C: int = centre
         self.n: int = centre  # the input points are 0 … centre-1
         self.check = check
-        _, self.verts = int_vertex.new_many(VertexState.initial(), range(self.n))
+        self._lineage = VertexState.initial().lineage
+        self.verts: dict[int, Vertex] = {}
         self.status: NDArray[np.int8] = np.full(self.n, INTERIOR, dtype=np.int8)
         self.assoc: IntArray = np.full(self.n, -1, dtype=np.intp)
         self.face_tri: dict[int, Triangle] = {}
         self._next_fid = 0
         self.complex: Complex[FaceDatum] = self._start(tetra)
+
+    def _vertex(self, i: int) -> Vertex:
+        """The vertex of input point ``i`` (label ``i``), made on first use."""
+        v = self.verts.get(i)
+        if v is None:
+            _, v = int_vertex.new(VertexState(self._lineage, i), i)
+            self.verts[i] = v
+        return v
 
     # -- the first hull --------------------------------------------------------------
 
@@ -186,14 +271,15 @@ class Bulldozer:
         return fid
 
     def _start(self, tetra: tuple[int, int, int, int]) -> Complex[FaceDatum]:
-        P, C, V = self.pred, self.C, self.verts
+        P, C = self.pred, self.C
+        V = {i: self._vertex(i) for i in tetra}
         a, b, c, d = tetra
         faces: list[Triangle] = []
         for (i, j, k), opp in (((a, b, c), d), ((a, d, b), c), ((b, d, c), a), ((c, d, a), b)):
             # Outward: the opposite vertex (inside) is below the face (+1).
             tri = (V[i], V[j], V[k]) if P.orient3d(i, j, k, opp) > 0 else (V[i], V[k], V[j])
             faces.append(tri)
-        others = np.setdiff1d(np.arange(self.n, dtype=np.intp), np.array(tetra, dtype=np.intp))
+        others = all_but(self.n, tetra)
         self.status[list(tetra)] = ON_HULL
         # The cone of face (x, y, z) from c: q on the inner side of the planes (c, x, y), (c, y, z), (c, z, x).
         side: dict[tuple[int, int], NDArray[np.int8]] = {}
@@ -219,12 +305,11 @@ class Bulldozer:
             if self.check and bool(np.any(inside & claimed)):
                 raise BulldozerCheckError("the cones of the first tetrahedron's faces overlap")
             claimed |= inside
-            cand = others[inside]
-            out = cand[P.orient3d_batch(x, y, z, cand) < 0] if cand.size else _EMPTY
+            out, _ = self._partition(x, y, z, others[inside])
             fid = self._new_fid(tri)
-            self.assoc[out] = fid
-            self.status[out] = PENDING
-            cx = self.S.add(cx, tri, (fid, _frozen(np.array(out, dtype=np.intp))))
+            _assign(self.assoc, out, fid)
+            _assign(self.status, out, PENDING)
+            cx = self.S.add(cx, tri, (fid, _freeze(out)))
         if self.check and others.size and not bool(claimed.all()):
             raise BulldozerCheckError("some point lies in no cone of the first tetrahedron's faces")
         return cx
@@ -242,137 +327,165 @@ class Bulldozer:
         """
         if self.status[p] != PENDING:
             raise ValueError(f"point {p} is not outside the current hull")
-        P, S, C, V = self.pred, self.S, self.C, self.verts
-        o3, ob = P.orient3d, P.orient3d_batch
+        S, C, check = self.S, self.C, self.check
+        o3, partition = self._o3, self._partition
         cx = self.complex
-        vp = V[p]
+        vp = self._vertex(p)
         fid0 = int(self.assoc[p])
         tri0 = self.face_tri[fid0]
         found = S.data(cx, tri0)
         assert found is not None, "the associated face of a pending point is in the hull"
-        own0 = found[0][1]
-        own0 = own0[own0 != p]
+        lst = found[0][1]
+        own0: Indices = lst[lst != p] if isinstance(lst, np.ndarray) else [q for q in lst if q != p]
 
-        visible: dict[int, bool] = {fid0: True}
+        visible: dict[int, bool] = {fid0: True}  # face id -> can p see it (each face tested once)
         work: dict[int, _Visible] = {}
+        # Directed edge (u, w) of an expanded face F whose neighbour across it is visible and not
+        # yet expanded -> (orient3d(u, w, c, p), F's id, F): the neighbour reads the sign from here.
+        pending_edges: dict[tuple[Vertex, Vertex], tuple[int, int, Triangle]] = {}
 
-        def expand(fid: int, tri: Triangle, own: IntArray) -> _Visible:
+        def expand(fid: int, tri: Triangle, own: Indices) -> _Visible:
             """Classify the three edges of the visible face ``tri``: horizon, out-arc or in-arc."""
             rec = _Visible(tri, own)
             a, b, d = tri
             for u, w, f in ((a, b, d), (b, d, a), (d, a, b)):
+                known = pending_edges.pop((w, u), None)
+                if known is not None:
+                    # The neighbour G was expanded first; its sign for (w, u) is minus ours.
+                    s, gid, gtri = known
+                    if s > 0:
+                        rec.outs.append((u, w, gid, gtri, ()))
+                    else:
+                        rec.indeg += 1
+                    continue
                 ((gtri, (gid, gpts)),) = S.findi(cx, (w, u))
                 vis = visible.get(gid)
                 if vis is None:
                     vis = o3(gtri[0], gtri[1], gtri[2], p) < 0
                     visible[gid] = vis
                 if not vis:
-                    rec.outs.append((u, w, f, -1, None, _EMPTY))
-                elif o3(u, w, C, p) == o3(u, w, C, f):
-                    rec.outs.append((u, w, f, gid, gtri, gpts))
+                    rec.outs.append((u, w, _HORIZON, None, ()))
+                    continue
+                s = o3(u, w, C, p)
+                if check and o3(u, w, C, f) != -1:
+                    raise BulldozerCheckError(f"the centre is not strictly behind face {tri} (orient3d(u, w, c, f) = +1)")
+                if s < 0:
+                    rec.outs.append((u, w, gid, gtri, gpts))
                 else:
                     rec.indeg += 1
+                pending_edges[(u, w)] = (s, fid, tri)
             work[fid] = rec
             return rec
 
         first = expand(fid0, tri0, own0)
-        if self.check and (first.indeg != 0 or len(first.outs) != 3):
+        if check and (first.indeg != 0 or len(first.outs) != 3):
             raise BulldozerCheckError(
                 f"the associated face of point {p} has in-degree {first.indeg} and out-degree "
                 f"{len(first.outs)} in the walking graph (expected 0 and 3)"
             )
         queue = [fid0]
         processed: list[int] = []
-        tents: list[tuple[Triangle, IntArray]] = []
-        discarded: list[IntArray] = []
-        routed: list[IntArray] = []  # every bulldozed point, for the checks
+        tents: list[tuple[Triangle, Indices]] = []
+        discarded: list[Indices] = []
+        routed: list[Indices] = []  # every bulldozed point, for the checks
         while queue:
             fid = queue.pop()
             rec = work[fid]
             processed.append(fid)
             a, b, d = rec.tri
-            if self.check:
+            if check:
                 routed.append(rec.own)
                 routed.extend(rec.incoming)
-            parts = [rec.own] if rec.own.size else []
+            parts = [rec.own] if len(rec.own) else []
             for arr in rec.incoming:
-                sees = ob(a, b, d, arr) < 0
-                parts.append(arr[sees])
-                discarded.append(arr[~sees])
-            pts = parts[0] if len(parts) == 1 else (np.concatenate(parts) if parts else _EMPTY)
+                sees, gone = partition(a, b, d, arr)
+                parts.append(sees)
+                discarded.append(gone)
+            pts = _join(parts) if parts else []
             outs = rec.outs
-            groups: list[IntArray]
-            if not pts.size:
-                groups = [_EMPTY] * len(outs)
+            groups: list[Indices]
+            if not len(pts):
+                groups = [()] * len(outs)
             elif len(outs) == 1:
                 groups = [pts]
             elif len(outs) == 2:
-                (u1, w1, _, _, _, _), (u2, w2, _, _, _, _) = outs
-                # Consecutive edges of (a, b, d) share w1 == u2; (d, a) and (a, b) share u1 == w2.
-                v, x = (w1, u1) if w1 == u2 else (u1, w1)
-                side = ob(C, p, v, pts) == o3(C, p, v, x)
-                groups = [pts[side], pts[~side]]
+                (u1, w1, _, _, _), (u2, w2, _, _, _) = outs
+                # Consecutive edges of (a, b, d) share a vertex v: w1 == u2, or (d, a) and (a, b): u1 == w2.
+                # The out-edge (x, v) has orient3d(c, p, v, x) = -orient3d(x, v, c, p) = +1, the
+                # out-edge (v, x) has orient3d(c, p, v, x) = orient3d(v, x, c, p) = -1.
+                v, x, first_sign = (w1, u1, 1) if w1 == u2 else (u1, w1, -1)
+                if check and o3(C, p, v, x) != first_sign:
+                    raise BulldozerCheckError(f"the routing sign of face {rec.tri} is not the out-arc's")
+                minus, plus = partition(C, p, v, pts)
+                groups = [plus, minus] if first_sign > 0 else [minus, plus]
             elif len(outs) == 3:
-                s_a, s_b, s_d = ob(C, p, a, pts), ob(C, p, b, pts), ob(C, p, d, pts)
-                in_ab = (s_a == o3(C, p, a, b)) & (s_b == o3(C, p, b, a))
-                in_bd = (s_b == o3(C, p, b, d)) & (s_d == o3(C, p, d, b))
-                in_da = ~(in_ab | in_bd)
-                if self.check:
-                    exact_da = (s_d == o3(C, p, d, a)) & (s_a == o3(C, p, a, d))
-                    if bool(np.any(in_ab & in_bd)) or not bool(np.array_equal(in_da, exact_da)):
-                        raise BulldozerCheckError(f"the projected sectors of face {rec.tri} do not partition its points")
-                # outs are in edge order (a,b), (b,d), (d,a) for the associated face
-                groups = [pts[in_ab], pts[in_bd], pts[in_da]]
+                # The associated face: all three edges are out-arcs, so orient3d(c, p, x, y) = -1 for each
+                # edge (x, y) and q's projection lies in sector (x, y) iff
+                # orient3d(c, p, x, q) = -1 and orient3d(c, p, y, q) = +1; two tests decide it.
+                b_minus, b_plus = partition(C, p, b, pts)
+                in_ab, da1 = partition(C, p, a, b_plus)
+                da2, in_bd = partition(C, p, d, b_minus)
+                in_da = _join([da1, da2])
+                if check:
+                    self._check_sectors(p, rec.tri, pts, (in_ab, in_bd, in_da))
+                groups = [in_ab, in_bd, in_da]
             else:
                 raise BulldozerCheckError(f"visible face {rec.tri} has no out-edge in the walking graph")
-            for (u, w, _f, gid, gtri, gpts), grp in zip(outs, groups):
-                if gid < 0:
-                    tent = (u, w, vp)
-                    if grp.size:
-                        sees = ob(u, w, p, grp) < 0
-                        tents.append((tent, grp[sees]))
-                        discarded.append(grp[~sees])
-                    else:
-                        tents.append((tent, _EMPTY))
+            for (u, w, gid, gtri, gpts), grp in zip(outs, groups):
+                if gid == _HORIZON:
+                    sees, gone = partition(u, w, p, grp)
+                    tents.append(((u, w, vp), sees))
+                    discarded.append(gone)
                     continue
                 target = work.get(gid)
                 if target is None:
                     assert gtri is not None
                     target = expand(gid, gtri, gpts)
-                if grp.size:
+                if len(grp):
                     target.incoming.append(grp)
                 target.indeg -= 1
                 if target.indeg == 0:
                     queue.append(gid)
 
-        if self.check:
+        if check:
             self._check_walk(p, fid0, work, processed)
 
         # The new version: the lit faces removed, the tent added.
+        face_tri = self.face_tri
         for fid in processed:
             cx = S.rem(cx, work[fid].tri)
-            del self.face_tri[fid]
-        new_tents: list[tuple[int, Triangle, IntArray]] = []
+            del face_tri[fid]
+        new_tents: list[tuple[int, Triangle, Conflict]] = []
         for tent, kept in tents:
             fid = self._new_fid(tent)
-            kept = _frozen(np.array(kept, dtype=np.intp))
-            cx = S.add(cx, tent, (fid, kept))
-            if kept.size:
-                self.assoc[kept] = fid
-            new_tents.append((fid, tent, kept))
-        if discarded:
-            gone = np.concatenate(discarded)
-            if gone.size:
-                self.status[gone] = INTERIOR
-                self.assoc[gone] = -1
+            conflict = _freeze(kept)
+            cx = S.add(cx, tent, (fid, conflict))
+            _assign(self.assoc, conflict, fid)
+            new_tents.append((fid, tent, conflict))
+        for gone in discarded:
+            _assign(self.status, gone, INTERIOR)
+            _assign(self.assoc, gone, -1)
         self.status[p] = ON_HULL
         self.assoc[p] = -1
         self.complex = cx
-        if self.check:
+        if check:
             self._check_bulldozed(p, routed, new_tents)
         return cx
 
     # -- check=True ------------------------------------------------------------------
+
+    def _check_sectors(self, p: int, tri: Triangle, pts: Indices, groups: tuple[Indices, Indices, Indices]) -> None:
+        """The associated face's points split into the three projected sectors, each by all three signs."""
+        o3, C = self._o3, self.C
+        a, b, d = tri
+        if sorted(_as_list(pts)) != sorted(q for g in groups for q in _as_list(g)):
+            raise BulldozerCheckError(f"the projected sectors of face {tri} lose or repeat points")
+        for (x, y), grp in zip(((a, b), (b, d), (d, a)), groups):
+            if o3(C, p, x, y) != -1:
+                raise BulldozerCheckError(f"edge {(x, y)} of the associated face of point {p} is not an out-arc")
+            for q in _as_list(grp):
+                if not (o3(C, p, x, q) == -1 and o3(C, p, y, q) == 1):
+                    raise BulldozerCheckError(f"point {q} is routed across edge {(x, y)} of face {tri} but its ray is not there")
 
     def _check_walk(self, p: int, fid0: int, work: dict[int, _Visible], processed: list[int]) -> None:
         """Theorem 2 and Lemma 9: the walk was a topological order of the whole visible region."""
@@ -417,11 +530,11 @@ class Bulldozer:
             and P.orient3d(C, z, x, q) == P.orient3d(C, z, x, y)
         )
 
-    def _check_bulldozed(self, p: int, routed: list[IntArray], tents: list[tuple[int, Triangle, IntArray]]) -> None:
+    def _check_bulldozed(self, p: int, routed: list[Indices], tents: list[tuple[int, Triangle, Conflict]]) -> None:
         """Theorems 6 and 7: every bulldozed point is in the list of its associated face or rightly interior."""
         P = self.pred
         for arr in routed:
-            for q in arr.tolist():
+            for q in _as_list(arr):
                 cones = [(fid, tri) for fid, tri, _ in tents if self._in_cone(tri, q)]
                 if len(cones) != 1:
                     raise BulldozerCheckError(
@@ -449,4 +562,3 @@ class Bulldozer:
                 yield p, self.insert(p)
             if progress is not None:
                 progress(1)
-
