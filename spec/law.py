@@ -10,7 +10,14 @@ The exception names the law and states it, so a failing conformance run says
 
 from __future__ import annotations
 
-__all__ = ["LawViolation"]
+import functools
+from collections.abc import Callable, Mapping
+from typing import Any, ClassVar, ParamSpec, TypeVar
+
+__all__ = ["LawViolation", "SignatureLawViolation", "law_decorator"]
+
+P = ParamSpec("P")
+R = TypeVar("R")
 
 
 class LawViolation(AssertionError):
@@ -33,3 +40,50 @@ class LawViolation(AssertionError):
         if detail:
             message += f"\n  observed: {detail}"
         super().__init__(message)
+
+
+class SignatureLawViolation(LawViolation):
+    """The violation of one signature's laws: subclasses name the signature and its table of laws.
+
+    ``SignatureLawViolation(law, detail)`` looks the statement up in ``LAWS``, so
+    a misspelt law name is a :class:`ValueError`, not a silent message.
+    """
+
+    SIGNATURE: ClassVar[str]
+    """The signature's SML name, e.g. ``"ORD_MAP"``."""
+    LAWS: ClassVar[Mapping[str, str]]
+    """Every law of the signature: name → statement."""
+
+    def __init__(self, law: str, detail: str = "") -> None:
+        try:
+            statement = self.LAWS[law]
+        except KeyError:
+            raise ValueError(f"unknown {self.SIGNATURE} law {law!r}; known laws: {', '.join(self.LAWS)}") from None
+        super().__init__(law, statement, detail)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (type(self), (self.law, self.detail))
+
+
+def law_decorator(
+    violation: type[SignatureLawViolation],
+) -> Callable[[str], Callable[[Callable[P, R]], Callable[P, R]]]:
+    """A decorator factory ``law(name)``: a law function that lets an unexpected exception escape
+    reports it as a violation of law ``name`` (a crashing structure breaks the law it was tested on)."""
+
+    def law(name: str) -> Callable[[Callable[P, R]], Callable[P, R]]:
+        def decorate(fn: Callable[P, R]) -> Callable[P, R]:
+            @functools.wraps(fn)
+            def checked(*args: P.args, **kwargs: P.kwargs) -> R:
+                try:
+                    return fn(*args, **kwargs)
+                except LawViolation:
+                    raise
+                except Exception as exc:
+                    raise violation(name, f"the structure raised {type(exc).__name__}: {exc}") from exc
+
+            return checked
+
+        return decorate
+
+    return law

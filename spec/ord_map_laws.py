@@ -35,9 +35,9 @@ from __future__ import annotations
 import functools
 import reprlib
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from typing import Any, ParamSpec, TypeVar
+from typing import Any, TypeVar
 
-from persistri.spec.law import LawViolation as _SharedLawViolation
+from persistri.spec.law import SignatureLawViolation, law_decorator
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound, OrdMap
 from persistri.spec.order import Order
@@ -67,8 +67,6 @@ __all__ = [
 K = TypeVar("K")
 V = TypeVar("V")
 M = TypeVar("M")
-P = ParamSpec("P")
-R = TypeVar("R")
 
 ORD_MAP_LAWS: dict[str, str] = {
     "key_order": "Key.compare is a total order on the keys used: reflexive, antisymmetric "
@@ -95,7 +93,7 @@ ORD_MAP_LAWS: dict[str, str] = {
 """Every ``ORD_MAP`` law: name → one-line statement (for docs and reports)."""
 
 
-class LawViolation(_SharedLawViolation):
+class LawViolation(SignatureLawViolation):
     """A structure broke an ``ORD_MAP`` law: ``law`` is its name, ``statement`` the law, ``detail`` the evidence.
 
     A subclass of the exception every executable law raises
@@ -104,15 +102,8 @@ class LawViolation(_SharedLawViolation):
     is a :class:`ValueError`.
     """
 
-    def __init__(self, law: str, detail: str) -> None:
-        try:
-            statement = ORD_MAP_LAWS[law]
-        except KeyError:
-            raise ValueError(f"unknown ORD_MAP law {law!r}; known laws: {', '.join(ORD_MAP_LAWS)}") from None
-        super().__init__(law, statement, detail)
-
-    def __reduce__(self) -> tuple[Any, ...]:
-        return (type(self), (self.law, self.detail))
+    SIGNATURE = "ORD_MAP"
+    LAWS = ORD_MAP_LAWS
 
 
 # -- helpers ---------------------------------------------------------------------------
@@ -128,22 +119,7 @@ def _r(x: object) -> str:
     return _repr.repr(x)
 
 
-def _law(name: str) -> Callable[[Callable[P, R]], Callable[P, R]]:
-    """Report an unexpected exception from the structure as a violation of law ``name``."""
-
-    def decorate(fn: Callable[P, R]) -> Callable[P, R]:
-        @functools.wraps(fn)
-        def checked(*args: P.args, **kwargs: P.kwargs) -> R:
-            try:
-                return fn(*args, **kwargs)
-            except LawViolation:
-                raise
-            except Exception as exc:
-                raise LawViolation(name, f"the structure raised {type(exc).__name__}: {exc}") from exc
-
-        return checked
-
-    return decorate
+_law = law_decorator(LawViolation)
 
 
 def _show(s: OrdMap[K, V, M], m: M) -> str:

@@ -27,9 +27,9 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from itertools import combinations
-from typing import Any, ParamSpec, TypeVar
+from typing import Any, TypeVar
 
-from persistri.spec.law import LawViolation as _SharedLawViolation
+from persistri.spec.law import SignatureLawViolation, law_decorator
 from persistri.spec.order import Order
 from persistri.spec.simpcomp import SIMPCOMP
 from persistri.spec.simplex import SIMPLEX
@@ -60,8 +60,6 @@ Vx = TypeVar("Vx")
 Sx = TypeVar("Sx")
 D = TypeVar("D")
 Cx = TypeVar("Cx")
-P = ParamSpec("P")
-R = TypeVar("R")
 
 OrientedKey = tuple[tuple[Any, ...], int]
 """``(vertices in increasing order, parity of the sorting permutation)``: one per oriented simplex."""
@@ -95,36 +93,14 @@ SIMPCOMP_LAWS: dict[str, str] = {
 """Every ``SIMPCOMP`` law: name → statement."""
 
 
-class LawViolation(_SharedLawViolation):
+class LawViolation(SignatureLawViolation):
     """A structure broke a ``SIMPCOMP`` law (a :class:`persistri.spec.law.LawViolation`)."""
 
-    def __init__(self, law: str, detail: str) -> None:
-        try:
-            statement = SIMPCOMP_LAWS[law]
-        except KeyError:
-            raise ValueError(f"unknown SIMPCOMP law {law!r}; known laws: {', '.join(SIMPCOMP_LAWS)}") from None
-        super().__init__(law, statement, detail)
-
-    def __reduce__(self) -> tuple[Any, ...]:
-        return (type(self), (self.law, self.detail))
+    SIGNATURE = "SIMPCOMP"
+    LAWS = SIMPCOMP_LAWS
 
 
-def _law(name: str) -> Callable[[Callable[P, R]], Callable[P, R]]:
-    """Report an unexpected exception from the structure as a violation of law ``name``."""
-
-    def decorate(fn: Callable[P, R]) -> Callable[P, R]:
-        @functools.wraps(fn)
-        def checked(*args: P.args, **kwargs: P.kwargs) -> R:
-            try:
-                return fn(*args, **kwargs)
-            except LawViolation:
-                raise
-            except Exception as exc:
-                raise LawViolation(name, f"the structure raised {type(exc).__name__}: {exc}") from exc
-
-        return checked
-
-    return decorate
+_law = law_decorator(LawViolation)
 
 
 # -- keys and models ----------------------------------------------------------------------

@@ -16,12 +16,11 @@ tries every permutation); n ≤ 4 in practice.
 
 from __future__ import annotations
 
-import functools
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from itertools import permutations
-from typing import Any, ParamSpec, TypeVar
+from typing import TypeVar
 
-from persistri.spec.law import LawViolation as _SharedLawViolation
+from persistri.spec.law import SignatureLawViolation, law_decorator
 from persistri.spec.order import Order
 from persistri.spec.simplex import SIMPLEX
 
@@ -41,8 +40,6 @@ __all__ = [
 
 Vx = TypeVar("Vx")
 Sx = TypeVar("Sx")
-P = ParamSpec("P")
-R = TypeVar("R")
 
 SIMPLEX_LAWS: dict[str, str] = {
     "dim": "dim(s) = len(vertices(s)) - 1",
@@ -60,36 +57,14 @@ SIMPLEX_LAWS: dict[str, str] = {
 """Every ``SIMPLEX`` law: name → statement."""
 
 
-class LawViolation(_SharedLawViolation):
+class LawViolation(SignatureLawViolation):
     """A structure broke a ``SIMPLEX`` law (a :class:`persistri.spec.law.LawViolation`)."""
 
-    def __init__(self, law: str, detail: str) -> None:
-        try:
-            statement = SIMPLEX_LAWS[law]
-        except KeyError:
-            raise ValueError(f"unknown SIMPLEX law {law!r}; known laws: {', '.join(SIMPLEX_LAWS)}") from None
-        super().__init__(law, statement, detail)
-
-    def __reduce__(self) -> tuple[Any, ...]:
-        return (type(self), (self.law, self.detail))
+    SIGNATURE = "SIMPLEX"
+    LAWS = SIMPLEX_LAWS
 
 
-def _law(name: str) -> Callable[[Callable[P, R]], Callable[P, R]]:
-    """Report an unexpected exception from the structure as a violation of law ``name``."""
-
-    def decorate(fn: Callable[P, R]) -> Callable[P, R]:
-        @functools.wraps(fn)
-        def checked(*args: P.args, **kwargs: P.kwargs) -> R:
-            try:
-                return fn(*args, **kwargs)
-            except LawViolation:
-                raise
-            except Exception as exc:
-                raise LawViolation(name, f"the structure raised {type(exc).__name__}: {exc}") from exc
-
-        return checked
-
-    return decorate
+_law = law_decorator(LawViolation)
 
 
 def permutation_parity(p: Sequence[int]) -> int:

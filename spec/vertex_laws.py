@@ -10,11 +10,10 @@ and ``loc``.
 
 from __future__ import annotations
 
-import functools
-from collections.abc import Callable, Sequence
-from typing import Any, ParamSpec, TypeVar
+from collections.abc import Sequence
+from typing import Any, TypeVar
 
-from persistri.spec.law import LawViolation as _SharedLawViolation
+from persistri.spec.law import SignatureLawViolation, law_decorator
 from persistri.spec.order import Order
 from persistri.spec.vertex import VERTEX
 
@@ -30,8 +29,6 @@ __all__ = [
 Vx = TypeVar("Vx")
 St = TypeVar("St")
 Pt = TypeVar("Pt")
-P = ParamSpec("P")
-R = TypeVar("R")
 
 VERTEX_LAWS: dict[str, str] = {
     "compare_total": "compare is a total order: compare(a, a) = EQUAL, compare(b, a) = -compare(a, b), "
@@ -44,36 +41,14 @@ VERTEX_LAWS: dict[str, str] = {
 """Every ``VERTEX`` law: name → statement."""
 
 
-class LawViolation(_SharedLawViolation):
+class LawViolation(SignatureLawViolation):
     """A structure broke a ``VERTEX`` law (a :class:`persistri.spec.law.LawViolation`)."""
 
-    def __init__(self, law: str, detail: str) -> None:
-        try:
-            statement = VERTEX_LAWS[law]
-        except KeyError:
-            raise ValueError(f"unknown VERTEX law {law!r}; known laws: {', '.join(VERTEX_LAWS)}") from None
-        super().__init__(law, statement, detail)
-
-    def __reduce__(self) -> tuple[Any, ...]:
-        return (type(self), (self.law, self.detail))
+    SIGNATURE = "VERTEX"
+    LAWS = VERTEX_LAWS
 
 
-def _law(name: str) -> Callable[[Callable[P, R]], Callable[P, R]]:
-    """Report an unexpected exception from the structure as a violation of law ``name``."""
-
-    def decorate(fn: Callable[P, R]) -> Callable[P, R]:
-        @functools.wraps(fn)
-        def checked(*args: P.args, **kwargs: P.kwargs) -> R:
-            try:
-                return fn(*args, **kwargs)
-            except LawViolation:
-                raise
-            except Exception as exc:
-                raise LawViolation(name, f"the structure raised {type(exc).__name__}: {exc}") from exc
-
-        return checked
-
-    return decorate
+_law = law_decorator(LawViolation)
 
 
 @_law("compare_total")
