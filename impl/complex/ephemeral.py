@@ -171,14 +171,13 @@ class EphemeralTwoComplex(TwoComplex[D]):
         if table.current is not rep:
             raise _stale("data")
         lst = table.lists.get(a)
+        if self._stats is not None:
+            self._count(1, 0 if lst is None else len(lst))
         if lst is None:
-            self._count(1, 0)
             return None
-        for i, e in enumerate(lst):
+        for e in lst:
             if e[0] == b and e[1] == cc:
-                self._count(1, i + 1)
                 return (e[2],)
-        self._count(1, len(lst))
         return None
 
     def find(self, c: Complex[D], s: Simplex, /) -> list[Triangle]:
@@ -198,9 +197,11 @@ class EphemeralTwoComplex(TwoComplex[D]):
             raise _stale("find")
         lst = table.lists.get(u)
         if lst is None:
-            self._count(1, 0)
+            if self._stats is not None:
+                self._count(1, 0)
             return []
-        self._count(1, len(lst))
+        if self._stats is not None:
+            self._count(1, len(lst))
         return [(u, w, e[1]) for e in lst if e[0] == w]
 
     def findi(self, c: Complex[D], s: Simplex, /) -> list[tuple[Triangle, D]]:
@@ -220,9 +221,11 @@ class EphemeralTwoComplex(TwoComplex[D]):
             raise _stale("findi")
         lst = table.lists.get(u)
         if lst is None:
-            self._count(1, 0)
+            if self._stats is not None:
+                self._count(1, 0)
             return []
-        self._count(1, len(lst))
+        if self._stats is not None:
+            self._count(1, len(lst))
         return [((u, w, e[1]), e[2]) for e in lst if e[0] == w]
 
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
@@ -313,7 +316,7 @@ class EphemeralTwoComplex(TwoComplex[D]):
         table: _Table = rep[0]
         if table.current is not rep:
             raise _stale("rem")
-        self._drop(table.lists, a, b, cc, "rem")
+        self._take_out(table.lists, a, b, cc, "rem")
         st = self._stats
         if st is not None:
             st.faces_deleted += 1
@@ -321,23 +324,48 @@ class EphemeralTwoComplex(TwoComplex[D]):
         table.current = new
         return _new_complex(Complex, (self.family, new, lin))
 
-    def _drop(self, lists: dict[Vertex, tuple[Entry, ...]], a: Vertex, b: Vertex, c: Vertex, what: str) -> None:
+    def _take_out(self, lists: dict[Vertex, tuple[Entry, ...]], a: Vertex, b: Vertex, c: Vertex, what: str) -> None:
         """Take triangle (a, b, c) out of the three lists; every entry is located before the first change."""
-        la, lb, lc = lists.get(a), lists.get(b), lists.get(c)
-        i = -1 if la is None else _index(la, b, c)
-        if i < 0:
+        # Scans inlined (this is the baseline: it must not pay for calls the persistent complex avoids).
+        la = lists.get(a)
+        i = 0
+        if la is not None:
+            for e in la:
+                if e[0] == b and e[1] == c:
+                    break
+                i += 1
+        if la is None or i == len(la):
             raise AbsentSimplexError(f"{what}: triangle {(a, b, c)!r} is not in the complex (in this orientation)")
-        j = -1 if lb is None else _index(lb, c, a)
-        k = -1 if lc is None else _index(lc, a, b)
-        if j < 0 or k < 0:
+        lb = lists.get(b)
+        j = 0
+        if lb is not None:
+            for e in lb:
+                if e[0] == c and e[1] == a:
+                    break
+                j += 1
+        lc = lists.get(c)
+        k = 0
+        if lc is not None:
+            for e in lc:
+                if e[0] == a and e[1] == b:
+                    break
+                k += 1
+        if lb is None or lc is None or j == len(lb) or k == len(lc):
             raise RepresentationError(f"ephemeral 2-complex: triangle {(a, b, c)!r} is missing from a vertex list")
-        assert la is not None and lb is not None and lc is not None
-        for key, lst, at in ((a, la, i), (b, lb, j), (c, lc, k)):
-            if len(lst) == 1:
-                del lists[key]
-            else:
-                lists[key] = lst[:at] + lst[at + 1 :]
-        self._count(6, i + j + k + 3)
+        if len(la) == 1:
+            del lists[a]
+        else:
+            lists[a] = la[:i] + la[i + 1 :]
+        if len(lb) == 1:
+            del lists[b]
+        else:
+            lists[b] = lb[:j] + lb[j + 1 :]
+        if len(lc) == 1:
+            del lists[c]
+        else:
+            lists[c] = lc[:k] + lc[k + 1 :]
+        if self._stats is not None:
+            self._count(6, i + j + k + 3)
 
     # -- internal operations (what the base class's other public operations use) ---------
 

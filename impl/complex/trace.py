@@ -504,52 +504,60 @@ class Replay:
         if self._final < 0:
             raise TraceError("replay: the trace makes no complex (it has no new event)")
         new, add, rem, update = structure.new, structure.add, structure.rem, structure.update
-        data, find, findi, grep = structure.data, structure.find, structure.findi, structure.grep
-        versions: dict[int, Complex[Any]] = {}
-        ops, srcs, ss, args, results, frees = self._ops, self._srcs, self._simplices, self._args, self._results, self._frees
+        data, find, findi = structure.data, structure.find, structure.findi
+        # A list indexed by version (a slot is cleared at the version's last use): cheaper than a dict.
+        versions: list[Complex[Any] | None] = [None] * (self._final + 1)
         made = 0
-        for k in range(len(ops)):
-            op = ops[k]
+        events = zip(self._ops, self._srcs, self._simplices, self._args, self._results, self._frees)
+        for k, (op, src, s, arg, want, free) in enumerate(events):
             got: int
             if op == FINDI:
-                got = len(findi(versions[srcs[k]], ss[k]))
+                got = len(findi(versions[src], s))
             elif op == ADD:
-                versions[made] = add(versions[srcs[k]], ss[k], k)
+                versions[made] = add(versions[src], s, k)
                 got = made
                 made += 1
             elif op == REM:
-                versions[made] = rem(versions[srcs[k]], ss[k])
+                versions[made] = rem(versions[src], s)
                 got = made
                 made += 1
             elif op == DATA:
-                got = 0 if data(versions[srcs[k]], ss[k]) is None else 1
+                got = 0 if data(versions[src], s) is None else 1
             elif op == FIND:
-                got = len(find(versions[srcs[k]], ss[k]))
+                got = len(find(versions[src], s))
             elif op == UPDATE:
-                versions[made] = update(versions[srcs[k]], ss[k], _placeholder(k))
+                versions[made] = update(versions[src], s, _placeholder(k))
                 got = made
                 made += 1
             elif op == NEW:
-                versions[made] = new(args[k])
+                versions[made] = new(arg)
                 got = made
                 made += 1
-            elif op == GREP:
-                got = len(grep(versions[srcs[k]], args[k], ss[k]))
-            elif op == ITEMS:
-                got = len(structure.items(versions[srcs[k]]))
-            elif op == SIMPLICES:
-                got = len(structure.simplices(versions[srcs[k]], args[k]))
-            elif op == VERTICES:
-                got = len(structure.vertices(versions[srcs[k]]))
-            elif op == IS_EMPTY:
-                got = int(structure.isEmpty(versions[srcs[k]]))
-            else:  # DIM
-                got = structure.dim(versions[srcs[k]])
-            if verify and got != results[k]:
+            else:
+                got = self._query(structure, op, versions[src], s, arg)
+            if verify and got != want:
                 _mismatch(self.trace, k, got)
-            for v in frees[k]:
-                del versions[v]
-        return versions[self._final]
+            if free:
+                for v in free:
+                    versions[v] = None
+        final = versions[self._final]
+        assert final is not None
+        return final
+
+    @staticmethod
+    def _query(structure: ComplexStructure[Any], op: int, c: Any, s: Simplex, arg: int) -> int:
+        """The summary of a rare query (grep, items, simplices, vertices, isEmpty, dim)."""
+        if op == GREP:
+            return len(structure.grep(c, arg, s))
+        if op == ITEMS:
+            return len(structure.items(c))
+        if op == SIMPLICES:
+            return len(structure.simplices(c, arg))
+        if op == VERTICES:
+            return len(structure.vertices(c))
+        if op == IS_EMPTY:
+            return int(structure.isEmpty(c))
+        return structure.dim(c)
 
 
 def _placeholder(k: int) -> Callable[[Any], int]:

@@ -20,16 +20,22 @@ triangulated sphere; O(lg V) per map operation with the red-black backend):
 ``data``, ``find``          one map lookup + δ entries
 ``add``                     three ``insertWith`` (the first also scans for the
                             triangle in either orientation)
-``rem``, ``update``         one lookup + three updates (a vertex left with
-                            no triangle is removed from the map: for the
-                            second and third vertex that is one more operation)
+``rem``                     three ``insertWith`` that each drop the triangle's
+                            entry, the first also finding whether it is there
+                            (a vertex left with no triangle is removed from the
+                            map: one more operation)
+``update``                  one lookup + three ``insertWith``
 ``vertices``                O(V);  ``simplices``, ``items``: O(V + N)
 ``grep``                    one lookup + δ (then the faces of the star)
 ==========================  ==================================================
 
 Persistence: a list is a tuple, replaced (never changed) when one of its
 entries is added, dropped or updated; the map is the backend's persistent map.
-The hot operations validate their arguments in O(1) before touching the map.
+The hot operations validate their arguments in O(1) before touching the map,
+and the functions ``insertWith`` combines lists with are module-level (no
+closure per call; a counted structure wraps them to count the entries visited).
+``rem`` relies on ``numItems`` being O(1) (it is in every persistri backend) to
+tell a triangle whose first vertex has no list from one that is present.
 """
 
 from __future__ import annotations
@@ -70,8 +76,88 @@ class _Emptied(Exception):
     """Raised inside ``insertWith`` when dropping an entry would leave a vertex's list empty."""
 
 
+class _Missing(Exception):
+    """Raised inside ``insertWith`` when the entry to drop or change is not in the vertex's list."""
+
+
+class _Present(Exception):
+    """Raised inside ``insertWith`` when ``add`` finds its triangle already in the first vertex's list."""
+
+    def __init__(self, opposite: bool) -> None:
+        super().__init__()
+        self.opposite = opposite
+
+
+# The functions ``insertWith`` combines a vertex's old list with.  Module-level, so
+# no closure is made per operation: what they need travels in ``insertWith``'s
+# value argument (the new entry, or the (second, third) pair to find).
+
+
 def _cat(old: tuple[Entry, ...], new: tuple[Entry, ...]) -> tuple[Entry, ...]:
     return old + new
+
+
+def _cat_first(old: tuple[Entry, ...], new: tuple[Entry, ...]) -> tuple[Entry, ...]:
+    """``old + new`` unless the triangle of ``new``'s entry (b, c) is in ``old`` in either orientation."""
+    b, c, _ = new[0]
+    for e in old:
+        e0 = e[0]
+        if e0 == b:
+            if e[1] == c:
+                raise _Present(False)
+        elif e0 == c and e[1] == b:
+            raise _Present(True)
+    return old + new
+
+
+def _drop(old: tuple[Entry, ...], pair: tuple[Vertex, Vertex]) -> tuple[Entry, ...]:
+    """``old`` without its entry ``(b, c, _)`` for ``pair = (b, c)``; _Emptied if that was the only one."""
+    b, c = pair
+    i = 0
+    for e in old:
+        if e[0] == b and e[1] == c:
+            if len(old) == 1:
+                raise _Emptied
+            return old[:i] + old[i + 1 :]
+        i += 1
+    raise _Missing
+
+
+def _put(old: tuple[Entry, ...], new: tuple[Entry, ...]) -> tuple[Entry, ...]:
+    """``old`` with its entry ``(b, c, _)`` replaced by ``new``'s entry ``(b, c, y)``."""
+    b, c, _ = new[0]
+    i = 0
+    for e in old:
+        if e[0] == b and e[1] == c:
+            return old[:i] + new + old[i + 1 :]
+        i += 1
+    raise _Missing
+
+
+def _visited(old: tuple[Entry, ...], b: Vertex, c: Vertex) -> int:
+    """How many entries a scan of ``old`` for ``(b, c, _)`` visits."""
+    for i, e in enumerate(old):
+        if e[0] == b and e[1] == c:
+            return i + 1
+    return len(old)
+
+
+Combine = Callable[[tuple[Entry, ...], Any], tuple[Entry, ...]]
+
+
+def _counting(stats: Stats, f: Combine) -> Combine:
+    """``f`` that also adds the list entries it visits to ``stats.key_comparisons`` (counted structures only)."""
+
+    def counted(old: tuple[Entry, ...], arg: Any) -> tuple[Entry, ...]:
+        if f is _cat_first:
+            stats.key_comparisons += len(old)  # add scans the whole list, for either orientation
+        elif f is _drop:
+            stats.key_comparisons += _visited(old, arg[0], arg[1])
+        elif f is _put:
+            stats.key_comparisons += _visited(old, arg[0][0], arg[0][1])
+        return f(old, arg)
+
+    return counted
 
 
 class TwoComplex(ComplexStructure[D]):
@@ -87,6 +173,11 @@ class TwoComplex(ComplexStructure[D]):
     def __init__(self, backend: Any, stats: Stats | None = None) -> None:
         self.n = 2
         self._init_maps(backend, stats)
+        # The combining functions, chosen once: the module's own, or counting versions.
+        self._cat_first = self._combiner(_cat_first)
+        self._cat = self._combiner(_cat)
+        self._drop = self._combiner(_drop)
+        self._put = self._combiner(_put)
         if stats is None:
             self.family = Family(self.kind, 2, backend, None, self)
         else:
@@ -132,9 +223,14 @@ class TwoComplex(ComplexStructure[D]):
         found = self._m.find(rep, a)
         if found is None:
             return None
-        lst = found[0]
-        i = self._scan(lst, b, cc)
-        return None if i < 0 else (lst[i][2],)
+        if self._stats is not None:
+            lst = found[0]
+            i = self._scan(lst, b, cc)
+            return None if i < 0 else (lst[i][2],)
+        for e in found[0]:
+            if e[0] == b and e[1] == cc:
+                return (e[2],)
+        return None
 
     def find(self, c: Complex[D], s: Simplex, /) -> list[Triangle]:
         """``find (c, (u, w))``: the triangles ``(u, w, x)`` having the oriented edge ``(u, w)`` as a face.
@@ -296,52 +392,43 @@ class TwoComplex(ComplexStructure[D]):
                 if a < b and a < c:
                     yield (a, b, c), x
 
+    def _combiner(self, f: Combine) -> Combine:
+        """``f`` itself, or a counting version of it when a Stats is attached."""
+        return f if self._stats is None else _counting(self._stats, f)
+
     def _add(self, rep: Any, s: Simplex, x: D) -> Any:
         a, b, c = s
-        stats = self._stats
-
-        def check_cat(old: tuple[Entry, ...], new: tuple[Entry, ...]) -> tuple[Entry, ...]:
-            # The triangle, in either orientation, would be in a's list: (b, c) or (c, b).
-            for e in old:
-                e0 = e[0]
-                if e0 == b:
-                    if e[1] == c:
-                        raise DuplicateSimplexError(f"add: triangle {s!r} is already present")
-                elif e0 == c and e[1] == b:
-                    raise OppositeOrientationError(
-                        f"add: triangle {s!r} is present with the opposite orientation {(a, c, b)!r}"
-                    )
-            if stats is not None:
-                stats.key_comparisons += len(old)
-            return old + new
-
         m = self._m
-        rep = m.insertWith(check_cat, rep, a, ((b, c, x),))
-        rep = m.insertWith(_cat, rep, b, ((c, a, x),))
-        return m.insertWith(_cat, rep, c, ((a, b, x),))
+        try:
+            # The triangle, in either orientation, would be in a's list: (b, c) or (c, b).
+            rep = m.insertWith(self._cat_first, rep, a, ((b, c, x),))
+        except _Present as present:
+            if present.opposite:
+                raise OppositeOrientationError(
+                    f"add: triangle {s!r} is present with the opposite orientation {(a, c, b)!r}"
+                ) from None
+            raise DuplicateSimplexError(f"add: triangle {s!r} is already present") from None
+        cat = self._cat
+        rep = m.insertWith(cat, rep, b, ((c, a, x),))
+        return m.insertWith(cat, rep, c, ((a, b, x),))
 
     def _change(self, rep: Any, key: Vertex, b: Vertex, c: Vertex, y: Any, drop: bool) -> Any:
         """Drop (or give datum ``y`` to) entry ``(b, c, _)`` of ``key``'s list: one ``insertWith``
-        (plus a ``remove`` if the list empties)."""
-        stats = self._stats
-
-        def change(old: tuple[Entry, ...], _: tuple[Entry, ...]) -> tuple[Entry, ...]:
-            for i, e in enumerate(old):
-                if e[0] == b and e[1] == c:
-                    if stats is not None:
-                        stats.key_comparisons += i + 1
-                    if drop:
-                        if len(old) == 1:
-                            raise _Emptied
-                        return old[:i] + old[i + 1 :]
-                    return old[:i] + ((b, c, y),) + old[i + 1 :]
-            raise RepresentationError(f"2-complex: entry {(b, c)!r} missing from the list of {key!r}")
-
+        (plus a ``remove`` if the list empties).  RepresentationError if the entry is not there."""
         m = self._m
+        n0 = m.numItems(rep)
         try:
-            return m.insertWith(change, rep, key, ())
+            if drop:
+                out = m.insertWith(self._drop, rep, key, (b, c))
+            else:
+                out = m.insertWith(self._put, rep, key, ((b, c, y),))
         except _Emptied:
             return m.remove(rep, key)[0]
+        except _Missing:
+            out = None
+        if out is None or m.numItems(out) != n0:  # numItems grew: key had no list, insertWith made one
+            raise RepresentationError(f"2-complex: entry {(b, c)!r} missing from the list of {key!r}")
+        return out
 
     def _locate(self, rep: Any, s: Simplex, what: str) -> tuple[tuple[Entry, ...], int]:
         a, b, c = s
@@ -354,19 +441,41 @@ class TwoComplex(ComplexStructure[D]):
         raise AbsentSimplexError(f"{what}: triangle {s!r} is not in the complex (in this orientation)")
 
     def _rem(self, rep: Any, s: Simplex) -> Any:
+        # Three insertWith that each drop the triangle's entry from one list, the first
+        # also finding out whether the triangle is there: no separate lookup.
         a, b, c = s
-        lst, i = self._locate(rep, s, "rem")
         m = self._m
-        rest = lst[:i] + lst[i + 1 :]
-        rep = m.insert(rep, a, rest) if rest else m.remove(rep, a)[0]
-        rep = self._change(rep, b, c, a, None, True)
-        return self._change(rep, c, a, b, None, True)
+        drop = self._drop
+        n0 = m.numItems(rep)
+        try:
+            out = m.insertWith(drop, rep, a, (b, c))
+        except _Emptied:
+            out = m.remove(rep, a)[0]
+        except _Missing:
+            out = None
+        if out is None or m.numItems(out) > n0:  # numItems grew: a had no list, insertWith made one
+            raise AbsentSimplexError(f"rem: triangle {s!r} is not in the complex (in this orientation)")
+        n1 = m.numItems(out)
+        try:
+            try:
+                out = m.insertWith(drop, out, b, (c, a))
+            except _Emptied:
+                out = m.remove(out, b)[0]
+            try:
+                out = m.insertWith(drop, out, c, (a, b))
+            except _Emptied:
+                out = m.remove(out, c)[0]
+        except _Missing:
+            out = None
+        if out is None or m.numItems(out) > n1:  # an entry of the triangle missing under b or c
+            raise RepresentationError(f"2-complex: triangle {s!r} is in the list of {a!r} but not in those of {b!r} and {c!r}")
+        return out
 
     def _update(self, rep: Any, s: Simplex, f: Callable[[D], D]) -> Any:
         a, b, c = s
         lst, i = self._locate(rep, s, "update")
-        y = f(lst[i][2])
-        rep = self._m.insert(rep, a, lst[:i] + ((b, c, y),) + lst[i + 1 :])
+        y = f(lst[i][2])  # f may raise: nothing has been built yet
+        rep = self._change(rep, a, b, c, y, False)
         rep = self._change(rep, b, c, a, y, False)
         return self._change(rep, c, a, b, y, False)
 

@@ -45,7 +45,8 @@ operation              time        notes
 =====================  ==========  ==============================================
 find, lookup, inDomain O(lg n)     at most ``2·log2(n+1)`` nodes visited
 insert                 O(lg n)     O(lg n) new nodes; a present key costs two descents
-insertWith             O(lg n)     one search for the old value, then an insert
+insertWith             O(lg n)     one descent when the key is present (path kept and
+                                   copied back up), else a search and an insert
 remove                 O(lg n)     one search for the value, then Kahrs' delete
 numItems, isEmpty      O(1)        the size is stored
 listItemsi, foldli     O(n)        iterative in-order walk
@@ -372,14 +373,36 @@ class RedBlackMap(Generic[K, V]):
         """``m`` with ``k ↦ f(old, v)`` if ``k ↦ old`` is in ``m``, else ``k ↦ v``.
 
         O(lg n) plus one call of ``f``.  Exceptions raised by ``f`` propagate unchanged, and ``m`` is unaffected.
+        A present key costs one descent: the nodes on the way down are kept and
+        copied on the way back up (iteratively), so shape and colours are unchanged.
         """
+        n, t = m
+        path: list[Node[K, V]] = []
+        push = path.append
+        node = t
         try:
-            node = _node(m[1], k)
+            while node is not None:
+                y = node[2]
+                if k < y:
+                    push(node)
+                    node = node[1]
+                elif y < k:
+                    push(node)
+                    node = node[4]
+                else:
+                    break
         except TypeError as exc:
             raise _key_error(k, exc) from None
         if node is None:
             return self.insert(m, k, v)
-        return (m[0], _replace(m[1], k, f(node[3], v)))
+        c, a, _, x, b = node
+        new: Node[K, V] = (c, a, k, f(x, v), b)
+        old: Node[K, V] = node
+        for p in reversed(path):
+            c, a, y, yv, b = p
+            new = (c, new, y, yv, b) if a is old else (c, a, y, yv, new)
+            old = p
+        return (n, new)
 
     def find(self, m: RBMap[K, V], k: K, /) -> Option[V]:
         """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``. O(lg n)."""
