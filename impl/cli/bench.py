@@ -1,6 +1,6 @@
 """``persistri bench``: benchmarks that measure persistri against its peers in the same run.
 
-A click group; each benchmark is a sub-command (``maps`` now; ``complex``,
+A click group; each benchmark is a sub-command (``maps`` and ``complex`` now;
 ``hull`` and ``terrain`` join it later).  The measuring code lives in
 :mod:`persistri.impl.bench`; the commands parse options, show progress on
 stderr and print results on stdout.
@@ -16,6 +16,8 @@ import click
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
+from persistri.impl.bench import complex as bench_complex
+from persistri.impl.bench.complex_report import print_complex
 from persistri.impl.bench.maps import DEFAULT_REPEAT, DEFAULT_SEED, DEFAULT_SIZES, SUBJECTS, ProgressCallback, run_map_bench
 from persistri.impl.bench.maps_report import print_maps
 
@@ -116,5 +118,116 @@ def maps(sizes: tuple[int, ...], repeat: int, seed: int, only: str | None, as_js
         click.echo(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
     else:
         print_maps(result, stdout_console())
+    if result.errors():
+        raise SystemExit(1)
+
+
+@bench.command("terrain")
+@click.option(
+    "--sizes",
+    default="1600,3200,6400,12800",
+    show_default=True,
+    callback=_sizes_option,
+    help="Vertex counts, separated by commas.",
+)
+@click.option("--repeat", type=click.IntRange(min=1), default=1, show_default=True, help="Timed runs per figure; the best is kept.")
+@click.option("--backend", default="red_black", show_default=True, help="ORD_MAP backend of the complex.")
+@click.option("--memory", is_flag=True, help="Also measure the memory of keeping every level of detail (tracemalloc; slow).")
+@click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
+def terrain(sizes: tuple[int, ...], repeat: int, backend: str, memory: bool, as_json: bool) -> None:
+    """Greedy insertion on the Jacksboro DEM against pydelatin, in the same run (paper §5, Fig. 11).
+
+    For each size: pydelatin's time and vertex count, persistri's time to the
+    same vertex count, both maximum errors (recomputed over every sample), and
+    persistri's key comparisons, dictionary operations, plane-side tests and
+    flops.  --memory adds the memory kept with every level of detail against
+    the final mesh alone.
+    """
+    from persistri.impl.bench.terrain import run_terrain_bench, terrain_table
+    from persistri.impl.maps import UnknownBackendError
+
+    err = Console(stderr=True)
+    try:
+        with progress_bar(err, "bench terrain") as update:
+            result = run_terrain_bench(sizes, backend=backend, repeat=repeat, memory=memory, on_progress=update)
+    except (ValueError, UnknownBackendError) as exc:
+        raise click.ClickException(str(exc).splitlines()[0]) from None
+    if as_json:
+        click.echo(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
+    else:
+        stdout_console().print(terrain_table(result))
+
+
+@bench.command("complex")
+@click.option(
+    "--sizes",
+    default=",".join(str(n) for n in bench_complex.DEFAULT_SIZES),
+    show_default=True,
+    callback=_sizes_option,
+    help="Triangle counts of the spheres, separated by commas (rounded up to even).",
+)
+@click.option(
+    "--workload",
+    type=click.Choice(bench_complex.WORKLOADS),
+    default="sphere",
+    show_default=True,
+    help="sphere: grown like a hull, without geometry (fast); hull: the bulldozer on OnSphere points (minutes at 10^5).",
+)
+@click.option(
+    "--trace",
+    "trace_path",
+    type=click.Path(exists=True, dir_okay=False),
+    default=None,
+    help="Replay this saved trace (.npz or .json, a closed 2-complex at its end) instead of a generated workload.",
+)
+@click.option("--repeat", type=click.IntRange(min=1), default=bench_complex.DEFAULT_REPEAT, show_default=True, help="Timed runs per figure; the best is kept.")
+@click.option("--seed", type=int, default=bench_complex.DEFAULT_SEED, show_default=True, help="Seed of the workload.")
+@click.option(
+    "--only",
+    default=None,
+    metavar="NAMES",
+    help=f"Measure only these complexes (comma-separated; ephemeral always runs, as the baseline). "
+    f"Complexes: {', '.join(s.name for s in bench_complex.SUBJECTS)}.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
+def complex_(
+    sizes: tuple[int, ...], workload: str, trace_path: str | None, repeat: int, seed: int, only: str | None, as_json: bool
+) -> None:
+    """What persistence costs the 2-complex: a closed sphere built and walked on every backend and on the ephemeral baseline.
+
+    Records (or loads) a trace of the SIMPCOMP operations that build a
+    triangulated sphere, replays it on the 2-complex over each map backend and
+    on the NOT persistent baseline over a dict, in the same run, then walks
+    the final sphere across every edge.  Prints CPU seconds, µs per operation
+    and the ratio to the baseline.  Exit status 1 if a complex failed.
+    """
+    from persistri.impl.complex.trace import TraceError, load_trace
+
+    only_names = None if only is None else [name.strip() for name in only.split(",") if name.strip()]
+    trace = None
+    if trace_path is not None:
+        try:
+            trace = load_trace(trace_path)
+        except TraceError as exc:
+            raise click.BadParameter(str(exc), param_hint="--trace") from None
+    err = Console(stderr=True)
+    try:
+        with progress_bar(err, "bench complex") as update:
+            result = bench_complex.run_complex_bench(
+                sizes,
+                workload="hull" if workload == "hull" else "sphere",
+                trace=trace,
+                repeat=repeat,
+                seed=seed,
+                only=only_names,
+                on_progress=update,
+            )
+    except ValueError as exc:
+        hint = "--only" if only_names is not None and "unknown complex" in str(exc) else "--trace"
+        raise click.BadParameter(str(exc), param_hint=hint) from None
+    if as_json:
+        click.echo(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
+    else:
+        print_complex(result, stdout_console())
     if result.errors():
         raise SystemExit(1)
