@@ -122,42 +122,6 @@ def maps(sizes: tuple[int, ...], repeat: int, seed: int, only: str | None, as_js
         raise SystemExit(1)
 
 
-@bench.command("terrain")
-@click.option(
-    "--sizes",
-    default="1600,3200,6400,12800",
-    show_default=True,
-    callback=_sizes_option,
-    help="Vertex counts, separated by commas.",
-)
-@click.option("--repeat", type=click.IntRange(min=1), default=1, show_default=True, help="Timed runs per figure; the best is kept.")
-@click.option("--backend", default="red_black", show_default=True, help="ORD_MAP backend of the complex.")
-@click.option("--memory", is_flag=True, help="Also measure the memory of keeping every level of detail (tracemalloc; slow).")
-@click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
-def terrain(sizes: tuple[int, ...], repeat: int, backend: str, memory: bool, as_json: bool) -> None:
-    """Greedy insertion on the Jacksboro DEM against pydelatin, in the same run (paper §5, Fig. 11).
-
-    For each size: pydelatin's time and vertex count, persistri's time to the
-    same vertex count, both maximum errors (recomputed over every sample), and
-    persistri's key comparisons, dictionary operations, plane-side tests and
-    flops.  --memory adds the memory kept with every level of detail against
-    the final mesh alone.
-    """
-    from persistri.impl.bench.terrain import run_terrain_bench, terrain_table
-    from persistri.impl.maps import UnknownBackendError
-
-    err = Console(stderr=True)
-    try:
-        with progress_bar(err, "bench terrain") as update:
-            result = run_terrain_bench(sizes, backend=backend, repeat=repeat, memory=memory, on_progress=update)
-    except (ValueError, UnknownBackendError) as exc:
-        raise click.ClickException(str(exc).splitlines()[0]) from None
-    if as_json:
-        click.echo(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
-    else:
-        stdout_console().print(terrain_table(result))
-
-
 @bench.command("complex")
 @click.option(
     "--sizes",
