@@ -1,7 +1,7 @@
 """``persistri bench``: benchmarks that measure persistri against its peers in the same run.
 
-A click group; each benchmark is a sub-command (``maps`` and ``complex`` now;
-``hull`` and ``terrain`` join it later).  The measuring code lives in
+A click group; each benchmark is a sub-command (``maps``, ``complex``, ``hull``
+and ``terrain``).  The measuring code lives in
 :mod:`persistri.impl.bench`; the commands parse options, show progress on
 stderr and print results on stdout.
 """
@@ -122,6 +122,42 @@ def maps(sizes: tuple[int, ...], repeat: int, seed: int, only: str | None, as_js
         raise SystemExit(1)
 
 
+@bench.command("terrain")
+@click.option(
+    "--sizes",
+    default="1600,3200,6400,12800",
+    show_default=True,
+    callback=_sizes_option,
+    help="Vertex counts, separated by commas.",
+)
+@click.option("--repeat", type=click.IntRange(min=1), default=1, show_default=True, help="Timed runs per figure; the best is kept.")
+@click.option("--backend", default="red_black", show_default=True, help="ORD_MAP backend of the complex.")
+@click.option("--memory", is_flag=True, help="Also measure the memory of keeping every level of detail (tracemalloc; slow).")
+@click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
+def terrain(sizes: tuple[int, ...], repeat: int, backend: str, memory: bool, as_json: bool) -> None:
+    """Greedy insertion on the Jacksboro DEM against pydelatin, in the same run (paper §5, Fig. 11).
+
+    For each size: pydelatin's time and vertex count, persistri's time to the
+    same vertex count, both maximum errors (recomputed over every sample), and
+    persistri's key comparisons, dictionary operations, plane-side tests and
+    flops.  --memory adds the memory kept with every level of detail against
+    the final mesh alone.
+    """
+    from persistri.impl.bench.terrain import run_terrain_bench, terrain_table
+    from persistri.impl.maps import UnknownBackendError
+
+    err = Console(stderr=True)
+    try:
+        with progress_bar(err, "bench terrain") as update:
+            result = run_terrain_bench(sizes, backend=backend, repeat=repeat, memory=memory, on_progress=update)
+    except (ValueError, UnknownBackendError) as exc:
+        raise click.ClickException(str(exc).splitlines()[0]) from None
+    if as_json:
+        click.echo(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
+    else:
+        stdout_console().print(terrain_table(result))
+
+
 @bench.command("complex")
 @click.option(
     "--sizes",
@@ -195,3 +231,66 @@ def complex_(
         print_complex(result, stdout_console())
     if result.errors():
         raise SystemExit(1)
+
+
+@bench.command("hull")
+@click.option(
+    "--sizes",
+    default="16384,65536,262144",
+    show_default=True,
+    callback=_sizes_option,
+    help="Point counts, separated by commas.",
+)
+@click.option(
+    "--dists",
+    default="OnSphere,EqHeavy,PolHeavy,InBall,BordHeavy",
+    show_default=True,
+    help="Distributions of the paper's §4, separated by commas.",
+)
+@click.option(
+    "--backends",
+    default="red_black",
+    show_default=True,
+    help="ORD_MAP backends of the complex, separated by commas (the ephemeral baseline always runs too).",
+)
+@click.option("--repeat", type=click.IntRange(min=1), default=1, show_default=True, help="Timed runs per figure; the best is kept.")
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the points and of the insertion order.")
+@click.option("--memory", is_flag=True, help="Also measure the memory of keeping every intermediate hull (tracemalloc; slow).")
+@click.option("--memory-n", type=click.IntRange(min=4), default=65536, show_default=True, help="OnSphere points for --memory.")
+@click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
+def hull(
+    sizes: tuple[int, ...], dists: str, backends: str, repeat: int, seed: int, memory: bool, memory_n: int, as_json: bool
+) -> None:
+    """The exact bulldozer hull against scipy's Qhull, per distribution and size, in the same run.
+
+    For each distribution and point count: Qhull's time, persistri's time on
+    each backend and on the ephemeral (dict, NOT persistent) baseline, the
+    ratios to Qhull and to the baseline, µs per insertion, and whether the
+    vertex sets agree.  --memory adds the memory of keeping every intermediate
+    hull of an OnSphere run against keeping the final hull only.  The default
+    sizes take many minutes (256K points dominate).
+    """
+    from persistri.impl.bench.hull import hull_table, run_hull_bench
+    from persistri.impl.maps import UnknownBackendError
+
+    dist_names = tuple(d.strip() for d in dists.split(",") if d.strip())
+    backend_names = tuple(b.strip() for b in backends.split(",") if b.strip())
+    err = Console(stderr=True)
+    try:
+        with progress_bar(err, "bench hull") as update:
+            result = run_hull_bench(
+                sizes,
+                dists=dist_names,
+                backends=backend_names,
+                repeat=repeat,
+                seed=seed,
+                memory=memory,
+                memory_n=memory_n,
+                on_progress=update,
+            )
+    except (ValueError, UnknownBackendError) as exc:
+        raise click.ClickException(str(exc).splitlines()[0]) from None
+    if as_json:
+        click.echo(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
+    else:
+        stdout_console().print(hull_table(result))

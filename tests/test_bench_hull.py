@@ -1,0 +1,60 @@
+"""``persistri bench hull`` at tiny sizes: the records, the ratios, the memory figure and the errors. Never timing."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import pytest
+from click.testing import CliRunner
+
+from persistri.impl.cli.main import main
+
+
+def invoke(*args: str) -> Any:
+    return CliRunner().invoke(main, ["bench", "hull", *args], catch_exceptions=False)
+
+
+def test_json_records_per_distribution_size_and_complex() -> None:
+    result = invoke("--sizes", "120,200", "--dists", "OnSphere,InBall", "--backends", "red_black,hamt", "--json")
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.output)
+    assert data["sizes"] == [120, 200] and data["dists"] == ["OnSphere", "InBall"]
+    assert [(r["dist"], r["n"]) for r in data["records"]] == [
+        ("OnSphere", 120), ("OnSphere", 200), ("InBall", 120), ("InBall", 200)
+    ]
+    for r in data["records"]:
+        assert r["qhull_s"] > 0 and 4 <= r["vertices"] <= r["n"] and r["insertions"] >= r["vertices"] - 4
+        if r["dist"] == "OnSphere":
+            assert r["vertices"] == r["n"]  # every point of a sphere is extreme
+        timings = {t["backend"]: t for t in r["timings"]}
+        assert list(timings) == ["red_black", "hamt", "ephemeral"]  # the baseline always runs, last
+        eph = timings["ephemeral"]["seconds"]
+        for t in timings.values():
+            assert t["agrees"] is True  # the same vertex set as Qhull
+            assert t["vs_qhull"] == pytest.approx(t["seconds"] / r["qhull_s"])
+            assert t["vs_ephemeral"] == pytest.approx(t["seconds"] / eph)
+            assert t["us_per_insertion"] == pytest.approx(t["seconds"] / r["insertions"] * 1e6)
+    assert "memory" not in data
+
+
+def test_memory_of_the_history_against_the_final_hull() -> None:
+    result = invoke("--sizes", "60", "--dists", "BordHeavy", "--memory", "--memory-n", "300", "--json")
+    assert result.exit_code == 0, result.output
+    mem = json.loads(result.output)["memory"]
+    assert mem["n"] == 300 and mem["backend"] == "red_black"
+    assert mem["versions"] == 297  # the tetrahedron, then one version per insertion: all 300 points are on the sphere
+    assert mem["history_kept"] > mem["final_only_kept"] > 0
+    assert mem["per_version"] == pytest.approx((mem["history_kept"] - mem["final_only_kept"]) / 296)
+
+
+def test_table_and_errors() -> None:
+    result = invoke("--sizes", "50", "--dists", "EqHeavy")
+    assert result.exit_code == 0, result.output
+    assert "EqHeavy" in result.output and "ephemeral" in result.output and "×Qhull" in result.output
+    bad = CliRunner().invoke(main, ["bench", "hull", "--sizes", "50", "--dists", "Cube"])
+    assert bad.exit_code != 0 and "unknown distribution 'Cube'" in bad.output
+    bad = CliRunner().invoke(main, ["bench", "hull", "--sizes", "50", "--backends", "btree"])
+    assert bad.exit_code != 0 and "btree" in bad.output
+    bad = CliRunner().invoke(main, ["bench", "hull", "--sizes", "3"])
+    assert bad.exit_code != 0 and "at least 4" in bad.output
