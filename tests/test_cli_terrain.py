@@ -243,3 +243,41 @@ def test_as_heights_accepts_integers_and_refuses_objects() -> None:
         as_heights(np.array([[2**60 + 1, 1], [0, 0]], dtype=np.int64))
     with pytest.raises(ValueError, match="rectangular"):
         as_heights(np.array([[1, 2], [3]], dtype=object))
+
+
+# -- persistri bench terrain ----------------------------------------------------------------------
+
+
+def test_bench_terrain_json_small_sizes(tmp_path: Path) -> None:
+    import json
+
+    np.save(tmp_path / "g.npy", jacksboro().heights[:60, :70])
+    result = CliRunner().invoke(
+        main, ["bench", "terrain", "--sizes", "12,30", "--memory", "--json", "--grid", str(tmp_path / "g.npy")]
+    )
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    assert doc["shape"] == [60, 70]
+    records = doc["records"]
+    assert [r["target"] for r in records] == [12, 30]
+    for r in records:
+        assert r["points"] == r["target"]  # pydelatin stops at exactly max_points here
+        assert r["persistri_error"] <= 1.05 * r["pydelatin_error"]
+        assert r["pydelatin_s"] > 0 and r["persistri_s"] > 0
+        assert 0 < r["key_comparisons"] and 0 < r["plane_side_tests"] <= r["flops"]
+    assert records[0]["key_comparisons"] < records[1]["key_comparisons"]
+    m = doc["memory"]
+    assert m["points"] == 30 and m["versions"] == 27
+    assert m["history_kept"] > m["final_only_kept"] > 0
+
+
+def test_bench_terrain_table_on_jacksboro_and_bad_sizes() -> None:
+    result = CliRunner().invoke(main, ["bench", "terrain", "--sizes", "8"])
+    assert result.exit_code == 0, result.output
+    text = " ".join(result.stdout.split())
+    assert "Greedy insertion on jacksboro 344×403 (red_black backend)" in text
+    assert "recomputed over every sample" in text
+    bad = CliRunner().invoke(main, ["bench", "terrain", "--sizes", "two"])
+    assert bad.exit_code == 2
+    missing = CliRunner().invoke(main, ["bench", "terrain", "--sizes", "8", "--grid", "nope.npy"])
+    assert missing.exit_code == 1 and "no such file" in missing.output

@@ -133,9 +133,10 @@ def maps(sizes: tuple[int, ...], repeat: int, seed: int, only: str | None, as_js
 @click.option("--repeat", type=click.IntRange(min=1), default=1, show_default=True, help="Timed runs per figure; the best is kept.")
 @click.option("--backend", default="red_black", show_default=True, help="ORD_MAP backend of the complex.")
 @click.option("--memory", is_flag=True, help="Also measure the memory of keeping every level of detail (tracemalloc; slow).")
+@click.option("--grid", "grid_source", default="jacksboro", show_default=True, help="The height grid: jacksboro or a grid file.")
 @click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
-def terrain(sizes: tuple[int, ...], repeat: int, backend: str, memory: bool, as_json: bool) -> None:
-    """Greedy insertion on the Jacksboro DEM against pydelatin, in the same run (paper §5, Fig. 11).
+def terrain(sizes: tuple[int, ...], repeat: int, backend: str, memory: bool, grid_source: str, as_json: bool) -> None:
+    """Greedy insertion on the Jacksboro DEM (or --grid) against pydelatin, in the same run (paper §5, Fig. 11).
 
     For each size: pydelatin's time and vertex count, persistri's time to the
     same vertex count, both maximum errors (recomputed over every sample), and
@@ -145,11 +146,16 @@ def terrain(sizes: tuple[int, ...], repeat: int, backend: str, memory: bool, as_
     """
     from persistri.impl.bench.terrain import run_terrain_bench, terrain_table
     from persistri.impl.maps import UnknownBackendError
+    from persistri.impl.terrain.grids import read_grid
 
     err = Console(stderr=True)
     try:
+        grid = read_grid(grid_source)
         with progress_bar(err, "bench terrain") as update:
-            result = run_terrain_bench(sizes, backend=backend, repeat=repeat, memory=memory, on_progress=update)
+            result = run_terrain_bench(
+                sizes, heights=grid.heights, grid_name=grid_source, backend=backend, repeat=repeat, memory=memory,
+                on_progress=update,
+            )
     except (ValueError, UnknownBackendError) as exc:
         raise click.ClickException(str(exc).splitlines()[0]) from None
     if as_json:

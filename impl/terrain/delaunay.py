@@ -70,7 +70,7 @@ from numpy.typing import NDArray
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
-from persistri.impl.complex.vertex import Vertex, VertexState, int_vertex
+from persistri.impl.complex.vertex import Lineage, Vertex, VertexState
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.terrain.sectors import sector_of, sector_sides, small_integer_points
 
@@ -142,9 +142,9 @@ def _frozen(a: IntArray) -> IntArray:
 class Triangulator:
     """The state of an incremental Delaunay triangulation: the current complex version and its bookkeeping.
 
-    ``Triangulator(pred, structure)`` makes the vertices (one per point of
-    ``pred``, label = index, plus the symbolic :attr:`infinite` vertex) and an
-    empty state; :meth:`begin` lays the first triangles, :meth:`insert` adds one
+    ``Triangulator(pred, structure)`` makes an empty state whose vertices (one
+    per point of ``pred``, label = index, made on first use by :meth:`vertex`,
+    plus the symbolic :attr:`infinite` vertex) share one lineage; :meth:`begin` lays the first triangles, :meth:`insert` adds one
     point and returns the new version (every old version stays valid: the
     complex is persistent).  :meth:`locate` finds a triangle in conflict with a
     point by walking, for inputs without conflict lists.
@@ -159,16 +159,29 @@ class Triangulator:
         self.S = structure
         self.check = check
         self.n = len(pred)
-        _, verts = int_vertex.new_many(VertexState.initial(), [*range(self.n), None])
-        self.verts: list[Vertex] = verts
-        self.infinite: Vertex = verts[self.n]
+        # Vertices are made when first used: a height grid has 10^5 samples and only a
+        # few thousand become vertices.  Vertex i has label i (its point index) and is
+        # made once (memoised), so labels are unique in the lineage — the vertices the
+        # VERTEX state would hand out in index order (``int_vertex.new_many``).
+        self.lineage: Lineage = VertexState.initial().lineage
+        self._verts: dict[int, Vertex] = {}
+        self.infinite: Vertex = self.vertex(self.n)
         self.tri_of: dict[int, Triangle] = {}
         self._next_id = 0
         self.complex: Complex[TriDatum] = structure.new(2)
         self._xy: NDArray[np.float64] = pred.points
         self.small_integers = small_integer_points(pred.points)
+        self._columns = (np.ascontiguousarray(pred.points[:, 0]), np.ascontiguousarray(pred.points[:, 1]))
 
     # -- construction ------------------------------------------------------------------
+
+    def vertex(self, i: int) -> Vertex:
+        """The vertex of point ``i`` (label ``i``; ``i = n`` is the symbolic infinite vertex, point None). O(1)."""
+        v = self._verts.get(i)
+        if v is None:
+            v = Vertex(i, i if i < self.n else None, self.lineage)
+            self._verts[i] = v
+        return v
 
     def _new_id(self, tri: Triangle) -> int:
         tid = self._next_id
@@ -186,18 +199,18 @@ class Triangulator:
         """
         if self.tri_of:
             raise ValueError("begin: the triangulation has already begun")
-        P, V, S = self.pred, self.verts, self.S
+        P, V, S = self.pred, self.vertex, self.S
         cx = self.complex
         edges: set[tuple[int, int]] = set()
         for (a, b, c), samples in triangles:
             if P.orient2d_sign(a, b, c) <= 0:
                 raise ValueError(f"begin: triangle {(a, b, c)} is not strictly counterclockwise")
-            tri = (V[a], V[b], V[c])
+            tri = (V(a), V(b), V(c))
             cx = S.add(cx, tri, (self._new_id(tri), _frozen(np.array(samples, dtype=np.intp))))
             edges.update(((a, b), (b, c), (c, a)))
         for u, w in sorted(edges):
             if (w, u) not in edges:
-                ghost = (V[w], V[u], self.infinite)
+                ghost = (V(w), V(u), self.infinite)
                 cx = S.add(cx, ghost, (self._new_id(ghost), EMPTY))
         self.complex = cx
         return cx
@@ -248,11 +261,11 @@ class Triangulator:
         conflict with the ghost there, so both sides of ``(u, w)`` are in the cavity
         and ``(u, w)`` is not on its boundary.  ``check=True`` asserts it exactly.
         """
-        S, V = self.S, self.verts
+        S = self.S
         cx = self.complex
         findi = S.findi
         conflicts = self.conflicts
-        vp = V[p]
+        vp = self.vertex(p)
         tri0 = self.tri_of[start]
         if self.check and not conflicts(tri0, p):
             raise TriangulationCheckError(f"insert: point {p} is not in conflict with the start triangle {tri0}")
@@ -262,27 +275,33 @@ class Triangulator:
         cavity: dict[int, tuple[Triangle, IntArray]] = {start: (tri0, found[0][1])}
         rejected: set[int] = set()
         boundary: list[tuple[Vertex, Vertex]] = []
-        stack = [tri0]
-        while stack:
-            a, b, c = stack.pop()
-            for u, w in ((a, b), (b, c), (c, a)):
-                ((ntri, (nid, nsamples)),) = findi(cx, (w, u))
-                if nid in cavity:
-                    continue
-                if nid in rejected:
-                    boundary.append((u, w))
-                elif conflicts(ntri, p):
-                    cavity[nid] = (ntri, nsamples)
-                    stack.append(ntri)
-                else:
-                    rejected.add(nid)
-                    boundary.append((u, w))
+        inf = self.infinite
+        incircle = self.pred.incircle
+        a, b, c = tri0
+        # Each entry: an edge (u, w) of a cavity triangle whose far side is still to be decided.
+        # A triangle entered across (w, u) is found as (w, u, x): only its other two edges are queued.
+        edges = [(a, b), (b, c), (c, a)]
+        while edges:
+            u, w = edges.pop()
+            ((ntri, (nid, nsamples)),) = findi(cx, (w, u))
+            if nid in cavity:
+                continue
+            if nid in rejected:
+                boundary.append((u, w))
+                continue
+            x = ntri[2]
+            if (incircle(w, u, x, p) > 0) if (x != inf and w != inf and u != inf) else conflicts(ntri, p):
+                cavity[nid] = (ntri, nsamples)
+                edges.append((u, x))
+                edges.append((x, w))
+            else:
+                rejected.add(nid)
+                boundary.append((u, w))
 
         # The cavity boundary as one cycle; a ghost edge puts ∞ on it (the point is on or beyond the hull).
         succ = {u: w for u, w in boundary}
         if self.check and len(succ) != len(boundary):
             raise TriangulationCheckError(f"insert: the cavity of point {p} is not a disc (its boundary is not one cycle)")
-        inf = self.infinite
         first = succ[inf] if inf in succ else boundary[0][0]
         ring = [first]
         v = succ[first]
@@ -354,7 +373,9 @@ class Triangulator:
         """
         ring_idx = np.array(ring, dtype=np.intp)
         inner = ring_idx if closed else ring_idx[1:-1]
-        sides = sector_sides(self.pred, p, inner, pooled, exact_floats=self.small_integers, stats=self.pred.stats)
+        sides = sector_sides(
+            self.pred, p, inner, pooled, exact_floats=self.small_integers, columns=self._columns, stats=self.pred.stats
+        )
         try:
             return sector_of(sides, closed, check=self.check)
         except ValueError as exc:

@@ -52,10 +52,18 @@ from persistri.impl.stats import Stats
 from persistri.impl.terrain.delaunay import Insertion, TriDatum, Triangulator, canonical_triangles
 from persistri.impl.terrain.grids import GridTransform, as_heights, as_transform
 
-__all__ = ["greedy_insertion", "Tin", "TinHistory", "plane_errors", "grid_points"]
+__all__ = ["greedy_insertion", "Tin", "TinHistory", "plane_errors", "grid_points", "smallest_first"]
 
 IntArray = NDArray[np.intp]
 FloatArray = NDArray[np.float64]
+
+
+def smallest_first(t: tuple[int, int, int]) -> tuple[int, int, int]:
+    """The rotation of triangle ``t`` (same orientation) that starts at its smallest vertex. O(1)."""
+    a, b, c = t
+    if a < b and a < c:
+        return t
+    return (b, c, a) if b < c else (c, a, b)
 
 
 def grid_points(shape: tuple[int, int]) -> FloatArray:
@@ -72,17 +80,15 @@ def plane_errors(x: FloatArray, y: FloatArray, z: FloatArray, tri: IntArray, cou
 
     ``tri`` is ``(k, 3)`` vertex indices (nonzero area); the first ``counts[0]``
     entries of ``samples`` lie in ``tri[0]``, the next ``counts[1]`` in ``tri[1]``,
-    and so on.  The plane of a triangle is written around its vertex ``a`` of
-    smallest index (``(a, b, c)`` its rotation starting there):
+    and so on.  Each row must start at the triangle's vertex of smallest index
+    (:func:`smallest_first`; the complex's ``items`` lists triangles so), and the
+    plane of ``(a, b, c)`` is written around ``a``:
     ``z_a + g_x (x − x_a) + g_y (y − y_a)``, its gradient ``g`` by Cramer's rule,
     computed once per triangle.  Every error of a run goes through this one
-    function and a triangle always gives the same floats whatever rotation it
-    comes in, so the queue's errors and a mesh's reported errors agree bit for
-    bit.  O(k + len(samples)), vectorised.
+    function, always with the same rotation of a triangle, so the queue's errors
+    and a mesh's reported errors agree bit for bit.  O(k + len(samples)), vectorised.
     """
-    first = np.argmin(tri, axis=1)
-    rot = np.take_along_axis(tri, (first[:, None] + np.arange(3)[None, :]) % 3, axis=1)
-    a, b, c = rot[:, 0], rot[:, 1], rot[:, 2]
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     xa, ya, za = x[a], y[a], z[a]
     dx1, dy1, dz1 = x[b] - xa, y[b] - ya, z[b] - za
     dx2, dy2, dz2 = x[c] - xa, y[c] - ya, z[c] - za
@@ -313,7 +319,7 @@ class _Greedy:
         """Queue the candidate (worst sample) of each new triangle; ``samples`` grouped by triangle, ``counts`` each."""
         if not samples.size:
             return
-        tri = np.array([t for _, t in created], dtype=np.intp)
+        tri = np.array([smallest_first(t) for _, t in created], dtype=np.intp)
         err = plane_errors(self.x, self.y, self.z, tri, counts, samples)
         heap = self.heap
         start = 0

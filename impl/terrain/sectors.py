@@ -66,13 +66,16 @@ def sector_sides(
     samples: IntArray,
     *,
     exact_floats: bool,
+    columns: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
     stats: Stats | None = None,
 ) -> BoolArray:
     """``sign orient2d(p, ring[i], samples[j]) >= 0`` as a ``(len(samples), len(ring))`` boolean array (exact).
 
     ``exact_floats`` — the caller has established :func:`small_integer_points` for
     ``pred``'s points, so the float64 evaluation is exact (module docstring);
-    otherwise each column is one exact ``orient2d_sign_batch``.  ``stats``
+    otherwise each column is one exact ``orient2d_sign_batch``.  ``columns`` —
+    ``pred``'s x and y coordinates as contiguous arrays, if the caller keeps them
+    (saves gathering from the 2D array).  ``stats``
     counts the tests of the float path as plane-side tests (the predicates count
     their own).  O(len(samples) · len(ring)).
     """
@@ -82,12 +85,15 @@ def sector_sides(
         for i in range(k):
             out[:, i] = pred.orient2d_sign_batch(int(p), int(ring[i]), samples) >= 0
         return out
-    xy = pred.points
-    px, py = xy[p]
-    rx = xy[ring, 0] - px
-    ry = xy[ring, 1] - py
-    qx = xy[samples, 0] - px
-    qy = xy[samples, 1] - py
+    if columns is None:
+        xy = pred.points
+        columns = (xy[:, 0], xy[:, 1])
+    x, y = columns
+    px, py = x[p], y[p]
+    rx = x[ring] - px
+    ry = y[ring] - py
+    qx = x[samples] - px
+    qy = y[samples] - py
     # orient2d(p, r, q) = (r - p) × (q - p) = rx·qy − ry·qx, exact here.
     det = np.multiply.outer(qy, rx)
     det -= np.multiply.outer(qx, ry)

@@ -1,0 +1,308 @@
+"""The terrain benchmark (``persistri bench terrain``): greedy insertion against pydelatin, in the same run.
+
+On the Jacksboro DEM (344 × 403 samples) at 1,600 / 3,200 / 6,400 / 12,800
+points (paper §5, Fig. 11; issue item 8):
+
+* **pydelatin** (``Delatin(heights, max_points=k, max_error=0)``, the C++ ``hmm``
+  triangulator: greedy insertion with Delaunay flips in floating point) — its time
+  (best of ``repeat``, at least 3) and its vertex count;
+* **persistri** run *to pydelatin's vertex count* — its time (a fresh run per
+  size, best of ``repeat``) and the time ratio;
+* the **maximum error** of both meshes, each recomputed independently over
+  every grid sample by :func:`persistri.impl.terrain.check.mesh_errors` (pydelatin's
+  rows flipped back: its ``y`` is ``rows − 1 − row``);
+* the **operation counts** of the paper's Fig. 11 — key comparisons, dictionary
+  operations, plane-side (orient2d / incircle) tests and their flops — from one
+  counted run to the largest size, read at each size (the run is deterministic,
+  so the counts at ``k`` points are those of a run stopped there);
+* with ``memory=True``, the memory **kept** by a run that keeps every level of
+  detail against one that keeps only the final mesh (``tracemalloc``: memory
+  still allocated while the result is alive, and the peak), and the size of the
+  final mesh's arrays alone.
+
+Timings are wall-clock ``perf_counter`` seconds of the call (grid already in
+memory), on whatever else the machine is doing: a benchmark, not a test.
+"""
+
+from __future__ import annotations
+
+import gc
+import time
+import tracemalloc
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from persistri.impl.stats import Stats
+
+__all__ = [
+    "DEFAULT_TERRAIN_SIZES",
+    "TerrainRecord",
+    "TerrainMemory",
+    "TerrainBench",
+    "run_terrain_bench",
+    "terrain_table",
+]
+
+DEFAULT_TERRAIN_SIZES: tuple[int, ...] = (1_600, 3_200, 6_400, 12_800)
+"""The vertex counts of the issue's table."""
+
+ProgressCallback = Callable[[int, int, str], None]
+
+
+@dataclass(frozen=True, slots=True)
+class TerrainRecord:
+    """One size: pydelatin's and persistri's time and maximum error at the same vertex count, and the counts."""
+
+    target: int
+    points: int
+    pydelatin_s: float
+    persistri_s: float
+    pydelatin_error: float
+    persistri_error: float
+    key_comparisons: int
+    dict_ops: int
+    plane_side_tests: int
+    flops: int
+
+    @property
+    def time_ratio(self) -> float:
+        """persistri's time over pydelatin's."""
+        return self.persistri_s / self.pydelatin_s if self.pydelatin_s > 0 else float("inf")
+
+    @property
+    def error_ratio(self) -> float:
+        """persistri's maximum error over pydelatin's (≤ 1.05 is the issue's target)."""
+        return self.persistri_error / self.pydelatin_error if self.pydelatin_error > 0 else float("nan")
+
+
+@dataclass(frozen=True, slots=True)
+class TerrainMemory:
+    """Memory of one run to ``points`` vertices, in bytes (tracemalloc)."""
+
+    points: int
+    history_kept: int
+    history_peak: int
+    final_only_kept: int
+    final_only_peak: int
+    final_arrays: int
+    versions: int
+
+
+@dataclass
+class TerrainBench:
+    """The whole benchmark: what was measured and how."""
+
+    grid: str
+    shape: tuple[int, int]
+    backend: str
+    repeat: int
+    records: list[TerrainRecord] = field(default_factory=list)
+    memory: TerrainMemory | None = None
+
+    def as_dict(self) -> dict[str, Any]:
+        """A JSON-ready dictionary (ratios included)."""
+        out: dict[str, Any] = {
+            "grid": self.grid,
+            "shape": list(self.shape),
+            "backend": self.backend,
+            "repeat": self.repeat,
+            "records": [dict(asdict(r), time_ratio=r.time_ratio, error_ratio=r.error_ratio) for r in self.records],
+        }
+        if self.memory is not None:
+            out["memory"] = asdict(self.memory)
+        return out
+
+
+def _pydelatin(heights: NDArray[np.float64], k: int, repeat: int) -> tuple[float, int, float]:
+    """(best time, vertex count, maximum error recomputed) of pydelatin refined to ``k`` points."""
+    from pydelatin import Delatin
+
+    from persistri.impl.terrain.check import mesh_errors
+
+    h32 = heights.astype(np.float32)
+    best = float("inf")
+    mesh: Any = None
+    for _ in range(max(3, repeat)):
+        t0 = time.perf_counter()
+        mesh = Delatin(h32, max_points=k, max_error=0.0)
+        best = min(best, time.perf_counter() - t0)
+    v = np.asarray(mesh.vertices, dtype=np.float64).copy()
+    v[:, 1] = heights.shape[0] - 1 - v[:, 1]  # pydelatin's y runs up from the last row
+    err, _ = mesh_errors(heights, v, mesh.triangles)
+    return best, int(v.shape[0]), float(np.nanmax(err))
+
+
+def _ours(heights: NDArray[np.float64], k: int, backend: str, repeat: int) -> tuple[float, float, int]:
+    """(best time, maximum error recomputed, vertex count) of persistri's greedy insertion to ``k`` points."""
+    from persistri.impl.terrain.check import mesh_errors
+    from persistri.impl.terrain.greedy import greedy_insertion
+
+    best = float("inf")
+    tin: Any = None
+    for _ in range(repeat):
+        tin = None
+        gc.collect()
+        t0 = time.perf_counter()
+        tin = greedy_insertion(heights, max_points=k, backend=backend)
+        best = min(best, time.perf_counter() - t0)
+    err, _ = mesh_errors(heights, tin.vertices, tin.triangles)
+    return best, float(np.nanmax(err)), int(tin.n_points)
+
+
+def _counts(heights: NDArray[np.float64], sizes: Sequence[int], backend: str) -> dict[int, Stats]:
+    """The Stats of one counted run, read when the mesh reaches each of ``sizes`` vertices."""
+    from persistri.impl.terrain.greedy import greedy_insertion
+
+    stats = Stats()
+    wanted = set(sizes)
+    seen: dict[int, Stats] = {}
+    count = [4]
+
+    def tick(k: int) -> None:
+        count[0] += k
+        if count[0] in wanted:
+            snap = Stats()
+            snap += stats
+            seen[count[0]] = snap
+
+    greedy_insertion(heights, max_points=max(sizes), backend=backend, stats=stats, progress=tick)
+    return seen
+
+
+def _memory(heights: NDArray[np.float64], k: int, backend: str) -> TerrainMemory:
+    from persistri.impl.terrain.greedy import greedy_insertion
+
+    def measure(keep: bool) -> tuple[int, int, Any]:
+        gc.collect()
+        tracemalloc.start()
+        try:
+            base = tracemalloc.get_traced_memory()[0]
+            tin = greedy_insertion(heights, max_points=k, backend=backend, history=keep)
+            gc.collect()
+            kept, peak = tracemalloc.get_traced_memory()
+        finally:
+            tracemalloc.stop()
+        return kept - base, peak - base, tin
+
+    kept_all, peak_all, tin = measure(True)
+    versions = len(tin.history) if tin.history is not None else 1
+    del tin
+    kept_one, peak_one, tin = measure(False)
+    arrays = int(tin.vertices.nbytes + tin.triangles.nbytes + tin.samples.nbytes)
+    return TerrainMemory(k, kept_all, peak_all, kept_one, peak_one, arrays, versions)
+
+
+def run_terrain_bench(
+    sizes: Sequence[int] = DEFAULT_TERRAIN_SIZES,
+    *,
+    heights: NDArray[np.float64] | None = None,
+    grid_name: str = "jacksboro",
+    backend: str = "red_black",
+    repeat: int = 1,
+    memory: bool = False,
+    on_progress: ProgressCallback | None = None,
+) -> TerrainBench:
+    """Run the benchmark (module docstring) on ``heights`` (default: the Jacksboro DEM) at ``sizes`` points."""
+    from persistri.impl.terrain.grids import as_heights, jacksboro
+
+    if heights is None:
+        heights = jacksboro().heights
+        grid_name = "jacksboro"
+    h = as_heights(heights, what=grid_name)
+    sizes = sorted({int(s) for s in sizes})
+    if not sizes or sizes[0] < 4:
+        raise ValueError("sizes must be vertex counts of at least 4")
+    bench = TerrainBench(grid_name, (int(h.shape[0]), int(h.shape[1])), backend, repeat)
+    steps = 2 * len(sizes) + 1 + (1 if memory else 0)
+    done = 0
+
+    def report(what: str) -> None:
+        if on_progress is not None:
+            on_progress(done, steps, what)
+
+    measured: list[tuple[int, int, float, float, float, float]] = []
+    for k in sizes:
+        report(f"pydelatin to {k:,} points")
+        p_time, p_points, p_err = _pydelatin(h, k, repeat)
+        done += 1
+        report(f"persistri to {p_points:,} points")
+        o_time, o_err, o_points = _ours(h, p_points, backend, repeat)
+        done += 1
+        measured.append((k, o_points, p_time, o_time, p_err, o_err))
+    report("operation counts")
+    counts = _counts(h, [m[1] for m in measured], backend)
+    done += 1
+    for k, points, p_time, o_time, p_err, o_err in measured:
+        st = counts.get(points, Stats())
+        bench.records.append(
+            TerrainRecord(k, points, p_time, o_time, p_err, o_err, st.key_comparisons, st.dict_ops, st.plane_side_tests, st.flops)
+        )
+    if memory:
+        report(f"memory at {measured[-1][1]:,} points")
+        bench.memory = _memory(h, measured[-1][1], backend)
+        done += 1
+    report("done")
+    return bench
+
+
+def _mb(n: int) -> str:
+    return f"{n / 2**20:,.1f} MB"
+
+
+def terrain_table(bench: TerrainBench) -> Any:
+    """The benchmark as a rich renderable: the table and, when measured, the memory lines."""
+    from rich.console import Group
+    from rich.table import Table
+    from rich.text import Text
+
+    table = Table(title=f"Greedy insertion on {bench.grid} {bench.shape[0]}×{bench.shape[1]} ({bench.backend} backend)")
+    for name in (
+        "points",
+        "pydelatin s",
+        "persistri s",
+        "time ×",
+        "pydelatin err",
+        "persistri err",
+        "err ratio",
+        "key comps",
+        "dict ops",
+        "tests",
+        "flops",
+    ):
+        table.add_column(name, justify="right")
+    for r in bench.records:
+        table.add_row(
+            f"{r.points:,}",
+            f"{r.pydelatin_s:.3f}",
+            f"{r.persistri_s:.2f}",
+            f"{r.time_ratio:,.0f}×",
+            f"{r.pydelatin_error:.4g}",
+            f"{r.persistri_error:.4g}",
+            f"{r.error_ratio:.3f}",
+            f"{r.key_comparisons:,}",
+            f"{r.dict_ops:,}",
+            f"{r.plane_side_tests:,}",
+            f"{r.flops:,}",
+        )
+    parts: list[Any] = [table]
+    m = bench.memory
+    if m is not None:
+        parts.append(
+            Text(
+                f"memory at {m.points:,} points: every level of detail kept ({m.versions:,} versions) "
+                f"{_mb(m.history_kept)} (peak {_mb(m.history_peak)}); final mesh only {_mb(m.final_only_kept)} "
+                f"(peak {_mb(m.final_only_peak)}); the final mesh's arrays {_mb(m.final_arrays)}"
+            )
+        )
+    parts.append(
+        Text(
+            "err: maximum vertical error, recomputed over every sample for both meshes; persistri run to "
+            "pydelatin's vertex count; times best of the repeats (pydelatin at least 3); key comps, dict ops, "
+            "tests (plane-side: orient2d and incircle) and flops: persistri's operation counts (paper Fig. 11)."
+        )
+    )
+    return Group(*parts)
