@@ -23,12 +23,19 @@ def test_demo_writes_the_hull_and_the_map_benchmark(tmp_path: Path) -> None:
     out = tmp_path / "results" / "nested"  # created if missing
     result = CliRunner().invoke(
         main,
-        ["demo", "--out", str(out), "--bench-sizes", "60,90", "--repeat", "1", "--hull-points", "300"],
+        ["demo", "--out", str(out), "--bench-sizes", "60,90", "--repeat", "1", "--hull-points", "300",
+         "--terrain-points", "40"],
         catch_exceptions=False,
     )
     assert result.exit_code == 0, result.output
     files = {p.name for p in out.iterdir()}
-    assert files == {"bench_maps.json", "bench_maps.txt", "bench_maps.png", "hull.npz", "hull.ply", "hull.png"}
+    assert files == {
+        "bench_maps.json", "bench_maps.txt", "bench_maps.png", "hull.npz", "hull.ply", "hull.png",
+        "terrain_jacksboro.npz", "terrain_jacksboro.ply", "terrain_jacksboro.png",
+    }
+    mesh = np.load(out / "terrain_jacksboro.npz")
+    assert mesh["vertices"].shape == (40, 3) and float(mesh["max_error"]) > 0
+    assert (out / "terrain_jacksboro.png").read_bytes().startswith(PNG_MAGIC)
     hull = np.load(out / "hull.npz")
     assert verify_hull(hull["points"], hull["simplices"]).ok
     assert hull["points"].shape == (300, 3)

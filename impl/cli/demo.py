@@ -12,6 +12,11 @@ Stages now:
     generated BordHeavy points (paper §4), checked at every insertion and verified
     exactly, with every intermediate hull kept: ``hull.npz`` (points, simplices,
     vertices), ``hull.ply`` and ``hull.png``;
+``terrain``
+    greedy insertion on the Jacksboro DEM (paper §5) to 2,000 points, checked at
+    every insertion and verified exactly, every level of detail kept:
+    ``terrain_jacksboro.npz`` (vertices, triangles, max_error), ``terrain_jacksboro.ply``
+    and ``terrain_jacksboro.png`` (the mesh over the shaded relief, like Figs. 9–10);
 ``maps``
     the map benchmark (:mod:`persistri.impl.bench.maps`) at 10³ and 10⁴ keys:
     ``bench_maps.json`` (the records), ``bench_maps.txt`` (the table) and
@@ -38,6 +43,9 @@ __all__ = ["DemoSettings", "DemoStage", "StageContext", "StageResult", "STAGES",
 DEMO_HULL_POINTS = 4_000
 """Points of the demo's hull (BordHeavy): checked at every insertion, so kept modest."""
 
+DEMO_TERRAIN_POINTS = 2_000
+"""Vertices of the demo's Jacksboro mesh."""
+
 DEMO_BENCH_SIZES = (1_000, 10_000)
 """Key counts of the demo's map benchmark: small enough for the association list."""
 
@@ -50,6 +58,7 @@ class DemoSettings:
     """The directory the stages write into (created if missing)."""
     bench_sizes: tuple[int, ...] = DEMO_BENCH_SIZES
     hull_points: int = DEMO_HULL_POINTS
+    terrain_points: int = DEMO_TERRAIN_POINTS
     repeat: int = 1
     seed: int = DEFAULT_SEED
 
@@ -148,8 +157,69 @@ def hull_stage(ctx: StageContext) -> StageResult:
     return StageResult([npz, ply, png], table, failures)
 
 
+def terrain_stage(ctx: StageContext) -> StageResult:
+    """Greedy insertion on the Jacksboro DEM, checked and verified; ``terrain_jacksboro.{npz,ply,png}``."""
+    import time
+
+    import numpy as np
+    from rich.table import Table
+
+    from persistri.impl.files import write_mesh
+    from persistri.impl.stats import Stats
+    from persistri.impl.terrain.check import verify_tin
+    from persistri.impl.terrain.greedy import greedy_insertion
+    from persistri.impl.terrain.grids import jacksboro
+    from persistri.impl.terrain.plot import plot_tin
+
+    s = ctx.settings
+    k = s.terrain_points
+    grid = jacksboro()
+    total = max(k - 4, 1)
+    done = [0]
+
+    def tick(n: int) -> None:
+        done[0] += n
+        if done[0] % 128 == 0 or done[0] == total:
+            ctx.progress(done[0], total, f"Jacksboro DEM to {k:,} points, checked at every insertion")
+
+    stats = Stats()
+    start = time.perf_counter()
+    tin = greedy_insertion(grid.heights, max_points=k, check=True, stats=stats, progress=tick, transform=grid.transform)
+    seconds = time.perf_counter() - start
+    report = verify_tin(tin, grid.heights)
+    out = s.out
+    npz = write_mesh(
+        out / "terrain_jacksboro.npz", tin.vertices, tin.triangles,
+        npz_arrays={"vertices": tin.vertices, "triangles": tin.triangles, "max_error": np.float64(tin.max_error),
+                    "rms_error": np.float64(tin.rms_error), "samples": tin.samples},
+    )
+    ply = write_mesh(out / "terrain_jacksboro.ply", tin.vertices, tin.triangles)
+    png = plot_tin(grid.heights, tin.vertices, tin.triangles, out / "terrain_jacksboro.png",
+                   title=f"Jacksboro DEM: {tin.n_points:,} points, max error {tin.max_error:.1f} m")
+    assert tin.history is not None
+    coarse = tin.history.at(points=min(500, tin.n_points))
+    table = Table(title="terrain (greedy insertion, red-black backend)")
+    table.add_column("")
+    table.add_column("", justify="right")
+    for name, value in (
+        ("grid", f"{tin.shape[0]} × {tin.shape[1]} samples"),
+        ("points / triangles", f"{tin.n_points:,} / {len(tin.triangles):,}"),
+        ("max / rms error (m)", f"{tin.max_error:.1f} / {tin.rms_error:.2f}"),
+        ("levels of detail kept", f"{len(tin.history):,}"),
+        (f"from history: {coarse.n_points} points", f"max error {coarse.max_error:.1f} m"),
+        ("key comparisons", f"{stats.key_comparisons:,}"),
+        ("plane-side tests", f"{stats.plane_side_tests:,}"),
+        ("exact verification", "ok" if report.ok else "; ".join(report.failures)),
+        ("seconds (with check=True)", f"{seconds:.1f}"),
+    ):
+        table.add_row(name, value)
+    failures = [] if report.ok else [f"terrain: {'; '.join(report.failures)}"]
+    return StageResult([npz, ply, png], table, failures)
+
+
 STAGES: tuple[DemoStage, ...] = (
     DemoStage("hull", "exact convex hull", hull_stage),
+    DemoStage("terrain", "terrain mesh (Jacksboro DEM)", terrain_stage),
     DemoStage("maps", "persistent maps vs. their peers", maps_stage),
 )
 """The demo's stages, in the order they run."""
@@ -197,14 +267,18 @@ def run_demo(settings: DemoSettings, console: Console, stages: Sequence[DemoStag
 )
 @click.option("--repeat", type=click.IntRange(min=1), default=1, hidden=True, help="Timed runs per benchmark figure.")
 @click.option("--hull-points", type=click.IntRange(min=4), default=DEMO_HULL_POINTS, hidden=True, help="Points of the hull stage.")
-def demo(out: Path, bench_sizes: tuple[int, ...], repeat: int, hull_points: int) -> None:
+@click.option("--terrain-points", type=click.IntRange(min=4), default=DEMO_TERRAIN_POINTS, hidden=True, help="Vertices of the terrain stage.")
+def demo(out: Path, bench_sizes: tuple[int, ...], repeat: int, hull_points: int, terrain_points: int) -> None:
     """Run the demo: every stage in turn, writing its results into --out.
 
     Now: the exact convex hull of 4,000 BordHeavy points, checked at every
-    insertion (hull.npz, .ply, .png), and the map benchmark at 10^3 and 10^4 keys
+    insertion (hull.npz, .ply, .png), the Jacksboro DEM meshed by greedy insertion
+    to 2,000 points (terrain_jacksboro.npz, .ply, .png), and the map benchmark at 10^3 and 10^4 keys
     (bench_maps.json, .txt, .png).  Exit status 1 if a stage reports a failure.
     """
-    settings = DemoSettings(out=out, bench_sizes=bench_sizes, repeat=repeat, hull_points=hull_points)
+    settings = DemoSettings(
+        out=out, bench_sizes=bench_sizes, repeat=repeat, hull_points=hull_points, terrain_points=terrain_points
+    )
     console = stdout_console()
     results = run_demo(settings, console)
     console.print("wrote:", *(str(p) for r in results for p in r.files), sep="\n  ")
