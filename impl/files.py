@@ -102,5 +102,7 @@ def write_mesh(
     import meshio
 
     tri = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    if tri.size == 0 or int(tri.max()) < 2**31:
+        tri = tri.astype(np.int32)  # PLY has no 64-bit integers: meshio would warn and cast anyway
     meshio.write(p, meshio.Mesh(np.asarray(points, dtype=np.float64), [("triangle", tri)]))
     return p
