@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 from numpy.typing import NDArray
 
@@ -78,7 +78,6 @@ def integer_clouds(draw: st.DrawFn) -> NDArray[np.float64]:
 
 
 @given(integer_clouds(), st.integers(0, 3))
-@settings(max_examples=60)
 def test_integer_clouds_cocircular_and_collinear_everywhere(pts: NDArray[np.float64], seed: int) -> None:
     distinct = np.unique(pts, axis=0)
     collinear = len(distinct) < 3 or all(

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from persistri.impl.geometry.predicates import Predicates2
@@ -12,7 +12,6 @@ from persistri.impl.terrain.sectors import EXACT_LIMIT, sector_of, sector_sides,
 
 
 @given(st.lists(st.tuples(st.integers(-(2**25), 2**25), st.integers(-(2**25), 2**25)), min_size=6, max_size=6, unique=True))
-@settings(max_examples=100)
 def test_float_path_equals_the_exact_predicate(pts: list[tuple[int, int]]) -> None:
     xy = np.array(pts, dtype=np.float64)
     pred = Predicates2(xy)

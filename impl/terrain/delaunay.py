@@ -144,9 +144,10 @@ class Triangulator:
 
     ``Triangulator(pred, structure)`` makes an empty state whose vertices (one
     per point of ``pred``, label = index, made on first use by :meth:`vertex`,
-    plus the symbolic :attr:`infinite` vertex) share one lineage; :meth:`begin` lays the first triangles, :meth:`insert` adds one
-    point and returns the new version (every old version stays valid: the
-    complex is persistent).  :meth:`locate` finds a triangle in conflict with a
+    plus the symbolic :attr:`infinite` vertex) share one lineage;
+    :meth:`begin` lays the first triangles, :meth:`insert` adds one point and
+    returns the new version (every old version stays valid: the complex is
+    persistent).  :meth:`locate` finds a triangle in conflict with a
     point by walking, for inputs without conflict lists.
 
     ``tri_of`` maps the id of every live triangle (ghosts included) to its
@@ -192,9 +193,10 @@ class Triangulator:
     def begin(self, triangles: list[tuple[tuple[int, int, int], IntArray]]) -> Complex[TriDatum]:
         """Lay the first triangulation: finite counterclockwise triangles with their samples, plus the ghosts.
 
-        ``triangles`` must triangulate a convex polygon (exact checks with
-        ``check=True``; :class:`ValueError` for a triangle that is not strictly
-        counterclockwise).  A ghost ``(w, u, ∞)`` is added on every boundary edge
+        ``triangles`` must triangulate a convex polygon and be Delaunay (the
+        caller's duty: the callers lay one triangle, or a rectangle split along its
+        Delaunay diagonal); :class:`ValueError` for a triangle that is not strictly
+        counterclockwise (exact).  A ghost ``(w, u, ∞)`` is added on every boundary edge
         ``(u, w)``.  Returns the first version.  O(size).
         """
         if self.tri_of:
