@@ -213,6 +213,25 @@ class _Visible:
         self.outs: list[Out] = []  # in the edge order (a, b), (b, d), (d, a)
 
 
+class _FaceTable:
+    """Every face ever made, as rows of point indices by face id, and which are in the hull (``check=True`` only).
+
+    Face ids are consecutive, so the table grows by appending; it lets the check
+    test every face of the hull against a point in one vectorised batch.
+    """
+
+    def __init__(self) -> None:
+        self.corners: IntArray = np.zeros((1024, 3), dtype=np.intp)
+        self.live: NDArray[np.bool_] = np.zeros(1024, dtype=bool)
+
+    def add(self, fid: int, tri: Triangle) -> None:
+        if fid >= len(self.live):
+            self.corners = np.concatenate([self.corners, np.zeros_like(self.corners)])
+            self.live = np.concatenate([self.live, np.zeros_like(self.live)])
+        self.corners[fid] = tri
+        self.live[fid] = True
+
+
 class Bulldozer:
     """The state of a bulldozer run: the current hull version and the association of points to faces.
 
@@ -252,6 +271,7 @@ class Bulldozer:
         self.assoc: IntArray = np.full(self.n, -1, dtype=np.intp)
         self.face_tri: dict[int, Triangle] = {}
         self._next_fid = 0
+        self._table = _FaceTable() if check else None
         self.complex: Complex[FaceDatum] = self._start(tetra)
 
     def _vertex(self, i: int) -> Vertex:
@@ -268,6 +288,8 @@ class Bulldozer:
         fid = self._next_fid
         self._next_fid += 1
         self.face_tri[fid] = tri
+        if self._table is not None:
+            self._table.add(fid, tri)
         return fid
 
     def _start(self, tetra: tuple[int, int, int, int]) -> Complex[FaceDatum]:
@@ -455,6 +477,8 @@ class Bulldozer:
         for fid in processed:
             cx = S.rem(cx, work[fid].tri)
             del face_tri[fid]
+            if self._table is not None:
+                self._table.live[fid] = False
         new_tents: list[tuple[int, Triangle, Conflict]] = []
         for tent, kept in tents:
             fid = self._new_fid(tent)
@@ -511,46 +535,68 @@ class Bulldozer:
                 f"inserting point {p}: the walk visited {len(work)} faces but {len(seen)} visible faces "
                 f"are connected to the associated face (Lemma 9)"
             )
-        if len(self.face_tri) <= 4096:
-            everywhere = {
-                fid for fid, t in self.face_tri.items() if P.orient3d(t[0], t[1], t[2], p) < 0
-            }
+        if len(self.face_tri) <= 4096 and self._table is not None:
+            # Every face of the hull, tested at once (vectorised): the visible ones are exactly the walk's.
+            fids = np.flatnonzero(self._table.live[: self._next_fid])
+            corners = self._table.corners[fids]
+            lit = P.orient3d_many(corners[:, 0], corners[:, 1], corners[:, 2], p) < 0
+            everywhere = set(fids[lit].tolist())
             if everywhere != set(work):
                 raise BulldozerCheckError(
                     f"inserting point {p}: {len(everywhere)} faces are visible but the walk found {len(work)} (Lemma 9)"
                 )
 
-    def _in_cone(self, tri: Triangle, q: int) -> bool:
-        """Whether the ray from the centre through ``q`` leaves through face ``tri`` (exact, SoS)."""
-        P, C = self.pred, self.C
-        x, y, z = tri
-        return (
-            P.orient3d(C, x, y, q) == P.orient3d(C, x, y, z)
-            and P.orient3d(C, y, z, q) == P.orient3d(C, y, z, x)
-            and P.orient3d(C, z, x, q) == P.orient3d(C, z, x, y)
-        )
-
     def _check_bulldozed(self, p: int, routed: list[Indices], tents: list[tuple[int, Triangle, Conflict]]) -> None:
-        """Theorems 6 and 7: every bulldozed point is in the list of its associated face or rightly interior."""
-        P = self.pred
-        for arr in routed:
-            for q in _as_list(arr):
-                cones = [(fid, tri) for fid, tri, _ in tents if self._in_cone(tri, q)]
-                if len(cones) != 1:
-                    raise BulldozerCheckError(
-                        f"inserting point {p}: the ray to point {q} leaves the tent through {len(cones)} faces"
-                    )
-                fid, tri = cones[0]
-                outside = P.orient3d(tri[0], tri[1], tri[2], q) < 0
-                if outside and (self.status[q] != PENDING or int(self.assoc[q]) != fid):
-                    raise BulldozerCheckError(
-                        f"inserting point {p}: point {q} is outside tent face {tri} (its associated face, "
-                        f"Theorem 6) but is not in that face's list"
-                    )
-                if not outside and self.status[q] != INTERIOR:
-                    raise BulldozerCheckError(
-                        f"inserting point {p}: point {q} is inside the new hull but was not discarded (Theorem 7)"
-                    )
+        """Theorems 6 and 7: every bulldozed point is in the list of its associated face or rightly interior.
+
+        Independently of the walk, with the checked predicates: the ray from the
+        centre to each bulldozed point ``q`` must leave the new hull through
+        exactly one tent face ``(u, w, p)`` — the cone bounded by the planes
+        ``(c, u, w)``, ``(c, w, p)`` and ``(c, p, u)`` — and ``q`` must be pending in
+        that face's list if it is beyond the face, interior otherwise.  Vectorised
+        over every (tent face, point) pair at once (the planes ``(c, x, p)`` are
+        shared by the two tent faces at the horizon vertex ``x``).
+        """
+        P, C = self.pred, self.C
+        parts = [np.asarray(x, dtype=np.intp) for x in routed if len(x)]
+        if not parts:
+            return
+        pts = np.unique(np.concatenate(parts))  # a point is routed once per face it crosses
+        m, k = pts.size, len(tents)
+        us = np.array([t[1][0] for t in tents], dtype=np.intp)
+        ws = np.array([t[1][1] for t in tents], dtype=np.intp)
+        fan, at = np.unique(np.concatenate([us, ws]), return_inverse=True)  # the horizon vertices
+        iu, iw = at[:k], at[k:]
+        everyone = np.tile(pts, k)
+        # Each tent face (u, w, p) against each point, and each fan plane (c, x, p) against each point.
+        edge = P.orient3d_many(C, np.repeat(us, m), np.repeat(ws, m), everyone).reshape(k, m)
+        side = P.orient3d_many(C, np.repeat(fan, m), p, np.tile(pts, fan.size)).reshape(fan.size, m)
+        edge_ref = np.array([P.orient3d(C, u, w, p) for u, w in zip(us.tolist(), ws.tolist())])
+        w_ref = np.array([P.orient3d(C, w, p, u) for u, w in zip(us.tolist(), ws.tolist())])
+        u_ref = np.array([P.orient3d(C, p, u, w) for u, w in zip(us.tolist(), ws.tolist())])
+        inside = (edge == edge_ref[:, None]) & (side[iw] == w_ref[:, None]) & (-side[iu] == u_ref[:, None])
+        cones = inside.sum(axis=0)
+        wrong = np.flatnonzero(cones != 1)
+        if wrong.size:
+            raise BulldozerCheckError(
+                f"inserting point {p}: the ray to point {int(pts[wrong[0]])} leaves the tent through "
+                f"{int(cones[wrong[0]])} faces"
+            )
+        owner = inside.argmax(axis=0)
+        fids = np.array([t[0] for t in tents], dtype=np.intp)[owner]
+        beyond = P.orient3d_many(us[owner], ws[owner], p, pts) < 0
+        bad = np.flatnonzero(beyond & ((self.status[pts] != PENDING) | (self.assoc[pts] != fids)))
+        if bad.size:
+            j = int(bad[0])
+            raise BulldozerCheckError(
+                f"inserting point {p}: point {int(pts[j])} is outside tent face {tents[int(owner[j])][1]} (its "
+                f"associated face, Theorem 6) but is not in that face's list"
+            )
+        bad = np.flatnonzero(~beyond & (self.status[pts] != INTERIOR))
+        if bad.size:
+            raise BulldozerCheckError(
+                f"inserting point {p}: point {int(pts[bad[0]])} is inside the new hull but was not discarded (Theorem 7)"
+            )
 
     # -- the whole run ---------------------------------------------------------------
 
