@@ -263,6 +263,7 @@ def test_bench_terrain_json_small_sizes(tmp_path: Path) -> None:
     for r in records:
         assert r["points"] == r["target"]  # pydelatin stops at exactly max_points here
         assert r["persistri_error"] <= 1.05 * r["pydelatin_error"]
+        assert r["persistri_best_error"] <= r["persistri_error"]
         assert r["pydelatin_s"] > 0 and r["persistri_s"] > 0
         assert 0 < r["key_comparisons"] and 0 < r["plane_side_tests"] <= r["flops"]
     assert records[0]["key_comparisons"] < records[1]["key_comparisons"]

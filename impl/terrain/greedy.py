@@ -104,7 +104,7 @@ def plane_errors(x: FloatArray, y: FloatArray, z: FloatArray, tri: IntArray, cou
     return err
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Tin:
     """A triangulated irregular network: the result of :func:`greedy_insertion` (or one level of its history).
 

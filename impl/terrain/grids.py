@@ -38,6 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = [
     "GRID_FORMATS",
     "NODATA_RULES",
+    "HEIGHT_LIMIT",
     "GridTransform",
     "HeightGrid",
     "as_heights",
@@ -54,6 +55,9 @@ NODATA_RULES: Final = ("error", "fill", "min")
 """The named no-data rules of :func:`as_heights` (a number is accepted too)."""
 
 _NPZ_NAMES: Final = ("elevation", "heights", "z", "dem")
+
+HEIGHT_LIMIT: Final = 1e250
+"""Largest accepted |height|: planes through heights and grid coordinates stay far from float64 overflow."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -125,7 +129,8 @@ def as_heights(heights: ArrayLike, *, nodata: str | float = "error", what: str =
 
     Raises :class:`TypeError` for non-numeric input and :class:`ValueError` for
     a ragged, empty, 1-D, 1-row or 1-column array (a terrain needs at least
-    2 × 2 samples), for an infinite height, and for NaN (no-data) cells unless
+    2 × 2 samples), for an infinite height or one beyond :data:`HEIGHT_LIMIT`,
+    and for NaN (no-data) cells unless
     ``nodata`` says how to treat them:
 
     * ``"error"`` (default) — a :class:`ValueError` naming how many cells and the first one;
@@ -159,6 +164,12 @@ def as_heights(heights: ArrayLike, *, nodata: str | float = "error", what: str =
     if bool(np.any(np.isinf(arr))):
         r, c = np.argwhere(np.isinf(arr))[0]
         raise ValueError(f"{what}: cell (row {r}, col {c}) is infinite")
+    if bool(np.any(np.abs(arr) > HEIGHT_LIMIT)):
+        r, c = np.argwhere(np.abs(arr) > HEIGHT_LIMIT)[0]
+        raise ValueError(
+            f"{what}: cell (row {r}, col {c}) is {arr[r, c]:g}, beyond ±{HEIGHT_LIMIT:g}: the float64 error "
+            "measure would overflow"
+        )
     missing = np.isnan(arr)
     if not bool(missing.any()):
         out: NDArray[np.float64] = arr + 0.0  # -0.0 becomes 0.0
@@ -186,8 +197,8 @@ def as_heights(heights: ArrayLike, *, nodata: str | float = "error", what: str =
         if isinstance(nodata, bool) or not isinstance(nodata, (int, float, np.integer, np.floating)):
             raise TypeError(f"nodata must be one of {', '.join(NODATA_RULES)} or a number, got {nodata!r}")
         fill = float(nodata)
-        if not np.isfinite(fill):
-            raise ValueError(f"nodata fill height must be finite, got {fill}")
+        if not np.isfinite(fill) or abs(fill) > HEIGHT_LIMIT:
+            raise ValueError(f"nodata fill height must be finite and within ±{HEIGHT_LIMIT:g}, got {fill}")
         arr = np.where(missing, fill, arr)
     filled: NDArray[np.float64] = np.ascontiguousarray(arr, dtype=np.float64) + 0.0
     return filled

@@ -46,7 +46,7 @@ __all__ = ["delaunay", "DelaunayTriangulation", "insertion_order", "hilbert_keys
 IntArray = NDArray[np.intp]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class DelaunayTriangulation:
     """The result of :func:`delaunay`.
 
