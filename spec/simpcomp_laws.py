@@ -54,6 +54,8 @@ __all__ = [
     "law_grep",
     "law_neighbour",
     "law_persistence",
+    "law_bad_input",
+    "law_invariants",
 ]
 
 Vx = TypeVar("Vx")
@@ -89,6 +91,8 @@ SIMPCOMP_LAWS: dict[str, str] = {
     "find(c, e) = [t] and find(c, flip(e)) = exactly one other n-simplex",
     "persistence": "every version agrees with the model it had when it was made, after any later operation",
     "bad_input": "a call with bad input raises a ValueError or TypeError and leaves the complex as it was",
+    "invariants": "the structure's own representation check (check(c) or _check(c), when it has one) "
+    "accepts every complex its operations make",
 }
 """Every ``SIMPCOMP`` law: name → statement."""
 
@@ -443,3 +447,26 @@ def law_persistence(C: SIMPCOMP[Vx, Sx, D, Cx], n: int, history: Sequence[tuple[
     """Every ``(version, model)`` of ``history`` still agrees.  O(total size of the models)."""
     for i, (c, model) in enumerate(history):
         _agrees(C, c, n, model, "persistence", f"version {i} of {len(history)}")
+
+
+def law_bad_input(C: SIMPCOMP[Vx, Sx, D, Cx], c: Cx, n: int, model: Model, call: Callable[[], object], what: str) -> None:
+    """``call()`` — a call on ``c`` with bad input, described by ``what`` — raises a ValueError or TypeError,
+    and ``c`` still agrees with ``model`` afterwards."""
+    try:
+        call()
+    except (ValueError, TypeError):
+        pass
+    except Exception as exc:
+        raise LawViolation("bad_input", f"{what} raised {type(exc).__name__}: {exc}, not a ValueError or TypeError") from exc
+    else:
+        raise LawViolation("bad_input", f"{what} did not raise")
+    _unchanged(C, c, n, model, f"the refused {what}")
+
+
+def law_invariants(check: Callable[[Cx], object], c: Cx, where: str = "") -> None:
+    """The structure's representation check ``check`` accepts ``c`` (any exception it raises is a violation)."""
+    try:
+        check(c)
+    except Exception as exc:
+        at = f" ({where})" if where else ""
+        raise LawViolation("invariants", f"the check rejected the complex{at}: {type(exc).__name__}: {exc}") from exc

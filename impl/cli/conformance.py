@@ -2,10 +2,12 @@
 
 ``persistri conformance maps MODULE:ATTR`` runs the ``ORD_MAP`` suite
 (:func:`persistri.spec.conformance.run_conformance`) on the structure
-``ATTR`` of module ``MODULE`` (a class is instantiated with no arguments).
+``ATTR`` of module ``MODULE`` (a class is instantiated with no arguments);
+``persistri conformance complex MODULE:ATTR --state MODULE:ATTR`` runs the
+``SIMPCOMP`` suite (:func:`persistri.spec.conformance.run_simpcomp_conformance`).
 Exit status: 0 when it conforms, 1 when some law fails (each failure is
 printed with the law, its statement and hypothesis's minimal counterexample),
-2 when ``MODULE:ATTR`` cannot be loaded or is not an ``ORD_MAP`` structure
+2 when ``MODULE:ATTR`` cannot be loaded or is not a structure of the signature
 (one line on stderr saying what is missing).
 """
 
@@ -15,11 +17,11 @@ import importlib
 import os
 import sys
 import tempfile
-from typing import NoReturn
+from typing import Any, NoReturn
 
 import click
 
-__all__ = ["conformance", "maps", "load_target", "TargetError"]
+__all__ = ["conformance", "maps", "complex_", "load_target", "TargetError"]
 
 
 class TargetError(Exception):
@@ -114,6 +116,101 @@ def maps(ctx: click.Context, target: str, max_examples: int, workload_size: int,
         try:
             report = run_conformance(
                 structure, max_examples=max_examples, workload_size=workload_size, hashing=hashing, name=target
+            )
+        finally:
+            set_hypothesis_home_dir(None)
+    click.echo(report.format())
+    ctx.exit(0 if report.ok else 1)
+
+
+def _auto_dims(structure: Any) -> tuple[int, ...]:
+    """The dimensions 1–4 whose ``new(n)`` the structure accepts (a structure may make one dimension only)."""
+    dims = []
+    for n in range(1, 5):
+        try:
+            structure.new(n)
+        except Exception:  # noqa: BLE001 - refusing new(n) means: not this dimension
+            continue
+        dims.append(n)
+    return tuple(dims)
+
+
+def _parse_dims(text: str) -> tuple[int, ...] | None:
+    if text == "auto":
+        return None
+    try:
+        dims = tuple(int(x) for x in text.split(","))
+    except ValueError:
+        raise click.BadParameter(f"{text!r}: give 'auto' or dimensions separated by commas (e.g. 2,3)") from None
+    if not dims or any(n < 1 for n in dims):
+        raise click.BadParameter(f"{text!r}: dimensions are positive integers")
+    return dims
+
+
+@conformance.command("complex")
+@click.argument("target", metavar="MODULE:ATTR")
+@click.option(
+    "--state",
+    "state_target",
+    metavar="MODULE:ATTR",
+    default=None,
+    help="A vertex state of the structure's Simplex.Vertex, or a function of no arguments returning one "
+    "(the VERTEX signature has no initial state); e.g. persistri.impl.complex.vertex:VertexState.initial.",
+)
+@click.option("--dims", default="auto", show_default=True, help="Dimensions to test, e.g. 2,3; auto: every n in 1..4 that new(n) accepts.")
+@click.option("--max-examples", type=click.IntRange(min=1), default=100, show_default=True, help="Hypothesis examples per test.")
+@click.option(
+    "--workload-size",
+    type=click.IntRange(min=0),
+    default=300,
+    show_default=True,
+    help="Subdivisions of a closed complex in the workload (0 skips it).",
+)
+@click.option("--stateful-steps", type=click.IntRange(min=0), default=25, show_default=True, help="Steps per example of the stateful test (0 skips it).")
+@click.pass_context
+def complex_(
+    ctx: click.Context, target: str, state_target: str | None, dims: str, max_examples: int, workload_size: int, stateful_steps: int
+) -> None:
+    """Run the SIMPCOMP conformance suite on the structure MODULE:ATTR.
+
+    ATTR names a SIMPCOMP structure, or a class instantiated with no
+    arguments; --state names how to make its vertices.  Exit status 0: it
+    conforms; 1: some law fails (printed with its minimal counterexample);
+    2: MODULE:ATTR is not a loadable SIMPCOMP structure (or no vertex state).
+    """
+    try:
+        from persistri.spec.conformance import NotASimpComp, as_simpcomp, run_simpcomp_conformance
+    except ImportError as exc:
+        _fail(ctx, str(exc))
+    wanted = _parse_dims(dims)
+    try:
+        structure = as_simpcomp(load_target(target), target)
+    except (TargetError, NotASimpComp) as exc:
+        _fail(ctx, str(exc))
+    if state_target is None:
+        _fail(ctx, f"{target}: give --state MODULE:ATTR, how to make its vertices (the VERTEX signature has no initial state)")
+    try:
+        state = load_target(state_target)
+    except TargetError as exc:
+        _fail(ctx, f"--state: {exc}")
+    chosen = wanted if wanted is not None else _auto_dims(structure)
+    if not chosen:
+        _fail(ctx, f"{target} is not a SIMPCOMP structure: new(n) fails for every n in 1..4")
+    click.echo(f"persistri: running the SIMPCOMP conformance suite on {target} (dims {','.join(map(str, chosen))}) …", err=True)
+    from hypothesis.configuration import set_hypothesis_home_dir
+
+    with tempfile.TemporaryDirectory(prefix="persistri-hypothesis-") as home:
+        if not os.environ.get("HYPOTHESIS_STORAGE_DIRECTORY"):
+            set_hypothesis_home_dir(home)
+        try:
+            report = run_simpcomp_conformance(
+                structure,
+                state=state,
+                dims=chosen,
+                max_examples=max_examples,
+                workload_size=workload_size,
+                stateful_steps=stateful_steps,
+                name=target,
             )
         finally:
             set_hypothesis_home_dir(None)

@@ -197,6 +197,10 @@ class SimpComp(Generic[D]):
         """``update (c, s, f)``."""
         return self._of(c, "update").update(c, s, f)
 
+    def check(self, c: Complex[D], /) -> None:
+        """The representation check of ``c``'s structure (RepresentationError / OrientationError)."""
+        self._of(c, "check").check(c)
+
     def __repr__(self) -> str:
         name = getattr(self._backend, "name", None) or repr(self._backend)
         return f"<SimpComp over {name}{'' if self._specialised else ', unspecialised'}>"

@@ -4,7 +4,10 @@
   ``structure = <your ORD_MAP structure>`` (the pattern of zarr's ``StoreTests``);
 * :func:`run_conformance` — the same tests without pytest, returning a
   :class:`ConformanceReport` (what ``persistri conformance maps MODULE:ATTR`` prints);
-* :func:`missing_operations` — the ``ORD_MAP`` operations an object lacks.
+* :func:`missing_operations` — the ``ORD_MAP`` operations an object lacks;
+* :class:`SimpCompConformance` and :func:`run_simpcomp_conformance` — the same two
+  front ends for ``SIMPCOMP`` structures (persistent simplicial complexes);
+  ``persistri conformance complex MODULE:ATTR`` prints the report.
 
 The suites need hypothesis (and pytest for the base class): install
 ``persistri[conformance]``.
@@ -28,6 +31,16 @@ from persistri.spec.conformance.ord_map import (
     run_conformance,
 )
 from persistri.spec.conformance.runner import ConformanceReport, Failure, Outcome
+from persistri.spec.conformance.simpcomp import (
+    SIMPCOMP_OPERATIONS,
+    SIMPCOMP_TESTS,
+    NotASimpComp,
+    SimpCompConformance,
+    SimpCompSuiteConfig,
+    as_simpcomp,
+    missing_simpcomp_operations,
+    run_simpcomp_conformance,
+)
 from persistri.spec.conformance.strategies import CollidingKey
 
 __all__ = [
@@ -43,4 +56,12 @@ __all__ = [
     "Failure",
     "Outcome",
     "CollidingKey",
+    "SimpCompConformance",
+    "run_simpcomp_conformance",
+    "missing_simpcomp_operations",
+    "as_simpcomp",
+    "NotASimpComp",
+    "SimpCompSuiteConfig",
+    "SIMPCOMP_OPERATIONS",
+    "SIMPCOMP_TESTS",
 ]
