@@ -31,9 +31,11 @@ Each subject then does, on the same trace:
 
 Each phase is the best of ``repeat`` runs of **process CPU time**
 (:func:`time.process_time`: the workload is single-threaded and does no I/O,
-so CPU time is its cost, unaffected by other processes on a shared machine)
-with the cyclic garbage collector off while timing (persistent structures make
-no reference cycles).  Every figure is also given as a ratio to the ephemeral
+so CPU time is its cost, much less disturbed than wall time by other processes
+on a shared machine — though not immune: they share its caches) with the cyclic
+garbage collector off while timing (persistent structures make no reference
+cycles).  The runs are interleaved — round r times every subject once — so a
+change of machine load during the benchmark affects all subjects alike.  Every figure is also given as a ratio to the ephemeral
 baseline's, and the total (build + walk) ratio is the one the project's
 targets speak of.  Every run is checked untimed: the final sphere must have
 exactly the triangles of the recorded one, and the walk must visit all of
@@ -362,23 +364,18 @@ class ComplexBench:
 # -- measuring -----------------------------------------------------------------------------
 
 
-def _best(repeat: int, run: Callable[[], Any], check: Callable[[Any], None]) -> float:
-    """The least CPU time of ``repeat`` calls of ``run``, the cyclic GC off while timing; ``check`` untimed."""
-    best = math.inf
-    for _ in range(repeat):
-        gc_was_enabled = gc.isenabled()
-        gc.disable()
-        try:
-            start = time.process_time()
-            result = run()
-            elapsed = time.process_time() - start
-        finally:
-            if gc_was_enabled:
-                gc.enable()
-        check(result)
-        del result  # dropping a large complex takes time too: here, untimed
-        best = min(best, elapsed)
-    return best
+def _timed(run: Callable[[], Any]) -> tuple[Any, float]:
+    """``run()``'s result and its CPU time, the cyclic GC off while timing."""
+    gc_was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        start = time.process_time()
+        result = run()
+        elapsed = time.process_time() - start
+    finally:
+        if gc_was_enabled:
+            gc.enable()
+    return result, elapsed
 
 
 def _labels(S: TwoComplex[Any], c: Complex[Any]) -> list[tuple[int, int, int]]:
@@ -389,29 +386,31 @@ def _labels(S: TwoComplex[Any], c: Complex[Any]) -> list[tuple[int, int, int]]:
     return sorted(out)
 
 
-def _measure(subject: ComplexSubject, replay: Replay, expected: list[tuple[int, int, int]], repeat: int) -> tuple[float, float]:
-    """CPU seconds (best of ``repeat``) of the build and of the walk."""
-    S = subject.make()
+@dataclass
+class _Timing:
+    """One subject's structure and its best times so far (the rounds are interleaved across subjects)."""
 
-    def check_build(c: Complex[Any]) -> None:
-        got = _labels(S, c)
+    subject: ComplexSubject
+    S: TwoComplex[Any]
+    build: float = math.inf
+    walk: float = math.inf
+
+    def round(self, replay: Replay, expected: list[tuple[int, int, int]]) -> None:
+        """Time one build and one walk, checking both untimed (ComplexBenchError if wrong)."""
+        S, name = self.S, self.subject.name
+        final, t_build = _timed(lambda: replay.run(S, verify=False))
+        got = _labels(S, final)
         if got != expected:
             raise ComplexBenchError(
-                f"{subject.name}: the replayed sphere has {len(got)} triangles, not the recorded {len(expected)} "
-                "(or other ones)"
+                f"{name}: the replayed sphere has {len(got)} triangles, not the recorded {len(expected)} (or other ones)"
             )
-
-    t_build = _best(repeat, lambda: replay.run(S, verify=False), check_build)
-    final = replay.run(S, verify=False)
-    check_build(final)
-    start = next(iter(S.items(final)))[0]
-
-    def check_walk(visited: int) -> None:
+        start = next(iter(S.items(final)))[0]
+        visited, t_walk = _timed(lambda: walk(S, final, start))
         if visited != len(expected):
-            raise ComplexBenchError(f"{subject.name}: the walk visited {visited} of {len(expected)} triangles")
-
-    t_walk = _best(repeat, lambda: walk(S, final, start), check_walk)
-    return t_build, t_walk
+            raise ComplexBenchError(f"{name}: the walk visited {visited} of {len(expected)} triangles")
+        del final  # dropping a large complex takes time too: here, untimed
+        self.build = min(self.build, t_build)
+        self.walk = min(self.walk, t_walk)
 
 
 def _subjects(only: Collection[str] | None) -> list[ComplexSubject]:
@@ -455,7 +454,7 @@ def run_complex_bench(
             raise ValueError(f"trace: the benchmark replays traces of 2-complexes, this one is of {trace.n}-complexes")
         plan = [-1]
     subjects = _subjects(only)
-    total = len(plan) * (len(subjects) + 1)
+    total = len(plan) * (1 + repeat * len(subjects))
     done = 0
     records: list[ComplexBenchRecord] = []
     operations: list[tuple[int, dict[str, int]]] = []
@@ -476,24 +475,34 @@ def run_complex_bench(
         operations.append((triangles, tr.counts()))
         seconds: dict[str, tuple[float, float]] = {}
         outcome: dict[str, tuple[Status, str]] = {}
+        timings: list[_Timing] = []
         for subject in subjects:
-            if on_progress is not None:
-                on_progress(done, total, f"{subject.name}, {triangles:,} triangles")
             limit = assoc_list_max if subject.name == "assoc_list" and assoc_list_max is not None else subject.max_triangles
             if limit is not None and triangles > limit:
                 outcome[subject.name] = ("skipped", subject.skip_note.format(limit=f"{limit:,}"))
-            else:
+                continue
+            try:
+                timings.append(_Timing(subject, subject.make()))
+            except Exception as exc:  # noqa: BLE001 - a backend that cannot load is reported, the others run
+                outcome[subject.name] = ("unavailable", f"{type(exc).__name__}: {exc}")
+        # Rounds interleaved across subjects, so that a change of machine load affects them alike.
+        for r in range(repeat):
+            for timing in timings:
+                name = timing.subject.name
+                if name in outcome:  # failed in an earlier round
+                    continue
+                if on_progress is not None:
+                    on_progress(done, total, f"{name}, {triangles:,} triangles, run {r + 1} of {repeat}")
                 try:
-                    subject.make()
-                except Exception as exc:  # noqa: BLE001 - a backend that cannot load is reported, the others run
-                    outcome[subject.name] = ("unavailable", f"{type(exc).__name__}: {exc}")
-                else:
-                    try:
-                        seconds[subject.name] = _measure(subject, rp, expected, repeat)
-                        outcome[subject.name] = ("ok", "")
-                    except Exception as exc:  # noqa: BLE001 - a failing subject is reported; the others still run
-                        outcome[subject.name] = ("error", f"{type(exc).__name__}: {exc}")
-            done += 1
+                    timing.round(rp, expected)
+                except Exception as exc:  # noqa: BLE001 - a failing subject is reported; the others still run
+                    outcome[name] = ("error", f"{type(exc).__name__}: {exc}")
+                done += 1
+        for timing in timings:
+            if timing.subject.name not in outcome:
+                outcome[timing.subject.name] = ("ok", "")
+                seconds[timing.subject.name] = (timing.build, timing.walk)
+        done = (plan.index(size) + 1) * (1 + repeat * len(subjects))
         baseline = seconds.get(_BASELINE)
         for subject in subjects:
             status, note = outcome[subject.name]

@@ -38,6 +38,18 @@ Costs (δ = the length of a vertex's list, about 6 on a triangulated sphere):
 updates (the first also scans for the triangle in either orientation);
 ``rem`` three lookups + three updates; each O(δ) expected, independent of the
 number of vertices.
+
+>>> from persistri.impl.complex import VertexState, int_vertex
+>>> _, (a, b, c, d) = int_vertex.new_many(VertexState.initial(), "abcd")
+>>> E = EphemeralTwoComplex()
+>>> e1 = E.add(E.new(2), (a, b, c), "x")
+>>> e2 = E.add(e1, (a, c, d), "y")
+>>> E.find(e2, (c, a))
+[(v2, v0, v1)]
+>>> E.data(e1, (a, b, c))                      # doctest: +ELLIPSIS
+Traceback (most recent call last):
+    ...
+persistri.impl.complex.errors.StaleVersionError: data: this version of an EPHEMERAL 2-complex is stale ...
 """
 
 from __future__ import annotations

@@ -46,6 +46,19 @@ Memory: the recorder keeps the last ``window`` versions it made (default
 1024) to recognise them when they come back; an operation on an older version
 raises :class:`UntrackedVersionError` (``window=None`` keeps every version, and
 so all their nodes).  :func:`replay` keeps a version only until its last use.
+
+>>> from persistri.impl.complex import VertexState, int_vertex, two_complex
+>>> _, (a, b, c, d) = int_vertex.new_many(VertexState.initial(), "abcd")
+>>> rec = TracingTwoComplex(two_complex("red_black"))
+>>> k = rec.add(rec.add(rec.new(2), (a, b, c), "x"), (a, c, d), "y")
+>>> rec.findi(k, (c, a))
+[((v2, v0, v1), 'x')]
+>>> trace = rec.stop()
+>>> trace.counts()
+{'new': 1, 'findi': 1, 'add': 2}
+>>> S = two_complex("hamt")
+>>> S.items(replay(trace, S))      # data are placeholders: the index of the event that stored each
+[((v0, v1, v2), 1), ((v0, v2, v3), 2)]
 """
 
 from __future__ import annotations
