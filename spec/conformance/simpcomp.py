@@ -361,6 +361,13 @@ class _History:
         # d picks both grep's dimension and the size of the simplex grepped for.
         law_grep(self.C, c, n, model, d % (n + 1), _simplex(self.C, self.pool, order[: (d // (n + 1)) % (n + 1) + 1]))
 
+    def bad_call(self, i: int, order: Sequence[int], kind: int, x: Any) -> None:
+        """One of :func:`_bad_calls` on version ``i``: it must raise and leave the version as it was."""
+        c, model = self.versions[i]
+        calls = _bad_calls(self.C, self.pool, self.n, c, order, x)
+        what, call = calls[kind % len(calls)]
+        law_bad_input(self.C, c, self.n, model, call, what)
+
     def check_all(self) -> None:
         law_persistence(self.C, self.n, self.versions)
 
@@ -581,36 +588,40 @@ def _t_new(cfg: SimpCompSuiteConfig, hs: settings) -> None:
         _check(cfg, c, f"new({n})")
 
 
+def _bad_calls(C: Any, pool: Sequence[Any], n: int, c: Any, order: Sequence[int], x: Any) -> list[tuple[str, Callable[[], object]]]:
+    """Calls on ``c`` with bad input, each with a description: a repeated vertex (``add``, ``rem``,
+    ``data``), simplices of the wrong dimension (``add``, ``rem``, ``find``).  ``order`` is n+1 pool indices."""
+    S = C.Simplex
+    s = _simplex(C, pool, order)
+    repeated = [pool[order[0]], *(pool[i] for i in order[:n])]  # n+1 vertices, the first twice
+    # Simplex.simplex may refuse the repeated vertex itself: that is a refusal of the call too.
+    calls: list[tuple[str, Callable[[], object]]] = [
+        (f"add(c, simplex({repeated!r}), x), a repeated vertex", lambda: C.add(c, S.simplex(repeated), x)),
+        (f"rem(c, simplex({repeated!r})), a repeated vertex", lambda: C.rem(c, S.simplex(repeated))),
+        (f"data(c, simplex({repeated!r})), a repeated vertex", lambda: C.data(c, S.simplex(repeated))),
+    ]
+    short = S.simplex([pool[i] for i in order[:n]])
+    calls += [
+        (f"add(c, {short!r}, x) of an (n-1)-simplex", lambda: C.add(c, short, x)),
+        (f"rem(c, {short!r}) of an (n-1)-simplex", lambda: C.rem(c, short)),
+        (f"find(c, {s!r}) of an n-simplex", lambda: C.find(c, s)),
+    ]
+    rest = [i for i in range(len(pool)) if i not in order]
+    if rest:
+        long = S.simplex([pool[i] for i in order] + [pool[rest[0]]])
+        calls.append((f"add(c, {long!r}, x) of an (n+1)-simplex", lambda: C.add(c, long, x)))
+    return calls
+
+
 def _t_bad_input(cfg: SimpCompSuiteConfig, hs: settings) -> None:
     @given(complex_cases(cfg.dims, min_adds=1))
     def bad_input(case: ComplexCase) -> None:
         pool, c, model = case.build(cfg)
         C, n = cfg.structure, case.n
-        S = C.Simplex
-        order = list(case.target)
-        s = _simplex(C, pool, order)
-        repeated = [pool[order[0]], *(pool[i] for i in order[:n])]  # n+1 vertices, the first twice
-        # Simplex.simplex may refuse the repeated vertex itself: that is a refusal of the call too.
-        calls: list[tuple[str, Callable[[], object]]] = [
-            (f"add(c, simplex({repeated!r}), x), a repeated vertex", lambda: C.add(c, S.simplex(repeated), case.x)),
-            (f"rem(c, simplex({repeated!r})), a repeated vertex", lambda: C.rem(c, S.simplex(repeated))),
-            (f"data(c, simplex({repeated!r})), a repeated vertex", lambda: C.data(c, S.simplex(repeated))),
-        ]
-        if n >= 1:
-            short = S.simplex([pool[i] for i in order[:n]])
-            calls += [
-                (f"add(c, {short!r}, x) of an (n-1)-simplex", lambda: C.add(c, short, case.x)),
-                (f"rem(c, {short!r}) of an (n-1)-simplex", lambda: C.rem(c, short)),
-                (f"find(c, {s!r}) of an n-simplex", lambda: C.find(c, s)),
-            ]
-        if n + 2 <= len(pool):
-            rest = [i for i in range(len(pool)) if i not in order]
-            long = S.simplex([pool[i] for i in order] + [pool[rest[0]]])
-            calls.append((f"add(c, {long!r}, x) of an (n+1)-simplex", lambda: C.add(c, long, case.x)))
-        for what, call in calls:
+        for what, call in _bad_calls(C, pool, n, c, case.target, case.x):
             law_bad_input(C, c, n, model, call, what)
-        held = representative(S, list(model)[case.pick % len(model)]) if model else None
-        if held is not None:
+        if model:
+            held = representative(C.Simplex, list(model)[case.pick % len(model)])
             law_add_present(C, c, n, model, held, case.x)
             law_add_present(C, c, n, model, _flipped(C, held), case.x)
             law_rem_absent(C, c, n, model, _flipped(C, held))
@@ -698,7 +709,7 @@ class Step:
     x: Any
 
 
-_OPS = ("add", "add", "rem", "rem_absent", "update", "look")
+_OPS = ("add", "add", "rem", "rem_absent", "update", "look", "bad")
 
 
 @st.composite
@@ -727,6 +738,8 @@ def _apply(h: _History, step: Step) -> None:
         h.rem_absent(i, order)
     elif step.op == "look":
         h.look(i, order, step.pick)
+    elif step.op == "bad":
+        h.bad_call(i, order, step.pick, step.x)
     else:
         h.add(i, order, step.x)
 
@@ -808,6 +821,11 @@ def _machine(cfg: SimpCompSuiteConfig) -> type[RuleBasedStateMachine]:
         def look(self, at: int, p: tuple[int, ...], d: int) -> None:
             h = self.hist
             h.look(_back(len(h.versions), at), self._order(p), d)
+
+        @rule(at=at, p=perm, kind=st.integers(0, 6), x=_VALUES)
+        def bad_call(self, at: int, p: tuple[int, ...], kind: int, x: Any) -> None:
+            h = self.hist
+            h.bad_call(_back(len(h.versions), at), self._order(p), kind, x)
 
         @invariant()
         def every_version_unchanged(self) -> None:
@@ -908,7 +926,7 @@ SIMPCOMP_TESTS: tuple[ConformanceTest[SimpCompSuiteConfig], ...] = (
     _test("persistence", ("persistence",), "random branching programs; every version rechecked after each step", _t_persistence),
     _test(
         "stateful_history",
-        ("persistence", "add", "add_present", "rem", "rem_absent", "update", "find", "grep", "invariants"),
+        ("persistence", "add", "add_present", "rem", "rem_absent", "update", "find", "grep", "bad_input", "invariants"),
         "a state machine keeping every version (multiple futures), all rechecked after every step",
         _t_stateful,
     ),
