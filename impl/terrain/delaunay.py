@@ -322,7 +322,9 @@ class Triangulator:
         nfan = len(ring) if closed else len(ring) - 1
         if pooled.size and nfan > 1:
             sector = self._sectors(p, ring, closed, pooled)
-            pooled = pooled[np.argsort(sector, kind="stable")]
+            # A stable sort of small integers: numpy sorts int16 keys by radix, in linear time.
+            keys = sector.astype(np.int16) if nfan < 2**15 else sector
+            pooled = pooled[np.argsort(keys, kind="stable")]
             counts = np.bincount(sector, minlength=nfan).astype(np.intp)
         else:
             counts = np.zeros(nfan, dtype=np.intp)

@@ -52,18 +52,22 @@ from persistri.impl.stats import Stats
 from persistri.impl.terrain.delaunay import Insertion, TriDatum, Triangulator, canonical_triangles
 from persistri.impl.terrain.grids import GridTransform, as_heights, as_transform
 
-__all__ = ["greedy_insertion", "Tin", "TinHistory", "plane_errors", "grid_points", "smallest_first"]
+__all__ = ["greedy_insertion", "Tin", "TinHistory", "plane_errors", "fan_errors", "apex_first", "grid_points"]
 
 IntArray = NDArray[np.intp]
 FloatArray = NDArray[np.float64]
 
 
-def smallest_first(t: tuple[int, int, int]) -> tuple[int, int, int]:
-    """The rotation of triangle ``t`` (same orientation) that starts at its smallest vertex. O(1)."""
-    a, b, c = t
-    if a < b and a < c:
-        return t
-    return (b, c, a) if b < c else (c, a, b)
+def apex_first(tri: IntArray, rank: IntArray) -> IntArray:
+    """Each triangle rotated (orientation kept) to start at its *apex*, the vertex of largest ``rank``.
+
+    With ``rank`` the insertion order, the apex is the vertex whose insertion made
+    the triangle (every new triangle is in the fan of the new point).  O(m).
+    """
+    t = np.asarray(tri, dtype=np.intp).reshape(-1, 3)
+    k = np.argmax(rank[t], axis=1)
+    out: IntArray = np.take_along_axis(t, (k[:, None] + np.arange(3)[None, :]) % 3, axis=1)
+    return out
 
 
 def grid_points(shape: tuple[int, int]) -> FloatArray:
@@ -80,13 +84,13 @@ def plane_errors(x: FloatArray, y: FloatArray, z: FloatArray, tri: IntArray, cou
 
     ``tri`` is ``(k, 3)`` vertex indices (nonzero area); the first ``counts[0]``
     entries of ``samples`` lie in ``tri[0]``, the next ``counts[1]`` in ``tri[1]``,
-    and so on.  Each row must start at the triangle's vertex of smallest index
-    (:func:`smallest_first`; the complex's ``items`` lists triangles so), and the
-    plane of ``(a, b, c)`` is written around ``a``:
+    and so on.  Each row must start at the triangle's apex (:func:`apex_first`),
+    and the plane of ``(a, b, c)`` is written around ``a``:
     ``z_a + g_x (x − x_a) + g_y (y − y_a)``, its gradient ``g`` by Cramer's rule,
-    computed once per triangle.  Every error of a run goes through this one
-    function, always with the same rotation of a triangle, so the queue's errors
-    and a mesh's reported errors agree bit for bit.  O(k + len(samples)), vectorised.
+    computed once per triangle.  :func:`fan_errors` performs the same operations
+    in the same order for the fan of one insertion, so the queue's errors and a
+    mesh's reported errors agree bit for bit (``check=True`` asserts it).
+    O(k + len(samples)), vectorised.
     """
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     xa, ya, za = x[a], y[a], z[a]
@@ -101,6 +105,29 @@ def plane_errors(x: FloatArray, y: FloatArray, z: FloatArray, tri: IntArray, cou
         return err
     rep = np.repeat(np.arange(tri.shape[0]), counts)
     err = np.abs(z[samples] - (za[rep] + gx[rep] * (x[samples] - xa[rep]) + gy[rep] * (y[samples] - ya[rep])))
+    return err
+
+
+def fan_errors(
+    x: FloatArray, y: FloatArray, z: FloatArray, p: int, ring: IntArray, counts: IntArray, samples: IntArray
+) -> FloatArray:
+    """:func:`plane_errors` for the fan of one insertion: triangles ``(p, ring[i], ring[i+1])``, apex ``p``.
+
+    ``ring`` holds the ``k + 1`` boundary vertices in fan order (the last repeats
+    the first when the fan closes around ``p``); ``samples`` are grouped by fan
+    triangle, ``counts[i]`` of them in triangle ``i``.  The differences to ``p`` are
+    computed once per ring vertex and once per sample: fewer operations than the
+    general function, the same floats.  O(k + len(samples)), vectorised.
+    """
+    xp, yp, zp = x[p], y[p], z[p]
+    rx, ry, rz = x[ring] - xp, y[ring] - yp, z[ring] - zp
+    dx1, dy1, dz1 = rx[:-1], ry[:-1], rz[:-1]
+    dx2, dy2, dz2 = rx[1:], ry[1:], rz[1:]
+    det = dx1 * dy2 - dx2 * dy1
+    gx = (dz1 * dy2 - dz2 * dy1) / det
+    gy = (dx1 * dz2 - dx2 * dz1) / det
+    rep = np.repeat(np.arange(counts.size), counts)
+    err: FloatArray = np.abs(z[samples] - (zp + gx[rep] * (x[samples] - xp) + gy[rep] * (y[samples] - yp)))
     return err
 
 
@@ -234,15 +261,15 @@ def _tin(
     lists = [d[1] for _, d in items]
     counts = np.array([s.size for s in lists], dtype=np.intp)
     n_total = z.size
+    rank = np.full(n_total, -1, dtype=np.intp)
+    rank[inserted] = np.arange(inserted.size, dtype=np.intp)
     if counts.sum():
         samples = np.concatenate(lists)
-        err = plane_errors(xy[:, 0], xy[:, 1], z, tri, counts, samples)
+        err = plane_errors(xy[:, 0], xy[:, 1], z, apex_first(tri, rank), counts, samples)
         max_error = float(err.max())
         rms = float(np.sqrt(np.sum(err * err) / n_total))
     else:
         max_error = rms = 0.0
-    rank = np.full(n_total, -1, dtype=np.intp)
-    rank[inserted] = np.arange(inserted.size, dtype=np.intp)
     vertices = np.column_stack([xy[inserted], z[inserted]])
     return Tin(
         vertices=vertices,
@@ -308,22 +335,25 @@ class _Greedy:
         side = P.orient2d_batch(u, w, samples) if samples.size else np.zeros(0, dtype=np.int8)
         # t1 is right of the diagonal u → w, t2 left of it (closed triangles: a sample on the diagonal goes by SoS).
         self.T.begin([(t1, samples[side < 0]), (t2, samples[side > 0])])
-        first = [(tid, tri) for tid, tri in self.T.tri_of.items() if self.T.infinite not in tri]
-        for tid, tri in first:
+        rank = np.full(n, -1, dtype=np.intp)
+        rank[[a, b, c, d]] = np.arange(4)
+        for tid, tri in list(self.T.tri_of.items()):
+            if self.T.infinite in tri:
+                continue
             found = self.structure.data(self.T.complex, tri)
             assert found is not None
             own = found[0][1]
-            self._assess([(tid, tri)], own, np.array([own.size], dtype=np.intp))
+            counts = np.array([own.size], dtype=np.intp)
+            if own.size:
+                err = plane_errors(self.x, self.y, self.z, apex_first(np.array([tri]), rank), counts, own)
+                self._queue([tid], counts, own, err)
 
-    def _assess(self, created: list[tuple[int, Any]] | tuple[tuple[int, Any], ...], samples: IntArray, counts: IntArray) -> None:
-        """Queue the candidate (worst sample) of each new triangle; ``samples`` grouped by triangle, ``counts`` each."""
-        if not samples.size:
-            return
-        tri = np.array([smallest_first(t) for _, t in created], dtype=np.intp)
-        err = plane_errors(self.x, self.y, self.z, tri, counts, samples)
+    def _queue(self, tids: list[int], counts: IntArray, samples: IntArray, err: FloatArray) -> None:
+        """Queue the candidate — the first sample of largest error — of each triangle with samples and error > 0."""
         heap = self.heap
         start = 0
-        for (tid, _), cnt in zip(created, counts.tolist()):
+        # A loop over the few new triangles: cheaper than a vectorised group-argmax at these sizes.
+        for tid, cnt in zip(tids, counts.tolist()):
             if cnt:
                 seg = err[start : start + cnt]
                 i = int(seg.argmax())
@@ -331,6 +361,17 @@ class _Greedy:
                 if e > 0.0:
                     heapq.heappush(heap, (-e, tid, int(samples[start + i])))
                 start += cnt
+
+    def _assess(self, ins: Insertion) -> None:
+        """Measure the samples of the insertion's new triangles and queue their candidates."""
+        samples, counts = ins.samples, ins.counts
+        if not samples.size:
+            return
+        created = ins.created
+        ring = [t[0] for _, t in created]
+        ring.append(created[-1][1][1])
+        err = fan_errors(self.x, self.y, self.z, ins.point, np.array(ring, dtype=np.intp), counts, samples)
+        self._queue([tid for tid, _ in created], counts, samples, err)
 
     def current_error(self) -> float:
         """The maximum error of the current mesh: the queue's top, once dead triangles are popped."""
@@ -343,7 +384,7 @@ class _Greedy:
         """Insert the current worst sample; return what the insertion did."""
         _, tid, p = heapq.heappop(self.heap)
         ins = self.T.insert(p, tid)
-        self._assess(ins.created, ins.samples, ins.counts)
+        self._assess(ins)
         return ins
 
 
