@@ -153,3 +153,18 @@ def test_insertion_order_is_a_permutation_with_locality() -> None:
     last = order[-488:]
     steps = np.linalg.norm(np.diff(pts[last], axis=0), axis=1)
     assert float(np.median(steps)) < 0.1
+
+
+def test_all_points_cocircular() -> None:
+    # Every integer point on the circle x² + y² = 65² (Pythagorean triples): all cocircular, SoS decides.
+    r = 65
+    pts = sorted({(x, y) for x in range(-r, r + 1) for y in (-int((r * r - x * x) ** 0.5), int((r * r - x * x) ** 0.5))
+                  if x * x + y * y == r * r})
+    circle = np.array(pts, dtype=np.float64)
+    d = delaunay(circle, check=True)
+    assert_exact_delaunay(d)
+    assert len(d.triangles) == len(circle) - 2 and len(d.hull) == len(circle)
+    with_centre = np.vstack([circle, [[0.0, 0.0]]])
+    d = delaunay(with_centre, check=True)
+    assert_exact_delaunay(d)
+    assert len(d.triangles) == len(circle)  # the fan from the centre
