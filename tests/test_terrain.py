@@ -200,6 +200,22 @@ def test_history_levels_equal_fresh_runs() -> None:
     assert tin.max_error == h.max_errors[-1]
 
 
+def test_best_level_within_a_budget() -> None:
+    heights = jacksboro().heights[100:160, 150:230]
+    tin = greedy_insertion(heights, max_points=400)
+    h = tin.history
+    assert h is not None
+    errors = np.asarray(h.max_errors)
+    assert bool(np.any(errors[1:] > errors[:-1]))  # the greedy error is not monotone here
+    for k in (50, 200, 400, 10_000):
+        best = h.best(k)
+        j = min(k, 400) - 4
+        assert best.max_error == errors[: j + 1].min() <= h.at(points=min(k, 400)).max_error
+        assert best.n_points == 4 + int(np.argmin(errors[: j + 1])) <= k
+    with pytest.raises(ValueError, match="4 to 400 points"):
+        h.best(3)
+
+
 def test_history_errors_and_no_history() -> None:
     heights = np.random.default_rng(1).normal(size=(10, 10))
     tin = greedy_insertion(heights, max_points=30)
