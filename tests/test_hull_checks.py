@@ -29,6 +29,7 @@ class _FaultyKernel:
     def __init__(self, inner: Orient3dKernel, what: str, wrap: Callable[[Any], Any], after: int) -> None:
         self.orient3d = inner.orient3d
         self.partition = inner.partition
+        self.signs = inner.signs
         original = getattr(inner, what)
         faulty = wrap(original)
         calls = [0]

@@ -67,6 +67,7 @@ def test_partition_vectorised_path_agrees(kind: str) -> None:
         minus, plus = k.partition(a, b, c, np.array(qs, dtype=np.intp))
         assert isinstance(minus, np.ndarray) and isinstance(plus, np.ndarray)
         assert _lists((minus, plus)) == _split(p, a, b, c, qs)
+        assert k.signs(a, b, c, np.array(qs, dtype=np.intp)).tolist() == [p.orient3d(a, b, c, q) for q in qs]
         small = qs[: SMALL_BATCH - 1]
         got = k.partition(a, b, c, small)
         assert isinstance(got[0], list)
@@ -90,6 +91,8 @@ def test_partition_with_the_exact_centroid_and_empty_input() -> None:
         assert _lists(k.partition(centre, 0, 1, arg)) == _split(c, centre, 0, 1, q_list)
         assert _lists(k.partition(0, 1, centre, arg)) == _split(c, 0, 1, centre, q_list)
     assert [k.orient3d(centre, 0, 1, q) for q in qs] == [c.orient3d(centre, 0, 1, q) for q in qs]
+    assert k.signs(centre, 0, 1, np.array(qs)).tolist() == [c.orient3d(centre, 0, 1, q) for q in qs]
+    assert k.signs(0, 1, 2, np.zeros(0, dtype=np.intp)).tolist() == []
     assert _lists(k.partition(0, 1, 2, [])) == ([], [])
     assert _lists(k.partition(0, 1, 2, np.zeros(0, dtype=np.intp))) == ([], [])
 
@@ -106,6 +109,7 @@ def test_wide_dynamic_range_falls_back_to_the_checked_path() -> None:
     assert _lists(k.partition(0, 1, 2, qs)) == _split(p, 0, 1, 2, qs)
     assert _lists(k.partition(0, 1, 2, np.array(qs))) == _split(p, 0, 1, 2, qs)
     assert [k.orient3d(0, 1, 2, q) for q in qs] == [p.orient3d(0, 1, 2, q) for q in qs]
+    assert k.signs(0, 1, 2, np.array(qs)).tolist() == [p.orient3d(0, 1, 2, q) for q in qs]
 
 
 def test_kernel_counts_like_the_checked_predicates() -> None:

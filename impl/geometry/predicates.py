@@ -707,20 +707,26 @@ class Orient3dKernel:
       undecided are settled one by one, exactly (then by SoS).  Counted as
       ``len(qs)`` plane-side tests and ``FLOPS_PLANE + len(qs) ·
       FLOPS_PLANE_SIDE`` flops.  O(len(qs)).
+    * :attr:`signs` ``(a, b, c, qs) -> int8 array`` — ``orient3d(a, b, c, q)``
+      for each ``q`` of an int array, vectorised through the prepared plane at
+      any size (for whole point sets, e.g. the bulldozer's first cones), counted
+      alike.  O(len(qs)).
 
     When the point set needs per-test grain checks (``filter_scale[1]`` is
     False: an extreme dynamic range) both fall back to the checked methods.
     """
 
-    __slots__ = ("orient3d", "partition")
+    __slots__ = ("orient3d", "partition", "signs")
 
     orient3d: Callable[[int, int, int, int], int]
     partition: Callable[[int, int, int, Indices], tuple[Indices, Indices]]
+    signs: Callable[[int, int, int, IntArray], SignArray]
 
     def __init__(self, pred: Predicates3) -> None:
         if not pred._uniform:
             self.orient3d = pred.orient3d
             self.partition = _checked_partition(pred)
+            self.signs = pred.orient3d_batch
             return
         rows = pred._rows
         xs, ys, zs = pred._cols
@@ -780,11 +786,22 @@ class Orient3dKernel:
                 _count(pred.stats, m, failures)
                 return minus, plus
             q_arr: IntArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
+            neg, pos = masks(a, b, c, (ax, ay, az), (nx, ny, nz, px, py, pz), q_arr)
+            # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry.
+            return q_arr[np.flatnonzero(neg)], q_arr[np.flatnonzero(pos)]
+
+        def masks(
+            a: int, b: int, c: int, at: tuple[float, float, float], terms6: tuple[float, ...], q_arr: IntArray
+        ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+            """(orient3d(a, b, c, q) = -1, = +1) over ``q_arr``, vectorised through the prepared plane."""
+            nx, ny, nz, px, py, pz = terms6
+            ax, ay, az = at
             qx_: Any = xs[q_arr]
             det_, perm_ = side(nx, ny, nz, px, py, pz, ax, ay, az, qx_, ys[q_arr], zs[q_arr])
             thr_ = side_errbound * perm_
-            neg = det_ < -thr_
-            pos = det_ > thr_
+            neg: NDArray[np.bool_] = det_ < -thr_
+            pos: NDArray[np.bool_] = det_ > thr_
+            m = q_arr.size
             failures = m - int(count_nonzero(neg)) - int(count_nonzero(pos))
             if failures:
                 for i in np.flatnonzero(~(neg | pos)).tolist():
@@ -793,8 +810,17 @@ class Orient3dKernel:
                     else:
                         pos[i] = True
             _count(pred.stats, m, failures)
-            # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry.
-            return q_arr[np.flatnonzero(neg)], q_arr[np.flatnonzero(pos)]
+            return neg, pos
+
+        def signs(a: int, b: int, c: int, qs: IntArray) -> SignArray:
+            if qs.size == 0:
+                return np.zeros(0, dtype=np.int8)
+            ax, ay, az = rows[a]
+            bx, by, bz = rows[b]
+            cx, cy, cz = rows[c]
+            neg, pos = masks(a, b, c, (ax, ay, az), plane(ax, ay, az, bx, by, bz, cx, cy, cz), qs)
+            out: SignArray = pos.view(np.int8) - neg.view(np.int8)
+            return out
 
         def _count(st: Stats | None, m: int, failures: int) -> None:
             if st is not None:
@@ -804,6 +830,7 @@ class Orient3dKernel:
 
         self.orient3d = orient3d
         self.partition = partition
+        self.signs = signs
 
 
 def _checked_partition(pred: Predicates3) -> Callable[[int, int, int, Indices], tuple[Indices, Indices]]:

@@ -67,8 +67,9 @@ Everything is iterative (no recursion), so any input size works.
 
 from __future__ import annotations
 
+from array import array
 from collections.abc import Callable, Iterator
-from typing import Final
+from typing import Any, Final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -139,13 +140,13 @@ def _as_list(pts: Indices) -> list[int]:
     return pts.tolist() if isinstance(pts, np.ndarray) else list(pts)
 
 
-def _assign(target: NDArray[np.int8] | IntArray, pts: Indices, value: int) -> None:
-    """``target[q] = value`` for every ``q`` in ``pts`` (vectorised for arrays)."""
+def _assign(table: bytearray | array[int], view: NDArray[Any], pts: Indices, value: int) -> None:
+    """``table[q] = value`` for every ``q`` in ``pts``: through the numpy ``view`` of ``table`` for an array."""
     if isinstance(pts, np.ndarray):
-        target[pts] = value
+        view[pts] = value
     else:
         for q in pts:
-            target[q] = value
+            table[q] = value
 
 
 def all_but(n: int, tetra: tuple[int, int, int, int]) -> IntArray:
@@ -261,14 +262,19 @@ class Bulldozer:
         kernel = pred.kernel()
         self._o3 = kernel.orient3d
         self._partition = kernel.partition
+        self._signs = kernel.signs
         self.S = structure
         self.C: int = centre
         self.n: int = centre  # the input points are 0 … centre-1
         self.check = check
         self._lineage = VertexState.initial().lineage
         self.verts: dict[int, Vertex] = {}
-        self.status: NDArray[np.int8] = np.full(self.n, INTERIOR, dtype=np.int8)
-        self.assoc: IntArray = np.full(self.n, -1, dtype=np.intp)
+        # Per point, its status and the id of its associated face (-1 if none): Python containers, read
+        # one point at a time at Python speed, and numpy views of the same memory, for writing many at once.
+        self._status = bytearray([INTERIOR]) * self.n
+        self._assoc = array("q", [-1]) * self.n
+        self.status: NDArray[np.int8] = np.frombuffer(self._status, dtype=np.int8)
+        self.assoc: NDArray[np.int64] = np.frombuffer(self._assoc, dtype=np.int64)
         self.face_tri: dict[int, Triangle] = {}
         self._next_fid = 0
         self._table = _FaceTable() if check else None
@@ -311,7 +317,7 @@ class Bulldozer:
                 return side[(x, y)]
             if (y, x) in side:
                 return -side[(y, x)]
-            s = P.orient3d_batch(C, x, y, others) if others.size else np.zeros(0, dtype=np.int8)
+            s = self._signs(C, x, y, others)
             side[(x, y)] = s
             return s
 
@@ -329,8 +335,8 @@ class Bulldozer:
             claimed |= inside
             out, _ = self._partition(x, y, z, others[inside])
             fid = self._new_fid(tri)
-            _assign(self.assoc, out, fid)
-            _assign(self.status, out, PENDING)
+            _assign(self._assoc, self.assoc, out, fid)
+            _assign(self._status, self.status, out, PENDING)
             cx = self.S.add(cx, tri, (fid, _freeze(out)))
         if self.check and others.size and not bool(claimed.all()):
             raise BulldozerCheckError("some point lies in no cone of the first tetrahedron's faces")
@@ -347,13 +353,13 @@ class Bulldozer:
 
         Raises :class:`ValueError` if ``p`` is not outside the current hull.
         """
-        if self.status[p] != PENDING:
+        if self._status[p] != PENDING:
             raise ValueError(f"point {p} is not outside the current hull")
         S, C, check = self.S, self.C, self.check
         o3, partition = self._o3, self._partition
         cx = self.complex
         vp = self._vertex(p)
-        fid0 = int(self.assoc[p])
+        fid0 = self._assoc[p]
         tri0 = self.face_tri[fid0]
         found = S.data(cx, tri0)
         assert found is not None, "the associated face of a pending point is in the hull"
@@ -422,7 +428,8 @@ class Bulldozer:
             for arr in rec.incoming:
                 sees, gone = partition(a, b, d, arr)
                 parts.append(sees)
-                discarded.append(gone)
+                if len(gone):
+                    discarded.append(gone)
             pts = _join(parts) if parts else []
             outs = rec.outs
             groups: list[Indices]
@@ -457,7 +464,8 @@ class Bulldozer:
                 if gid == _HORIZON:
                     sees, gone = partition(u, w, p, grp)
                     tents.append(((u, w, vp), sees))
-                    discarded.append(gone)
+                    if len(gone):
+                        discarded.append(gone)
                     continue
                 target = work.get(gid)
                 if target is None:
@@ -484,13 +492,13 @@ class Bulldozer:
             fid = self._new_fid(tent)
             conflict = _freeze(kept)
             cx = S.add(cx, tent, (fid, conflict))
-            _assign(self.assoc, conflict, fid)
+            _assign(self._assoc, self.assoc, conflict, fid)
             new_tents.append((fid, tent, conflict))
         for gone in discarded:
-            _assign(self.status, gone, INTERIOR)
-            _assign(self.assoc, gone, -1)
-        self.status[p] = ON_HULL
-        self.assoc[p] = -1
+            _assign(self._status, self.status, gone, INTERIOR)
+            _assign(self._assoc, self.assoc, gone, -1)
+        self._status[p] = ON_HULL
+        self._assoc[p] = -1
         self.complex = cx
         if check:
             self._check_bulldozed(p, routed, new_tents)
@@ -602,7 +610,7 @@ class Bulldozer:
 
     def run(self, order: IntArray, progress: Callable[[int], None] | None = None) -> Iterator[tuple[int, Complex[FaceDatum]]]:
         """Insert the points of ``order`` that are outside when their turn comes; yield ``(p, version)``."""
-        status = self.status
+        status = self._status
         for p in order.tolist():
             if status[p] == PENDING:
                 yield p, self.insert(p)

@@ -99,12 +99,23 @@ def remove_slivers(structure: TwoComplex[Any], c: Complex[Any], pred: Predicates
             continue
         (n_tri, datum), = nb
         x = n_tri[2]
+        pair = False
         if pred.collinear(int(a), int(b), int(x)):
-            work.insert(0, t)  # the neighbour is a sliver too: flip it first
-            continue
+            # The neighbour (b, a, x) is a sliver on the same line.  If x lies between a and b, the two
+            # share their long edge and each waits for the other: flip that edge between them, which
+            # leaves two slivers whose long edges are shorter (both ends within [a, b]), and go on with
+            # them.  Otherwise the neighbour's long edge is another one: flip the neighbour first.
+            nb_order = _middle(pts, int(n_tri[0]), int(n_tri[1]), int(n_tri[2]))
+            if nb_order is None or nb_order[1] != int(x):
+                work.insert(0, t)
+                continue
+            pair = True
         c = structure.rem(c, t)
         c = structure.rem(c, n_tri)
         c = structure.add(c, (a, m, x), datum)
         c = structure.add(c, (m, b, x), datum)
         flips += 1
+        if pair:
+            work += [(a, m, x), (m, b, x)]
+            budget += 2
     return c, flips
