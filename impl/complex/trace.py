@@ -521,7 +521,7 @@ class Replay:
         # A list indexed by version (a slot is cleared at the version's last use): cheaper than a dict.
         versions: list[Complex[Any] | None] = [None] * (self._final + 1)
         made = 0
-        events = zip(self._ops, self._srcs, self._simplices, self._args, self._results, self._frees)
+        events = zip(self._ops, self._srcs, self._simplices, self._args, self._results, self._frees, strict=True)
         for k, (op, src, s, arg, want, free) in enumerate(events):
             got: int
             if op == FINDI:

@@ -419,7 +419,7 @@ class ComplexCase:
         pool = _pool(cfg, pool_size(n))
         c = C.new(n)
         model: dict[OrientedKey, Any] = {}
-        for order, x in zip(self.adds, self.data):
+        for order, x in zip(self.adds, self.data, strict=True):
             s = _simplex(C, pool, order)
             if _held(C, model, s):
                 continue
