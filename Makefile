@@ -19,8 +19,11 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e . --config-settings editable_mode=strict
 	touch $@
 
+# lidar ships the second real DEM of `persistri experiments fig11` (lidar/data/dem.tif); only the
+# file is used, so none of its (heavy, geospatial) dependencies are installed.
 $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e ".[dev]" --config-settings editable_mode=strict
+	$(BIN)/python -m pip install -q --no-deps "lidar==0.8.4"
 	touch $@ $(VENV)/.installed
 
 # A strict editable install is a tree of links made at install time: refresh it

@@ -10,6 +10,7 @@ from persistri.impl.cli.demo import demo
 from persistri.impl.cli.hull import hull
 from persistri.impl.cli.terrain import terrain
 from persistri.impl.cli.delaunay import delaunay_command
+from persistri.impl.cli.experiments import experiments
 
 __all__ = ["main"]
 
@@ -26,3 +27,4 @@ main.add_command(demo)
 main.add_command(hull)
 main.add_command(terrain)
 main.add_command(delaunay_command)
+main.add_command(experiments)

@@ -1,0 +1,239 @@
+"""``persistri experiments``: the --quick run end to end (files, records, shared runs), redrawing, and the parts.
+
+The quick run is made once per test process (module fixture): ~15 s of CPU.
+Nothing here is timed; the checks are on counts, shapes and files.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import click
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from persistri.impl.cli.experiments import parse_size_options
+from persistri.impl.cli.main import main
+from persistri.impl.experiments import dems as dems_module
+from persistri.impl.experiments.counts import HullCount, HullCountCache, hull_counts
+from persistri.impl.experiments.dems import DemUnavailableError, lidar_dem, load_dem
+from persistri.impl.experiments.fig8 import Fig8Record
+from persistri.impl.experiments.fig11 import Fig11Record, count_dem
+from persistri.impl.experiments.output import Comparison, markdown_table, parse_size, parse_sizes, read_records, write_csv
+from persistri.impl.experiments.suite import QUICK, sizes_for
+
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("experiments")
+    result = CliRunner().invoke(main, ["experiments", "all", "--quick", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    return out
+
+
+def _rows(path: Path) -> list[dict[str, str]]:
+    with path.open(newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def test_quick_writes_every_file(quick: Path) -> None:
+    for name in ("fig6", "fig7", "fig8", "fig11"):
+        png = (quick / f"{name}.png").read_bytes()
+        assert png.startswith(PNG_MAGIC) and len(png) > 10_000, name
+        page = (quick / f"{name}.md").read_text()
+        assert "## The paper's report next to ours" in page and "![" in page and f"({name}.png)" in page
+        assert _rows(quick / f"{name}.csv"), name
+    summary = (quick / "summary.md").read_text()
+    for name in ("fig6", "fig7", "fig8", "fig11"):
+        assert f"[{name}]({name}.md)" in summary
+
+
+def test_fig6_records(quick: Path) -> None:
+    recs = read_records(quick / "fig6.csv", HullCount)
+    assert sorted((r.dist, r.n) for r in recs) == sorted((d, n) for d in ("OnSphere", "BordHeavy") for n in QUICK["fig6"])
+    for r in recs:
+        assert r.key_comparisons > 0 and r.flops > 0 and r.plane_side_tests > 0 and r.dict_ops > 0
+        if r.dist == "OnSphere":
+            assert r.hull_vertices == r.n  # every point of the sphere is extreme
+        else:
+            assert r.hull_vertices < r.n
+    # Both counts grow with n on each distribution.
+    for d in ("OnSphere", "BordHeavy"):
+        rs = sorted((r for r in recs if r.dist == d), key=lambda r: r.n)
+        assert all(a.key_comparisons < b.key_comparisons and a.flops < b.flops for a, b in zip(rs, rs[1:]))
+
+
+def test_fig7_shares_runs_with_fig6_and_orders_distributions(quick: Path) -> None:
+    six = {(r.dist, r.n, r.seed): r for r in read_records(quick / "fig6.csv", HullCount)}
+    seven = read_records(quick / "fig7.csv", HullCount)
+    assert [r.dist for r in seven] == ["OnSphere", "EqHeavy", "PolHeavy", "InBall", "BordHeavy"]
+    (size,) = QUICK["fig7"]
+    assert {r.n for r in seven} == {size}
+    for r in seven:
+        if (r.dist, r.n, r.seed) in six:
+            assert r == six[(r.dist, r.n, r.seed)]  # the same run, reused (CPU time included)
+    ratio = {r.dist: r.flops / r.key_comparisons for r in seven}
+    # The paper's qualitative shape: points inside the hull cost tests, not complex work.
+    assert ratio["InBall"] > ratio["OnSphere"] and ratio["BordHeavy"] > ratio["OnSphere"]
+    assert "runs reused from Fig. 6" in (quick / "fig7.md").read_text()
+
+
+def test_fig8_records(quick: Path) -> None:
+    recs = read_records(quick / "fig8.csv", Fig8Record)
+    for n in QUICK["fig8"]:
+        at = [r for r in recs if r.n == n]
+        assert {r.subject for r in at} == {"Qhull (scipy)", "persistri hull", "ephemeral", "red_black", "hamt", "immutables", "pyrsistent"}
+        assert all(r.status == "ok" and r.seconds is not None and r.seconds > 0 for r in at)
+        assert {r.triangles for r in at} == {2 * n - 4}  # a closed hull of n points in convex position
+        replays = [r for r in at if r.what == "complex_replay"]
+        assert len({r.events for r in replays}) == 1 and replays[0].events > 10 * n  # one trace for all
+        eph = next(r for r in replays if r.subject == "ephemeral")
+        assert eph.vs_ephemeral == 1.0
+        q = next(r for r in at if r.what == "qhull_total")
+        for r in replays:
+            assert r.vs_qhull is not None and r.seconds is not None and q.seconds is not None
+            assert math.isclose(r.vs_qhull, r.seconds / q.seconds)
+
+
+def test_fig11_records(quick: Path) -> None:
+    recs = read_records(quick / "fig11.csv", Fig11Record)
+    assert sorted({r.dem for r in recs}) == ["jacksboro", "lidar"]
+    for d in ("jacksboro", "lidar"):
+        rs = [r for r in recs if r.dem == d]
+        assert [r.points for r in rs] == list(QUICK["fig11"])
+        assert all(a.key_comparisons < b.key_comparisons and a.flops < b.flops for a, b in zip(rs, rs[1:]))
+        assert all(a.max_error >= b.max_error * 0.5 for a, b in zip(rs, rs[1:]))  # errors fall, roughly
+        assert rs[0].flops > rs[0].key_comparisons
+    assert {(r.rows, r.cols) for r in recs if r.dem == "lidar"} == {(400, 400)}
+    assert {(r.rows, r.cols) for r in recs if r.dem == "jacksboro"} == {(344, 403)}
+
+
+def test_replot_rewrites_pages_from_csv(quick: Path, tmp_path: Path) -> None:
+    for name in ("fig6", "fig8", "fig11"):
+        for ext in ("csv", "json"):
+            (tmp_path / f"{name}.{ext}").write_bytes((quick / f"{name}.{ext}").read_bytes())
+    result = CliRunner().invoke(main, ["experiments", "fig6", "--out", str(tmp_path), "--replot"])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "fig6.md").read_text() == (quick / "fig6.md").read_text()
+    assert (tmp_path / "fig6.png").read_bytes().startswith(PNG_MAGIC)
+    result = CliRunner().invoke(main, ["experiments", "fig7", "--out", str(tmp_path), "--replot"])
+    assert result.exit_code != 0 and "fig7.csv" in result.output
+
+
+def test_hull_counts_deterministic_and_cached() -> None:
+    a = hull_counts("OnSphere", 64, 3)
+    b = hull_counts("OnSphere", 64, 3)
+    assert (a.key_comparisons, a.flops, a.dict_ops, a.plane_side_tests) == (b.key_comparisons, b.flops, b.dict_ops, b.plane_side_tests)
+    cache = HullCountCache()
+    seen: list[int] = []
+    c = hull_counts("InBall", 100, 1, cache=cache, on_points=seen.append)
+    assert sum(seen) == 100 and len(cache) == 1
+    seen.clear()
+    assert hull_counts("InBall", 100, 1, cache=cache, on_points=seen.append) is c and seen == [100]
+    with pytest.raises(ValueError, match="at least 4"):
+        hull_counts("InBall", 3)
+    with pytest.raises(ValueError, match="unknown distribution"):
+        hull_counts("Cube", 10)
+
+
+def test_sizes() -> None:
+    assert parse_size("128K") == 131_072 and parse_size("1600") == 1600 and parse_size("1e4") == 10_000
+    assert parse_size("1_600") == 1600
+    assert parse_sizes("512K, 128K,256K,128K") == (131_072, 262_144, 524_288)
+    for bad in ("0", "-3", "1.5", "abc", "K"):
+        with pytest.raises(ValueError):
+            parse_size(bad)
+    with pytest.raises(ValueError):
+        parse_sizes(" , ")
+    assert sizes_for("fig7", quick=False, override={"fig7": (4096, 1024)}) == (4096,)
+    assert sizes_for("fig8", quick=False) == (16_384, 32_768, 65_536)
+    with pytest.raises(ValueError, match="unknown figure"):
+        sizes_for("fig9", quick=True)
+
+
+def test_size_options() -> None:
+    every = ("fig6", "fig7", "fig8", "fig11")
+    assert parse_size_options(["fig6"], ("1K,2K",)) == {"fig6": (1024, 2048)}
+    assert parse_size_options(every, ("fig6=1K", "fig11=100,200")) == {"fig6": (1024,), "fig11": (100, 200)}
+    bad: tuple[tuple[tuple[str, ...], tuple[str, ...]], ...] = (
+        (every, ("1K",)),
+        (("fig6", "fig7"), ("1K",)),
+        (("fig6",), ("fig8=1K",)),
+        (every, ("fig9=1K",)),
+        (("fig6",), ("1K", "2K")),
+        (("fig6",), ("x",)),
+    )
+    for names, values in bad:
+        with pytest.raises(click.BadParameter):
+            parse_size_options(names, values)
+
+
+def test_cli_rejects_bad_options(tmp_path: Path) -> None:
+    runner = CliRunner()
+    for args in (
+        ["experiments", "all", "--quick", "--out", str(tmp_path), "--sizes", "1K"],
+        ["experiments", "fig11", "--quick", "--out", str(tmp_path), "--dems", "everest"],
+        ["experiments", "fig8", "--quick", "--out", str(tmp_path), "--seeds", "a"],
+        ["experiments", "fig12", "--out", str(tmp_path)],
+    ):
+        result = runner.invoke(main, args)
+        assert result.exit_code == 2, (args, result.output)
+    result = runner.invoke(main, ["experiments", "fig8", "--out", str(tmp_path), "--sizes", "64", "--backends", "btree"])
+    assert result.exit_code == 1 and "unknown complex 'btree'" in result.output
+    assert not list(tmp_path.iterdir())  # nothing was written
+
+
+def test_lidar_dem_is_the_shipped_file() -> None:
+    dem = lidar_dem()
+    assert dem.shape == (400, 400)
+    assert np.isfinite(dem.heights).all()
+    assert 379 < dem.heights.min() < dem.heights.max() < 411
+    assert "lidar==0.8.4" in dem.source
+    assert load_dem("jacksboro").shape == (344, 403)
+    with pytest.raises(ValueError, match="unknown DEM"):
+        load_dem("everest")
+
+
+def test_missing_lidar_package_says_how_to_install(monkeypatch: pytest.MonkeyPatch) -> None:
+    import importlib.metadata
+
+    def missing(name: str) -> None:
+        raise importlib.metadata.PackageNotFoundError(name)
+
+    monkeypatch.setattr(importlib.metadata, "distribution", missing)
+    with pytest.raises(DemUnavailableError, match="pip install --no-deps lidar==0.8.4"):
+        dems_module.lidar_dem()
+
+
+def test_count_dem_rejects_sizes_beyond_the_grid() -> None:
+    tiny = dems_module.Dem("tiny", "tiny", np.arange(16.0).reshape(4, 4) ** 2, "made here", "1")
+    with pytest.raises(ValueError, match="16 samples"):
+        count_dem(tiny, [20])
+    with pytest.raises(ValueError, match="at least 4"):
+        count_dem(tiny, [3])
+    recs = count_dem(tiny, [4, 6, 8])
+    assert [r.points for r in recs] == [4, 6, 8]
+    assert recs[0].key_comparisons == 0 and recs[-1].key_comparisons > recs[1].key_comparisons > 0
+
+
+def test_output_helpers(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="must say why"):
+        Comparison("c", "p", "o", "differs")
+    with pytest.raises(ValueError, match="verdict"):
+        Comparison("c", "p", "o", "maybe", "x")  # type: ignore[arg-type]
+    assert markdown_table(("a", "b"), [("1|2", "x")], "lr").splitlines() == ["| a | b |", "| --- | ---: |", "| 1\\|2 | x |"]
+    with pytest.raises(ValueError):
+        write_csv(tmp_path / "x.csv", [])
+    with pytest.raises(ValueError, match="record 1"):
+        write_csv(tmp_path / "x.csv", [{"a": 1}, {"b": 2}])
+    rec = Fig8Record(8, 0, "red_black", "complex_replay", None, 10, 12, None, 1.5, "skipped", "why, with a comma")
+    path = write_csv(tmp_path / "r.csv", [rec.row(), rec.row()])
+    assert read_records(path, Fig8Record) == [rec, rec]
+    (tmp_path / "bad.csv").write_text("n,seed\n1,2\n")
+    with pytest.raises(ValueError, match="missing columns"):
+        read_records(tmp_path / "bad.csv", Fig8Record)
