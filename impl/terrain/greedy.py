@@ -39,6 +39,18 @@ Grid convention: sample ``heights[row, col]`` is the point ``x = col``,
 ``y = row`` (row 0 is the array's first row; nothing is flipped).  Triangles are
 counterclockwise in the ``(x, y)`` plane — ``orient2d > 0`` — which is clockwise
 when drawn with row 0 at the top.
+
+>>> import numpy as np
+>>> plane = np.fromfunction(lambda r, c: r + 2 * c, (5, 6))
+>>> tin = greedy_insertion(plane, max_error=0)
+>>> tin.n_points, tin.triangles.tolist()          # a plane needs only the corners
+(4, [[0, 1, 3], [1, 2, 3]])
+>>> spike = np.zeros((5, 6)); spike[2, 3] = 7.0
+>>> tin = greedy_insertion(spike, max_points=5)
+>>> tin.vertices[-1].tolist(), tin.max_error       # x = column 3, y = row 2: the peak
+([3.0, 2.0, 7.0], 4.666666666666666)
+>>> tin.history.at(points=4).max_error            # the level before it, read back
+7.0
 """
 
 from __future__ import annotations
