@@ -30,7 +30,14 @@ from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.geometry.points import as_points, unique_rows
 from persistri.impl.geometry.predicates import Predicates3
-from persistri.impl.hull.bulldozer import Bulldozer, FaceDatum, all_but, initial_tetrahedron
+from persistri.impl.hull.bulldozer import (
+    Bulldozer,
+    BulldozerCheckError,
+    FaceDatum,
+    all_but,
+    initial_tetrahedron,
+    triangle_array,
+)
 from persistri.impl.hull.errors import DegenerateInputError
 from persistri.impl.hull.slivers import remove_slivers
 from persistri.impl.stats import Stats
@@ -40,13 +47,22 @@ __all__ = ["convex_hull", "Hull", "HullHistory"]
 IntArray = NDArray[np.intp]
 
 
+def _corners(structure: TwoComplex[FaceDatum], c: Complex[FaceDatum]) -> IntArray:
+    """The triangles of hull version ``c`` as an (m, 3) array of point indices (vertex labels), outward."""
+    return triangle_array([t for t, _ in structure.items(c)])
+
+
 def _triangles(structure: TwoComplex[FaceDatum], c: Complex[FaceDatum], rows: IntArray) -> IntArray:
     """The triangles of hull version ``c`` as an (m, 3) array of input rows, outward, sorted for stability."""
-    tris = [t for t, _ in structure.items(c)]
-    if not tris:
+    return _as_rows(_corners(structure, c), rows)
+
+
+def _as_rows(corners: IntArray, rows: IntArray) -> IntArray:
+    """Triangles of point indices as input rows, each rotated to start at its smallest row (same orientation),
+    the rows sorted: one canonical array per surface."""
+    if not corners.size:
         return np.zeros((0, 3), dtype=np.intp)
-    arr = rows[np.array(tris, dtype=np.intp)]
-    # Rotate each triangle to start at its smallest row (same orientation), then sort the rows.
+    arr = rows[corners]
     k = np.argmin(arr, axis=1)
     idx = (k[:, None] + np.arange(3)[None, :]) % 3
     arr = np.take_along_axis(arr, idx, axis=1)
@@ -230,8 +246,10 @@ def _convex_hull(
     finally:
         if hasattr(tick, "close"):
             tick.close()
-    final, flips = remove_slivers(structure, bd.complex, pred)
-    simplices = _triangles(structure, final, rows)
+    # The last version's faces from the bulldozer's face table, which mirrors them (check=True compares the two).
+    corners = bd.triangles()
+    final, flips = remove_slivers(structure, bd.complex, pred, corners)
+    simplices = _as_rows(corners if flips == 0 else _corners(structure, final), rows)
     hull = Hull(
         points=arr,
         simplices=simplices,
@@ -251,6 +269,8 @@ def _convex_hull(
         from persistri.impl.hull.verify import verify_hull
 
         check_closed_surface(final)
+        if not np.array_equal(simplices, _triangles(structure, final, rows)):
+            raise BulldozerCheckError("the bulldozer's face table and its final complex disagree")
         verify_hull(arr, simplices).raise_if_failed()
     return hull
 

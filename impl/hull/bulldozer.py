@@ -67,8 +67,9 @@ Everything is iterative (no recursion), so any input size works.
 
 from __future__ import annotations
 
+import itertools
 from array import array
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from typing import Any, Final
 
 import numpy as np
@@ -87,6 +88,7 @@ __all__ = [
     "BulldozerCheckError",
     "initial_tetrahedron",
     "all_but",
+    "triangle_array",
     "PENDING",
     "INTERIOR",
     "ON_HULL",
@@ -154,6 +156,13 @@ def all_but(n: int, tetra: tuple[int, int, int, int]) -> IntArray:
     keep = np.ones(n, dtype=bool)
     keep[list(tetra)] = False
     return np.flatnonzero(keep).astype(np.intp, copy=False)
+
+
+def triangle_array(triangles: Iterable[Triangle]) -> IntArray:
+    """Triangles of vertices as an (m, 3) int array of their labels (point indices). O(m)."""
+    tris = list(triangles)
+    flat = np.fromiter(itertools.chain.from_iterable(tris), dtype=np.intp, count=3 * len(tris))
+    return flat.reshape(-1, 3)
 
 
 def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
@@ -343,6 +352,15 @@ class Bulldozer:
         return cx
 
     # -- one insertion ---------------------------------------------------------------
+
+    def triangles(self) -> IntArray:
+        """The faces of the current version, outward, as an (m, 3) array of point indices.
+
+        Read from the face table the bulldozer keeps beside the complex (face id ->
+        triangle, changed with every ``add`` and ``rem``), so no traversal of the
+        complex is needed.  O(m).
+        """
+        return triangle_array(self.face_tri.values())
 
     def pending(self) -> int:
         """How many points are still outside the hull. O(n)."""

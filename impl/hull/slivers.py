@@ -65,20 +65,32 @@ def _maybe_collinear(pts: NDArray[np.float64], tri: NDArray[np.intp]) -> NDArray
     return maybe
 
 
-def remove_slivers(structure: TwoComplex[Any], c: Complex[Any], pred: Predicates3) -> tuple[Complex[Any], int]:
+def remove_slivers(
+    structure: TwoComplex[Any], c: Complex[Any], pred: Predicates3, triangles: NDArray[np.intp] | None = None
+) -> tuple[Complex[Any], int]:
     """``c`` with every zero-area triangle flipped away; also the number of flips made.
 
+    ``triangles`` — the faces of ``c`` as an (m, 3) array of vertex labels, when the
+    caller has them (else they are read from ``c``).
     Exact: collinearity by :meth:`Predicates3.collinear`, betweenness by
     comparing the input doubles.  The data of the flipped triangles are replaced
     by the data of the neighbour (conflict lists are empty on a finished hull).
     O(#slivers) complex operations after an O(N) scan.
     """
     pts = pred.points
-    tris = [t for t, _ in structure.items(c)]
-    if not tris:
+    tri_arr = triangles
+    if tri_arr is None:
+        tri_arr = np.array([t for t, _ in structure.items(c)], dtype=np.intp).reshape(-1, 3)
+    if not tri_arr.size:
         return c, 0
-    maybe = _maybe_collinear(pts, np.array(tris, dtype=np.intp))
-    work = [t for t, m in zip(tris, maybe.tolist()) if m and pred.collinear(t[0], t[1], t[2])]
+    maybe = np.flatnonzero(_maybe_collinear(pts, tri_arr))
+    if maybe.size:
+        # The few candidates, as the complex's own triangles (vertices, in its rotation).
+        lookup = {frozenset(t): t for t, _ in structure.items(c)}
+        candidates = [lookup[frozenset(row)] for row in tri_arr[maybe].tolist()]
+    else:
+        candidates = []
+    work = [t for t in candidates if pred.collinear(t[0], t[1], t[2])]
     flips = 0
     budget = 4 * len(work) + 8
     while work and budget > 0:
