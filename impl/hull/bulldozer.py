@@ -442,13 +442,14 @@ class Bulldozer:
             if check:
                 routed.append(rec.own)
                 routed.extend(rec.incoming)
-            parts = [rec.own] if len(rec.own) else []
-            for arr in rec.incoming:
-                sees, gone = partition(a, b, d, arr)
-                parts.append(sees)
+            # The points bulldozed in across all in-arcs, tested together: those that cannot see the
+            # face are inside the new hull (Theorem 7).
+            pts: Indices = rec.own
+            if rec.incoming:
+                sees, gone = partition(a, b, d, _join(rec.incoming))
                 if len(gone):
                     discarded.append(gone)
-            pts = _join(parts) if parts else []
+                pts = _join([pts, sees]) if len(pts) else sees
             outs = rec.outs
             groups: list[Indices]
             if not len(pts):
