@@ -44,7 +44,7 @@ typecheck: install-dev
 	$(BIN)/python tests/typing/check_rejections.py
 
 pytest: install-dev
-	$(BIN)/python -m pytest -n 2 -p no:cacheprovider
+	$(BIN)/python -m pytest -n 2 -p no:cacheprovider --durations=15
 	$(BIN)/python -m pytest -q -p no:cacheprovider --doctest-modules --doctest-glob='*.md' README.md docs --pyargs persistri.spec persistri.impl
 
 proofs: install-dev
