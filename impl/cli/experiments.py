@@ -122,8 +122,9 @@ def experiments(
     fig8   the complex operations alone (a replayed trace) against Qhull's total time (16K-64K)
     fig11  terrain counts on two real DEMs (1,600-12,800 points)
 
-    At the paper's sizes 'all' takes about an hour on a 2-core machine (the
-    three sphere distributions at 512K dominate); --quick takes seconds.
+    The paper's sizes are long: Figs. 6-7 need about 35 minutes of CPU (the
+    three sphere distributions at 512K, each about 8 minutes, extrapolated from
+    64K as n lg n); Figs. 8 and 11 a few minutes.  --quick takes seconds.
     """
     names = list(FIGURES) if "all" in which else [f for f in FIGURES if f in which]
     if replot_only:
