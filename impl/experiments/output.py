@@ -224,7 +224,7 @@ def write_markdown(
     parts = [f"# {title}", "", intro.strip(), ""]
     if image is not None:
         parts += [f"![{title}]({image})", ""]
-    run = ", ".join(f"{k} {v}" for k, v in info.parameters.items())
+    run = "; ".join(f"{k}: {v}" for k, v in info.parameters.items())
     parts += [
         f"**Run:** {run}. Took {_duration(info.wall_seconds)} wall-clock "
         f"({_duration(info.cpu_seconds)} CPU) on {info.python}, {info.machine}.",
