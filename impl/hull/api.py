@@ -40,6 +40,7 @@ from persistri.impl.hull.bulldozer import (
 )
 from persistri.impl.hull.errors import DegenerateInputError
 from persistri.impl.hull.slivers import remove_slivers
+from persistri.impl.progress import progress_callback
 from persistri.impl.stats import Stats
 
 __all__ = ["convex_hull", "Hull", "HullHistory"]
@@ -235,7 +236,7 @@ def _convex_hull(
     order = np.random.default_rng(seed).permutation(all_but(m, tetra))
     versions: list[Complex[FaceDatum]] = [bd.complex]
     inserted: list[int] = [int(rows[tetra[0]])]
-    tick = _progress_callback(progress, order.size)
+    tick = progress_callback(progress, "hull", order.size, batch=1024)
     count = 0
     try:
         for p, version in bd.run(order, tick):
@@ -273,45 +274,3 @@ def _convex_hull(
             raise BulldozerCheckError("the bulldozer's face table and its final complex disagree")
         verify_hull(arr, simplices).raise_if_failed()
     return hull
-
-
-class _Bar:
-    """A rich progress bar over the insertion order (used when ``progress=True``)."""
-
-    def __init__(self, total: int) -> None:
-        from rich.console import Console
-        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
-
-        self._p = Progress(
-            TextColumn("hull"),
-            BarColumn(),
-            MofNCompleteColumn(),
-            TimeRemainingColumn(),
-            transient=True,
-            console=Console(stderr=True),
-        )
-        self._task = self._p.add_task("hull", total=total)
-        self._p.start()
-        self._pending = 0
-
-    def __call__(self, k: int) -> None:
-        self._pending += k
-        if self._pending >= 1024:
-            self._p.advance(self._task, self._pending)
-            self._pending = 0
-
-    def close(self) -> None:
-        self._p.advance(self._task, self._pending)
-        self._p.stop()
-
-
-def _progress_callback(progress: bool | Any, total: int) -> Any:
-    if progress is True:
-        return _Bar(total)
-    if progress is False or progress is None:
-        return None
-    if callable(progress):
-        return progress
-    raise TypeError(f"progress must be a bool or a callable, not {type(progress).__name__}")
-
-

@@ -68,6 +68,7 @@ from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.maps import backend as map_backend
+from persistri.impl.progress import progress_callback
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.delaunay import Insertion, TriDatum, Triangulator, canonical_triangles
 from persistri.impl.terrain.grids import GridTransform, as_heights, as_transform
@@ -470,7 +471,7 @@ def greedy_insertion(
         raise TypeError(f"history must be a bool, not {type(history).__name__}")
     shape = (int(grid.shape[0]), int(grid.shape[1]))
     z = grid.ravel()
-    tick = _progress_callback(progress, None if k_stop is None else k_stop - 4)
+    tick = progress_callback(progress, "terrain", None if k_stop is None else k_stop - 4)
 
     collector = gc.isenabled()
     gc.disable()  # persistent nodes form no reference cycles: the cyclic collector only costs time here
@@ -533,43 +534,3 @@ def greedy_insertion(
                 f"the queue's maximum error {errors[-1]!r} differs from the mesh's {tin.max_error!r} (lazy invalidation)"
             )
     return tin
-
-
-class _Bar:
-    """A rich progress bar over the insertions (``progress=True``)."""
-
-    def __init__(self, total: int | None) -> None:
-        from rich.console import Console
-        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
-        self._p = Progress(
-            TextColumn("terrain"),
-            BarColumn(),
-            MofNCompleteColumn(),
-            TimeElapsedColumn(),
-            transient=True,
-            console=Console(stderr=True),
-        )
-        self._task = self._p.add_task("terrain", total=total)
-        self._p.start()
-        self._pending = 0
-
-    def __call__(self, k: int) -> None:
-        self._pending += k
-        if self._pending >= 256:
-            self._p.advance(self._task, self._pending)
-            self._pending = 0
-
-    def close(self) -> None:
-        self._p.advance(self._task, self._pending)
-        self._p.stop()
-
-
-def _progress_callback(progress: bool | Callable[[int], Any], total: int | None) -> Any:
-    if progress is True:
-        return _Bar(total)
-    if progress is False or progress is None:
-        return None
-    if callable(progress):
-        return progress
-    raise TypeError(f"progress must be a bool or a callable, not {type(progress).__name__}")
