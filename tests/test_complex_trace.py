@@ -13,7 +13,7 @@ import pytest
 from broken_complexes import OrientationBlindFind
 from complex_helpers import BACKEND_NAMES, build, fresh, icosahedron
 from persistri.impl.complex import complex_structure
-from persistri.impl.complex.errors import DuplicateSimplexError, StaleVersionError
+from persistri.impl.complex.errors import AbsentSimplexError, DuplicateSimplexError, StaleVersionError
 from persistri.impl.complex.simpcomp import two_complex
 from persistri.impl.complex.trace import (
     OPERATIONS,
@@ -43,11 +43,12 @@ def label_sets(C: Any, c: Any) -> list[tuple[int, ...]]:
     return sorted(out)
 
 
-@pytest.fixture(scope="module")
-def hull_trace() -> tuple[Trace, list[tuple[int, ...]]]:
+@pytest.fixture(scope="module", params=[False, True], ids=["replace", "stepwise"])
+def hull_trace(request: pytest.FixtureRequest) -> tuple[Trace, list[tuple[int, ...]]]:
+    """A recorded bulldozer run: one ``replace`` per insertion, or (stepwise) the paper's rem and add per face."""
     pts = on_sphere(400, seed=11)
     rec = TracingTwoComplex(two_complex("red_black"))
-    hull = convex_hull(pts, structure=rec, seed=4)
+    hull = convex_hull(pts, structure=rec, seed=4, stepwise=request.param)
     trace = rec.stop()
     assert np.array_equal(hull.simplices, convex_hull(pts, seed=4).simplices)  # recording changes nothing
     return trace, label_sets(rec.inner, hull.complex)
@@ -55,12 +56,20 @@ def hull_trace() -> tuple[Trace, list[tuple[int, ...]]]:
 
 def test_a_bulldozer_run_is_recorded(hull_trace: tuple[Trace, list[tuple[int, ...]]]) -> None:
     trace, final = hull_trace
-    counts = trace.counts()
-    # The bulldozer's operations: one new, adds and rems (net +2 triangles per inserted point), data and findi.
+    counts = dict.fromkeys(["rem", "replace", "replace.add", "replace.rem"], 0) | trace.counts()
+    # The bulldozer's operations: one new, the tetrahedron's four adds, then per insertion either one
+    # replace (its parts recorded before it) or rems and adds (net +2 triangles per inserted point).
     assert counts["new"] == 1
-    assert counts["add"] - counts["rem"] == len(final)
-    assert counts["findi"] > counts["add"] > 0 and counts["data"] > 0
-    assert trace.versions == 1 + counts["add"] + counts["rem"]
+    added = counts["add"] + counts["replace.add"]
+    removed = counts["rem"] + counts["replace.rem"]
+    assert added - removed == len(final)
+    assert counts["findi"] > added > 0 and counts["data"] > 0
+    assert trace.versions == 1 + counts["add"] + counts["rem"] + counts["replace"]
+    insertions = len(trace.labels()) - 4
+    if counts["replace"]:
+        assert counts["add"] == 4 and counts["rem"] == 0 and counts["replace"] == insertions
+    else:
+        assert counts["replace.add"] == 0
     assert len(final) == 2 * len(trace.labels()) - 4  # a triangulated sphere: F = 2V - 4
 
 
@@ -117,14 +126,19 @@ def test_every_operation_is_recorded_and_replayed() -> None:
     k = rec.rem(k, (c, d, a))
     with pytest.raises(DuplicateSimplexError):
         rec.add(k, (a, b, c), 0)  # refused: not recorded
+    k = rec.replace(k, [(b, c, a)], [((a, c, b), 7), ((a, d, c), 8)])  # 3 parts, then the replace: 4 events
+    with pytest.raises(AbsentSimplexError):
+        rec.replace(k, [(a, b, c)], [])  # refused: not recorded
     trace = rec.stop()
     assert set(trace.counts()) == set(OPERATIONS)
-    assert len(trace) == 15
+    assert len(trace) == 19
+    assert trace.event(18) == ("replace", 4, (), 3, 5)
     S = two_complex("assoc_list")
     last = replay(trace, S)
-    assert [(tuple(map(int, t)), x) for t, x in S.items(last)] == [((a, b, c), 3)]  # data: the update's event index
+    # Data: the index of the event that stored each (the replace.add parts are events 16 and 17).
+    assert sorted((tuple(map(int, t)), x) for t, x in S.items(last)) == [((a, c, b), 16), ((a, d, c), 17)]
     # After stop() the structure forwards without recording.
-    assert rec.data(k, (a, b, c)) == (11,) and not rec.recording and len(rec.trace()) == 15
+    assert rec.data(k, (a, c, b)) == (7,) and not rec.recording and len(rec.trace()) == 19
 
 
 def test_a_replay_that_diverges_is_caught() -> None:

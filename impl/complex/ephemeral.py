@@ -54,7 +54,7 @@ persistri.impl.complex.errors.StaleVersionError: data: this version of an EPHEME
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any, Final, TypeVar
 
 from persistri.impl.complex.errors import (
@@ -67,7 +67,19 @@ from persistri.impl.complex.errors import (
 )
 from persistri.impl.complex.simplex import Simplex
 from persistri.impl.complex.structure import Complex, Family, same_datum
-from persistri.impl.complex.two_complex import Entry, Triangle, TwoComplex
+from persistri.impl.complex.two_complex import (
+    Entry,
+    Triangle,
+    TwoComplex,
+    _cat_new,
+    _drop_add,
+    _Emptied,
+    _group,
+    _Missing,
+    _Present,
+    _sequence,
+    _Unbatched,
+)
 from persistri.impl.complex.vertex import Vertex
 from persistri.impl.stats import Stats
 from persistri.spec.option import Option
@@ -378,6 +390,75 @@ class EphemeralTwoComplex(TwoComplex[D]):
             lists[c] = lc[:k] + lc[k + 1 :]
         if self._stats is not None:
             self._count(6, i + j + k + 3)
+
+    def replace(
+        self, c: Complex[D], removed: Sequence[Simplex], added: Sequence[tuple[Simplex, D]], /
+    ) -> Complex[D]:
+        """``replace`` of :class:`TwoComplex` on the table IN PLACE; ``c`` becomes stale.
+
+        The same grouping by vertex, then one dict read and one dict write (or
+        delete) per vertex touched; every new list is computed before the first
+        write, so bad input (what the fold of ``rem`` and ``add`` would raise,
+        decided on a copy of the table) changes nothing.
+        """
+        if type(removed) is not list and type(removed) is not tuple:
+            removed = _sequence(removed, "removed")
+        if type(added) is not list and type(added) is not tuple:
+            added = _sequence(added, "added")
+        try:
+            fam, rep, lin = c
+            if fam is not self.family:
+                raise _Unbatched
+            table: _Table = rep[0]
+            if table.current is not rep:
+                raise _stale("replace")
+            lists = table.lists
+            changes, out_lin = _group(removed, added, lin)
+            new_lists: list[tuple[Vertex, tuple[Entry, ...] | None]] = []
+            scanned = 0
+            for v, (drops, adds) in changes.items():
+                old = lists.get(v)
+                if old is None:
+                    if drops:
+                        raise _Unbatched
+                    new_lists.append((v, tuple(adds)))
+                    continue
+                scanned += len(old)
+                try:
+                    new_lists.append((v, _drop_add(old, (drops, tuple(adds))) if drops else _cat_new(old, tuple(adds))))
+                except _Emptied:
+                    new_lists.append((v, None))
+        except (_Unbatched, _Missing, _Present, TypeError, ValueError, AttributeError):
+            return self._replace_on_copy(c, removed, added)
+        for v, lst in new_lists:
+            if lst is None:
+                del lists[v]
+            else:
+                lists[v] = lst
+        st = self._stats
+        if st is not None:
+            self._count(2 * len(new_lists), scanned)
+            st.faces_deleted += len(removed)
+            st.faces_created += len(added)
+        new = (table,)
+        table.current = new
+        return _new_complex(Complex, (self.family, new, out_lin))
+
+    def _replace_on_copy(self, c: Complex[D], removed: Sequence[Simplex], added: Sequence[tuple[Simplex, D]]) -> Complex[D]:
+        """Raise what the fold of ``rem`` and ``add`` raises, running it on a copy of the table.  O(V).
+
+        Only reached when ``replace`` found its input wrong; the copy keeps the
+        table (and so ``c``) unchanged.  A fold that succeeds (a complex of an
+        equal family, accepted by the general validation) is redone on the table.
+        """
+        rep, lin = self._open(c, "replace")
+        table: _Table = rep[0]
+        if table.current is not rep:
+            raise _stale("replace")
+        scratch = _Table()
+        scratch.lists = dict(table.lists)
+        self._replace_fold(_new_complex(Complex, (self.family, scratch.current, lin)), removed, added)
+        return self._replace_fold(c, removed, added)
 
     # -- internal operations (what the base class's other public operations use) ---------
 

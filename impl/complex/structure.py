@@ -303,6 +303,32 @@ class ComplexStructure(Generic[D]):
         s, _ = self._arg(s, self.n, lin, "update")
         return _new_complex(Complex, (self.family, self._update(rep, s, f), lin))
 
+    def replace(
+        self, c: Complex[D], removed: Sequence[_Simplex], added: Sequence[tuple[_Simplex, D]], /
+    ) -> Complex[D]:
+        """``c`` without the n-simplices ``removed`` and with ``added`` (``(simplex, datum)`` pairs).
+
+        persistri's addition to the paper's signature: the fold ``rem`` of each
+        removed simplex in turn, then ``add`` of each added one, so it raises
+        what the first failing ``rem`` or ``add`` raises (``c`` is unchanged).
+        Here it *is* that fold; the specialised 2-complex does the same change
+        with one map operation per vertex touched
+        (:meth:`~persistri.impl.complex.two_complex.TwoComplex.replace`).
+        O((|removed| + |added|) · cost of rem/add).
+        """
+        return self._replace_fold(c, removed, added)
+
+    def _replace_fold(self, c: Complex[D], removed: Iterable[_Simplex], added: Iterable[tuple[_Simplex, D]]) -> Complex[D]:
+        """:meth:`replace` as the fold of ``rem`` and ``add`` (the definition, and every error path)."""
+        out = c
+        for s in removed:
+            out = self.rem(out, s)
+        for item in added:
+            if type(item) is not tuple or len(item) != 2:
+                raise TypeError(f"replace: added must hold (simplex, datum) pairs, got {item!r}")
+            out = self.add(out, item[0], item[1])
+        return out
+
     def check(self, c: Complex[D], /) -> None:
         """Assert the representation invariants of ``c`` (RepresentationError / OrientationError)."""
         rep, _ = self._open(c, "check")

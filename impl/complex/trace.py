@@ -18,7 +18,7 @@ What a trace holds, per event (:class:`Trace`, numpy arrays of equal length):
 * ``op`` — which SIMPCOMP operation (:data:`OPERATIONS`; ``findi`` and ``items``
   are persistri's additions, recorded too);
 * ``src`` — the version it was applied to, as an index: versions are numbered
-  0, 1, 2, … in the order ``new``, ``add``, ``rem`` and ``update`` made them,
+  0, 1, 2, … in the order ``new``, ``add``, ``rem``, ``update`` and ``replace`` made them,
   so branching histories (operations on old versions) are recorded faithfully;
 * ``simplex`` — its simplex argument as vertex **labels** (``int(v)``), padded
   with −1 (the vertices themselves and their points are not recorded: the
@@ -33,7 +33,7 @@ What a trace holds, per event (:class:`Trace`, numpy arrays of equal length):
 
 **Data are not recorded.**  Each datum is replaced by a placeholder: on replay,
 the datum stored by ``add`` (or computed by ``update``'s function) is the index
-of that event.  The complex never looks inside its data, so every operation
+of that event (for ``replace``, the index of the triangle's ``replace.add`` event).  The complex never looks inside its data, so every operation
 does the same work with placeholders as with the algorithm's data (the cost of
 the algorithm's own ``update`` function, which is not the complex's, is left
 out).  A call that raised (bad input) is not recorded: it changed nothing.
@@ -111,17 +111,28 @@ OPERATIONS: Final[tuple[str, ...]] = (
     "add",
     "rem",
     "update",
+    "replace.rem",
+    "replace.add",
+    "replace",
 )
-"""The recorded operations; an event's ``op`` is an index into this tuple."""
+"""The recorded operations; an event's ``op`` is an index into this tuple.
+
+``replace`` (persistri's batched change) is recorded as one ``replace.rem``
+event per removed triangle, one ``replace.add`` per added one, then the
+``replace`` event itself, whose ``arg`` is the number of triangles before it.
+"""
 
 _CODE: Final = {name: i for i, name in enumerate(OPERATIONS)}
-(NEW, DIM, IS_EMPTY, VERTICES, SIMPLICES, DATA, GREP, FIND, FINDI, ITEMS, ADD, REM, UPDATE) = range(len(OPERATIONS))
+(NEW, DIM, IS_EMPTY, VERTICES, SIMPLICES, DATA, GREP, FIND, FINDI, ITEMS, ADD, REM, UPDATE, REPLACE_REM, REPLACE_ADD, REPLACE) = range(
+    len(OPERATIONS)
+)
 
-MAKES_VERSION: Final[frozenset[str]] = frozenset({"new", "add", "rem", "update"})
+MAKES_VERSION: Final[frozenset[str]] = frozenset({"new", "add", "rem", "update", "replace"})
 """The operations that make a new version (their ``result`` is its index)."""
 
 _FORMAT: Final = "persistri-trace"
-_FORMAT_VERSION: Final = 1
+_FORMAT_VERSION: Final = 2
+_READS: Final = (1, 2)  # version 1 had no replace events; it reads the same
 
 
 class TraceError(ValueError):
@@ -227,6 +238,37 @@ def _validate(t: Trace) -> None:
     if np.any(t.result[makes] != made_before[makes]):
         k = int(np.flatnonzero(makes & (t.result != made_before))[0])
         raise TraceFormatError(f"trace: event {k} should make version {int(made_before[k])}, says {int(t.result[k])}")
+    _validate_replaces(t)
+
+
+def _validate_replaces(t: Trace) -> None:
+    """Each run of ``replace.rem`` then ``replace.add`` events is closed by a ``replace`` of the same version,
+    whose ``arg`` counts them.  O(len), vectorised."""
+    m = t.op.shape[0]
+    parts = (t.op == REPLACE_REM) | (t.op == REPLACE_ADD)
+    closes = t.op == REPLACE
+    if not (parts.any() or closes.any()):
+        return
+    idx = np.arange(m)
+    # The first event at or after each event that is not a part (m if none), and the last before it.
+    after = np.minimum.accumulate(np.where(parts, m, idx)[::-1])[::-1]
+    before = np.maximum.accumulate(np.where(parts, -1, idx))
+    bad = parts & (after == m)
+    if not bad.any():
+        nxt = np.where(parts, after, 0)
+        bad = parts & ((t.op[nxt] != REPLACE) | (t.src[nxt] != t.src))
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise TraceFormatError(f"trace: event {k} is part of a replace that no replace event of version {int(t.src[k])} closes")
+    if m > 1 and np.any((t.op[:-1] == REPLACE_ADD) & (t.op[1:] == REPLACE_REM)):
+        k = int(np.flatnonzero((t.op[:-1] == REPLACE_ADD) & (t.op[1:] == REPLACE_REM))[0]) + 1
+        raise TraceFormatError(f"trace: event {k}: a replace lists its removed triangles before its added ones")
+    start = np.concatenate(([0], before[:-1] + 1)) if m else before
+    counts = idx - np.where(idx > 0, start, 0)
+    wrong = closes & (t.arg != counts)
+    if wrong.any():
+        k = int(np.flatnonzero(wrong)[0])
+        raise TraceFormatError(f"trace: replace event {k} says {int(t.arg[k])} triangles, {int(counts[k])} precede it")
 
 
 # -- recording -------------------------------------------------------------------------
@@ -444,6 +486,22 @@ class TracingTwoComplex(TwoComplex[D]):
         self._record(UPDATE, src, s, 0, self._version(out))
         return out
 
+    def replace(
+        self, c: Complex[D], removed: Sequence[Simplex], added: Sequence[tuple[Simplex, D]], /
+    ) -> Complex[D]:
+        """``replace (c, removed, added)``, recorded as its parts then the ``replace`` event (data are not)."""
+        if not self._recording:
+            return self.inner.replace(c, removed, added)
+        src = self._src(c, "replace")
+        removed, added = list(removed), list(added)
+        out = self.inner.replace(c, removed, added)
+        for s in removed:
+            self._record(REPLACE_REM, src, s, 0, -1)
+        for s, _ in added:
+            self._record(REPLACE_ADD, src, s, 0, -1)
+        self._record(REPLACE, src, None, len(removed) + len(added), self._version(out))
+        return out
+
     def check(self, c: Complex[D], /) -> None:
         """``inner``'s representation check (not recorded: not a SIMPCOMP operation)."""
         self.inner.check(c)
@@ -517,7 +575,9 @@ class Replay:
         if self._final < 0:
             raise TraceError("replay: the trace makes no complex (it has no new event)")
         new, add, rem, update = structure.new, structure.add, structure.rem, structure.update
-        data, find, findi = structure.data, structure.find, structure.findi
+        data, find, findi, replace = structure.data, structure.find, structure.findi, structure.replace
+        removed: list[Simplex] = []
+        added: list[tuple[Simplex, int]] = []
         # A list indexed by version (a slot is cleared at the version's last use): cheaper than a dict.
         versions: list[Complex[Any] | None] = [None] * (self._final + 1)
         made = 0
@@ -538,6 +598,17 @@ class Replay:
                 got = 0 if data(versions[src], s) is None else 1
             elif op == FIND:
                 got = len(find(versions[src], s))
+            elif op == REPLACE_REM:
+                removed.append(s)
+                got = -1
+            elif op == REPLACE_ADD:
+                added.append((s, k))
+                got = -1
+            elif op == REPLACE:
+                versions[made] = replace(versions[src], removed, added)
+                removed, added = [], []
+                got = made
+                made += 1
             elif op == UPDATE:
                 versions[made] = update(versions[src], s, _placeholder(k))
                 got = made
@@ -666,8 +737,8 @@ def load_trace(path: str | Path) -> Trace:
 def _check_header(p: Path, fmt: object, version: object) -> None:
     if fmt != _FORMAT:
         raise TraceFormatError(f"load_trace: {p}: not a persistri trace (format {fmt!r})")
-    if version != _FORMAT_VERSION:
-        raise TraceFormatError(f"load_trace: {p}: trace format version {version!r}, this persistri reads {_FORMAT_VERSION}")
+    if version not in _READS:
+        raise TraceFormatError(f"load_trace: {p}: trace format version {version!r}, this persistri reads {_READS}")
 
 
 def _from_json(p: Path, doc: dict[str, Any]) -> Trace:

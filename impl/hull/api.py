@@ -152,6 +152,7 @@ def convex_hull(
     stats: Stats | None = None,
     progress: bool | Any = False,
     structure: TwoComplex[FaceDatum] | None = None,
+    stepwise: bool = False,
 ) -> Hull:
     """The exact convex hull of ``points`` (n × 3) by the bulldozer algorithm (paper §3, Appendix A).
 
@@ -168,7 +169,10 @@ def convex_hull(
       number of points processed since the last call;
     * ``structure`` — the 2-complex structure to build the hull in, instead of the one
       ``backend`` and ``stats`` name (e.g. a :class:`~persistri.impl.complex.trace.TracingTwoComplex`
-      recording the run's complex operations); ``backend`` then only labels the result.
+      recording the run's complex operations); ``backend`` then only labels the result;
+    * ``stepwise`` — change the complex as the paper's code does, one ``rem`` per lit
+      face and one ``add`` per tent face, instead of one ``replace`` per insertion (the
+      same hulls and versions; more map operations: what the experiments count).
 
     Errors: ``TypeError``/``ValueError`` for input that is not an n × 3 array of
     finite reals (NaN/inf names the first bad row); :class:`DegenerateInputError`
@@ -186,7 +190,7 @@ def convex_hull(
     # Persistent nodes form no reference cycles, so the cyclic collector only costs time here — a
     # great deal of it: each full collection walks every node of every version kept so far.
     with _collector_paused():
-        return _convex_hull(arr, structure, backend, seed, check, history, stats, progress)
+        return _convex_hull(arr, structure, backend, seed, check, history, stats, progress, stepwise)
 
 
 @contextmanager
@@ -210,6 +214,7 @@ def _convex_hull(
     history: bool,
     stats: Stats | None,
     progress: bool | Any,
+    stepwise: bool = False,
 ) -> Hull:
     """:func:`convex_hull` on validated points, in the given 2-complex structure."""
     uniq = unique_rows(arr)
@@ -232,7 +237,7 @@ def _convex_hull(
     tetra = initial_tetrahedron(pred, m)
     pred = pred.with_centroid(*tetra)
 
-    bd = Bulldozer(pred, structure, tetra, check=check)
+    bd = Bulldozer(pred, structure, tetra, check=check, stepwise=stepwise)
     order = np.random.default_rng(seed).permutation(all_but(m, tetra))
     versions: list[Complex[FaceDatum]] = [bd.complex]
     inserted: list[int] = [int(rows[tetra[0]])]
