@@ -12,10 +12,12 @@ how the paper separates the cost of the complex from the rest of the hull
   random triangle (``data``, as the bulldozer looks up the face a point is
   associated with), grow from it a random disk of on average 4 triangles
   across their edges (``findi``, the walk), query the three neighbours of each
-  (``findi``, the walking-graph test), remove the disk (``rem``) and cone its
-  boundary from p (``add``, the tent).  Each step adds 2 triangles; the mix per
-  vertex — 1 ``data``, about 15 ``findi``, 4 ``rem``, 6 ``add`` — is the
-  bulldozer's (1, 12, 4, 6);
+  (``findi``, the walking-graph test), then replace the disk by the cone of
+  its boundary from p (one ``replace``, as the bulldozer replaces the lit
+  faces by the tent; with ``stepwise``, a ``rem`` per disk triangle and an
+  ``add`` per cone triangle, as the paper's code does).  Each step adds 2
+  triangles; the mix per vertex — 1 ``data``, about 15 ``findi``, 4 triangles
+  removed, 6 added — is the bulldozer's (1, 12, 4, 6);
 * ``hull`` — the bulldozer itself (:func:`hull_trace`): the convex hull of
   ``T/2 + 2`` points uniform on the sphere (the paper's OnSphere), recorded.
   Its geometry takes minutes at 10^5 triangles, so it is not the default.
@@ -123,9 +125,10 @@ def _even_size(triangles: int) -> int:
     return max(4, triangles + (triangles & 1))
 
 
-def sphere_trace(triangles: int, seed: int = DEFAULT_SEED) -> Trace:
+def sphere_trace(triangles: int, seed: int = DEFAULT_SEED, *, stepwise: bool = False) -> Trace:
     """The trace of growing a triangulated sphere of ``triangles`` triangles (rounded up to an even count ≥ 4)
-    the way the bulldozer grows a hull, without geometry (module docstring).
+    the way the bulldozer grows a hull, without geometry (module docstring); ``stepwise``: rem and add per
+    triangle instead of one replace per step.
 
     Deterministic in ``(triangles, seed)``.  Recorded on the ephemeral complex
     (the fastest; the history is linear).  O(triangles) operations.
@@ -146,9 +149,7 @@ def sphere_trace(triangles: int, seed: int = DEFAULT_SEED) -> Trace:
         faces.append((t, serial))
         serial += 1
 
-    def rem(t: Triangle, x: int) -> None:
-        nonlocal cx
-        cx = rec.rem(cx, t)
+    def forget(x: int) -> None:
         i = where.pop(x)
         last = faces.pop()
         if last[1] != x:
@@ -180,10 +181,23 @@ def sphere_trace(triangles: int, seed: int = DEFAULT_SEED) -> Trace:
         for t in patch.values():  # the walking-graph test looks across every edge of a visible face
             for u, w in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
                 rec.findi(cx, (w, u))
-        for xid, t in patch.items():
-            rem(t, xid)
+        if stepwise:
+            for xid, t in patch.items():
+                cx = rec.rem(cx, t)
+                forget(xid)
+            for u, w in cycle:
+                add((u, w, p))
+            continue
+        tent: list[tuple[Triangle, int]] = []
         for u, w in cycle:
-            add((u, w, p))
+            t = (u, w, p)
+            where[serial] = len(faces)
+            faces.append((t, serial))
+            tent.append((t, serial))
+            serial += 1
+        cx = rec.replace(cx, list(patch.values()), tent)
+        for xid in patch:
+            forget(xid)
     return rec.stop()
 
 
@@ -195,15 +209,16 @@ def _geometric(rng: random.Random, p: float) -> int:
     return k
 
 
-def hull_trace(triangles: int, seed: int = DEFAULT_SEED) -> Trace:
+def hull_trace(triangles: int, seed: int = DEFAULT_SEED, *, stepwise: bool = False) -> Trace:
     """The trace of the bulldozer's convex hull of ``triangles / 2 + 2`` OnSphere points (all on the hull,
-    so the hull has ``triangles`` triangles, rounded up to even).  Minutes at 10^5 triangles."""
+    so the hull has ``triangles`` triangles, rounded up to even).  Minutes at 10^5 triangles.
+    ``stepwise``: the bulldozer's paper-style rem and add per face instead of one replace per insertion."""
     from persistri.impl.hull.api import convex_hull
     from persistri.impl.hull.distributions import on_sphere
 
     target = _even_size(triangles)
     rec: TracingTwoComplex[Any] = TracingTwoComplex(EphemeralTwoComplex[Any](), window=4)
-    convex_hull(on_sphere(target // 2 + 2, seed), seed=seed, structure=rec)
+    convex_hull(on_sphere(target // 2 + 2, seed), seed=seed, structure=rec, stepwise=stepwise)
     return rec.stop()
 
 
@@ -427,6 +442,7 @@ def run_complex_bench(
     sizes: Sequence[int] = DEFAULT_SIZES,
     *,
     workload: Workload = "sphere",
+    stepwise: bool = False,
     trace: Trace | None = None,
     repeat: int = DEFAULT_REPEAT,
     seed: int = DEFAULT_SEED,
@@ -437,7 +453,8 @@ def run_complex_bench(
     """Measure every subject (or those in ``only``, plus the baseline) on a sphere of each size; module docstring.
 
     ``trace`` replays that trace (a closed 2-complex at its end) instead of
-    generating ``workload`` at ``sizes``.  ``assoc_list_max`` overrides
+    generating ``workload`` at ``sizes``; ``stepwise`` generates it with a ``rem``
+    and an ``add`` per triangle instead of one ``replace`` per step.  ``assoc_list_max`` overrides
     :data:`ASSOC_LIST_MAX_TRIANGLES`.  A subject that cannot be loaded is
     ``unavailable``; one that fails while measured is ``error`` with the reason.
     """
@@ -464,9 +481,9 @@ def run_complex_bench(
         if trace is not None:
             tr = trace
         elif workload == "sphere":
-            tr = sphere_trace(size, seed)
+            tr = sphere_trace(size, seed, stepwise=stepwise)
         else:
-            tr = hull_trace(size, seed)
+            tr = hull_trace(size, seed, stepwise=stepwise)
         done += 1
         rp = Replay(tr)
         base = EphemeralTwoComplex[Any]()
@@ -510,7 +527,7 @@ def run_complex_bench(
     if on_progress is not None:
         on_progress(total, total, "done")
     return ComplexBench(
-        workload="trace" if trace is not None else workload,
+        workload="trace" if trace is not None else workload + (" (stepwise)" if stepwise else ""),
         sizes=tuple(t for t, _ in operations),
         repeat=repeat,
         seed=seed,

@@ -180,6 +180,12 @@ def terrain(sizes: tuple[int, ...], repeat: int, backend: str, memory: bool, gri
     help="sphere: grown like a hull, without geometry (fast); hull: the bulldozer on OnSphere points (minutes at 10^5).",
 )
 @click.option(
+    "--stepwise",
+    is_flag=True,
+    help="Generate the workload with a rem per removed and an add per added triangle (the paper's code) "
+    "instead of one replace per step (the bulldozer's default).",
+)
+@click.option(
     "--trace",
     "trace_path",
     type=click.Path(exists=True, dir_okay=False),
@@ -197,7 +203,14 @@ def terrain(sizes: tuple[int, ...], repeat: int, backend: str, memory: bool, gri
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
 def complex_(
-    sizes: tuple[int, ...], workload: str, trace_path: str | None, repeat: int, seed: int, only: str | None, as_json: bool
+    sizes: tuple[int, ...],
+    workload: str,
+    stepwise: bool,
+    trace_path: str | None,
+    repeat: int,
+    seed: int,
+    only: str | None,
+    as_json: bool,
 ) -> None:
     """What persistence costs the 2-complex: a closed sphere built and walked on every backend and on the ephemeral baseline.
 
@@ -222,6 +235,7 @@ def complex_(
             result = bench_complex.run_complex_bench(
                 sizes,
                 workload="hull" if workload == "hull" else "sphere",
+                stepwise=stepwise,
                 trace=trace,
                 repeat=repeat,
                 seed=seed,

@@ -197,6 +197,12 @@ class SimpComp(Generic[D]):
         """``update (c, s, f)``."""
         return self._of(c, "update").update(c, s, f)
 
+    def replace(
+        self, c: Complex[D], removed: Sequence[_Simplex], added: Sequence[tuple[_Simplex, D]], /
+    ) -> Complex[D]:
+        """``replace (c, removed, added)``: the ``rem`` of each removed simplex, then the ``add`` of each added one."""
+        return self._of(c, "replace").replace(c, removed, added)
+
     def check(self, c: Complex[D], /) -> None:
         """The representation check of ``c``'s structure (RepresentationError / OrientationError)."""
         self._of(c, "check").check(c)

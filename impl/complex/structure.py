@@ -320,6 +320,7 @@ class ComplexStructure(Generic[D]):
 
     def _replace_fold(self, c: Complex[D], removed: Iterable[_Simplex], added: Iterable[tuple[_Simplex, D]]) -> Complex[D]:
         """:meth:`replace` as the fold of ``rem`` and ``add`` (the definition, and every error path)."""
+        self._open(c, "replace")  # even when there is nothing to fold
         out = c
         for s in removed:
             out = self.rem(out, s)

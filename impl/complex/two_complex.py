@@ -476,8 +476,9 @@ class TwoComplex(ComplexStructure[D]):
                 n0 = m.numItems(rep)
                 try:
                     out = m.insertWith(drop_add, rep, v, (drops, tuple(adds)))
-                except _Emptied:
-                    out = m.remove(rep, v)[0]
+                except _Emptied:  # v is in no triangle any more
+                    rep = m.remove(rep, v)[0]
+                    continue
                 if m.numItems(out) != n0:  # v had no list: a triangle to remove is absent
                     raise _Unbatched
                 rep = out

@@ -1,0 +1,191 @@
+"""``replace (c, removed, added)``: the law that it is the fold of ``rem`` then ``add``, on every 2-complex.
+
+``replace`` is persistri's addition to the paper's signature (one change per
+algorithm step).  Its meaning is the fold; these tests check, on every
+2-complex structure (each map backend, the unspecialised functor, the
+ephemeral baseline), that it returns the same complex as the fold or raises
+the same error with the same message, that the version it was given is
+unchanged, and that the specialised 2-complex really batches (fewer map
+operations than the fold).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from complex_helpers import STRUCTURE_IDS, STRUCTURES, Make, build, fresh, icosahedron
+from persistri.impl.complex import complex_structure, two_complex
+from persistri.impl.complex.errors import (
+    AbsentSimplexError,
+    DimensionError,
+    DuplicateSimplexError,
+    ForeignComplexError,
+    OppositeOrientationError,
+)
+from persistri.impl.complex.ephemeral import EphemeralTwoComplex
+from persistri.impl.complex.structure import Complex
+from persistri.impl.stats import Stats
+
+TWO_COMPLEXES: list[tuple[str, Make]] = [*STRUCTURES, ("ephemeral", lambda n, stats=None: EphemeralTwoComplex(stats))]
+IDS = [*STRUCTURE_IDS, "ephemeral"]
+
+N_VERTS, ICOSA = icosahedron()
+EXTRA = 3  # vertices in no triangle of the icosahedron, for triangles that are new
+
+
+def items_of(C: Any, c: Complex[Any]) -> list[tuple[tuple[int, ...], Any]]:
+    """The triangles of ``c`` with their data, each as labels rotated to its smallest label, sorted."""
+    out = []
+    for t, x in C.items(c):
+        labels = [int(v) for v in t]
+        i = labels.index(min(labels))
+        out.append((tuple(labels[i:] + labels[:i]), x))
+    return sorted(out)
+
+
+def outcome(call: Any) -> tuple[str, Any]:
+    try:
+        return "ok", call()
+    except Exception as exc:  # noqa: BLE001 - the law compares whatever is raised
+        return type(exc).__name__, str(exc)
+
+
+# A triangle is drawn as indices into the vertices; with a flag for "rotate" and "reverse" it reaches present
+# triangles, their other rotations, their opposite orientations and triangles never added.
+tri_index = st.integers(0, len(ICOSA) - 1)
+
+
+@st.composite
+def triangle(draw: st.DrawFn) -> tuple[int, int, int]:
+    if draw(st.booleans()):
+        a, b, c = ICOSA[draw(tri_index)]
+        r = draw(st.integers(0, 2))
+        a, b, c = ((a, b, c), (b, c, a), (c, a, b))[r]
+        if draw(st.integers(0, 4)) == 0:
+            b, c = c, b  # the opposite orientation
+        return (a, b, c)
+    a, b, c = draw(st.lists(st.integers(0, N_VERTS + EXTRA - 1), min_size=3, max_size=3, unique=True))
+    return (a, b, c)
+
+
+batches = st.tuples(
+    st.lists(triangle(), max_size=6),
+    st.lists(st.tuples(triangle(), st.integers(100, 120)), max_size=7),
+)
+
+
+@pytest.mark.parametrize("make", [m for _, m in TWO_COMPLEXES], ids=IDS)
+@given(batch=batches)
+def test_replace_is_the_fold_of_rem_then_add(make: Make, batch: Any) -> None:
+    removed_ix, added_ix = batch
+    vs = fresh(N_VERTS + EXTRA)
+    removed = [tuple(vs[i] for i in t) for t in removed_ix]
+    added = [(tuple(vs[i] for i in t), x) for t, x in added_ix]
+    C = make(2)
+    R = make(2)  # the reference: the same structure, folding by hand
+    c = build(C, vs, ICOSA)
+    before = items_of(C, c)
+
+    def fold() -> list[tuple[tuple[int, ...], Any]]:
+        r = build(R, vs, ICOSA)
+        for s in removed:
+            r = R.rem(r, s)
+        for s, x in added:
+            r = R.add(r, s, x)
+        return items_of(R, r)
+
+    want = outcome(fold)
+    got = outcome(lambda: items_of(C, C.replace(c, removed, added)))
+    assert got == want
+    if got[0] != "ok" or not isinstance(C, EphemeralTwoComplex):
+        # The version given is unchanged (the ephemeral one only when the call was refused).
+        assert items_of(C, c) == before
+
+
+@pytest.mark.parametrize("make", [m for _, m in TWO_COMPLEXES], ids=IDS)
+def test_replacing_a_star_by_a_cone_keeps_a_closed_surface(make: Make) -> None:
+    """The bulldozer's step: the star of vertex 0 replaced by the cone of its link from a new vertex."""
+    vs = fresh(N_VERTS + 1)
+    C = make(2)
+    c = build(C, vs, ICOSA)
+    v0, p = vs[0], vs[N_VERTS]
+    star = [tuple(vs[i] for i in t) for t in ICOSA if 0 in t]
+    link = [(t[(t.index(v0) + 1) % 3], t[(t.index(v0) + 2) % 3]) for t in star]
+    cone = [((u, w, p), "new") for u, w in link]
+    c2 = C.replace(c, star, cone)
+    C.check(c2)
+    assert len(C.items(c2)) == len(ICOSA) and v0 not in C.vertices(c2) and p in C.vertices(c2)
+    for u, w in link:
+        assert C.find(c2, (w, u)) != [] and C.data(c2, (u, w, p)) == ("new",)
+
+
+@pytest.mark.parametrize("backend", ["red_black", "hamt", "assoc_list"])
+def test_the_specialised_complex_batches(backend: str) -> None:
+    """One map operation per vertex touched: fewer than the fold's three per triangle; same faces counted."""
+    vs = fresh(N_VERTS + 1)
+    star = [tuple(vs[i] for i in t) for t in ICOSA if 0 in t]
+    link = [(t[(t.index(vs[0]) + 1) % 3], t[(t.index(vs[0]) + 2) % 3]) for t in star]
+    cone = [((u, w, vs[N_VERTS]), 0) for u, w in link]
+    batched, folded = Stats(), Stats()
+    for stats, batch in ((batched, True), (folded, False)):
+        C = two_complex(backend, stats)
+        c = build(C, vs, ICOSA)
+        stats.reset()
+        if batch:
+            C.replace(c, star, cone)
+        else:
+            C._replace_fold(c, star, cone)
+    assert batched.faces_deleted == folded.faces_deleted == len(star)
+    assert batched.faces_created == folded.faces_created == len(cone)
+    # The star of a degree-5 vertex: 5 removed, 5 added; touched: v0, its 5 neighbours, the new vertex.
+    assert folded.dict_ops >= 3 * (len(star) + len(cone))
+    assert batched.dict_ops <= 2 * 7  # at most an insertWith (+ a remove) per vertex touched
+    assert batched.dict_ops < folded.dict_ops / 2
+
+
+def test_every_version_of_a_replace_history_stays_valid() -> None:
+    C = two_complex("red_black")
+    vs = fresh(N_VERTS + 6)
+    c = build(C, vs, ICOSA)
+    history = [(c, items_of(C, c))]
+    for k in range(6):
+        v = vs[k]
+        star = [t for t, _ in C.items(c) if v in t]
+        star = [t[t.index(v) :] + t[: t.index(v)] for t in star]
+        p = vs[N_VERTS + k]
+        c = C.replace(c, star, [((t[1], t[2], p), k) for t in star])
+        C.check(c)
+        history.append((c, items_of(C, c)))
+    for version, model in history:
+        assert items_of(C, version) == model
+        C.check(version)
+
+
+@pytest.mark.parametrize("make", [m for _, m in TWO_COMPLEXES], ids=IDS)
+def test_bad_arguments_get_the_signature_errors(make: Make) -> None:
+    vs = fresh(N_VERTS + 1)
+    C = make(2)
+    c = build(C, vs, ICOSA)
+    a, b, cc = (vs[i] for i in ICOSA[0])
+    with pytest.raises(AbsentSimplexError):
+        C.replace(c, [(a, cc, b)], [])
+    with pytest.raises(AbsentSimplexError):
+        C.replace(c, [(a, b, cc), (b, cc, a)], [])  # removed twice
+    with pytest.raises(DuplicateSimplexError):
+        C.replace(c, [], [((a, b, vs[N_VERTS]), 0), ((b, vs[N_VERTS], a), 1)])  # added twice
+    with pytest.raises(OppositeOrientationError):
+        C.replace(c, [], [((a, cc, b), 0)])
+    with pytest.raises(DimensionError):
+        C.replace(c, [(a, b)], [])
+    with pytest.raises(TypeError, match="pairs"):
+        C.replace(c, [], [(a, b, cc)])
+    with pytest.raises(TypeError, match="iterable"):
+        C.replace(c, 5, [])
+    for foreign in ("x", complex_structure(1, "red_black").new(1)):
+        with pytest.raises(ForeignComplexError):
+            C.replace(foreign, [], [])
+    assert items_of(C, c) == items_of(C, build(make(2), vs, ICOSA))  # refused calls changed nothing
