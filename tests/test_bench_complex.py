@@ -50,18 +50,24 @@ def invoke(*args: str) -> Any:
 
 @pytest.mark.parametrize("triangles", [4, 5, 30, 200])
 def test_the_sphere_workload_grows_a_closed_sphere_like_a_hull(triangles: int) -> None:
-    tr = sphere_trace(triangles, seed=3)
-    S = two_complex("red_black")
-    c = replay(tr, S)
-    report = check_closed_surface(c)
-    want = max(4, triangles + triangles % 2)
-    assert report.faces == want and report.is_sphere
-    counts = tr.counts()
-    grown = (want - 4) // 2  # one new vertex per step, +2 triangles each
-    assert counts.get("data", 0) == grown
-    assert counts["add"] - counts.get("rem", 0) == want
-    assert counts.get("findi", 0) >= 3 * counts.get("rem", 0)  # every removed face looked across its three edges
-    assert [e for e in sphere_trace(triangles, seed=3).events()] == list(tr.events())  # deterministic
+    for stepwise in (False, True):
+        tr = sphere_trace(triangles, seed=3, stepwise=stepwise)
+        S = two_complex("red_black")
+        c = replay(tr, S)
+        report = check_closed_surface(c)
+        want = max(4, triangles + triangles % 2)
+        assert report.faces == want and report.is_sphere
+        counts = dict.fromkeys(["rem", "replace", "replace.add", "replace.rem", "findi"], 0) | tr.counts()
+        grown = (want - 4) // 2  # one new vertex per step, +2 triangles each
+        assert counts.get("data", 0) == grown
+        added = counts["add"] + counts["replace.add"]
+        removed = counts["rem"] + counts["replace.rem"]
+        assert added - removed == want
+        # One replace per step, or none at all (stepwise: a rem per removed face and an add per tent face).
+        assert counts["replace"] == (0 if stepwise else grown)
+        assert counts["add"] == (added if stepwise else 4)
+        assert counts["findi"] >= 3 * removed  # every removed face looked across its three edges
+        assert list(sphere_trace(triangles, seed=3, stepwise=stepwise).events()) == list(tr.events())  # deterministic
 
 
 def test_the_hull_workload_records_the_bulldozer() -> None:
@@ -133,10 +139,13 @@ def test_a_saved_trace_is_replayed(tmp_path: Path) -> None:
 
 
 class ForgetfulRem(TwoComplex[Any]):
-    """A broken 2-complex: rem does nothing."""
+    """A broken 2-complex: rem does nothing, and replace only adds."""
 
     def rem(self, c: Any, s: Any, /) -> Any:
         return c
+
+    def replace(self, c: Any, removed: Any, added: Any, /) -> Any:
+        return super().replace(c, [], added)
 
 
 def test_a_wrong_complex_is_an_error_not_a_figure(monkeypatch: pytest.MonkeyPatch) -> None:
