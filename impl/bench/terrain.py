@@ -320,8 +320,9 @@ def terrain_table(bench: TerrainBench) -> Any:
             "err: maximum vertical error, recomputed over every sample for both meshes; persistri run to "
             "pydelatin's vertex count; times in CPU seconds; best ≤ k: persistri's smallest maximum error among its kept levels of detail "
             "with at most k points; times best of the repeats (pydelatin at least 3); key comps, tests "
-            "(plane-side: orient2d and incircle) and flops: persistri's operation counts, as in the paper's Fig. 11 "
-            "(dictionary operations too in --json)."
+            "(plane-side: orient2d and incircle) and flops: persistri's operation counts (dictionary operations too in "
+            "--json), with one replace per insertion (Fig. 11 counts the paper's rem and add per triangle: "
+            "persistri experiments fig11)."
         )
     )
     return Group(*parts)

@@ -153,12 +153,21 @@ class Triangulator:
     ``tri_of`` maps the id of every live triangle (ghosts included) to its
     vertices; it is the run's scratch index, not part of any version (a version
     is read through the complex alone).
+
+    Each insertion changes the complex once, replacing the cavity by the fan
+    (:meth:`~persistri.impl.complex.two_complex.TwoComplex.replace`: one map
+    update per vertex touched); ``stepwise=True`` makes the same change as the
+    paper's code, a ``rem`` per cavity triangle and an ``add`` per fan triangle
+    (the experiments count that).
     """
 
-    def __init__(self, pred: Predicates2, structure: TwoComplex[TriDatum], *, check: bool = False) -> None:
+    def __init__(
+        self, pred: Predicates2, structure: TwoComplex[TriDatum], *, check: bool = False, stepwise: bool = False
+    ) -> None:
         self.pred = pred
         self.S = structure
         self.check = check
+        self.stepwise = stepwise
         self.n = len(pred)
         # Vertices are made when first used: a height grid has 10^5 samples and only a
         # few thousand become vertices.  Vertex i has label i (its point index) and is
@@ -332,13 +341,12 @@ class Triangulator:
                 counts[0] = pooled.size
         _frozen(pooled)
 
-        # The new version: the cavity removed, the fan added.
-        for tri, _ in cavity.values():
-            cx = S.rem(cx, tri)
+        # The new version: the cavity removed, the fan added (one replace, or the paper's rem and add each).
         tri_of = self.tri_of
         for tid in cavity:
             del tri_of[tid]
         created: list[tuple[int, Triangle]] = []
+        fan: list[tuple[Triangle, TriDatum]] = []
         start_at = 0
         check = self.check
         for i in range(nfan):
@@ -351,12 +359,19 @@ class Triangulator:
             cnt = int(counts[i])
             part = pooled[start_at : start_at + cnt] if cnt else EMPTY
             start_at += cnt
-            cx = S.add(cx, tri, (tid, part))
+            fan.append((tri, (tid, part)))
             created.append((tid, tri))
         if not closed:
             # The two ghosts on the new hull edges (ring[-1], p) and (p, ring[0]).
             for tri in ((ring[-1], inf, vp), (inf, ring[0], vp)):
-                cx = S.add(cx, tri, (self._new_id(tri), EMPTY))
+                fan.append((tri, (self._new_id(tri), EMPTY)))
+        if self.stepwise:
+            for tri, _ in cavity.values():
+                cx = S.rem(cx, tri)
+            for tri, datum in fan:
+                cx = S.add(cx, tri, datum)
+        else:
+            cx = S.replace(cx, [tri for tri, _ in cavity.values()], fan)
         self.complex = cx
         return Insertion(
             point=p,

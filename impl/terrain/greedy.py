@@ -344,7 +344,9 @@ def _stop_criteria(max_error: Any, max_points: Any) -> tuple[float | None, int |
 class _Greedy:
     """One greedy-insertion run: the triangulator, the priority queue, the kept versions."""
 
-    def __init__(self, z: FloatArray, shape: tuple[int, int], backend: str, stats: Stats | None, check: bool) -> None:
+    def __init__(
+        self, z: FloatArray, shape: tuple[int, int], backend: str, stats: Stats | None, check: bool, stepwise: bool = False
+    ) -> None:
         rows, cols = shape
         self.z = z
         self.xy = grid_points(shape)
@@ -352,7 +354,7 @@ class _Greedy:
         self.y = np.ascontiguousarray(self.xy[:, 1])
         self.pred = Predicates2(self.xy, stats=stats)
         self.structure: TwoComplex[TriDatum] = TwoComplex(map_backend(backend), stats)
-        self.T = Triangulator(self.pred, self.structure, check=check)
+        self.T = Triangulator(self.pred, self.structure, check=check, stepwise=stepwise)
         self.heap: list[tuple[float, int, int]] = []
         n = rows * cols
         # Corners counterclockwise in (x, y): (0, 0), (cols-1, 0), (cols-1, rows-1), (0, rows-1).
@@ -435,6 +437,7 @@ def greedy_insertion(
     transform: Any = None,
     nodata: str | float = "error",
     history: bool = True,
+    stepwise: bool = False,
 ) -> Tin:
     """Approximate the height grid ``heights`` by a Delaunay TIN, greedily (Garland–Heckbert; paper §5).
 
@@ -454,7 +457,10 @@ def greedy_insertion(
     * ``transform`` — georeferencing for :meth:`Tin.world_vertices`
       (:func:`persistri.impl.terrain.grids.as_transform`);
     * ``nodata`` — what to do with NaN cells (:func:`persistri.impl.terrain.grids.as_heights`);
-    * ``history`` — keep every level of detail (:attr:`Tin.history`); False keeps only the final mesh.
+    * ``history`` — keep every level of detail (:attr:`Tin.history`); False keeps only the final mesh;
+    * ``stepwise`` — change the complex as the paper's code does, a ``rem`` per cavity
+      triangle and an ``add`` per fan triangle, instead of one ``replace`` per insertion
+      (the same meshes and versions; more map operations: what Fig. 11 counts).
 
     Errors: :class:`TypeError`/:class:`ValueError` for bad heights (see
     ``as_heights``: empty, 1-row, 1-column or ragged grids, NaN without a
@@ -476,7 +482,7 @@ def greedy_insertion(
     collector = gc.isenabled()
     gc.disable()  # persistent nodes form no reference cycles: the cyclic collector only costs time here
     try:
-        run = _Greedy(z, shape, backend, stats, check)
+        run = _Greedy(z, shape, backend, stats, check, stepwise)
         T = run.T
         versions: list[Complex[TriDatum]] = [T.complex]
         inserted: list[int] = list(run.corners)
