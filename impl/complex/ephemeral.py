@@ -407,7 +407,7 @@ class EphemeralTwoComplex(TwoComplex[D]):
             added = _sequence(added, "added")
         try:
             fam, rep, lin = c
-            if fam is not self.family:
+            if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex
                 raise _Unbatched
             table: _Table = rep[0]
             if table.current is not rep:

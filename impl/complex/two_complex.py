@@ -464,7 +464,7 @@ class TwoComplex(ComplexStructure[D]):
             added = _sequence(added, "added")
         try:
             fam, rep, lin = c
-            if fam is not self.family:
+            if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex
                 raise _Unbatched
             changes, out_lin = _group(removed, added, lin)
             m = self._m
