@@ -416,16 +416,18 @@ class EphemeralTwoComplex(TwoComplex[D]):
             changes, out_lin = _group(removed, added, lin)
             new_lists: list[tuple[Vertex, tuple[Entry, ...] | None]] = []
             scanned = 0
-            for v, (drops, adds) in changes.items():
+            for v, change in changes.items():
                 old = lists.get(v)
                 if old is None:
-                    if drops:
+                    if change[0]:
                         raise _Unbatched
-                    new_lists.append((v, tuple(adds)))
+                    new_lists.append((v, tuple(change[1] + change[2])))
                     continue
                 scanned += len(old)
                 try:
-                    new_lists.append((v, _drop_add(old, (drops, tuple(adds))) if drops else _cat_new(old, tuple(adds))))
+                    new_lists.append(
+                        (v, _drop_add(old, change) if change[0] else _cat_new(old, tuple(change[1] + change[2])))
+                    )
                 except _Emptied:
                     new_lists.append((v, None))
         except (_Unbatched, _Missing, _Present, TypeError, ValueError, AttributeError):

@@ -138,33 +138,38 @@ def _put(old: tuple[Entry, ...], new: tuple[Entry, ...]) -> tuple[Entry, ...]:
     raise _Missing
 
 
-def _drop_add(old: tuple[Entry, ...], change: tuple[list[tuple[Vertex, Vertex]], tuple[Entry, ...]]) -> tuple[Entry, ...]:
-    """``old`` without the entries ``(b, c, _)`` of ``change[0]``, plus the entries ``change[1]`` (``replace``).
+def _drop_add(
+    old: tuple[Entry, ...], change: tuple[list[tuple[Vertex, Vertex]], list[Entry], list[Entry]]
+) -> tuple[Entry, ...]:
+    """``old`` without the entries ``(b, c, _)`` for the pairs of ``change[0]``, plus the entries of
+    ``change[1]`` and ``change[2]`` (``replace``).
 
-    _Missing if an entry to drop is not there, _Present if an entry to add is
-    kept in ``old`` in either orientation, _Emptied if nothing is left.
+    The entries of ``change[1]`` are those of triangles whose first vertex is this
+    list's: each is looked for in the kept entries, in either orientation (one
+    vertex suffices, as for ``add``).  _Missing if a pair to drop is not there (or
+    is asked twice), _Present if a triangle to add is kept, _Emptied if nothing
+    is left.  One pass over ``old`` and one over the kept entries.
     """
-    drops, adds = change
-    out = list(old)
-    for b, c in drops:
-        i = 0
-        for e in out:
-            if e[0] == b and e[1] == c:
-                del out[i]
-                break
-            i += 1
-        else:
-            raise _Missing
-    if adds:
-        for e in out:
-            e0, e1 = e[0], e[1]
-            for b, c, _ in adds:
-                if (e0 == b and e1 == c) or (e0 == c and e1 == b):
-                    raise _Present(False)
-        out.extend(adds)
-    elif not out:
+    drops, checked, plain = change
+    if len(drops) == 1:
+        ((b, c),) = drops
+        kept = [e for e in old if e[0] != b or e[1] != c]
+    else:
+        gone = set(drops)
+        kept = [e for e in old if (e[0], e[1]) not in gone]
+    if len(kept) + len(drops) != len(old):
+        raise _Missing
+    if checked:
+        pairs = {(e[0], e[1]) for e in kept}
+        for b, c, _ in checked:
+            if (b, c) in pairs or (c, b) in pairs:
+                raise _Present(False)
+        kept += checked
+    if plain:
+        kept += plain
+    elif not kept:
         raise _Emptied
-    return tuple(out)
+    return tuple(kept)
 
 
 def _cat_new(old: tuple[Entry, ...], adds: tuple[Entry, ...]) -> tuple[Entry, ...]:
@@ -193,8 +198,9 @@ def _sequence(xs: Any, what: str) -> list[Any]:
         raise TypeError(f"replace: {what} must be an iterable of triangles, got {type(xs).__name__}") from None
 
 
-Changes = dict[Vertex, tuple[list[tuple[Vertex, Vertex]], list[Entry]]]
-"""What ``replace`` does to each vertex's list: the pairs ``(b, c)`` to drop, the entries to add."""
+Changes = dict[Vertex, tuple[list[tuple[Vertex, Vertex]], list[Entry], list[Entry]]]
+"""What ``replace`` does to each vertex's list: the pairs ``(b, c)`` to drop, the entries to add of
+the triangles that start at the vertex (checked against the list), the other entries to add."""
 
 
 def _group(removed: Sequence[Any], added: Sequence[Any], lin: Lineage | None) -> tuple[Changes, Lineage | None]:
@@ -213,11 +219,21 @@ def _group(removed: Sequence[Any], added: Sequence[Any], lin: Lineage | None) ->
         la = a.lineage
         if not (type(s) is tuple and la is lin and b.lineage is la and cc.lineage is la and a != b and b != cc and a != cc):
             raise _Unbatched
-        for v, p, q in ((a, b, cc), (b, cc, a), (cc, a, b)):
-            ch = get(v)
-            if ch is None:
-                ch = changes[v] = ([], [])
-            ch[0].append((p, q))
+        ch = get(a)
+        if ch is None:
+            changes[a] = ([(b, cc)], [], [])
+        else:
+            ch[0].append((b, cc))
+        ch = get(b)
+        if ch is None:
+            changes[b] = ([(cc, a)], [], [])
+        else:
+            ch[0].append((cc, a))
+        ch = get(cc)
+        if ch is None:
+            changes[cc] = ([(a, b)], [], [])
+        else:
+            ch[0].append((a, b))
     out_lin = lin
     for s, x in added:
         a, b, cc = s
@@ -228,19 +244,27 @@ def _group(removed: Sequence[Any], added: Sequence[Any], lin: Lineage | None) ->
             raise _Unbatched
         ch = get(a)
         if ch is None:
-            ch = changes[a] = ([], [])
+            changes[a] = ([], [(b, cc, x)], [])
         else:
             # Added twice, or in both orientations: every triangle of the batch is already
             # under each of its vertices, so one test at the first vertex finds it.
             for e in ch[1]:
                 if (e[0] == b and e[1] == cc) or (e[0] == cc and e[1] == b):
                     raise _Unbatched
-        ch[1].append((b, cc, x))
-        for v, p, q in ((b, cc, a), (cc, a, b)):
-            ch = get(v)
-            if ch is None:
-                ch = changes[v] = ([], [])
-            ch[1].append((p, q, x))
+            for e in ch[2]:
+                if (e[0] == b and e[1] == cc) or (e[0] == cc and e[1] == b):
+                    raise _Unbatched
+            ch[1].append((b, cc, x))
+        ch = get(b)
+        if ch is None:
+            changes[b] = ([], [], [(cc, a, x)])
+        else:
+            ch[2].append((cc, a, x))
+        ch = get(cc)
+        if ch is None:
+            changes[cc] = ([], [], [(a, b, x)])
+        else:
+            ch[2].append((a, b, x))
     return changes, out_lin
 
 
@@ -469,13 +493,13 @@ class TwoComplex(ComplexStructure[D]):
             changes, out_lin = _group(removed, added, lin)
             m = self._m
             drop_add, cat_new = self._drop_add, self._cat_new
-            for v, (drops, adds) in changes.items():
-                if not drops:
-                    rep = m.insertWith(cat_new, rep, v, tuple(adds))
+            for v, change in changes.items():
+                if not change[0]:
+                    rep = m.insertWith(cat_new, rep, v, tuple(change[1] + change[2]))
                     continue
                 n0 = m.numItems(rep)
                 try:
-                    out = m.insertWith(drop_add, rep, v, (drops, tuple(adds)))
+                    out = m.insertWith(drop_add, rep, v, change)
                 except _Emptied:  # v is in no triangle any more
                     rep = m.remove(rep, v)[0]
                     continue
