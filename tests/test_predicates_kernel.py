@@ -2,6 +2,12 @@
 
 from __future__ import annotations
 
+import ast
+import inspect
+import textwrap
+from collections.abc import Callable, Iterator
+from typing import Any
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -9,9 +15,10 @@ from hypothesis import strategies as st
 from numpy.typing import NDArray
 from test_predicates import point_sets
 
+from persistri.impl.geometry import filter as fp
 from persistri.impl.geometry.filter import FLOPS_ORIENT3D, FLOPS_PLANE, FLOPS_PLANE_SIDE
 from persistri.impl.geometry.points import unique_rows
-from persistri.impl.geometry.predicates import SMALL_BATCH, Predicates3
+from persistri.impl.geometry.predicates import SMALL_BATCH, Orient3dKernel, Predicates3
 from persistri.impl.stats import Stats
 
 
@@ -167,3 +174,69 @@ def test_unique_rows_on_real_valued_data_with_planted_duplicates() -> None:
     assert u.first.tolist() == list(range(500)) + [503]
     assert u.inverse[500:].tolist() == [3, 3, 17, 500]
     assert np.array_equal(dup[u.first][u.inverse], dup)
+
+
+# -- the kernel's written-out filters are the proved ones ------------------------------------------
+
+
+class _Unalias(ast.NodeTransformer):
+    """``_abs`` (filter.py's typed alias of the builtin) read as ``abs``, as the kernel writes it."""
+
+    def visit_Name(self, node: ast.Name) -> ast.Name:
+        return ast.Name(id="abs", ctx=node.ctx) if node.id == "_abs" else node
+
+
+def _dumps(stmts: list[ast.stmt]) -> list[str]:
+    return [ast.dump(_Unalias().visit(s)) for s in stmts]
+
+
+def _filter_body(fn: Callable[..., Any]) -> tuple[list[str], list[str]]:
+    """A filter function's statements (docstring and ``return`` left out) and the names it returns."""
+    tree = ast.parse(textwrap.dedent(inspect.getsource(fn))).body[0]
+    assert isinstance(tree, ast.FunctionDef)
+    body = tree.body[1:]  # after the docstring
+    ret = body[-1]
+    assert isinstance(ret, ast.Return) and isinstance(ret.value, ast.Tuple)
+    names = [e.id for e in ret.value.elts if isinstance(e, ast.Name)]
+    assert len(names) == len(ret.value.elts), f"{fn.__name__} must return named values"
+    return _dumps(body[:-1]), names
+
+
+def _blocks(node: ast.AST) -> Iterator[list[ast.stmt]]:
+    """Every statement list under ``node`` (function bodies, loop bodies, branches)."""
+    for child in ast.walk(node):
+        for field in ("body", "orelse"):
+            block = getattr(child, field, None)
+            if isinstance(block, list) and block and isinstance(block[0], ast.stmt):
+                yield block
+
+
+def _kernel_function(name: str) -> ast.FunctionDef:
+    tree = ast.parse(textwrap.dedent(inspect.getsource(Orient3dKernel.__init__)))
+    found = [f for f in ast.walk(tree) if isinstance(f, ast.FunctionDef) and f.name == name]
+    assert len(found) == 1, name
+    return found[0]
+
+
+def _contains_run(fn: ast.FunctionDef, run: list[str]) -> bool:
+    for block in _blocks(fn):
+        dumps = _dumps(block)
+        for i in range(len(dumps) - len(run) + 1):
+            if dumps[i : i + len(run)] == run:
+                return True
+    return False
+
+
+@pytest.mark.parametrize(
+    ("kernel_fn", "filter_fn"),
+    [("orient3d", fp.orient3d_terms), ("partition", fp.plane_terms), ("partition", fp.plane_side_terms)],
+)
+def test_the_kernels_written_out_filter_is_the_proved_function(kernel_fn: str, filter_fn: Callable[..., Any]) -> None:
+    """The kernel's scalar paths write the filter expressions out in place (no call per test): they must be
+    the statements of the functions ``proofs/proof_predicates.py`` analyses, in the same order, so that
+    they round exactly alike — any edit to one without the other fails here."""
+    run, returned = _filter_body(filter_fn)
+    fn = _kernel_function(kernel_fn)
+    assert _contains_run(fn, run), f"Orient3dKernel.{kernel_fn} does not contain the body of filter.{filter_fn.__name__}"
+    read = {n.id for n in ast.walk(fn) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
+    assert set(returned) <= read, "the kernel reads the values the filter function returns, by the same names"

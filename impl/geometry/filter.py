@@ -230,7 +230,13 @@ def plane_terms(ax: T, ay: T, az: T, bx: T, by: T, bz: T, cx: T, cy: T, cz: T) -
     xz = bax * caz
     xy = bax * cay
     yx = bay * cax
-    return yz - zy, zx - xz, xy - yx, _abs(yz) + _abs(zy), _abs(zx) + _abs(xz), _abs(xy) + _abs(yx)
+    nx = yz - zy
+    ny = zx - xz
+    nz = xy - yx
+    px = _abs(yz) + _abs(zy)
+    py = _abs(zx) + _abs(xz)
+    pz = _abs(xy) + _abs(yx)
+    return nx, ny, nz, px, py, pz
 
 
 def plane_side_terms(nx: T, ny: T, nz: T, px: T, py: T, pz: T, ax: T, ay: T, az: T, qx: T, qy: T, qz: T) -> tuple[T, T]:

@@ -96,7 +96,11 @@ _INVALID_GRAIN: Final[int] = -ZERO_LOW
 
 SMALL_BATCH: Final[int] = 32
 """Below this many entries a batch loops over the scalar test: numpy's fixed cost per
-call (about 50 array operations) outweighs the scalar tests it would replace."""
+call (some twenty array operations) outweighs the scalar tests it would replace.  Measured
+for the kernel's ``partition`` (CPU time, 256K-point InBall set): the scalar loop costs about
+0.4 µs per point plus 0.6 µs, the vectorised path about 20 µs whatever the length up to a
+hundred points, so the two meet near 48 points; whole hull runs (OnSphere 8K, InBall 64K)
+measured the same, within noise, for every threshold from 32 to 96."""
 
 IntArray = NDArray[np.intp]
 SignArray = NDArray[np.int8]
@@ -689,7 +693,10 @@ class Orient3dKernel:
     attribute lookups, and for batches ``np.asarray``/``min``/``max`` of the
     indices and broadcasting.  Indices out of range or repeated are the
     caller's error and are not diagnosed (a repeated index reaches SoS, which
-    raises ``ValueError``).
+    raises ``ValueError``).  The scalar paths also write the filter expressions
+    out in place instead of calling :mod:`.filter` (a call per test costs about
+    a sixth of the test); ``tests/test_predicates_kernel.py`` checks that they
+    are the proved functions' statements, in order, so they round alike.
 
     * :attr:`orient3d` ``(a, b, c, d) -> ±1`` — one test (about a microsecond);
     * :attr:`partition` ``(a, b, c, qs) -> (minus, plus)`` — the ``qs`` with
@@ -701,9 +708,10 @@ class Orient3dKernel:
       :func:`~persistri.impl.geometry.filter.plane_side_terms` instead of
       orient3d's 41, under a filter constant proved for that composition
       (``proofs/proof_predicates.py``).  Below :data:`SMALL_BATCH` points it
-      loops over the points and returns lists; from there on the same
-      expression runs vectorised over numpy (the plane's terms enter as
-      Python floats) and it returns int arrays.  Entries the filter leaves
+      loops over the points and returns lists (an empty ``qs`` gives two empty
+      tuples); from there on the same expression runs vectorised over numpy
+      (the plane's terms enter as Python floats; about twenty numpy calls
+      whatever the length) and it returns int arrays.  Entries the filter leaves
       undecided are settled one by one, exactly (then by SoS).  Counted as
       ``len(qs)`` plane-side tests and ``FLOPS_PLANE + len(qs) ·
       FLOPS_PLANE_SIDE`` flops.  O(len(qs)).
@@ -730,28 +738,53 @@ class Orient3dKernel:
             return
         rows = pred._rows
         xs, ys, zs = pred._cols
-        terms = orient3d_terms
         errbound = ERRBOUND_ORIENT3D
         flops = FLOPS_ORIENT3D
         exact = pred._orient3d_exact
-        plane, side = plane_terms, plane_side_terms
+        side = plane_side_terms
         side_errbound = ERRBOUND_PLANE_SIDE
         plane_flops, side_flops = FLOPS_PLANE, FLOPS_PLANE_SIDE
         small = SMALL_BATCH
         ndarray = np.ndarray
-        count_nonzero = np.count_nonzero
+        # The scalar paths below run the filter expressions of :mod:`.filter` written out in place
+        # (orient3d_terms; plane_terms, then plane_side_terms per point): a call per test costs as much
+        # as a third of its arithmetic.  They are the same statements in the same order, so they round
+        # exactly as the proved functions do; tests/test_predicates_kernel.py compares them, statement
+        # by statement, with the functions' bodies.
 
         def orient3d(a: int, b: int, c: int, d: int) -> int:
             ax, ay, az = rows[a]
             bx, by, bz = rows[b]
             cx, cy, cz = rows[c]
             dx, dy, dz = rows[d]
-            det, perm = terms(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
+            # filter.orient3d_terms:
+            adx = ax - dx
+            bdx = bx - dx
+            cdx = cx - dx
+            ady = ay - dy
+            bdy = by - dy
+            cdy = cy - dy
+            adz = az - dz
+            bdz = bz - dz
+            cdz = cz - dz
+            bdxcdy = bdx * cdy
+            cdxbdy = cdx * bdy
+            cdxady = cdx * ady
+            adxcdy = adx * cdy
+            adxbdy = adx * bdy
+            bdxady = bdx * ady
+            det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady)
+            permanent = (
+                (abs(bdxcdy) + abs(cdxbdy)) * abs(adz)
+                + (abs(cdxady) + abs(adxcdy)) * abs(bdz)
+                + (abs(adxbdy) + abs(bdxady)) * abs(cdz)
+            )
+            # end of filter.orient3d_terms
             st = pred.stats
             if st is not None:
                 st.plane_side_tests += 1
                 st.flops += flops
-            thr = errbound * perm
+            thr = errbound * permanent
             if det > thr:
                 return 1
             if det < -thr:
@@ -763,63 +796,102 @@ class Orient3dKernel:
         def partition(a: int, b: int, c: int, qs: Indices) -> tuple[Indices, Indices]:
             m = len(qs)
             if m == 0:
-                return [], []
+                return (), ()
             ax, ay, az = rows[a]
             bx, by, bz = rows[b]
             cx, cy, cz = rows[c]
-            nx, ny, nz, px, py, pz = plane(ax, ay, az, bx, by, bz, cx, cy, cz)
+            # filter.plane_terms:
+            bax = bx - ax
+            bay = by - ay
+            baz = bz - az
+            cax = cx - ax
+            cay = cy - ay
+            caz = cz - az
+            yz = bay * caz
+            zy = baz * cay
+            zx = baz * cax
+            xz = bax * caz
+            xy = bax * cay
+            yx = bay * cax
+            nx = yz - zy
+            ny = zx - xz
+            nz = xy - yx
+            px = abs(yz) + abs(zy)
+            py = abs(zx) + abs(xz)
+            pz = abs(xy) + abs(yx)
+            # end of filter.plane_terms
+            if m >= small:
+                q_arr: IntArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
+                neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz, px, py, pz), q_arr)
+                # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry.
+                return q_arr[neg], q_arr[pos]
+            minus: list[int] = []
+            plus: list[int] = []
             failures = 0
-            if m < small:
-                minus: list[int] = []
-                plus: list[int] = []
-                for q in qs.tolist() if type(qs) is ndarray else qs:
-                    qx, qy, qz = rows[q]
-                    det, perm = side(nx, ny, nz, px, py, pz, ax, ay, az, qx, qy, qz)
-                    thr = side_errbound * perm
-                    if det < -thr:
-                        minus.append(q)
-                    elif det > thr:
-                        plus.append(q)
-                    else:
-                        failures += 1
-                        (minus if exact(a, b, c, q, True) < 0 else plus).append(q)
-                _count(pred.stats, m, failures)
-                return minus, plus
-            q_arr: IntArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
-            neg, pos = masks(a, b, c, (ax, ay, az), (nx, ny, nz, px, py, pz), q_arr)
-            # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry.
-            return q_arr[np.flatnonzero(neg)], q_arr[np.flatnonzero(pos)]
+            for q in qs.tolist() if type(qs) is ndarray else qs:
+                qx, qy, qz = rows[q]
+                # filter.plane_side_terms:
+                aqx = ax - qx
+                aqy = ay - qy
+                aqz = az - qz
+                det = aqx * nx + aqy * ny + aqz * nz
+                permanent = abs(aqx) * px + abs(aqy) * py + abs(aqz) * pz
+                # end of filter.plane_side_terms
+                thr = side_errbound * permanent
+                if det < -thr:
+                    minus.append(q)
+                elif det > thr:
+                    plus.append(q)
+                else:
+                    failures += 1
+                    (minus if exact(a, b, c, q, True) < 0 else plus).append(q)
+            st = pred.stats
+            if st is not None:
+                st.plane_side_tests += m
+                st.flops += plane_flops + side_flops * m
+                st.filter_failures += failures
+            return minus, plus
 
-        def masks(
+        def where(
             a: int, b: int, c: int, at: tuple[float, float, float], terms6: tuple[float, ...], q_arr: IntArray
-        ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
-            """(orient3d(a, b, c, q) = -1, = +1) over ``q_arr``, vectorised through the prepared plane."""
+        ) -> tuple[IntArray, IntArray]:
+            """The positions in ``q_arr`` where orient3d(a, b, c, q) = -1 and where it is +1, increasing.
+
+            Vectorised through the prepared plane: :func:`~persistri.impl.geometry.filter.plane_side_terms`
+            on the gathered columns, then one comparison per side; about twenty numpy calls in all, whatever
+            the length (the undecided entries, if any, one by one exactly).
+            """
             nx, ny, nz, px, py, pz = terms6
             ax, ay, az = at
-            qx_: Any = xs[q_arr]
-            det_, perm_ = side(nx, ny, nz, px, py, pz, ax, ay, az, qx_, ys[q_arr], zs[q_arr])
-            thr_ = side_errbound * perm_
-            neg: NDArray[np.bool_] = det_ < -thr_
-            pos: NDArray[np.bool_] = det_ > thr_
+            qx: Any = xs[q_arr]
+            det, thr = side(nx, ny, nz, px, py, pz, ax, ay, az, qx, ys[q_arr], zs[q_arr])
+            thr *= side_errbound  # the threshold side_errbound * permanent, in place
+            neg_mask = det < -thr
+            pos_mask = det > thr
+            neg: IntArray = neg_mask.nonzero()[0]
+            pos: IntArray = pos_mask.nonzero()[0]
             m = q_arr.size
-            failures = m - int(count_nonzero(neg)) - int(count_nonzero(pos))
+            failures = m - neg.size - pos.size
             if failures:
-                for i in np.flatnonzero(~(neg | pos)).tolist():
+                for i in (~(neg_mask | pos_mask)).nonzero()[0].tolist():
                     if exact(a, b, c, int(q_arr[i]), True) < 0:
-                        neg[i] = True
+                        neg_mask[i] = True
                     else:
-                        pos[i] = True
+                        pos_mask[i] = True
+                neg, pos = neg_mask.nonzero()[0], pos_mask.nonzero()[0]
             _count(pred.stats, m, failures)
             return neg, pos
 
         def signs(a: int, b: int, c: int, qs: IntArray) -> SignArray:
+            out: SignArray = np.zeros(qs.size, dtype=np.int8)
             if qs.size == 0:
-                return np.zeros(0, dtype=np.int8)
+                return out
             ax, ay, az = rows[a]
             bx, by, bz = rows[b]
             cx, cy, cz = rows[c]
-            neg, pos = masks(a, b, c, (ax, ay, az), plane(ax, ay, az, bx, by, bz, cx, cy, cz), qs)
-            out: SignArray = pos.view(np.int8) - neg.view(np.int8)
+            neg, pos = where(a, b, c, (ax, ay, az), plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz), qs)
+            out[neg] = -1
+            out[pos] = 1
             return out
 
         def _count(st: Stats | None, m: int, failures: int) -> None:

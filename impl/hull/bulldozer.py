@@ -51,16 +51,26 @@ one "which out-edge"), as the paper says (§3).  Conflict lists are tuples of
 point indices, or read-only numpy arrays from
 :data:`~persistri.impl.geometry.predicates.SMALL_BATCH` entries on; the
 kernel's ``partition`` tests a short list point by point and a long one in a
-vectorised batch.
+vectorised batch.  An empty list is never partitioned (nothing to test).
+
+Bookkeeping beside the complex: each point's status and associated face id
+(flat arrays), and a table from face id to the face's entry ``(triangle, (id,
+conflict list))`` — the very tuple the complex holds — so that the list of the
+point being inserted is read from the table, not looked up in the complex (the
+``stepwise`` mode reads it from the complex, as the paper's code does, so its
+dictionary-operation counts stay the paper's).  The complex is what the walk
+asks for adjacency (``findi`` across each edge); the table only mirrors its
+faces.
 
 Insertion order: a random permutation of the points from the seed; a point
 that is interior when its turn comes is skipped.  This is equivalent to the
 paper's choice (a face with probability proportional to its list, then a point
 of it): both pick the next point uniformly among the points still outside.
 
-Vertices: the vertex of input point ``i`` has label ``i`` and is made (from
-the state ``VertexState(lineage, i)``, so labels stay unique: each point is
-inserted at most once) when ``i`` joins the hull, not for every input point.
+Vertices: the vertex of input point ``i`` has label ``i`` and is made when
+``i`` joins the hull, not for every input point — the vertex
+``int_vertex.new(VertexState(lineage, i), i)`` would return (labels stay
+unique: each point is inserted at most once).
 
 Everything is iterative (no recursion), so any input size works.
 """
@@ -69,7 +79,7 @@ from __future__ import annotations
 
 import itertools
 from array import array
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import Any, Final
 
 import numpy as np
@@ -77,7 +87,7 @@ from numpy.typing import NDArray
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
-from persistri.impl.complex.vertex import Vertex, VertexState, int_vertex
+from persistri.impl.complex.vertex import Vertex, VertexState
 from persistri.impl.geometry.predicates import SMALL_BATCH, Indices, Predicates3
 from persistri.impl.hull.errors import DegenerateInputError
 
@@ -207,7 +217,11 @@ def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
 
 Out = tuple[Vertex, Vertex, int, Triangle | None, Conflict]
 """An out-edge ``(u, w, face id, triangle, conflict list)`` of a visible face; the id is
-:data:`_HORIZON` (and the triangle None) for a horizon edge."""
+:data:`_HORIZON` (and the triangle None) for a horizon edge.  The neighbour's triangle and list
+ride along so that the neighbour can be expanded when the walk first reaches it."""
+
+Entry = tuple[Triangle, FaceDatum]
+"""A face as the bulldozer's table holds it and :meth:`TwoComplex.replace` adds it: ``(triangle, (id, list))``."""
 
 
 class _Visible:
@@ -215,12 +229,12 @@ class _Visible:
 
     __slots__ = ("tri", "own", "incoming", "indeg", "outs")
 
-    def __init__(self, tri: Triangle, own: Indices) -> None:
+    def __init__(self, tri: Triangle, own: Indices, indeg: int, outs: list[Out]) -> None:
         self.tri = tri
         self.own = own  # its conflict list (all see it)
         self.incoming: list[Indices] = []  # points bulldozed into it along arcs (not yet tested)
-        self.indeg = 0  # arcs into it from faces not processed yet
-        self.outs: list[Out] = []  # in the edge order (a, b), (b, d), (d, a)
+        self.indeg = indeg  # arcs into it from faces not processed yet
+        self.outs = outs  # in the edge order (a, b), (b, d), (d, a)
 
 
 class _FaceTable:
@@ -293,7 +307,9 @@ class Bulldozer:
         self._assoc = array("q", [-1]) * self.n
         self.status: NDArray[np.int8] = np.frombuffer(self._status, dtype=np.int8)
         self.assoc: NDArray[np.int64] = np.frombuffer(self._assoc, dtype=np.int64)
-        self.face_tri: dict[int, Triangle] = {}
+        # Face id -> (triangle, (id, conflict list)) for every face of the current version: the same
+        # entries as the complex holds, kept beside it so that a point's list is read without a lookup.
+        self.faces: dict[int, Entry] = {}
         self._next_fid = 0
         self._table = _FaceTable() if check else None
         self.complex: Complex[FaceDatum] = self._start(tetra)
@@ -302,19 +318,24 @@ class Bulldozer:
         """The vertex of input point ``i`` (label ``i``), made on first use."""
         v = self.verts.get(i)
         if v is None:
-            _, v = int_vertex.new(VertexState(self._lineage, i), i)
-            self.verts[i] = v
+            # What int_vertex.new(VertexState(lineage, i), i) returns, without the state it would also make:
+            # each point is inserted once, so its index is a label no other vertex of the lineage has.
+            v = self.verts[i] = Vertex(i, i, self._lineage)
         return v
 
     # -- the first hull --------------------------------------------------------------
 
-    def _new_fid(self, tri: Triangle) -> int:
+    def _new_face(self, tri: Triangle, kept: Indices) -> Entry:
+        """A new face ``tri`` with the conflict list ``kept``: its id, its table entry, its points' association."""
         fid = self._next_fid
         self._next_fid += 1
-        self.face_tri[fid] = tri
+        conflict = _freeze(kept)
+        _assign(self._assoc, self.assoc, conflict, fid)
+        entry = (tri, (fid, conflict))
+        self.faces[fid] = entry
         if self._table is not None:
             self._table.add(fid, tri)
-        return fid
+        return entry
 
     def _start(self, tetra: tuple[int, int, int, int]) -> Complex[FaceDatum]:
         P, C = self.pred, self.C
@@ -352,10 +373,8 @@ class Bulldozer:
                 raise BulldozerCheckError("the cones of the first tetrahedron's faces overlap")
             claimed |= inside
             out, _ = self._partition(x, y, z, others[inside])
-            fid = self._new_fid(tri)
-            _assign(self._assoc, self.assoc, out, fid)
             _assign(self._status, self.status, out, PENDING)
-            cx = self.S.add(cx, tri, (fid, _freeze(out)))
+            cx = self.S.add(cx, *self._new_face(tri, out))
         if self.check and others.size and not bool(claimed.all()):
             raise BulldozerCheckError("some point lies in no cone of the first tetrahedron's faces")
         return cx
@@ -366,10 +385,10 @@ class Bulldozer:
         """The faces of the current version, outward, as an (m, 3) array of point indices.
 
         Read from the face table the bulldozer keeps beside the complex (face id ->
-        triangle, changed with every ``add`` and ``rem``), so no traversal of the
-        complex is needed.  O(m).
+        entry, changed with every insertion), so no traversal of the complex is
+        needed.  O(m).
         """
-        return triangle_array(self.face_tri.values())
+        return triangle_array(tri for tri, _ in self.faces.values())
 
     def pending(self) -> int:
         """How many points are still outside the hull. O(n)."""
@@ -380,18 +399,22 @@ class Bulldozer:
 
         Raises :class:`ValueError` if ``p`` is not outside the current hull.
         """
-        if self._status[p] != PENDING:
+        status, assoc = self._status, self._assoc
+        if status[p] != PENDING:
             raise ValueError(f"point {p} is not outside the current hull")
         S, C, check = self.S, self.C, self.check
         o3, partition = self._o3, self._partition
+        faces = self.faces
         cx = self.complex
         vp = self._vertex(p)
-        fid0 = self._assoc[p]
-        tri0 = self.face_tri[fid0]
-        found = S.data(cx, tri0)
-        assert found is not None, "the associated face of a pending point is in the hull"
-        lst = found[0][1]
-        own0: Indices = lst[lst != p] if isinstance(lst, np.ndarray) else [q for q in lst if q != p]
+        fid0 = assoc[p]
+        tri0, (_, lst) = faces[fid0]
+        if self.stepwise:
+            # The paper's code reads the list from the complex (a counted dictionary operation).
+            found = S.data(cx, tri0)
+            assert found is not None, "the associated face of a pending point is in the hull"
+            lst = found[0][1]
+        own0: Indices = lst[lst != p] if type(lst) is np.ndarray else [q for q in lst if q != p]
 
         visible: dict[int, bool] = {fid0: True}  # face id -> can p see it (each face tested once)
         work: dict[int, _Visible] = {}
@@ -401,7 +424,8 @@ class Bulldozer:
 
         def expand(fid: int, tri: Triangle, own: Indices) -> _Visible:
             """Classify the three edges of the visible face ``tri``: horizon, out-arc or in-arc."""
-            rec = _Visible(tri, own)
+            outs: list[Out] = []
+            indeg = 0
             a, b, d = tri
             for u, w, f in ((a, b, d), (b, d, a), (d, a, b)):
                 known = pending_edges.pop((w, u), None)
@@ -409,27 +433,26 @@ class Bulldozer:
                     # The neighbour G was expanded first; its sign for (w, u) is minus ours.
                     s, gid, gtri = known
                     if s > 0:
-                        rec.outs.append((u, w, gid, gtri, ()))
+                        outs.append((u, w, gid, gtri, ()))
                     else:
-                        rec.indeg += 1
+                        indeg += 1
                     continue
                 ((gtri, (gid, gpts)),) = S.findi(cx, (w, u))
                 vis = visible.get(gid)
                 if vis is None:
-                    vis = o3(gtri[0], gtri[1], gtri[2], p) < 0
-                    visible[gid] = vis
+                    vis = visible[gid] = o3(gtri[0], gtri[1], gtri[2], p) < 0
                 if not vis:
-                    rec.outs.append((u, w, _HORIZON, None, ()))
+                    outs.append((u, w, _HORIZON, None, ()))
                     continue
                 s = o3(u, w, C, p)
                 if check and o3(u, w, C, f) != -1:
                     raise BulldozerCheckError(f"the centre is not strictly behind face {tri} (orient3d(u, w, c, f) = +1)")
                 if s < 0:
-                    rec.outs.append((u, w, gid, gtri, gpts))
+                    outs.append((u, w, gid, gtri, gpts))
                 else:
-                    rec.indeg += 1
+                    indeg += 1
                 pending_edges[(u, w)] = (s, fid, tri)
-            work[fid] = rec
+            rec = work[fid] = _Visible(tri, own, indeg, outs)
             return rec
 
         first = expand(fid0, tri0, own0)
@@ -448,23 +471,25 @@ class Bulldozer:
             rec = work[fid]
             processed.append(fid)
             a, b, d = rec.tri
-            if check:
-                routed.append(rec.own)
-                routed.extend(rec.incoming)
-            # The points bulldozed in across all in-arcs, tested together: those that cannot see the
-            # face are inside the new hull (Theorem 7).
             pts: Indices = rec.own
-            if rec.incoming:
-                sees, gone = partition(a, b, d, _join(rec.incoming))
+            incoming = rec.incoming
+            if check:
+                routed.append(pts)
+                routed.extend(incoming)
+            if incoming:
+                # The points bulldozed in across all in-arcs, tested together: those that cannot see
+                # the face are inside the new hull (Theorem 7).
+                sees, gone = partition(a, b, d, incoming[0] if len(incoming) == 1 else _join(incoming))
                 if len(gone):
                     discarded.append(gone)
-                pts = _join([pts, sees]) if len(pts) else sees
+                if len(sees):
+                    pts = _join([pts, sees]) if len(pts) else sees
             outs = rec.outs
-            groups: list[Indices]
-            if not len(pts):
-                groups = [()] * len(outs)
-            elif len(outs) == 1:
-                groups = [pts]
+            groups: Sequence[Indices]
+            if len(outs) == 1:
+                groups = (pts,)
+            elif not len(pts):
+                groups = ((), (), ())
             elif len(outs) == 2:
                 (u1, w1, _, _, _), (u2, w2, _, _, _) = outs
                 # Consecutive edges of (a, b, d) share a vertex v: w1 == u2, or (d, a) and (a, b): u1 == w2.
@@ -474,7 +499,7 @@ class Bulldozer:
                 if check and o3(C, p, v, x) != first_sign:
                     raise BulldozerCheckError(f"the routing sign of face {rec.tri} is not the out-arc's")
                 minus, plus = partition(C, p, v, pts)
-                groups = [plus, minus] if first_sign > 0 else [minus, plus]
+                groups = (plus, minus) if first_sign > 0 else (minus, plus)
             elif len(outs) == 3:
                 # The associated face: all three edges are out-arcs, so orient3d(c, p, x, y) = -1 for each
                 # edge (x, y) and q's projection lies in sector (x, y) iff
@@ -485,15 +510,17 @@ class Bulldozer:
                 in_da = _join([da1, da2])
                 if check:
                     self._check_sectors(p, rec.tri, pts, (in_ab, in_bd, in_da))
-                groups = [in_ab, in_bd, in_da]
+                groups = (in_ab, in_bd, in_da)
             else:
                 raise BulldozerCheckError(f"visible face {rec.tri} has no out-edge in the walking graph")
             for (u, w, gid, gtri, gpts), grp in zip(outs, groups):
                 if gid == _HORIZON:
-                    sees, gone = partition(u, w, p, grp)
-                    tents.append(((u, w, vp), sees))
-                    if len(gone):
-                        discarded.append(gone)
+                    # The tent face (u, w, p) keeps the points that see it; the others are interior.
+                    if len(grp):
+                        grp, gone = partition(u, w, p, grp)
+                        if len(gone):
+                            discarded.append(gone)
+                    tents.append(((u, w, vp), grp))
                     continue
                 target = work.get(gid)
                 if target is None:
@@ -509,34 +536,44 @@ class Bulldozer:
             self._check_walk(p, fid0, work, processed)
 
         # The new version: the lit faces removed, the tent added.
-        face_tri = self.face_tri
-        lit: list[Triangle] = []
+        lit = [work[fid].tri for fid in processed]  # as the walk met them (the rotation findi gave)
         for fid in processed:
-            lit.append(work[fid].tri)
-            del face_tri[fid]
-            if self._table is not None:
-                self._table.live[fid] = False
-        new_tents: list[tuple[int, Triangle, Conflict]] = []
+            del faces[fid]
+        if self._table is not None:
+            self._table.live[processed] = False
+        added: list[Entry] = []
+        fid = self._next_fid
+        table = self._table
         for tent, kept in tents:
-            fid = self._new_fid(tent)
-            conflict = _freeze(kept)
-            _assign(self._assoc, self.assoc, conflict, fid)
-            new_tents.append((fid, tent, conflict))
+            # A new face and its list, each of its points associated with it (_new_face, written out).
+            if type(kept) is np.ndarray:
+                conflict = _freeze(kept)
+                _assign(assoc, self.assoc, conflict, fid)
+            else:
+                conflict = tuple(kept)
+                for q in conflict:
+                    assoc[q] = fid
+            entry = faces[fid] = (tent, (fid, conflict))
+            added.append(entry)
+            if table is not None:
+                table.add(fid, tent)
+            fid += 1
+        self._next_fid = fid
         if self.stepwise:
             for tri in lit:
                 cx = S.rem(cx, tri)
-            for fid, tent, conflict in new_tents:
-                cx = S.add(cx, tent, (fid, conflict))
+            for tent, datum in added:
+                cx = S.add(cx, tent, datum)
         else:
-            cx = S.replace(cx, lit, [(tent, (fid, conflict)) for fid, tent, conflict in new_tents])
+            cx = S.replace(cx, lit, added)
         for gone in discarded:
-            _assign(self._status, self.status, gone, INTERIOR)
-            _assign(self._assoc, self.assoc, gone, -1)
-        self._status[p] = ON_HULL
-        self._assoc[p] = -1
+            _assign(status, self.status, gone, INTERIOR)
+            _assign(assoc, self.assoc, gone, -1)
+        status[p] = ON_HULL
+        assoc[p] = -1
         self.complex = cx
         if check:
-            self._check_bulldozed(p, routed, new_tents)
+            self._check_bulldozed(p, routed, added)
         return cx
 
     # -- check=True ------------------------------------------------------------------
@@ -565,7 +602,7 @@ class Bulldozer:
         # Independently: the faces visible to p, by a search over adjacency from the associated face.
         S, P, cx = self.S, self.pred, self.complex
         seen = {fid0}
-        stack = [self.face_tri[fid0]]
+        stack = [self.faces[fid0][0]]
         while stack:
             a, b, d = stack.pop()
             for u, w in ((a, b), (b, d), (d, a)):
@@ -578,7 +615,7 @@ class Bulldozer:
                 f"inserting point {p}: the walk visited {len(work)} faces but {len(seen)} visible faces "
                 f"are connected to the associated face (Lemma 9)"
             )
-        if len(self.face_tri) <= 4096 and self._table is not None:
+        if len(self.faces) <= 4096 and self._table is not None:
             # Every face of the hull, tested at once (vectorised): the visible ones are exactly the walk's.
             fids = np.flatnonzero(self._table.live[: self._next_fid])
             corners = self._table.corners[fids]
@@ -589,7 +626,7 @@ class Bulldozer:
                     f"inserting point {p}: {len(everywhere)} faces are visible but the walk found {len(work)} (Lemma 9)"
                 )
 
-    def _check_bulldozed(self, p: int, routed: list[Indices], tents: list[tuple[int, Triangle, Conflict]]) -> None:
+    def _check_bulldozed(self, p: int, routed: list[Indices], tents: list[Entry]) -> None:
         """Theorems 6 and 7: every bulldozed point is in the list of its associated face or rightly interior.
 
         Independently of the walk, with the checked predicates: the ray from the
@@ -606,8 +643,8 @@ class Bulldozer:
             return
         pts = np.unique(np.concatenate(parts))  # a point is routed once per face it crosses
         m, k = pts.size, len(tents)
-        us = np.array([t[1][0] for t in tents], dtype=np.intp)
-        ws = np.array([t[1][1] for t in tents], dtype=np.intp)
+        us = np.array([t[0][0] for t in tents], dtype=np.intp)
+        ws = np.array([t[0][1] for t in tents], dtype=np.intp)
         fan, at = np.unique(np.concatenate([us, ws]), return_inverse=True)  # the horizon vertices
         iu, iw = at[:k], at[k:]
         everyone = np.tile(pts, k)
@@ -626,13 +663,13 @@ class Bulldozer:
                 f"{int(cones[wrong[0]])} faces"
             )
         owner = inside.argmax(axis=0)
-        fids = np.array([t[0] for t in tents], dtype=np.intp)[owner]
+        fids = np.array([t[1][0] for t in tents], dtype=np.intp)[owner]
         beyond = P.orient3d_many(us[owner], ws[owner], p, pts) < 0
         bad = np.flatnonzero(beyond & ((self.status[pts] != PENDING) | (self.assoc[pts] != fids)))
         if bad.size:
             j = int(bad[0])
             raise BulldozerCheckError(
-                f"inserting point {p}: point {int(pts[j])} is outside tent face {tents[int(owner[j])][1]} (its "
+                f"inserting point {p}: point {int(pts[j])} is outside tent face {tents[int(owner[j])][0]} (its "
                 f"associated face, Theorem 6) but is not in that face's list"
             )
         bad = np.flatnonzero(~beyond & (self.status[pts] != INTERIOR))
