@@ -191,13 +191,14 @@ def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
             scale = float(np.max(np.abs(pts))) or 1.0
             q = pts / scale
             i0 = int(np.argmin(q[:, 0]))
-            d0 = ((q - q[i0]) ** 2).sum(axis=1)
+            dq = q - q[i0]
+            d0 = (dq**2).sum(axis=1)
             i1 = int(np.argmax(d0))
             u = q[i1] - q[i0]
-            cr = np.cross(q - q[i0], u)
+            cr = np.cross(dq, u)
             i2 = int(np.argmax((cr**2).sum(axis=1)))
             nrm = np.cross(q[i1] - q[i0], q[i2] - q[i0])
-            i3 = int(np.argmax(np.abs((q - q[i0]) @ nrm)))
+            i3 = int(np.argmax(np.abs(dq @ nrm)))
         cand = (i0, i1, i2, i3)
         if len(set(cand)) == 4 and pred.orient3d_sign(*cand) != 0:
             return cand
