@@ -8,7 +8,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from persistri.impl.geometry.predicates import Predicates2
-from persistri.impl.terrain.sectors import EXACT_LIMIT, sector_of, sector_sides, small_integer_points
+from persistri.impl.stats import Stats
+from persistri.impl.terrain.sectors import EXACT_LIMIT, fan_sectors, sector_of, sector_sides, small_integer_points
 
 
 @given(st.lists(st.tuples(st.integers(-(2**25), 2**25), st.integers(-(2**25), 2**25)), min_size=6, max_size=6, unique=True))
@@ -53,3 +54,58 @@ def test_sector_of_closed_ring_and_open_chain() -> None:
     assert sector_of(chain, False).tolist() == [2, 1, 0]
     with pytest.raises(ValueError, match="changes side"):
         sector_of(np.array([[True, False, True, False]]), True, check=True)
+
+
+def _fan(n: int, closed: bool) -> tuple[Predicates2, np.ndarray, np.ndarray]:
+    """p = 0 at the centre of a grid, a ring of boundary vertices around it (or half of one: an open chain), the rest samples."""
+    side = 7
+    xy = np.array([(c, r) for r in range(-3, side - 3) for c in range(-3, side - 3)], dtype=np.float64)
+    xy = np.vstack([[0.0, 0.0], xy[np.any(xy != 0.0, axis=1)]])
+    pred = Predicates2(xy)
+    # The ring: the grid's boundary cells, counterclockwise by angle (exact order: they are distinct directions).
+    border = [i for i in range(1, len(xy)) if max(abs(xy[i, 0]), abs(xy[i, 1])) == 3]
+    border.sort(key=lambda i: float(np.arctan2(xy[i, 1], xy[i, 0])))
+    ring = border[::n]
+    if closed:
+        rays = np.array(ring + ring[:1], dtype=np.intp)
+        inside = [i for i in range(1, len(xy)) if i not in ring]
+    else:
+        # An open chain from the ray along -x to the ray along +x through y < 0 ... the lower half-plane.
+        lower = sorted((i for i in border if xy[i, 1] < 0), key=lambda i: float(np.arctan2(xy[i, 1], xy[i, 0])))
+        left = next(i for i in border if xy[i, 1] == 0 and xy[i, 0] < 0)
+        right = next(i for i in border if xy[i, 1] == 0 and xy[i, 0] > 0)
+        ring = [left] + lower[::n] + [right]
+        rays = np.array(ring, dtype=np.intp)
+        inside = [i for i in range(1, len(xy)) if i not in ring and xy[i, 1] <= 0]
+    return pred, rays, np.array(inside, dtype=np.intp)
+
+
+@pytest.mark.parametrize("closed", [True, False])
+@pytest.mark.parametrize("step", [1, 2, 3])
+@pytest.mark.parametrize("exact_floats", [True, False])
+def test_fan_sectors_equals_sides_then_sector_of(closed: bool, step: int, exact_floats: bool) -> None:
+    pred, rays, samples = _fan(step, closed)
+    inner = rays[:-1] if closed else rays[1:-1]
+    expect = sector_of(sector_sides(pred, 0, inner, samples, exact_floats=False), closed, check=True)
+    order, sector = fan_sectors(pred, 0, rays, samples, closed, exact_floats=exact_floats, check=True)
+    assert sorted(order.tolist()) == list(range(samples.size))
+    assert sector.tolist() == expect[order].tolist()
+    assert np.array_equal(order, np.argsort(expect, kind="stable"))  # grouped by sector, stable within
+
+
+def test_fan_sectors_counts_the_same_tests() -> None:
+    for closed in (True, False):
+        pred, rays, samples = _fan(2, closed)
+        inner = rays[:-1] if closed else rays[1:-1]
+        a, b = Stats(), Stats()
+        sector_sides(pred, 0, inner, samples, exact_floats=True, stats=a)
+        fan_sectors(pred, 0, rays, samples, closed, exact_floats=True, stats=b)
+        assert (a.plane_side_tests, a.flops) == (b.plane_side_tests, b.flops) and a.plane_side_tests > 0
+
+
+def test_fan_sectors_rejects_a_ring_that_is_not_a_fan() -> None:
+    # Rays that wind twice round p: some samples see two + → − changes.
+    pred, rays, samples = _fan(2, True)
+    twice = np.concatenate([rays[:-1], rays])
+    with pytest.raises(ValueError, match="changes side"):
+        fan_sectors(pred, 0, twice, samples, True, exact_floats=True)

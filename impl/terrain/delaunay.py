@@ -72,7 +72,7 @@ from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Lineage, Vertex, VertexState
 from persistri.impl.geometry.predicates import Predicates2
-from persistri.impl.terrain.sectors import sector_of, sector_sides, small_integer_points
+from persistri.impl.terrain.sectors import fan_sectors, small_integer_points
 
 __all__ = [
     "TriDatum",
@@ -111,7 +111,10 @@ class Insertion:
       their new triangle in ``created`` (``point`` excluded); ``counts[i]`` of them
       belong to ``created[i]``, consecutively;
     * ``hull_vertex`` — whether ``point`` is a vertex of the new convex hull (it lay on or
-      beyond the old one: ghosts were in the cavity).
+      beyond the old one: ghosts were in the cavity);
+    * ``rays`` — the fan's boundary vertices in order, ``len(created) + 1`` of them:
+      ``created[i]`` is ``(rays[i], rays[i + 1], point)`` (a closed fan repeats its first vertex at the end);
+    * ``fan_index`` — for each of ``samples``, the position of its triangle in ``created`` (nondecreasing).
     """
 
     point: int
@@ -121,6 +124,8 @@ class Insertion:
     samples: IntArray
     counts: IntArray
     hull_vertex: bool
+    rays: IntArray
+    fan_index: IntArray
 
 
 def canonical_triangles(tris: IntArray) -> IntArray:
@@ -323,19 +328,21 @@ class Triangulator:
         if self.check and len(ring) + (0 if closed else 1) != len(boundary):
             raise TriangulationCheckError(f"insert: the cavity boundary of point {p} is not a simple cycle")
 
+        # The fan's boundary as an array: closed, the first vertex repeated at the end.
+        nfan = len(ring) if closed else len(ring) - 1
+        rays = np.array(ring + [first] if closed else ring, dtype=np.intp)
+
         # Pool the samples of the removed finite triangles and sort them into the fan's sectors.
         lists = [s for _, s in cavity.values() if s.size]
         pooled = lists[0] if len(lists) == 1 else (np.concatenate(lists) if lists else EMPTY)
         if pooled.size:
             pooled = pooled[pooled != p]
-        nfan = len(ring) if closed else len(ring) - 1
         if pooled.size and nfan > 1:
-            sector = self._sectors(p, ring, closed, pooled)
-            # A stable sort of small integers: numpy sorts int16 keys by radix, in linear time.
-            keys = sector.astype(np.int16) if nfan < 2**15 else sector
-            pooled = pooled[np.argsort(keys, kind="stable")]
-            counts = np.bincount(sector, minlength=nfan).astype(np.intp)
+            order, sector = self._sectors(p, rays, closed, pooled)
+            pooled = pooled[order]
+            counts = np.bincount(sector, minlength=nfan)
         else:
+            sector = np.zeros(pooled.size, dtype=np.intp)
             counts = np.zeros(nfan, dtype=np.intp)
             if pooled.size:
                 counts[0] = pooled.size
@@ -349,14 +356,15 @@ class Triangulator:
         fan: list[tuple[Triangle, TriDatum]] = []
         start_at = 0
         check = self.check
-        for i in range(nfan):
+        if closed:
+            ring.append(first)
+        for i, cnt in enumerate(counts.tolist()):
             u = ring[i]
-            w = ring[(i + 1) % len(ring)]
+            w = ring[i + 1]
             tri = (u, w, vp)
             if check and self.pred.orient2d_sign(u, w, p) <= 0:
                 raise TriangulationCheckError(f"insert: point {p} makes the flat or inverted triangle {tri}")
             tid = self._new_id(tri)
-            cnt = int(counts[i])
             part = pooled[start_at : start_at + cnt] if cnt else EMPTY
             start_at += cnt
             fan.append((tri, (tid, part)))
@@ -381,22 +389,29 @@ class Triangulator:
             samples=pooled,
             counts=counts,
             hull_vertex=not closed,
+            rays=_frozen(rays),
+            fan_index=_frozen(sector),
         )
 
-    def _sectors(self, p: int, ring: list[Vertex], closed: bool, pooled: IntArray) -> NDArray[np.intp]:
-        """For each pooled sample, the fan triangle ``i`` (``(ring[i], ring[i+1], p)``) that holds it.
+    def _sectors(self, p: int, rays: IntArray, closed: bool, pooled: IntArray) -> tuple[IntArray, IntArray]:
+        """The pooled samples sorted by fan triangle ``i`` (``(rays[i], rays[i+1], p)``): ``(order, i)`` (see ``fan_sectors``).
 
         The sector test of :mod:`persistri.impl.terrain.sectors`: true orient2d
-        signs against the ray to every ring vertex (the two ends of an open chain
+        signs against the ray to every boundary vertex (the two ends of an open chain
         are known: ``p`` split a hull edge and every sample is on its inner side).
         """
-        ring_idx = np.array(ring, dtype=np.intp)
-        inner = ring_idx if closed else ring_idx[1:-1]
-        sides = sector_sides(
-            self.pred, p, inner, pooled, exact_floats=self.small_integers, columns=self._columns, stats=self.pred.stats
-        )
         try:
-            return sector_of(sides, closed, check=self.check)
+            return fan_sectors(
+                self.pred,
+                p,
+                rays,
+                pooled,
+                closed,
+                exact_floats=self.small_integers,
+                columns=self._columns,
+                stats=self.pred.stats,
+                check=self.check,
+            )
         except ValueError as exc:
             raise TriangulationCheckError(f"inserting point {p}: {exc}") from None
 

@@ -59,7 +59,7 @@ import gc
 import heapq
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -130,25 +130,37 @@ def plane_errors(x: FloatArray, y: FloatArray, z: FloatArray, tri: IntArray, cou
 
 
 def fan_errors(
-    x: FloatArray, y: FloatArray, z: FloatArray, p: int, ring: IntArray, counts: IntArray, samples: IntArray
+    x: FloatArray, y: FloatArray, z: FloatArray, p: int, ring: IntArray, fan_index: IntArray, samples: IntArray
 ) -> FloatArray:
     """:func:`plane_errors` for the fan of one insertion: triangles ``(p, ring[i], ring[i+1])``, apex ``p``.
 
     ``ring`` holds the ``k + 1`` boundary vertices in fan order (the last repeats
-    the first when the fan closes around ``p``); ``samples`` are grouped by fan
-    triangle, ``counts[i]`` of them in triangle ``i``.  The differences to ``p`` are
-    computed once per ring vertex and once per sample: fewer operations than the
-    general function, the same floats.  O(k + len(samples)), vectorised.
+    the first when the fan closes around ``p``); ``samples[j]`` lies in fan
+    triangle ``fan_index[j]``.  The fan has a handful of triangles, so their
+    gradients are computed on Python floats — the same IEEE operations in the
+    same order as :func:`plane_errors`, so the same floats — and only the
+    per-sample work is vectorised (numpy calls on small arrays cost more than
+    the arithmetic).  O(k + len(samples)).
     """
-    xp, yp, zp = x[p], y[p], z[p]
-    rx, ry, rz = x[ring] - xp, y[ring] - yp, z[ring] - zp
-    dx1, dy1, dz1 = rx[:-1], ry[:-1], rz[:-1]
-    dx2, dy2, dz2 = rx[1:], ry[1:], rz[1:]
-    det = dx1 * dy2 - dx2 * dy1
-    gx = (dz1 * dy2 - dz2 * dy1) / det
-    gy = (dx1 * dz2 - dx2 * dz1) / det
-    rep = np.repeat(np.arange(counts.size), counts)
-    err: FloatArray = np.abs(z[samples] - (zp + gx[rep] * (x[samples] - xp) + gy[rep] * (y[samples] - yp)))
+    xp, yp, zp = float(x[p]), float(y[p]), float(z[p])
+    gxs: list[float] = []
+    gys: list[float] = []
+    pts = zip(x[ring].tolist(), y[ring].tolist(), z[ring].tolist())
+    x1, y1, z1 = next(pts)
+    for x2, y2, z2 in pts:
+        dx1, dy1, dz1 = x1 - xp, y1 - yp, z1 - zp
+        dx2, dy2, dz2 = x2 - xp, y2 - yp, z2 - zp
+        det = dx1 * dy2 - dx2 * dy1
+        gxs.append((dz1 * dy2 - dz2 * dy1) / det)
+        gys.append((dx1 * dz2 - dx2 * dz1) / det)
+        x1, y1, z1 = x2, y2, z2
+    plane = np.array(gxs)[fan_index]
+    plane *= x[samples] - xp
+    plane += zp
+    slope = np.array(gys)[fan_index]
+    slope *= y[samples] - yp
+    plane += slope
+    err: FloatArray = np.abs(z[samples] - plane)
     return err
 
 
@@ -341,6 +353,15 @@ def _stop_criteria(max_error: Any, max_points: Any) -> tuple[float | None, int |
     return e, k
 
 
+_PYTHON_ARGMAX: Final = 4096
+"""Up to this many new samples per insertion the candidates are chosen on a Python list; above it, by numpy per triangle.
+
+Late insertions move a few dozen samples, where a numpy call per triangle costs
+more than ``max`` and ``index`` on a list; the bound keeps the first insertions
+(10^5 samples) vectorised.  Both choose the same sample (the first of largest error).
+"""
+
+
 class _Greedy:
     """One greedy-insertion run: the triangulator, the priority queue, the kept versions."""
 
@@ -389,26 +410,33 @@ class _Greedy:
         """Queue the candidate — the first sample of largest error — of each triangle with samples and error > 0."""
         heap = self.heap
         start = 0
-        # A loop over the few new triangles: cheaper than a vectorised group-argmax at these sizes.
+        if err.size <= _PYTHON_ARGMAX:
+            # Few samples (most insertions): Python's max and index on a list beat a numpy call per triangle.
+            errs = err.tolist()
+            for tid, cnt in zip(tids, counts.tolist()):
+                if cnt:
+                    seg = errs[start : start + cnt]
+                    e = max(seg)
+                    if e > 0.0:
+                        heapq.heappush(heap, (-e, tid, int(samples[start + seg.index(e)])))
+                    start += cnt
+            return
         for tid, cnt in zip(tids, counts.tolist()):
             if cnt:
-                seg = err[start : start + cnt]
-                i = int(seg.argmax())
-                e = float(seg[i])
+                part = err[start : start + cnt]
+                i = int(part.argmax())
+                e = float(part[i])
                 if e > 0.0:
                     heapq.heappush(heap, (-e, tid, int(samples[start + i])))
                 start += cnt
 
     def _assess(self, ins: Insertion) -> None:
         """Measure the samples of the insertion's new triangles and queue their candidates."""
-        samples, counts = ins.samples, ins.counts
+        samples = ins.samples
         if not samples.size:
             return
-        created = ins.created
-        ring = [t[0] for _, t in created]
-        ring.append(created[-1][1][1])
-        err = fan_errors(self.x, self.y, self.z, ins.point, np.array(ring, dtype=np.intp), counts, samples)
-        self._queue([tid for tid, _ in created], counts, samples, err)
+        err = fan_errors(self.x, self.y, self.z, ins.point, ins.rays, ins.fan_index, samples)
+        self._queue([tid for tid, _ in ins.created], ins.counts, samples, err)
 
     def current_error(self) -> float:
         """The maximum error of the current mesh: the queue's top, once dead triangles are popped."""

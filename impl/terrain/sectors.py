@@ -8,7 +8,9 @@ triangle ``i`` iff it lies in the *sector* between the rays ``p → r_i`` and
 the second (``< 0``).  Because every fan angle is below π, the signs
 ``s_i = sign orient2d(p, r_i, q)`` of one sample, read around the ring, change
 from + to − exactly once — at its sector — and from − to + once, at the
-opposite ray.  :func:`sector_of` returns that position.
+opposite ray.  :func:`sector_of` returns that position; :func:`fan_sectors`, used
+by the triangulator, computes the signs and the positions in one pass and
+returns the samples already grouped by triangle.
 
 No tie-breaking is needed, so the *true* signs are used, and a zero may be read
 as either sign: ``s_i = 0`` means ``q`` is on the line ``p r_i``.  On the ray
@@ -40,7 +42,7 @@ from numpy.typing import NDArray
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.stats import Stats
 
-__all__ = ["EXACT_LIMIT", "FLOPS_SECTOR_TEST", "small_integer_points", "sector_sides", "sector_of"]
+__all__ = ["EXACT_LIMIT", "FLOPS_SECTOR_TEST", "small_integer_points", "sector_sides", "sector_of", "fan_sectors"]
 
 EXACT_LIMIT: Final[float] = float(2**25)
 """Largest coordinate magnitude for which :func:`sector_signs` evaluates orient2d exactly in float64."""
@@ -117,18 +119,97 @@ def sector_of(sides: BoolArray, closed: bool, *, check: bool = False) -> IntArra
     """
     m, k = sides.shape
     if closed:
-        hit = sides.copy()
-        hit[:, :-1] &= ~sides[:, 1:]
-        hit[:, -1] &= ~sides[:, 0]
+        rays = np.empty((m, k + 1), dtype=bool)
+        rays[:, :k] = sides
+        rays[:, k] = sides[:, 0]
     else:
-        hit = np.empty((m, k + 1), dtype=bool)
-        hit[:, 0] = True
-        hit[:, 1:] = sides
-        hit[:, :-1] &= ~sides
+        rays = np.empty((m, k + 2), dtype=bool)
+        rays[:, 0] = True
+        rays[:, 1 : k + 1] = sides
+        rays[:, k + 1] = False
+    return _first_change(rays, check)
+
+
+def _first_change(rays: BoolArray, check: bool) -> IntArray:
+    """For each row of ``rays`` (sides against rays ``0 … k``, bounding sectors ``0 … k−1``), where + turns to −.
+
+    ``True > False`` is the one pair a comparison of neighbours marks, so the
+    change at sector ``i`` is ``rays[:, i] > rays[:, i + 1]``; the first one wins
+    (``argmax``).  ``check`` — :class:`ValueError` unless every row has exactly one.
+    """
+    hit = rays[:, :-1] > rays[:, 1:]
     if check:
         changes = hit.sum(axis=1)
         if bool(np.any(changes != 1)):
             row = int(np.argmax(changes != 1))
             raise ValueError(f"sample row {row} changes side from + to - {int(changes[row])} times around the fan")
-    sector: IntArray = np.argmax(hit, axis=1).astype(np.intp)
+    sector: IntArray = hit.argmax(axis=1)
     return sector
+
+
+def fan_sectors(
+    pred: Predicates2,
+    p: int,
+    rays: IntArray,
+    samples: IntArray,
+    closed: bool,
+    *,
+    exact_floats: bool,
+    columns: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+    stats: Stats | None = None,
+    check: bool = False,
+) -> tuple[IntArray, IntArray]:
+    """The samples sorted into the fan's triangles: ``(order, sector)``, ``samples[order]`` grouped by triangle.
+
+    Triangle ``i`` of the fan lies between the rays ``p → rays[i]`` and
+    ``p → rays[i+1]``; ``rays`` are the fan's boundary vertices in order, the
+    first repeated at the end when the fan is ``closed`` (so ``len(rays) − 1``
+    triangles either way; the two ends of an open chain are known, + and −, and
+    not tested).  ``sector[j]`` is the triangle of ``samples[order[j]]``,
+    nondecreasing; within a triangle the samples keep their order (stable).
+    The same answers as :func:`sector_sides` then :func:`sector_of` and a stable
+    sort, and ``stats`` counts the same tests.
+
+    On the exact float path (``exact_floats``, ``columns`` as in
+    :func:`sector_sides`) the work is laid out ray by ray — a ``(rays, samples)``
+    array — so that every numpy operation runs over contiguous rows: the signs,
+    the + → − changes (``True > False`` of neighbouring rays), and their
+    positions in one ``nonzero``, which lists them sector by sector, i.e. already
+    sorted.  A sample without exactly one change (excluded by the module
+    docstring's argument) raises :class:`ValueError`, ``check`` or not.
+    O(len(samples) · len(rays)).
+    """
+    k = rays.size - 1
+    if not exact_floats:
+        inner = rays[:-1] if closed else rays[1:-1]
+        sides = sector_sides(pred, p, inner, samples, exact_floats=False, stats=stats)
+        found = sector_of(sides, closed, check=check)
+        order: IntArray = np.argsort(found, kind="stable")
+        return order, found[order]
+    m = samples.size
+    tested = k if closed else k - 1
+    if stats is not None:
+        stats.plane_side_tests += m * tested
+        stats.flops += FLOPS_SECTOR_TEST * m * tested
+    if columns is None:
+        xy = pred.points
+        columns = (xy[:, 0], xy[:, 1])
+    x, y = columns
+    px, py = x[p], y[p]
+    rx = x[rays] - px
+    ry = y[rays] - py
+    qx = x[samples] - px
+    qy = y[samples] - py
+    # orient2d(p, r, q) = (r − p) × (q − p) = rx·qy − ry·qx, exact here (module docstring).
+    det = np.multiply.outer(rx, qy)
+    det -= np.multiply.outer(ry, qx)
+    signs = det >= 0
+    if not closed:
+        signs[0] = True
+        signs[k] = False
+    sector, order = np.nonzero(signs[:-1] > signs[1:])
+    if sector.size != m:
+        found = signs[:-1] > signs[1:]
+        row = int(np.argmax(found.sum(axis=0) != 1))
+        raise ValueError(f"sample row {row} changes side from + to - {int(found[:, row].sum())} times around the fan")
+    return order, sector
