@@ -59,6 +59,7 @@ import gc
 import heapq
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from itertools import chain
 from typing import Any, Final
 
 import numpy as np
@@ -304,9 +305,10 @@ def _tin(
     stats: Stats | None,
 ) -> Tin:
     items = [(t, d) for t, d in structure.items(version) if infinite not in t]
-    tri = np.array([t for t, _ in items], dtype=np.intp).reshape(-1, 3)
+    # fromiter over the flattened labels: numpy converts a list of tuples of int subclasses (Vertex) slowly.
+    tri = np.fromiter(chain.from_iterable(t for t, _ in items), dtype=np.intp, count=3 * len(items)).reshape(-1, 3)
     lists = [d[1] for _, d in items]
-    counts = np.array([s.size for s in lists], dtype=np.intp)
+    counts = np.fromiter(map(len, lists), dtype=np.intp, count=len(lists))
     n_total = z.size
     rank = np.full(n_total, -1, dtype=np.intp)
     rank[inserted] = np.arange(inserted.size, dtype=np.intp)
