@@ -358,17 +358,20 @@ class Triangulator:
         check = self.check
         if closed:
             ring.append(first)
+        tid = self._next_id
         for i, cnt in enumerate(counts.tolist()):
             u = ring[i]
             w = ring[i + 1]
             tri = (u, w, vp)
             if check and self.pred.orient2d_sign(u, w, p) <= 0:
                 raise TriangulationCheckError(f"insert: point {p} makes the flat or inverted triangle {tri}")
-            tid = self._new_id(tri)
+            tri_of[tid] = tri  # as _new_id, inlined: once per fan triangle
             part = pooled[start_at : start_at + cnt] if cnt else EMPTY
             start_at += cnt
             fan.append((tri, (tid, part)))
             created.append((tid, tri))
+            tid += 1
+        self._next_id = tid
         if not closed:
             # The two ghosts on the new hull edges (ring[-1], p) and (p, ring[0]).
             for tri in ((ring[-1], inf, vp), (inf, ring[0], vp)):

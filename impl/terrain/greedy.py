@@ -143,7 +143,7 @@ def fan_errors(
     per-sample work is vectorised (numpy calls on small arrays cost more than
     the arithmetic).  O(k + len(samples)).
     """
-    xp, yp, zp = float(x[p]), float(y[p]), float(z[p])
+    xp, yp, zp = x.item(p), y.item(p), z.item(p)
     gxs: list[float] = []
     gys: list[float] = []
     pts = zip(x[ring].tolist(), y[ring].tolist(), z[ring].tolist())
@@ -415,12 +415,14 @@ class _Greedy:
         if err.size <= _PYTHON_ARGMAX:
             # Few samples (most insertions): Python's max and index on a list beat a numpy call per triangle.
             errs = err.tolist()
+            sample = samples.item
+            push = heapq.heappush
             for tid, cnt in zip(tids, counts.tolist()):
                 if cnt:
                     seg = errs[start : start + cnt]
                     e = max(seg)
                     if e > 0.0:
-                        heapq.heappush(heap, (-e, tid, int(samples[start + seg.index(e)])))
+                        push(heap, (-e, tid, sample(start + seg.index(e))))
                     start += cnt
             return
         for tid, cnt in zip(tids, counts.tolist()):
