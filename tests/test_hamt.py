@@ -10,7 +10,9 @@ the equality tests really made, ``_check`` catching hand-broken tries, and the
 
 from __future__ import annotations
 
+import copy as copy_module
 import operator
+import pickle
 import random
 from collections.abc import Callable
 from typing import Any
@@ -21,7 +23,7 @@ from hypothesis import strategies as st
 
 from persistri.impl.maps import backend
 from persistri.impl.maps.counted import counted
-from persistri.impl.maps.hamt import _BRANCH, _COLLISION, HamtMap, HMap, hamt
+from persistri.impl.maps.hamt import _BIT, _FULL, HamtMap, HMap, hamt
 from persistri.impl.stats import Stats
 from persistri.spec.ord_map import NotFound
 from persistri.spec.order import NATURAL_ORDER
@@ -86,17 +88,30 @@ def key_maker(name: str) -> Callable[[int], HKey]:
 # -- looking inside the trie ----------------------------------------------------
 
 
-def nodes(m: HMap[Any, Any]) -> list[tuple[int, tuple[int, tuple[Any, ...]]]]:
+def is_collision(node: tuple[Any, ...]) -> bool:
+    """Whether a child is a collision node ``(0, 0, hash, k, v, …)``."""
+    return len(node) > 2 and node[0] == 0 and node[1] == 0
+
+
+def children(node: tuple[Any, ...]) -> tuple[Any, ...]:
+    """The children of a bitmap node (bitmap nodes and collision nodes), in slot order, after its leaves."""
+    return node[2 + 2 * node[0].bit_count() :]
+
+
+def leaves(node: tuple[Any, ...]) -> list[tuple[Any, Any]]:
+    """The inline ``(key, value)`` leaves of a bitmap node, in slot order."""
+    split = 2 + 2 * node[0].bit_count()
+    return list(zip(node[2:split:2], node[3:split:2]))
+
+
+def nodes(m: HMap[Any, Any]) -> list[tuple[int, tuple[Any, ...]]]:
     """Every bitmap node of ``m`` with its depth (root = 0)."""
     out = []
     stack = [(0, m.root)]
     while stack:
         depth, node = stack.pop()
         out.append((depth, node))
-        array = node[1]
-        for j in range(0, len(array), 2):
-            if array[j] is _BRANCH:
-                stack.append((depth + 1, array[j + 1]))
+        stack.extend((depth + 1, c) for c in children(node) if not is_collision(c))
     return out
 
 
@@ -105,11 +120,12 @@ def depth(m: HMap[Any, Any]) -> int:
     return max(d for d, _ in nodes(m))
 
 
-def collision_nodes(m: HMap[Any, Any]) -> list[tuple[int, tuple[Any, ...]]]:
-    out = []
-    for _, (_, array) in nodes(m):
-        out.extend(array[j + 1] for j in range(0, len(array), 2) if array[j] is _COLLISION)
-    return out
+def collision_nodes(m: HMap[Any, Any]) -> list[tuple[Any, ...]]:
+    return [c for _, node in nodes(m) for c in children(node) if is_collision(c)]
+
+
+def collision_keys(c: tuple[Any, ...]) -> list[Any]:
+    return list(c[3::2])
 
 
 def build(items: list[tuple[Any, Any]]) -> HMap[Any, Any]:
@@ -216,7 +232,7 @@ def test_python_int_collisions() -> None:
     assert hash(-1) == hash(-2) and hash(0) == hash(P) == hash(2 * P) == hash(-P)
     m = build([(-1, "a"), (-2, "b"), (0, "z"), (P, "p"), (2 * P, "pp"), (-P, "-p"), (5, "five")])
     hamt._check(m)
-    sizes = sorted(len(c[1]) // 2 for c in collision_nodes(m))
+    sizes = sorted(len(collision_keys(c)) for c in collision_nodes(m))
     assert sizes == [2, 4]
     assert hamt.find(m, -1) == ("a",) and hamt.find(m, -2) == ("b",)
     assert hamt.find(m, P) == ("p",) and hamt.find(m, 3 * P) is None
@@ -227,7 +243,7 @@ def test_python_int_collisions() -> None:
     m2, v = hamt.remove(m, -2)
     assert v == "b"
     hamt._check(m2)
-    assert sorted(len(c[1]) // 2 for c in collision_nodes(m2)) == [4]
+    assert sorted(len(collision_keys(c)) for c in collision_nodes(m2)) == [4]
     assert hamt.find(m2, -1) == ("a",) and hamt.find(m2, -2) is None
     # The old version still has both.
     assert hamt.find(m, -2) == ("b",)
@@ -238,10 +254,11 @@ def test_collision_node_meets_a_different_hash() -> None:
     a, b = HKey(1, 0), HKey(2, 0)
     c = HKey(3, 1 << 5)  # same level-0 slot (0), different level-1 slot
     m = build([(a, "a"), (b, "b")])
-    assert m.root[1][0] is _COLLISION
+    assert m.root[:2] == (0, 1) and is_collision(m.root[2])
     m2 = hamt.insert(m, c, "c")
     hamt._check(m2)
-    assert m2.root[1][0] is _BRANCH and depth(m2) == 1
+    assert m2.root[:2] == (0, 1) and not is_collision(m2.root[2]) and depth(m2) == 1
+    assert len(children(m2.root[2])) == 1 and leaves(m2.root[2]) == [(c, "c")]
     assert [hamt.find(m2, k) for k in (a, b, c)] == [("a",), ("b",), ("c",)]
     m3, _ = hamt.remove(m2, c)
     assert m3 == m  # the collision node moves back up into the root
@@ -273,11 +290,12 @@ def test_remove_not_found_everywhere() -> None:
 
 
 def test_deep_trie_ints() -> None:
-    """``0`` and ``2**60`` agree on hash bits 0–59: a chain of single-branch nodes, parting at depth 12."""
+    """``0`` and ``2**60`` agree on hash bits 0–59: a chain of single-child nodes, parting at depth 15."""
     m = build([(0, "a"), (1 << 60, "b")])
     hamt._check(m)
-    assert depth(m) == 12
-    assert all(len(node[1]) == 2 and node[1][0] is _BRANCH for d, node in nodes(m) if d < 12)
+    assert depth(m) == 15
+    assert all(node[:2] == (0, 1) and len(node) == 3 for d, node in nodes(m) if d < 15)
+    assert [leaves(node) for d, node in nodes(m) if d == 15] == [[(0, "a"), (1 << 60, "b")]]
     m2, _ = hamt.remove(m, 0)
     hamt._check(m2)
     assert depth(m2) == 0 and m2 == hamt.singleton(1 << 60, "b")
@@ -289,21 +307,22 @@ def test_deep_trie_sign_bit() -> None:
     assert hash(b) < 0
     m = build([(a, 0), (b, 1)])
     hamt._check(m)
-    assert depth(m) == 12 and not collision_nodes(m)
+    assert depth(m) == 15 and not collision_nodes(m)
     c = HKey(2, 5)  # same full hash as a: a collision node at the bottom
     m2 = hamt.insert(m, c, 2)
     hamt._check(m2)
-    assert depth(m2) == 12 and len(collision_nodes(m2)) == 1
+    assert depth(m2) == 15 and len(collision_nodes(m2)) == 1
     m3, _ = hamt.remove(m2, b)
     hamt._check(m3)
-    assert depth(m3) == 0 and m3.root[1][0] is _COLLISION  # the collision node rises to the root
+    # The collision node rises to the root.
+    assert depth(m3) == 0 and m3.root[:2] == (0, _BIT[5]) and collision_keys(m3.root[2]) == [a, c]
 
 
 def test_many_deep_keys() -> None:
     key = key_maker("shared-58-bits")
     m = build([(key(n), n) for n in range(64)])
     hamt._check(m)
-    assert depth(m) == 12
+    assert depth(m) == 15
     for n in range(0, 64, 2):
         m, _ = hamt.remove(m, key(n))
         hamt._check(m)
@@ -320,13 +339,17 @@ def test_structural_sharing() -> None:
     rng.shuffle(keys)
     m = build([(k, k) for k in keys])
     m2 = hamt.insert(m, 12345, 0)
-    old, new = m.root[1], m2.root[1]
-    assert len(old) == len(new) == 64
+    old, new = m.root, m2.root
+    assert old[1] is new[1] is _FULL and len(old) == len(new) == 18  # the two bitmaps and 16 children
     changed = [j for j in range(len(old)) if old[j] is not new[j]]
-    assert changed == [2 * (12345 & 31) + 1]
+    assert changed == [2 + (12345 & 15)]
     m3, _ = hamt.remove(m2, 12345)
-    assert m3 == m and m3.root[1][2 * (12345 & 31) + 1] is not m.root[1][2 * (12345 & 31) + 1]
+    assert m3 == m and m3.root[2 + (12345 & 15)] is not m.root[2 + (12345 & 15)]
     hamt._check(m)
+    # insertWith on a present key shares just as much, and leaves the old version alone.
+    m4 = hamt.insertWith(combine, m, 777, 1)
+    assert [j for j in range(18) if m4.root[j] is not m.root[j]] == [2 + (777 & 15)]
+    assert hamt.find(m4, 777) == (777 * 31 + 1,) and hamt.find(m, 777) == (777,)
 
 
 # -- search_cost ---------------------------------------------------------------
@@ -377,23 +400,35 @@ def broken(size: int, root: Any) -> HMap[Any, Any]:
     return HMap(size, root)
 
 
+def _chain(levels: int, bottom: tuple[Any, ...]) -> tuple[Any, ...]:
+    """``bottom`` under ``levels`` single-child nodes whose one child sits in slot 15 (a root in slot 14)."""
+    node = bottom
+    for _ in range(levels):
+        node = (0, _BIT[15], node)
+    return (0, _BIT[14], node)
+
+
 @pytest.mark.parametrize(
     ("m", "message"),
     [
-        (broken(1, (0b11, (1, "a"))), "bits set but its array holds"),
-        (broken(1, (0b100, (1, "a"))), "hash selects slot 1"),
-        (broken(1, (1 << 32, (1, "a"))), "32-bit"),
-        (broken(1, (0b1, (_BRANCH, (0b1, (0, "a"))))), "single leaf"),
-        (broken(0, (0b1, (_BRANCH, (0, ())))), "empty non-root node"),
-        (broken(2, (0b1, (_BRANCH, (0b1, (_COLLISION, (0, (0, "a", P, "b"))))))), "single collision node"),
-        (broken(1, (0b1, (_COLLISION, (0, (0, "a"))))), "not ≥ 2"),
-        (broken(2, (0b1, (_COLLISION, (0, (P, "b", 0, "a"))))), "before"),
-        (broken(2, (0b1, (_COLLISION, (0, (0, "a", 0, "b"))))), "before"),
-        (broken(2, (0b1, (_COLLISION, (0, (0, "a", 1, "b"))))), "is in the collision node of hash 0"),
-        (broken(2, (0b10, (_COLLISION, (0, (0, "a", P, "b"))))), "collision node of hash 0 sits in slot 1"),
-        (broken(3, (0b11, (0, "a", 1, "b"))), "stored size 3"),
-        (broken(1, (0b11, (0, "a", 1))), "array holds 1.5 entries"),
-        (broken(1, [0b1, (0, "a")]), "not \\(bitmap, array\\)"),
+        (broken(1, (0b11, 0, 1, "a")), r"holds 2 item\(s\), not 4"),
+        (broken(1, (0b100, 0, 1, "a")), "hash selects slot 1"),
+        (broken(1, (1 << 16, 0, 1, "a")), "16-bit"),
+        (broken(1, (0b1, 0b1, 0, "a", (0b1, 0, 0, "a"))), "both leaf and child"),
+        (broken(1, (0, 0b1, (0b1, 0, 0, "a"))), "single leaf"),
+        (broken(0, (0, 0b1, (0, 0))), "empty non-root node"),
+        (broken(2, (0, 0b1, (0, 0b1, (0, 0, 0, 0, "a", P, "b")))), "single collision node"),
+        (broken(1, (0, 0b1, (0, 0, 0, 0, "a"))), "not ≥ 2"),
+        (broken(2, (0, 0b1, (0, 0, 0, P, "b", 0, "a"))), "before"),
+        (broken(2, (0, 0b1, (0, 0, 0, 0, "a", 0, "b"))), "before"),
+        (broken(2, (0, 0b1, (0, 0, 0, 0, "a", 1, "b"))), "is in the collision node of hash 0"),
+        (broken(2, (0, 0b10, (0, 0, 0, 0, "a", P, "b"))), "collision node of hash 0 sits in slot 1"),
+        (broken(2, (0, 0b1, (0, 0, 0, 0, "a", P))), "malformed"),
+        (broken(3, (0b11, 0, 0, "a", 1, "b")), "stored size 3"),
+        (broken(1, (0b11, 0, 0, "a", 1)), r"holds 3 item\(s\), not 4"),
+        (broken(1, [0b1, 0, 0, "a"]), "not a bitmap node"),
+        (broken(1, (0, 0b1, 7)), "is not a node"),
+        (broken(2, _chain(16, (0b11, 0, 0, "a", 1, "b"))), "below the 16 levels"),
     ],
 )
 def test_check_detects_broken_tries(m: HMap[Any, Any], message: str) -> None:
@@ -404,11 +439,63 @@ def test_check_detects_broken_tries(m: HMap[Any, Any], message: str) -> None:
 def test_check_detects_flipped_bitmap_in_real_trie() -> None:
     m = build([(k, k) for k in range(200)])
     hamt._check(m)
-    bitmap, array = m.root[1][1]  # the level-1 node under slot 0
-    for bad_bitmap in (bitmap ^ 1, bitmap ^ (1 << 31)):
-        bad_root = (m.root[0], (_BRANCH, (bad_bitmap, array)) + m.root[1][2:])
+    assert m.root[1] is _FULL
+    child = m.root[2]  # the level-1 node under slot 0: the keys 0, 16, …, 192 as leaves
+    assert child[1] == 0 and [k for k, _ in leaves(child)] == list(range(0, 200, 16))
+    for bad in ((child[0] ^ 1, *child[1:]), (child[0] ^ (1 << 15), *child[1:]), (child[0], 0b1, *child[2:])):
+        bad_root = (m.root[0], m.root[1], bad, *m.root[3:])
         with pytest.raises(AssertionError):
             hamt._check(HMap(m.size, bad_root))
+    # A full nodemap must be the shared _FULL object (find tests it by identity).
+    copied = int(str(_FULL))
+    assert copied == _FULL and copied is not _FULL
+    with pytest.raises(AssertionError, match="full nodemap that is not _FULL"):
+        hamt._check(HMap(m.size, (m.root[0], copied, *m.root[2:])))
+
+
+def test_full_nodes_share_the_full_bitmap() -> None:
+    """Every nodemap with all 16 slots set, however it came about, is ``_FULL`` itself."""
+    rng = random.Random(5)
+    keys = list(range(3000))
+    rng.shuffle(keys)
+    m = build([(k, k) for k in keys])
+    full = [node for _, node in nodes(m) if node[1] == _FULL]
+    assert len(full) == 1 + 16 and all(node[1] is _FULL for node in full)  # the root and its 16 children
+    for k in keys[:2000]:
+        m, _ = hamt.remove(m, k)
+    for k in keys[:2000]:
+        m = hamt.insertWith(combine, m, k, k)
+    hamt._check(m)
+    assert all(node[1] is _FULL for _, node in nodes(m) if node[1] == _FULL)
+
+
+def test_pickle_round_trip_keeps_full_nodes_shared() -> None:
+    """Unpickled ints are new objects: the map rebuilds its full nodemaps as ``_FULL`` (``_check`` holds)."""
+    m = build([(k, str(k)) for k in range(3000)] + [(-1, "a"), (-2, "b")])
+    for copy in (pickle.loads(pickle.dumps(m)), copy_module.deepcopy(m), copy_module.copy(m)):
+        assert type(copy) is HMap and copy == m
+        hamt._check(copy)
+        assert copy.root[1] is _FULL
+        assert hamt.find(copy, 2999) == ("2999",) and hamt.find(copy, -2) == ("b",)
+    assert pickle.loads(pickle.dumps(hamt.empty())) == hamt.empty()
+
+
+def test_insert_with_exception_leaves_the_map() -> None:
+    """An exception from ``f`` propagates unchanged; the map passed in is intact (f is called once)."""
+    m = build([(k, k) for k in range(500)])
+    calls: list[int] = []
+
+    def boom(old: int, new: int) -> int:
+        calls.append(old)
+        raise LookupError("from f")
+
+    for k in (3, 499, 256):
+        with pytest.raises(LookupError, match="from f"):
+            hamt.insertWith(boom, m, k, 0)
+    assert calls == [3, 499, 256]
+    hamt._check(m)
+    assert hamt.listItemsi(m) == [(k, k) for k in range(500)]
+    assert hamt.insertWith(boom, m, 1000, 7).size == 501  # absent: f is not called
 
 
 # -- the API boundary --------------------------------------------------------------
@@ -486,7 +573,7 @@ def test_structure_identity() -> None:
     assert backend("hamt") is hamt
     assert isinstance(hamt, HamtMap)
     assert hamt.Key is NATURAL_ORDER
-    assert hamt.empty() == HMap(0, (0, ()))
+    assert hamt.empty() == HMap(0, (0, 0))
     assert hamt.singleton(3, "x") == hamt.insert(hamt.empty(), 3, "x")
     assert hamt.find(build([(2, None)]), 2) == (None,)  # SOME None is not NONE
     with pytest.raises(TypeError, match="not orderable"):
@@ -503,7 +590,7 @@ def test_workload_100k() -> None:
     m = build([(k, -k) for k in keys])
     hamt._check(m)
     assert hamt.numItems(m) == 100_000
-    assert depth(m) == 3  # 17 bits of hash: levels of 5, 5, 5 and 2 bits
+    assert depth(m) == 4  # 17 bits of hash: levels of 4, 4, 4, 4 and 1 bit
     gone = keys[::2]
     for k in gone:
         m, v = hamt.remove(m, k)

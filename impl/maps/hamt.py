@@ -3,26 +3,47 @@
 One of the map backends the paper's simplicial complexes (§2) can be built on,
 beside the red-black tree the paper uses and the association-list baseline.
 
-A map is its number of items and a trie of **bitmap nodes**.  A bitmap node is
-the pair ``(bitmap, array)``: bit ``b`` of the 32-bit ``bitmap`` is set when slot
-``b`` is occupied, and ``array`` is a tuple holding only the occupied slots, in
-slot order, two items per slot:
+A map is its number of items and a trie of **bitmap nodes** indexed by the bits
+of ``hash(key)``, 4 bits (16 slots) per level.  Following Steindorfer and
+Vinju's refinement of Bagwell's node (CHAMP, OOPSLA 2015), a node carries two
+16-bit bitmaps and one flat tuple::
 
-* ``key, value``          — a leaf;
-* ``_BRANCH, node``       — a sub-trie (a bitmap node one level down);
-* ``_COLLISION, cnode``   — a **collision node** ``(hash, array)``: two or more
-  keys whose full hashes are equal, ``array = (k1, v1, k2, v2, …)`` in
-  increasing key order.
+    (datamap, nodemap, k_1, v_1, …, k_d, v_d, child_1, …, child_c)
 
-At depth ``d`` a key's slot is bits ``5d … 5d+4`` of ``hash(key)``; the slot's
-index in ``array`` is twice the number of bitmap bits below it
-(``int.bit_count``), so a node spends memory only on what it holds.  On a
-64-bit build Python's hashes have 64 bits (``sys.hash_info.width``), so two
-different hashes part within 13 levels (levels 0–12; the last reads bits 60–63
-and the sign); keys whose whole hashes are equal share a collision node, placed
-where they would otherwise need a deeper node.
+* bit ``s`` of ``datamap`` is set when slot ``s`` holds a **leaf**, the pair
+  ``k, v`` stored inline in the tuple;
+* bit ``s`` of ``nodemap`` is set when slot ``s`` holds a **child**: a bitmap
+  node one level down, or a **collision node** ``(0, 0, hash, k_1, v_1, …)``:
+  two or more keys whose full hashes are equal, in increasing key order (both
+  bitmaps 0, which no bitmap node but the empty root has);
+* the bitmaps are disjoint; the leaves come first, then the children, each in
+  slot order.  A slot's position is a population count (``int.bit_count``) of
+  its bitmap below the slot, so a node spends memory only on what it holds:
+  leaf ``s``'s key is at ``2 + 2·popcount(datamap & (2**s − 1))``, child ``s``
+  at ``2 + 2·popcount(datamap) + popcount(nodemap & (2**s − 1))`` (leaves
+  first: a search ends at a leaf once, but passes children at every level,
+  and a full node has no leaves).
 
-**Persistence** is by path copying: an operation rebuilds the ≤ 14 nodes on the
+At depth ``d`` a key's slot is bits ``4d … 4d+3`` of ``hash(key)``.  Python's
+hashes have 64 bits on a 64-bit build (``sys.hash_info.width``), so two
+different hashes part within 16 levels (levels 0–15; the last reads bits 60–63
+with the sign); keys whose whole hashes are equal share a collision node,
+placed where they would otherwise need a deeper node.
+
+Why this layout, measured on the 2-complex workload (``persistri bench
+complex``): CPython pays for every int operation and for every item of a tuple
+it copies.  Bagwell's single bitmap with tagged two-item entries paid for the
+tag test and copied 2 items per child; two bitmaps tell leaves from children
+with no tag, and a child costs one item.  16 slots instead of Bagwell's 32 keep
+bitmaps below 2**30 (one-digit ints, the fast path of CPython's int
+operations) and halve the tuples copied per level, for one more level per
+16-fold growth.  A node whose 16 slots all hold children stores the module's
+one ``_FULL`` int object as its nodemap (an invariant: every operation and
+unpickling restore it), so a search recognises it by identity and indexes the
+slot directly; the top levels of a large map are full.  ``insertWith`` of a
+present key descends once and copies the path on the way back.
+
+**Persistence** is by path copying: an operation rebuilds the ≤ 16 nodes on the
 path to its key and shares every other node with the old version; no node of
 any version is ever mutated (they are tuples).
 
@@ -44,10 +65,12 @@ equal as values, and ``_check`` can verify the shape exactly.
 ======================  ====================  ======================================
 operation               time                  notes
 ======================  ====================  ======================================
-find, lookup, inDomain  O(log₃₂ n) expected   one key equality test (or a scan of a
+find, lookup, inDomain  O(log₁₆ n) expected   one key equality test (or a scan of a
                                               collision node)
-insert, insertWith      O(log₃₂ n) expected   copies the path: ≤ 32 slots per node
-remove                  O(log₃₂ n) expected   copies the path, pulls lone entries up
+insert, insertWith      O(log₁₆ n) expected   copies the path: ≤ 34 items per node;
+                                              one descent for a present key or a
+                                              new one in an empty slot
+remove                  O(log₁₆ n) expected   copies the path, pulls lone entries up
 numItems, isEmpty       O(1)                  the size is stored
 listItemsi, listKeys,   O(n log n)            ``ORD_MAP`` lists in increasing key
 foldli                                        order, so the items are sorted
@@ -72,7 +95,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Hashable
 from operator import itemgetter
-from typing import Any, Generic, NamedTuple, Protocol, TypeAlias, TypeVar
+from typing import Any, Final, Generic, NamedTuple, Protocol, TypeAlias, TypeVar
 
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound
@@ -89,32 +112,27 @@ K = TypeVar("K", bound=HashKey)
 V = TypeVar("V")
 B = TypeVar("B")
 
-_Array: TypeAlias = tuple[Any, ...]
-"""A node's compact array: two items per occupied slot (see the module docstring)."""
+_Node: TypeAlias = tuple[Any, ...]
+"""A bitmap node ``(datamap, nodemap, k, v, …, children…)`` or a collision node ``(0, 0, hash, k, v, …)``."""
 
-_Node: TypeAlias = tuple[int, _Array]
-"""A bitmap node ``(bitmap, array)`` or a collision node ``(hash, array)``."""
+_BITS: Final = 4
+"""Hash bits read per level."""
+_WIDTH: Final = 1 << _BITS
+"""Slots per node (16)."""
+_MASK: Final = _WIDTH - 1
+_LEVELS: Final = 16
+"""Levels that separate any two different 64-bit hashes (64 / 4)."""
+_FULL: Final = (1 << _WIDTH) - 1
+"""The nodemap of a node whose every slot holds a child: always this very object (see :func:`_full`)."""
+_BIT: Final = tuple(1 << s for s in range(_WIDTH))
+"""``_BIT[s] = 2**s``: precomputed, so the hot paths allocate no int for it."""
+_LOW: Final = tuple((1 << s) - 1 for s in range(_WIDTH))
+"""``_LOW[s]``: the bits below slot ``s``, whose population count is the slot's position."""
 
-
-class _Tag:
-    """A marker in a key position of an array: the next item is a node, not a value."""
-
-    __slots__ = ("_name",)
-
-    def __init__(self, name: str) -> None:
-        self._name = name
-
-    def __repr__(self) -> str:
-        return self._name
-
-
-# Neither tag orders against itself, so ``insert`` can never store one as a key.
-_BRANCH = _Tag("_BRANCH")
-_COLLISION = _Tag("_COLLISION")
-
-_BITS = 5
-_MASK = (1 << _BITS) - 1
-_WIDTH = 1 << _BITS
+_ENTRIES: Final = 2
+"""Index of a bitmap node's first entry (after its two bitmaps): its first leaf, or its first child."""
+_CKEYS: Final = 3
+"""Index of a collision node's first key (after ``0, 0, hash``)."""
 
 
 class HMap(NamedTuple, Generic[K, V]):
@@ -127,14 +145,41 @@ class HMap(NamedTuple, Generic[K, V]):
     size: int
     """The number of items, so ``numItems`` is O(1)."""
     root: _Node
-    """The root bitmap node (the only node allowed to be empty or to hold a single leaf)."""
+    """The root bitmap node (the only node allowed to be empty or to hold a single leaf or collision node)."""
+
+    def __reduce__(self) -> tuple[Callable[[int, _Node], HMap[K, V]], tuple[int, _Node]]:
+        """Pickle as ``(size, root)``, rebuilt by :func:`_unpickle` (which restores the shared ``_FULL``)."""
+        return (_unpickle, (self[0], self[1]))
 
 
-_EMPTY_ROOT: _Node = (0, ())
+_EMPTY_ROOT: _Node = (0, 0)
 # ``HMap(size, root)`` goes through NamedTuple's Python-level ``__new__``; the
 # tuple constructor builds the same value several times faster.
 _new_map = tuple.__new__
 _first = itemgetter(0)
+
+
+def _full(nodemap: int) -> int:
+    """``nodemap``, as the shared ``_FULL`` object when every slot is set (the identity test of ``find``)."""
+    return _FULL if nodemap == _FULL else nodemap
+
+
+def _interned(node: _Node) -> _Node:
+    """``node`` with every full nodemap below it made the shared ``_FULL`` (an unpickled int is a new object)."""
+    datamap, nodemap = node[0], node[1]
+    if not (datamap or nodemap):  # a collision node, or the empty root
+        return node
+    split = (datamap.bit_count() << 1) + _ENTRIES
+    return (datamap, _full(nodemap), *node[_ENTRIES:split], *map(_interned, node[split:]))
+
+
+def _unpickle(size: int, root: _Node) -> HMap[Any, Any]:
+    """The map ``(size, root)`` of a pickle, its full nodemaps shared again. O(n)."""
+    return HMap(size, _interned(root))
+
+
+class _Absent(Exception):
+    """Raised by :func:`_update` when it cannot do the change in one descent: ``insertWith`` then inserts in full."""
 
 
 # -- errors at the API boundary -------------------------------------------------
@@ -160,22 +205,32 @@ def _not_ordered(k: object, exc: TypeError) -> TypeError:
     return TypeError(f"hamt: key {k!r} is not ordered with the keys of this map ({exc})")
 
 
+def _hash(k: object) -> int:
+    try:
+        return hash(k)
+    except TypeError:
+        raise _unhashable(k) from None
+
+
 # -- node builders ----------------------------------------------------------------
 
 
-def _split(shift: int, k1: Any, v1: Any, h1: int, k2: Any, v2: Any, h2: int) -> _Node:
-    """The bitmap node at ``shift`` holding two entries whose hashes ``h1 != h2`` agree below ``shift``.
+def _join(hx: int, x: _Node, h: int, k: Any, v: Any) -> _Node:
+    """The bitmap node holding the entry ``x`` and the new leaf ``k ↦ v``, whose hashes differ.
 
-    While the two slots agree, each level is a node with a single ``_BRANCH``
-    (canonical: the entries cannot part any sooner).  At most 13 levels.
+    ``x`` is a leaf ``(key, value)`` or a collision node; ``hx`` and ``h`` are
+    the two hashes shifted to this node's level.  While their slots agree, each
+    level is a node with a single child (canonical: the entries cannot part any
+    sooner).  At most 16 levels.
     """
-    s1 = (h1 >> shift) & _MASK
-    s2 = (h2 >> shift) & _MASK
-    if s1 == s2:
-        return (1 << s1, (_BRANCH, _split(shift + _BITS, k1, v1, h1, k2, v2, h2)))
-    if s1 < s2:
-        return ((1 << s1) | (1 << s2), (k1, v1, k2, v2))
-    return ((1 << s1) | (1 << s2), (k2, v2, k1, v1))
+    sx = hx & _MASK
+    s = h & _MASK
+    if sx == s:
+        return (0, _BIT[s], _join(hx >> _BITS, x, h >> _BITS, k, v))
+    bx, b = _BIT[sx], _BIT[s]
+    if len(x) == 2:  # two leaves, in slot order
+        return (bx | b, 0, *x, k, v) if sx < s else (bx | b, 0, k, v, *x)
+    return (b, bx, k, v, x)
 
 
 def _collision_pair(h: int, k1: Any, v1: Any, k2: Any, v2: Any) -> _Node:
@@ -184,62 +239,111 @@ def _collision_pair(h: int, k1: Any, v1: Any, k2: Any, v2: Any) -> _Node:
         first = k2 < k1
     except TypeError as exc:
         raise _not_ordered(k2, exc) from None
-    return (h, (k2, v2, k1, v1) if first else (k1, v1, k2, v2))
+    return (0, 0, h, k2, v2, k1, v1) if first else (0, 0, h, k1, v1, k2, v2)
 
 
-def _collision_insert(
-    cnode: _Node, k: Any, v: Any, f: Callable[[Any, Any], Any] | None
-) -> tuple[_Node, bool]:
+def _collision_insert(cnode: _Node, k: Any, v: Any, f: Callable[[Any, Any], Any]) -> tuple[_Node, bool]:
     """``cnode`` with ``k ↦ v`` (or ``f(old, v)``), and whether it grew. O(c) for c colliding keys."""
-    h, array = cnode
-    n = len(array)
-    for j in range(0, n, 2):
-        key = array[j]
+    n = len(cnode)
+    for j in range(_CKEYS, n, 2):
+        key = cnode[j]
         if key is k or key == k:
-            new_v = v if f is None else f(array[j + 1], v)
-            return (h, array[:j] + (k, new_v) + array[j + 2 :]), False
+            return (*cnode[:j], k, f(cnode[j + 1], v), *cnode[j + 2 :]), False
     _check_orderable(k)
-    j = 0
+    j = _CKEYS
     try:
-        while j < n and array[j] < k:
+        while j < n and cnode[j] < k:
             j += 2
     except TypeError as exc:
         raise _not_ordered(k, exc) from None
-    return (h, array[:j] + (k, v) + array[j:]), True
+    return (*cnode[:j], k, v, *cnode[j:]), True
 
 
-def _collision_remove(cnode: _Node, k: Any) -> tuple[_Array, Any]:
+def _collision_remove(cnode: _Node, k: Any) -> tuple[_Node, Any]:
     """The entry replacing ``cnode`` once ``k`` is removed, and ``k``'s value; :class:`NotFound` if absent.
 
-    The entry is ``(_COLLISION, smaller node)``, or the leaf ``(key, value)`` when
+    The entry is the smaller collision node, or the leaf ``(key, value)`` when
     one key is left (canonical form).
     """
-    h, array = cnode
-    for j in range(0, len(array), 2):
-        key = array[j]
+    for j in range(_CKEYS, len(cnode), 2):
+        key = cnode[j]
         if key is k or key == k:
-            rest = array[:j] + array[j + 2 :]
-            if len(rest) == 2:
-                return rest, array[j + 1]
-            return (_COLLISION, (h, rest)), array[j + 1]
+            rest = cnode[:j] + cnode[j + 2 :]
+            if len(rest) == _CKEYS + 2:
+                return rest[_CKEYS:], cnode[j + 1]
+            return rest, cnode[j + 1]
     raise NotFound(k)
+
+
+def _child_to_leaf(node: _Node, j: int, s: int, k: Any, v: Any) -> _Node:
+    """``node`` with its child at index ``j`` (slot ``s``) replaced by the leaf ``k ↦ v``."""
+    datamap, nodemap = node[0], node[1]
+    bit = _BIT[s]
+    q = ((datamap & _LOW[s]).bit_count() << 1) + _ENTRIES  # after the leaves below slot s (q < j)
+    return (datamap | bit, nodemap ^ bit, *node[_ENTRIES:q], k, v, *node[q:j], *node[j + 1 :])
+
+
+def _replace(old: Any, new: Any) -> Any:
+    """``insert``'s combining function: the new value replaces the old."""
+    return new
+
+
+def _update(node: _Node, h: int, k: Any, f: Callable[[Any, Any], Any], v: Any, grew: list[bool]) -> _Node:
+    """``node`` with ``k ↦ f(old, v)`` if ``k ↦ old`` is a leaf, or the new leaf ``k ↦ v`` in an empty slot.
+
+    The hot path of ``insertWith``: one descent, the path copied on the way
+    back.  ``h`` is ``k``'s hash shifted to this level; a new leaf appends to
+    ``grew`` (the caller's own list, so a reentrant ``f`` cannot disturb it).
+    Where the change needs more (``k``'s slot holds another key, or a
+    collision node, whose bitmaps are both 0), raises :class:`_Absent`.
+    """
+    # Literals 15, 4, 2 for _MASK, _BITS, _ENTRIES: a constant load is cheaper than a global one.
+    nodemap = node[1]
+    if nodemap is _FULL:
+        j = (h & 15) + 2
+    else:
+        s = h & 15
+        bit = _BIT[s]
+        datamap = node[0]
+        if datamap & bit:
+            i = ((datamap & _LOW[s]).bit_count() << 1) + 2
+            key = node[i]
+            if key is k or key == k:
+                # A list copy with items replaced beats slicing and concatenating.
+                copy = list(node)
+                copy[i] = k
+                copy[i + 1] = f(node[i + 1], v)
+                return tuple(copy)
+            raise _Absent
+        if not nodemap & bit:
+            if not (datamap or nodemap):
+                raise _Absent
+            try:
+                k < k  # noqa: B015 - the cheap orderability check of a new key
+            except TypeError:
+                raise _unorderable(k) from None
+            grew.append(True)
+            i = ((datamap & _LOW[s]).bit_count() << 1) + 2
+            return (datamap | bit, nodemap, *node[2:i], k, v, *node[i:])
+        j = (datamap.bit_count() << 1) + (nodemap & _LOW[s]).bit_count() + 2
+    copy = list(node)
+    copy[j] = _update(node[j], h >> 4, k, f, v, grew)
+    return tuple(copy)
 
 
 def _items(root: _Node) -> list[tuple[Any, Any]]:
     """Every ``(key, value)`` of the trie, in trie order. O(n), iterative."""
     out: list[tuple[Any, Any]] = []
-    stack = [root[1]]
+    stack = [root]
     while stack:
-        array = stack.pop()
-        for j in range(0, len(array), 2):
-            key = array[j]
-            if key is _BRANCH:
-                stack.append(array[j + 1][1])
-            elif key is _COLLISION:
-                carray = array[j + 1][1]
-                out.extend(zip(carray[0::2], carray[1::2]))
-            else:
-                out.append((key, array[j + 1]))
+        node = stack.pop()
+        nodemap = node[1]
+        if not (nodemap or node[0]):  # a collision node (or the empty root)
+            out.extend(zip(node[_CKEYS::2], node[_CKEYS + 1 :: 2]))
+            continue
+        split = (node[0].bit_count() << 1) + _ENTRIES
+        out.extend(zip(node[_ENTRIES:split:2], node[_ENTRIES + 1 : split : 2]))
+        stack.extend(node[split:])
     return out
 
 
@@ -278,178 +382,201 @@ class HamtMap(Generic[K, V]):
 
     def singleton(self, k: K, v: V, /) -> HMap[K, V]:
         """The map ``{k ↦ v}``: a root holding one leaf. O(1)."""
-        try:
-            h = hash(k)
-        except TypeError:
-            raise _unhashable(k) from None
+        h = _hash(k)
         _check_orderable(k)
-        return HMap(1, (1 << (h & _MASK), (k, v)))
+        return HMap(1, (_BIT[h & _MASK], 0, k, v))
 
     def insert(self, m: HMap[K, V], k: K, v: V, /) -> HMap[K, V]:
-        """``m`` with ``k ↦ v`` (replacing key and value if ``k`` is present). O(log₃₂ n) expected."""
-        return self._insert(m, k, v, None)
+        """``m`` with ``k ↦ v`` (replacing key and value if ``k`` is present). O(log₁₆ n) expected."""
+        return self.insertWith(_replace, m, k, v)
 
     def insertWith(self, f: Callable[[V, V], V], m: HMap[K, V], k: K, v: V, /) -> HMap[K, V]:
-        """``m`` with ``k ↦ f(old, v)`` if ``k ↦ old`` is in ``m``, else ``k ↦ v``. O(log₃₂ n) expected."""
-        return self._insert(m, k, v, f)
+        """``m`` with ``k ↦ f(old, v)`` if ``k ↦ old`` is in ``m``, else ``k ↦ v``. O(log₁₆ n) expected.
 
-    def _insert(self, m: HMap[K, V], k: K, v: V, f: Callable[[V, V], V] | None) -> HMap[K, V]:
-        """Path-copying insertion: walk down to ``k``'s slot, change it, rebuild the path upwards."""
+        A key stored as a leaf, or an absent key whose slot is empty, costs one
+        descent (:func:`_update`); a key meeting another key or a collision
+        node, a second one (:meth:`_insert`).  Exceptions raised by ``f``
+        propagate unchanged, and ``m`` is unaffected.
+        """
         try:
             h = hash(k)
         except TypeError:
             raise _unhashable(k) from None
-        size, (bitmap, array) = m
-        path: list[tuple[int, _Array, int]] = []
-        shift = 0
+        grew: list[bool] = []
+        try:
+            root = _update(m[1], h, k, f, v, grew)
+        except _Absent:
+            return self._insert(m, k, v, f, h)
+        return _new_map(HMap, (m[0] + 1 if grew else m[0], root))
+
+    def _insert(self, m: HMap[K, V], k: K, v: V, f: Callable[[V, V], V], h0: int) -> HMap[K, V]:
+        """Path-copying insertion: walk down to ``k``'s slot, change it, rebuild the path upwards."""
+        size, node = m
+        h = h0
+        path: list[tuple[_Node, int]] = []
         while True:
-            bit = 1 << ((h >> shift) & _MASK)
-            i = (bitmap & (bit - 1)).bit_count() << 1
-            if not bitmap & bit:
-                try:
-                    k < k  # noqa: B015 - the cheap orderability check, inlined on the hot path
-                except TypeError:
-                    raise _unorderable(k) from None
-                bitmap |= bit
-                array = array[:i] + (k, v) + array[i:]
-                size += 1
-                break
-            key = array[i]
-            if key is _BRANCH:
-                path.append((bitmap, array, i))
-                bitmap, array = array[i + 1]
-                shift += _BITS
-                continue
-            # The slot is taken: compute its new (key, value) entry ...
-            new_key: Any
-            new_val: Any
-            if key is _COLLISION:
-                cnode = array[i + 1]
-                if cnode[0] == h:
-                    cnode, grew = _collision_insert(cnode, k, v, f)
-                    new_key, new_val = _COLLISION, cnode
+            datamap = node[0]
+            nodemap = node[1]
+            s = h & _MASK
+            bit = _BIT[s]
+            if nodemap & bit:
+                j = (datamap.bit_count() << 1) + (nodemap & _LOW[s]).bit_count() + _ENTRIES
+                child = node[j]
+                if child[1] or child[0]:  # a bitmap node: one level down
+                    path.append((node, j))
+                    node = child
+                    h >>= _BITS
+                    continue
+                # A collision node in k's slot: k joins it, or they part one level down.
+                if child[2] == h0:
+                    child, grew = _collision_insert(child, k, v, f)
                     size += grew
                 else:
                     _check_orderable(k)
-                    new_key, new_val = _BRANCH, _split(shift + _BITS, _COLLISION, cnode, cnode[0], k, v, h)
+                    child = _join(child[2] >> (_BITS * (len(path) + 1)), child, h >> _BITS, k, v)
                     size += 1
-            elif key is k or key == k:
-                new_key, new_val = k, (v if f is None else f(array[i + 1], v))
-            else:
+                copy = list(node)
+                copy[j] = child
+                node = tuple(copy)
+                break
+            i = ((datamap & _LOW[s]).bit_count() << 1) + _ENTRIES
+            if datamap & bit:
+                key = node[i]
+                if key is k or key == k:
+                    copy = list(node)
+                    copy[i] = k
+                    copy[i + 1] = f(node[i + 1], v)
+                    node = tuple(copy)
+                    break
+                # Another key in k's slot: the leaf becomes a child holding both.
                 _check_orderable(k)
-                h2 = hash(key)
-                if h2 == h:
-                    new_key, new_val = _COLLISION, _collision_pair(h, key, array[i + 1], k, v)
+                hk = hash(key)
+                if hk == h0:
+                    child = _collision_pair(h0, key, node[i + 1], k, v)
                 else:
-                    new_key, new_val = _BRANCH, _split(shift + _BITS, key, array[i + 1], h2, k, v, h)
+                    child = _join(hk >> (_BITS * (len(path) + 1)), (key, node[i + 1]), h >> _BITS, k, v)
+                j = (datamap.bit_count() << 1) + (nodemap & _LOW[s]).bit_count() + _ENTRIES  # where the child goes
+                node = (datamap ^ bit, _full(nodemap | bit), *node[_ENTRIES:i], *node[i + 2 : j], child, *node[j:])
                 size += 1
-            # ... and store it in a copy: a list copy with items replaced beats slicing and concatenating.
-            copy = list(array)
-            copy[i] = new_key
-            copy[i + 1] = new_val
-            array = tuple(copy)
+                break
+            try:
+                k < k  # noqa: B015 - the cheap orderability check, inlined
+            except TypeError:
+                raise _unorderable(k) from None
+            node = (datamap | bit, nodemap, *node[_ENTRIES:i], k, v, *node[i:])
+            size += 1
             break
-        node: _Node = (bitmap, array)
         while path:
-            bitmap, array, i = path.pop()
-            copy = list(array)
-            copy[i + 1] = node
-            node = (bitmap, tuple(copy))
+            parent, j = path.pop()
+            copy = list(parent)
+            copy[j] = node
+            node = tuple(copy)
         return _new_map(HMap, (size, node))
 
     def find(self, m: HMap[K, V], k: K, /) -> Option[V]:
-        """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``. O(log₃₂ n) expected, one equality test."""
+        """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``. O(log₁₆ n) expected, one equality test."""
         try:
             h = hash(k)
         except TypeError:
             raise _unhashable(k) from None
-        bitmap, array = m[1]
-        shift = 0
+        # Literals 15, 4, 2 for _MASK, _BITS, _ENTRIES: a constant load is cheaper than a global one.
+        node = m[1]
+        nodemap = node[1]
         while True:
-            bit = 1 << ((h >> shift) & _MASK)
-            if not bitmap & bit:
+            while nodemap is _FULL:  # the top levels of a large map: the slot is the child's index
+                node = node[(h & 15) + 2]
+                h >>= 4
+                nodemap = node[1]
+            s = h & 15
+            bit = _BIT[s]
+            datamap = node[0]
+            if datamap & bit:
+                i = ((datamap & _LOW[s]).bit_count() << 1) + 2
+                key = node[i]
+                if key is k or key == k:
+                    return (node[i + 1],)
                 return None
-            i = (bitmap & (bit - 1)).bit_count() << 1
-            key = array[i]
-            if key is _BRANCH:
-                bitmap, array = array[i + 1]
-                shift += _BITS
-            elif key is _COLLISION:
-                ch, carray = array[i + 1]
-                if ch != h:
-                    return None
-                for j in range(0, len(carray), 2):
-                    ck = carray[j]
-                    if ck is k or ck == k:
-                        return (carray[j + 1],)
+            if nodemap & bit:
+                node = node[(datamap.bit_count() << 1) + (nodemap & _LOW[s]).bit_count() + 2]
+                h >>= 4
+                nodemap = node[1]
+                continue
+            if datamap or nodemap or len(node) == 2:  # an empty slot of a bitmap node (or the empty root)
                 return None
-            elif key is k or key == k:
-                return (array[i + 1],)
-            else:
+            if node[2] != hash(k):  # a collision node of another hash
                 return None
+            for j in range(_CKEYS, len(node), 2):
+                key = node[j]
+                if key is k or key == k:
+                    return (node[j + 1],)
+            return None
 
     def lookup(self, m: HMap[K, V], k: K, /) -> V:
-        """The value of ``k``; raises :class:`NotFound` if absent. O(log₃₂ n) expected."""
+        """The value of ``k``; raises :class:`NotFound` if absent. O(log₁₆ n) expected."""
         found = self.find(m, k)
         if found is None:
             raise NotFound(k)
         return found[0]
 
     def inDomain(self, m: HMap[K, V], k: K, /) -> bool:
-        """Whether ``k`` is in ``m``. O(log₃₂ n) expected."""
+        """Whether ``k`` is in ``m``. O(log₁₆ n) expected."""
         return self.find(m, k) is not None
 
     def remove(self, m: HMap[K, V], k: K, /) -> tuple[HMap[K, V], V]:
-        """``(m without k, value of k)``; raises :class:`NotFound` if absent. O(log₃₂ n) expected.
+        """``(m without k, value of k)``; raises :class:`NotFound` if absent. O(log₁₆ n) expected.
 
         Keeps the canonical form: a non-root node left holding one leaf or one
         collision node is replaced, in its parent, by that entry, repeatedly up
-        the path.
+        the path; a collision node left with one key becomes a leaf.
         """
-        try:
-            h = hash(k)
-        except TypeError:
-            raise _unhashable(k) from None
-        size, (bitmap, array) = m
-        path: list[tuple[int, _Array, int]] = []
-        shift = 0
+        h0 = _hash(k)
+        size, node = m
+        h = h0
+        path: list[tuple[_Node, int, int]] = []  # (node, index of the child taken, its slot)
+        value: Any
         while True:
-            bit = 1 << ((h >> shift) & _MASK)
-            if not bitmap & bit:
-                raise NotFound(k)
-            i = (bitmap & (bit - 1)).bit_count() << 1
-            key = array[i]
-            if key is _BRANCH:
-                path.append((bitmap, array, i))
-                bitmap, array = array[i + 1]
-                shift += _BITS
-                continue
-            if key is _COLLISION:
-                cnode = array[i + 1]
-                if cnode[0] != h:
+            datamap = node[0]
+            nodemap = node[1]
+            s = h & _MASK
+            bit = _BIT[s]
+            if nodemap & bit:
+                j = (datamap.bit_count() << 1) + (nodemap & _LOW[s]).bit_count() + _ENTRIES
+                child = node[j]
+                if child[1] or child[0]:  # a bitmap node: one level down
+                    path.append((node, j, s))
+                    node = child
+                    h >>= _BITS
+                    continue
+                if child[2] != h0:
                     raise NotFound(k)
-                entry, value = _collision_remove(cnode, k)
-                copy = list(array)
-                copy[i : i + 2] = entry
-                array = tuple(copy)
-            elif key is k or key == k:
-                value = array[i + 1]
-                bitmap ^= bit
-                array = array[:i] + array[i + 2 :]
-            else:
-                raise NotFound(k)
-            break
+                entry, value = _collision_remove(child, k)
+                if len(entry) == 2:  # one key left: the collision node becomes a leaf
+                    node = _child_to_leaf(node, j, s, entry[0], entry[1])
+                else:
+                    copy = list(node)
+                    copy[j] = entry
+                    node = tuple(copy)
+                break
+            if datamap & bit:
+                i = ((datamap & _LOW[s]).bit_count() << 1) + _ENTRIES
+                key = node[i]
+                if key is k or key == k:
+                    value = node[i + 1]
+                    node = (datamap ^ bit, nodemap, *node[_ENTRIES:i], *node[i + 2 :])
+                    break
+            raise NotFound(k)
         while path:
-            parent_bitmap, parent, i = path.pop()
+            parent, j, s = path.pop()
+            if node[1] == 0 and len(node) == _ENTRIES + 2:
+                # A non-root node left with a lone leaf: the leaf moves up.
+                node = _child_to_leaf(parent, j, s, node[2], node[3])
+                continue
+            if node[0] == 0 and len(node) == _ENTRIES + 1 and not (node[2][0] or node[2][1]):
+                node = node[2]  # a non-root node left with a lone collision node: it moves up
             copy = list(parent)
-            if len(array) == 2 and array[0] is not _BRANCH:
-                # A non-root node left with a lone leaf or collision node: the entry moves up.
-                copy[i] = array[0]
-                copy[i + 1] = array[1]
-            else:
-                copy[i + 1] = (bitmap, array)
-            bitmap, array = parent_bitmap, tuple(copy)
-        return _new_map(HMap, (size - 1, (bitmap, array))), value
+            copy[j] = node
+            node = tuple(copy)
+        return _new_map(HMap, (size - 1, node)), value
 
     def numItems(self, m: HMap[K, V], /) -> int:
         """The number of items. O(1)."""
@@ -479,41 +606,36 @@ class HamtMap(Generic[K, V]):
         none where the slot is empty or a collision node's hash differs.
         Walks the same path as :meth:`find`.
         """
-        try:
-            h = hash(k)
-        except TypeError:
-            raise _unhashable(k) from None
-        bitmap, array = m[1]
-        shift = 0
+        h0 = _hash(k)
+        h = h0
+        node = m[1]
         while True:
-            bit = 1 << ((h >> shift) & _MASK)
-            if not bitmap & bit:
-                return 0
-            i = (bitmap & (bit - 1)).bit_count() << 1
-            key = array[i]
-            if key is _BRANCH:
-                bitmap, array = array[i + 1]
-                shift += _BITS
-            elif key is _COLLISION:
-                ch, carray = array[i + 1]
-                if ch != h:
+            datamap, nodemap = node[0], node[1]
+            if not (datamap or nodemap):  # a collision node, or the empty root
+                if len(node) == 2 or node[2] != h0:
                     return 0
                 cost = 0
-                for j in range(0, len(carray), 2):
+                for j in range(_CKEYS, len(node), 2):
                     cost += 1
-                    ck = carray[j]
-                    if ck is k or ck == k:
+                    key = node[j]
+                    if key is k or key == k:
                         break
                 return cost
-            else:
+            s = h & _MASK
+            if datamap & _BIT[s]:
                 return 1
+            if not nodemap & _BIT[s]:
+                return 0
+            node = node[(datamap.bit_count() << 1) + (nodemap & _LOW[s]).bit_count() + _ENTRIES]
+            h >>= _BITS
 
     def _check(self, m: HMap[K, V], /) -> None:
         """Assert every representation invariant, with a message naming the broken one.
 
-        Bitmaps are 32-bit and their popcount is the array's number of entries;
-        every key sits in the slot its hash bits select at each level; a
-        collision node holds ≥ 2 keys, all of its hash, in strictly increasing
+        Bitmaps are disjoint 16-bit naturals, a full nodemap is the shared
+        ``_FULL`` object, and a node's length is 2 + its children + twice its
+        leaves; every key sits in the slot its hash bits select at each level;
+        a collision node holds ≥ 2 keys, all of its hash, in strictly increasing
         order, in the slot its hash selects; no node is empty and no node holds
         a single leaf or a single collision node, except the root; the stored
         size is the real count; no key occurs twice.  O(n · depth).
@@ -521,58 +643,52 @@ class HamtMap(Generic[K, V]):
         assert isinstance(m, tuple) and len(m) == 2, f"hamt: a map is (size, root), got {m!r}"
         size, root = m
         keys: list[Any] = []
-        # (node, shift, slots on the path to it); the root has shift 0 and no slots.
+        # (node, depth, slots on the path to it); the root has depth 0 and no slots.
         stack: list[tuple[Any, int, tuple[int, ...]]] = [(root, 0, ())]
         while stack:
-            node, shift, slots = stack.pop()
+            node, depth, slots = stack.pop()
             where = f"node at slots {list(slots)}"
-            assert isinstance(node, tuple) and len(node) == 2, f"hamt: {where} is not (bitmap, array): {node!r}"
-            bitmap, array = node
-            assert isinstance(bitmap, int) and 0 <= bitmap < (1 << _WIDTH), (
-                f"hamt: {where} has bitmap {bitmap!r}, not a {_WIDTH}-bit natural number"
-            )
-            assert isinstance(array, tuple), f"hamt: {where} has array {array!r}, not a tuple"
-            entries = len(array) // 2
-            assert len(array) == 2 * bitmap.bit_count(), (
-                f"hamt: {where} has bitmap {bitmap:#034b} with {bitmap.bit_count()} bits set "
-                f"but its array holds {len(array) / 2:g} entries"
-            )
-            if slots:
-                assert entries > 0, f"hamt: {where} is an empty non-root node"
-                assert entries > 1 or array[0] is _BRANCH, (
-                    f"hamt: {where} is a non-root node holding a single "
-                    f"{'collision node' if array[0] is _COLLISION else 'leaf'} (it belongs in its parent)"
+            assert isinstance(node, tuple) and len(node) >= 2, f"hamt: {where} is not a bitmap node: {node!r}"
+            datamap, nodemap = node[0], node[1]
+            for name, bits in (("datamap", datamap), ("nodemap", nodemap)):
+                assert isinstance(bits, int) and 0 <= bits <= _FULL, (
+                    f"hamt: {where} has {name} {bits!r}, not a {_WIDTH}-bit natural number"
                 )
-            j = 0
+            assert not datamap & nodemap, (
+                f"hamt: {where} has slots both leaf and child: datamap {datamap:#06x}, nodemap {nodemap:#06x}"
+            )
+            assert nodemap != _FULL or nodemap is _FULL, f"hamt: {where} has a full nodemap that is not _FULL"
+            children, leaves = nodemap.bit_count(), datamap.bit_count()
+            assert len(node) == _ENTRIES + children + 2 * leaves, (
+                f"hamt: {where} has {children} child bit(s) and {leaves} leaf bit(s) "
+                f"but holds {len(node) - _ENTRIES} item(s), not {children + 2 * leaves}"
+            )
+            assert depth < _LEVELS, f"hamt: {where} is at depth {depth}, below the {_LEVELS} levels of a hash"
+            if slots:
+                assert children + leaves > 0, f"hamt: {where} is an empty non-root node"
+                if children + leaves == 1:
+                    assert leaves == 0, f"hamt: {where} is a non-root node holding a single leaf (it belongs in its parent)"
+                    only = node[_ENTRIES]  # no leaves: the child
+                    assert not (isinstance(only, tuple) and len(only) > 2 and only[0] == only[1] == 0), (
+                        f"hamt: {where} is a non-root node holding a single collision node (it belongs in its parent)"
+                    )
+            d = _ENTRIES
+            c = _ENTRIES + 2 * leaves
             for slot in range(_WIDTH):
-                if not bitmap >> slot & 1:
-                    continue
                 here = (*slots, slot)
-                key, val = array[j], array[j + 1]
-                j += 2
-                if key is _BRANCH:
-                    stack.append((val, shift + _BITS, here))
-                elif key is _COLLISION:
-                    assert isinstance(val, tuple) and len(val) == 2, (
-                        f"hamt: collision node at slots {list(here)} is not (hash, array): {val!r}"
+                if nodemap >> slot & 1:
+                    child = node[c]
+                    c += 1
+                    assert isinstance(child, tuple) and len(child) >= 2, (
+                        f"hamt: the child at slots {list(here)} is not a node: {child!r}"
                     )
-                    ch, carray = val
-                    assert isinstance(carray, tuple) and len(carray) % 2 == 0, (
-                        f"hamt: collision node at slots {list(here)} has a malformed array {carray!r}"
-                    )
-                    assert len(carray) >= 4, (
-                        f"hamt: collision node at slots {list(here)} holds {len(carray) // 2} key(s), not ≥ 2"
-                    )
-                    _check_slots(ch, here, f"collision node of hash {ch!r}")
-                    ckeys = carray[0::2]
-                    for ck in ckeys:
-                        assert hash(ck) == ch, (
-                            f"hamt: key {ck!r} (hash {hash(ck)}) is in the collision node of hash {ch}"
-                        )
-                    for a, b in zip(ckeys, ckeys[1:]):
-                        assert a < b, f"hamt: collision node at slots {list(here)} has {a!r} before {b!r}"
-                    keys.extend(ckeys)
-                else:
+                    if child[0] == 0 and child[1] == 0 and len(child) > 2:
+                        keys.extend(_check_collision(child, here))
+                    else:
+                        stack.append((child, depth + 1, here))
+                elif datamap >> slot & 1:
+                    key = node[d]
+                    d += 2
                     _check_slots(hash(key), here, f"key {key!r}")
                     keys.append(key)
         assert len(keys) == size, f"hamt: stored size {size} but the trie holds {len(keys)} keys"
@@ -580,6 +696,22 @@ class HamtMap(Generic[K, V]):
 
     def __repr__(self) -> str:
         return "hamt"
+
+
+def _check_collision(cnode: _Node, slots: tuple[int, ...]) -> list[Any]:
+    """Assert the invariants of the collision node at ``slots``; its keys."""
+    where = f"collision node at slots {list(slots)}"
+    assert len(cnode) % 2 == 1, f"hamt: {where} has a malformed tuple {cnode!r}"
+    assert len(cnode) >= _CKEYS + 4, f"hamt: {where} holds {(len(cnode) - _CKEYS) // 2} key(s), not ≥ 2"
+    ch = cnode[2]
+    assert isinstance(ch, int), f"hamt: {where} has hash {ch!r}, not an int"
+    _check_slots(ch, slots, f"collision node of hash {ch!r}")
+    ckeys = list(cnode[_CKEYS::2])
+    for ck in ckeys:
+        assert hash(ck) == ch, f"hamt: key {ck!r} (hash {hash(ck)}) is in the collision node of hash {ch}"
+    for a, b in zip(ckeys, ckeys[1:]):
+        assert a < b, f"hamt: {where} has {a!r} before {b!r}"
+    return ckeys
 
 
 def _check_slots(h: int, slots: tuple[int, ...], what: str) -> None:
