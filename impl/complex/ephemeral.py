@@ -77,7 +77,7 @@ from persistri.impl.complex.two_complex import (
     _group,
     _Missing,
     _Present,
-    _sequence,
+    _arguments,
     _Unbatched,
 )
 from persistri.impl.complex.vertex import Vertex
@@ -401,10 +401,7 @@ class EphemeralTwoComplex(TwoComplex[D]):
         write, so bad input (what the fold of ``rem`` and ``add`` would raise,
         decided on a copy of the table) changes nothing.
         """
-        if type(removed) is not list and type(removed) is not tuple:
-            removed = _sequence(removed, "removed")
-        if type(added) is not list and type(added) is not tuple:
-            added = _sequence(added, "added")
+        removed, added = _arguments(removed, added)
         try:
             fam, rep, lin = c
             if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex

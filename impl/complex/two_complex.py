@@ -268,6 +268,15 @@ def _group(removed: Sequence[Any], added: Sequence[Any], lin: Lineage | None) ->
     return changes, out_lin
 
 
+def _arguments(removed: Any, added: Any) -> tuple[Sequence[Any], Sequence[Any]]:
+    """``replace``'s two arguments as sequences (lists and tuples as they are; read twice on the error path)."""
+    if type(removed) is not list and type(removed) is not tuple:
+        removed = _sequence(removed, "removed")
+    if type(added) is not list and type(added) is not tuple:
+        added = _sequence(added, "added")
+    return removed, added
+
+
 Combine = Callable[[tuple[Entry, ...], Any], tuple[Entry, ...]]
 
 
@@ -482,10 +491,7 @@ class TwoComplex(ComplexStructure[D]):
         7 vertices: 7 map updates where ``rem`` and ``add`` make 30.  O(V_t·lg V +
         Σ δ) with V_t the vertices touched and δ their list lengths.
         """
-        if type(removed) is not list and type(removed) is not tuple:
-            removed = _sequence(removed, "removed")
-        if type(added) is not list and type(added) is not tuple:
-            added = _sequence(added, "added")
+        removed, added = _arguments(removed, added)
         try:
             fam, rep, lin = c
             if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex
