@@ -142,12 +142,18 @@ def sphere_trace(triangles: int, seed: int = DEFAULT_SEED, *, stepwise: bool = F
     where: dict[int, int] = {}  # datum -> index in faces
     serial = 0
 
-    def add(t: Triangle) -> None:
-        nonlocal cx, serial
-        cx = rec.add(cx, t, serial)
-        where[serial] = len(faces)
-        faces.append((t, serial))
+    def remember(t: Triangle) -> int:
+        """Record ``t`` among the current triangles; its datum (a serial number)."""
+        nonlocal serial
+        x = serial
+        where[x] = len(faces)
+        faces.append((t, x))
         serial += 1
+        return x
+
+    def add(t: Triangle) -> None:
+        nonlocal cx
+        cx = rec.add(cx, t, remember(t))
 
     def forget(x: int) -> None:
         i = where.pop(x)
@@ -188,13 +194,7 @@ def sphere_trace(triangles: int, seed: int = DEFAULT_SEED, *, stepwise: bool = F
             for u, w in cycle:
                 add((u, w, p))
             continue
-        tent: list[tuple[Triangle, int]] = []
-        for u, w in cycle:
-            t = (u, w, p)
-            where[serial] = len(faces)
-            faces.append((t, serial))
-            tent.append((t, serial))
-            serial += 1
+        tent = [((u, w, p), remember((u, w, p))) for u, w in cycle]
         cx = rec.replace(cx, list(patch.values()), tent)
         for xid in patch:
             forget(xid)

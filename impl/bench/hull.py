@@ -51,6 +51,7 @@ __all__ = [
     "HullBench",
     "run_hull_bench",
     "hull_table",
+    "cpu_seconds",
 ]
 
 DEFAULT_HULL_SIZES: Final = (16_384, 65_536, 262_144)
@@ -164,7 +165,7 @@ class HullBench:
         return out
 
 
-def _cpu(run: Callable[[], Any], repeat: int) -> tuple[float, Any]:
+def cpu_seconds(run: Callable[[], Any], repeat: int) -> tuple[float, Any]:
     """(best CPU seconds of ``repeat`` calls, the last result), the cyclic collector off while timing."""
     best = float("inf")
     result: Any = None
@@ -186,7 +187,7 @@ def _cpu(run: Callable[[], Any], repeat: int) -> tuple[float, Any]:
 def _qhull(points: NDArray[np.float64], repeat: int) -> tuple[float, NDArray[np.intp]]:
     from scipy.spatial import ConvexHull
 
-    seconds, hull = _cpu(lambda: ConvexHull(points), max(3, repeat))
+    seconds, hull = cpu_seconds(lambda: ConvexHull(points), max(3, repeat))
     return seconds, np.sort(np.asarray(hull.vertices, dtype=np.intp))
 
 
@@ -265,7 +266,7 @@ def run_hull_bench(
             measured: list[tuple[str, float, int, bool, int]] = []
             for b in subjects:
                 report(f"{dist} {n:,}: persistri on {b}")
-                seconds, hull = _cpu(lambda: convex_hull(points, backend=b, seed=seed), repeat)
+                seconds, hull = cpu_seconds(lambda: convex_hull(points, backend=b, seed=seed), repeat)
                 agrees = bool(np.array_equal(hull.vertices, q_vertices))
                 measured.append((b, seconds, hull.insertions, agrees, int(hull.vertices.size)))
                 del hull

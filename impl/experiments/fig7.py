@@ -27,7 +27,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Final
 
-from persistri.impl.experiments.counts import HullCount, HullCountCache, hull_counts
+from persistri.impl.experiments.counts import HullCount, HullCountCache
+from persistri.impl.experiments.fig6 import run_fig6
 from persistri.impl.experiments.output import (
     Comparison,
     Progress,
@@ -71,23 +72,8 @@ def run_fig7(
     """
     if not seeds:
         raise ValueError("fig7: give at least one seed")
-    total = len(seeds) * len(dists) * size
-    done = 0
-    records: list[HullCount] = []
-    for dist in dists:
-        for seed in seeds:
-            what = f"{dist} {size_label(size)} points, seed {seed}"
-
-            def tick(k: int, what: str = what) -> None:
-                nonlocal done
-                done += k
-                if progress is not None:
-                    progress(done, total, what)
-
-            if progress is not None:
-                progress(done, total, what)
-            records.append(hull_counts(dist, size, seed, backend=backend, cache=cache, on_points=tick))
-    return records
+    # Fig. 6's runs at the one size: the same records, in the same order (distribution, then seed).
+    return run_fig6([size], seeds=seeds, dists=dists, backend=backend, progress=progress, cache=cache)
 
 
 def _mean(records: Sequence[HullCount], dist: str, attr: str) -> float:

@@ -30,12 +30,11 @@ not let one conclude.  Progress is reported in steps.
 
 from __future__ import annotations
 
-import gc
 import time
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any, Final, Literal
+from typing import Final, Literal
 
 from persistri.impl.experiments.output import (
     Comparison,
@@ -92,25 +91,6 @@ class Fig8Record:
         return asdict(self)
 
 
-def _cpu(run: Any, repeat: int) -> tuple[float, Any]:
-    """(best CPU seconds of ``repeat`` calls of ``run``, the last result), the cyclic collector off while timing."""
-    best = float("inf")
-    result: Any = None
-    enabled = gc.isenabled()
-    for _ in range(repeat):
-        result = None
-        gc.collect()
-        gc.disable()
-        try:
-            t0 = time.process_time()
-            result = run()
-            best = min(best, time.process_time() - t0)
-        finally:
-            if enabled:
-                gc.enable()
-    return best, result
-
-
 def run_fig8(
     sizes: Sequence[int] = PAPER_SIZES,
     *,
@@ -131,6 +111,7 @@ def run_fig8(
     from scipy.spatial import ConvexHull
 
     from persistri.impl.bench.complex import SUBJECTS, hull_trace, run_complex_bench
+    from persistri.impl.bench.hull import cpu_seconds
     from persistri.impl.hull.api import convex_hull
     from persistri.impl.hull.distributions import on_sphere
 
@@ -160,10 +141,10 @@ def run_fig8(
             label = f"OnSphere {size_label(n)}, seed {seed}"
             points = on_sphere(n, seed)
             report(f"{label}: Qhull")
-            q_s, q_hull = _cpu(lambda: ConvexHull(points), max(3, repeat))
+            q_s, q_hull = cpu_seconds(lambda: ConvexHull(points), max(3, repeat))
             done += 1
             report(f"{label}: persistri's whole hull ({total_backend})")
-            t_s, hull = _cpu(lambda: convex_hull(points, backend=total_backend, seed=seed, stepwise=True), 1)
+            t_s, hull = cpu_seconds(lambda: convex_hull(points, backend=total_backend, seed=seed, stepwise=True), 1)
             triangles = int(hull.simplices.shape[0])
             same = bool(set(hull.vertices.tolist()) == set(q_hull.vertices.tolist()))
             del hull
