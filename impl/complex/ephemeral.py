@@ -34,7 +34,7 @@ the map registry :data:`persistri.impl.maps.BACKENDS`, whose every entry is a
 persistent ``ORD_MAP``.
 
 Costs (δ = the length of a vertex's list, about 6 on a triangulated sphere):
-``data``, ``find``, ``findi`` one dict lookup + δ entries; ``add`` three dict
+``data``, ``find``, ``findi``, ``neighbour`` one dict lookup + δ entries; ``add`` three dict
 updates (the first also scans for the triangle in either orientation);
 ``rem`` three lookups + three updates; each O(δ) expected, independent of the
 number of vertices.
@@ -251,6 +251,41 @@ class EphemeralTwoComplex(TwoComplex[D]):
         if self._stats is not None:
             self._count(1, len(lst))
         return [((u, w, e[1]), e[2]) for e in lst if e[0] == w]
+
+    def neighbour(self, c: Complex[D], s: Simplex, /) -> tuple[Triangle, D] | None:
+        """``findi(c, s)[0]`` or None, as :meth:`TwoComplex.neighbour`: one dict lookup, a scan that stops at the hit.
+
+        Counted as one dictionary operation plus the list entries visited up to
+        and including the hit.  StaleVersionError for a stale ``c``.
+        """
+        try:
+            fam, rep, lin = c
+            u, w = s
+            lu = u.lineage
+            ok = fam is self.family and type(s) is tuple and (lu is lin or lin is None) and w.lineage is lu and u != w
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            rep, _, s = self._slow(c, s, 1, "neighbour")
+            u, w = s
+        table: _Table = rep[0]
+        if table.current is not rep:
+            raise _stale("neighbour")
+        lst = table.lists.get(u)
+        if lst is None:
+            if self._stats is not None:
+                self._count(1, 0)
+            return None
+        visited = 0
+        for e in lst:
+            visited += 1
+            if e[0] == w:
+                if self._stats is not None:
+                    self._count(1, visited)
+                return (u, w, e[1]), e[2]
+        if self._stats is not None:
+            self._count(1, visited)
+        return None
 
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
         """``add (c, s, x)``: the triangle ``s`` with datum ``x`` put in the table IN PLACE; ``c`` becomes stale.

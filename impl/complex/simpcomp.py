@@ -181,6 +181,10 @@ class SimpComp(Generic[D]):
         """``find`` with each simplex's datum (persistri's addition)."""
         return self._of(c, "findi").findi(c, s)
 
+    def neighbour(self, c: Complex[D], s: _Simplex, /) -> tuple[_Simplex, D] | None:
+        """The first simplex ``findi`` gives with its datum, or None (persistri's addition; see ``TwoComplex.neighbour``)."""
+        return self._of(c, "neighbour").neighbour(c, s)
+
     def items(self, c: Complex[D], /) -> Sequence[tuple[_Simplex, D]]:
         """Each n-simplex once with its datum (persistri's addition)."""
         return self._of(c, "items").items(c)

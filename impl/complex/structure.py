@@ -256,6 +256,22 @@ class ComplexStructure(Generic[D]):
             out.append((t, x[0]))
         return out
 
+    def neighbour(self, c: Complex[D], s: _Simplex, /) -> tuple[_Simplex, D] | None:
+        """The first n-simplex ``findi(c, s)`` would give, with its datum, or None if it gives none.
+
+        persistri's addition (the walk across a face: on a closed oriented
+        surface the one triangle holding a directed edge).  Same validation and
+        errors as ``findi``; the 2-complex does it with one lookup and a scan
+        that stops at the hit (:meth:`~persistri.impl.complex.two_complex.TwoComplex.neighbour`).
+        """
+        rep, lin = self._open(c, "neighbour")
+        s, _ = self._arg(s, self.n - 1, lin, "neighbour")
+        for t in self._find(rep, s):
+            x = self._data(rep, t)
+            assert x is not None
+            return t, x[0]
+        return None
+
     def grep(self, c: Complex[D], d: int, s: _Simplex, /) -> Sequence[_Simplex]:
         """``grep c (d, s)``: the d-simplices having ``s`` as a face (see the module docstring).
 

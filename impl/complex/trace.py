@@ -23,10 +23,13 @@ What a trace holds, per event (:class:`Trace`, numpy arrays of equal length):
 * ``simplex`` — its simplex argument as vertex **labels** (``int(v)``), padded
   with −1 (the vertices themselves and their points are not recorded: the
   complex never looks at points);
-* ``arg`` — the dimension argument (``new``, ``simplices``, ``grep``), else 0;
+* ``arg`` — the dimension argument (``new``, ``simplices``, ``grep``); for
+  ``findi``, :data:`FIRST` (1) when the call was ``neighbour`` — a ``findi``
+  that stops at the first triangle — and 0 for ``findi`` itself; else 0;
 * ``result`` — a summary of what it returned: the index of the version made
   (``new``, ``add``, ``rem``, ``update``), the number of simplices returned
-  (``find``, ``findi``, ``grep``, ``simplices``, ``items``, ``vertices``),
+  (``find``, ``findi``, ``grep``, ``simplices``, ``items``, ``vertices``; for
+  a ``neighbour``'s ``findi`` event 1 or 0),
   1/0 for ``data`` (SOME/NONE) and ``isEmpty``, n for ``dim``.  :func:`replay`
   with ``verify=True`` checks every summary, so a replay that diverges from the
   recorded run is caught at the first differing event.
@@ -82,6 +85,7 @@ from persistri.spec.option import Option
 __all__ = [
     "OPERATIONS",
     "MAKES_VERSION",
+    "FIRST",
     "Trace",
     "TraceError",
     "UntrackedVersionError",
@@ -129,6 +133,14 @@ _CODE: Final = {name: i for i, name in enumerate(OPERATIONS)}
 
 MAKES_VERSION: Final[frozenset[str]] = frozenset({"new", "add", "rem", "update", "replace"})
 """The operations that make a new version (their ``result`` is its index)."""
+
+FIRST: Final = 1
+"""The ``arg`` of a ``findi`` event recorded from ``neighbour``: replayed with ``neighbour``, result 1 or 0.
+
+A format-2 extension: older traces have only ``arg`` 0 on ``findi`` events, and
+a ``neighbour`` event replayed as ``findi`` gives the same result on every
+surface where no directed edge is in two triangles (what the algorithms make).
+"""
 
 _FORMAT: Final = "persistri-trace"
 _FORMAT_VERSION: Final = 2
@@ -235,6 +247,15 @@ def _validate(t: Trace) -> None:
     if np.any(bad):
         k = int(np.flatnonzero(bad)[0])
         raise TraceFormatError(f"trace: event {k} reads version {int(t.src[k])}, not made before it")
+    findis = t.op == FINDI
+    bad_arg = findis & (t.arg != 0) & (t.arg != FIRST)
+    if np.any(bad_arg):
+        k = int(np.flatnonzero(bad_arg)[0])
+        raise TraceFormatError(f"trace: findi event {k} has arg {int(t.arg[k])} (0: findi, {FIRST}: neighbour)")
+    bad_first = findis & (t.arg == FIRST) & (t.result != 0) & (t.result != 1)
+    if np.any(bad_first):
+        k = int(np.flatnonzero(bad_first)[0])
+        raise TraceFormatError(f"trace: neighbour event {k} (findi, arg {FIRST}) says {int(t.result[k])} triangles, not 0 or 1")
     if np.any(t.result[makes] != made_before[makes]):
         k = int(np.flatnonzero(makes & (t.result != made_before))[0])
         raise TraceFormatError(f"trace: event {k} should make version {int(made_before[k])}, says {int(t.result[k])}")
@@ -459,6 +480,16 @@ class TracingTwoComplex(TwoComplex[D]):
         self._record(FINDI, src, s, 0, len(out))
         return out
 
+    def neighbour(self, c: Complex[D], s: Simplex, /) -> tuple[Triangle, D] | None:
+        """``neighbour (c, s)``, recorded as a ``findi`` event with ``arg`` 1 (a findi that stops at the first
+        triangle; its result is 1 or 0), which :func:`replay` re-executes with ``neighbour``."""
+        if not self._recording:
+            return self.inner.neighbour(c, s)
+        src = self._src(c, "neighbour")
+        out = self.inner.neighbour(c, s)
+        self._record(FINDI, src, s, FIRST, 0 if out is None else 1)
+        return out
+
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
         """``add (c, s, x)``, recorded (``x`` is not: see the module docstring)."""
         if not self._recording:
@@ -576,6 +607,7 @@ class Replay:
             raise TraceError("replay: the trace makes no complex (it has no new event)")
         new, add, rem, update = structure.new, structure.add, structure.rem, structure.update
         data, find, findi, replace = structure.data, structure.find, structure.findi, structure.replace
+        neighbour = structure.neighbour
         removed: list[Simplex] = []
         added: list[tuple[Simplex, int]] = []
         # A list indexed by version (a slot is cleared at the version's last use): cheaper than a dict.
@@ -585,7 +617,10 @@ class Replay:
         for k, (op, src, s, arg, want, free) in enumerate(events):
             got: int
             if op == FINDI:
-                got = len(findi(versions[src], s))
+                if arg:
+                    got = 0 if neighbour(versions[src], s) is None else 1
+                else:
+                    got = len(findi(versions[src], s))
             elif op == ADD:
                 versions[made] = add(versions[src], s, k)
                 got = made

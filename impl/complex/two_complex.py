@@ -18,6 +18,7 @@ triangulated sphere; O(lg V) per map operation with the red-black backend):
 
 ==========================  ==================================================
 ``data``, ``find``          one map lookup + δ entries
+``neighbour``               one map lookup + the entries up to the triangle found
 ``add``                     three ``insertWith`` (the first also scans for the
                             triangle in either orientation)
 ``rem``                     three ``insertWith`` that each drop the triangle's
@@ -415,6 +416,47 @@ class TwoComplex(ComplexStructure[D]):
         if self._stats is not None:
             self._stats.key_comparisons += len(lst)
         return [((u, w, e[1]), e[2]) for e in lst if e[0] == w]
+
+    def neighbour(self, c: Complex[D], s: Simplex, /) -> tuple[Triangle, D] | None:
+        """The one triangle holding the directed edge ``s = (u, w)``, as ``((u, w, x), datum)``, or None.
+
+        persistri's addition to the signature, for the walks of §3 and §5 that
+        cross an edge: it means ``findi(c, s)[0]`` if ``findi`` finds anything,
+        else None.  On an oriented surface an edge is in at most one triangle in
+        a given direction; where ``findi`` finds several, the first in ``findi``'s
+        order (the order of u's list) is returned.  Same validation and errors as
+        ``findi`` (messages say "neighbour").  One map lookup (u) and a scan of u's
+        list that stops at the triangle; counted as one dictionary operation and,
+        besides the tree nodes, the list entries visited *up to and including the
+        hit* (the whole list when there is none; ``findi`` always counts the whole list).
+        """
+        try:
+            fam, rep, lin = c
+            u, w = s
+            lu = u.lineage
+            ok = fam is self.family and type(s) is tuple and (lu is lin or lin is None) and w.lineage is lu and u != w
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            rep, _, s = self._slow(c, s, 1, "neighbour")
+            u, w = s
+        found = self._m.find(rep, u)
+        if found is None:
+            return None
+        if self._stats is None:
+            for e in found[0]:
+                if e[0] == w:
+                    return (u, w, e[1]), e[2]
+            return None
+        st = self._stats
+        visited = 0
+        for e in found[0]:
+            visited += 1
+            if e[0] == w:
+                st.key_comparisons += visited
+                return (u, w, e[1]), e[2]
+        st.key_comparisons += visited
+        return None
 
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
         """``add (c, s, x)``: ``c`` with the triangle ``s`` carrying ``x``: three ``insertWith``.
