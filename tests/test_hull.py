@@ -197,3 +197,29 @@ def test_counts_are_reported() -> None:
 
 def test_check_error_type_is_an_assertion() -> None:
     assert issubclass(BulldozerCheckError, AssertionError)
+
+
+@pytest.mark.parametrize("dist", ["OnSphere", "InBall"])
+def test_spatial_and_input_labels_insert_the_same_points(dist: str) -> None:
+    """The two labellings insert the same points in the same order: the same hull, version by version."""
+    pts = generate(dist, 300, seed=6)
+    spatial = convex_hull(pts, seed=2, history=True)
+    by_input = convex_hull(pts, seed=2, history=True, labels="input")
+    assert spatial.history is not None and by_input.history is not None
+    assert spatial.history.inserted == by_input.history.inserted
+    for k in range(0, len(spatial.history), 37):
+        assert np.array_equal(spatial.history.simplices(k), by_input.history.simplices(k))
+    assert np.array_equal(spatial.simplices, by_input.simplices)
+    # The labels are different, and Hull.rows maps each to its input row.
+    assert by_input.rows is not None and spatial.rows is not None
+    assert by_input.rows.tolist() == list(range(300))
+    assert sorted(spatial.rows.tolist()) == list(range(300)) and spatial.rows.tolist() != list(range(300))
+    for hull in (spatial, by_input):
+        assert hull.rows is not None
+        labels = np.array([[int(v) for v in t] for t, _ in hull.structure.items(hull.complex)], dtype=np.intp)
+        assert facets(hull.rows[labels]) == facets(hull.simplices)
+
+
+def test_labels_must_be_spatial_or_input() -> None:
+    with pytest.raises(ValueError, match="labels must be 'spatial' or 'input'"):
+        convex_hull(generate("InBall", 10), labels="hilbert")

@@ -209,16 +209,17 @@ def _geometric(rng: random.Random, p: float) -> int:
     return k
 
 
-def hull_trace(triangles: int, seed: int = DEFAULT_SEED, *, stepwise: bool = False) -> Trace:
+def hull_trace(triangles: int, seed: int = DEFAULT_SEED, *, stepwise: bool = False, labels: str = "spatial") -> Trace:
     """The trace of the bulldozer's convex hull of ``triangles / 2 + 2`` OnSphere points (all on the hull,
     so the hull has ``triangles`` triangles, rounded up to even).  Minutes at 10^5 triangles.
-    ``stepwise``: the bulldozer's paper-style rem and add per face instead of one replace per insertion."""
+    ``stepwise``: the bulldozer's paper-style rem and add per face instead of one replace per insertion;
+    ``labels``: the vertices' labels, as :func:`~persistri.impl.hull.api.convex_hull` takes them."""
     from persistri.impl.hull.api import convex_hull
     from persistri.impl.hull.distributions import on_sphere
 
     target = _even_size(triangles)
     rec: TracingTwoComplex[Any] = TracingTwoComplex(EphemeralTwoComplex[Any](), window=4)
-    convex_hull(on_sphere(target // 2 + 2, seed), seed=seed, structure=rec, stepwise=stepwise)
+    convex_hull(on_sphere(target // 2 + 2, seed), seed=seed, structure=rec, stepwise=stepwise, labels=labels)
     return rec.stop()
 
 

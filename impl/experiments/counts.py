@@ -117,7 +117,13 @@ def hull_counts(
     stats = Stats()
     t0 = time.process_time()
     hull = convex_hull(
-        points, backend=backend, seed=seed, stats=stats, progress=on_points if on_points else False, stepwise=True
+        points,
+        backend=backend,
+        seed=seed,
+        stats=stats,
+        progress=on_points if on_points else False,
+        stepwise=True,
+        labels="input",
     )
     seconds = time.process_time() - t0
     if on_points is not None:

