@@ -59,7 +59,8 @@ conflict list))`` — the very tuple the complex holds — so that the list of t
 point being inserted is read from the table, not looked up in the complex (the
 ``stepwise`` mode reads it from the complex, as the paper's code does, so its
 dictionary-operation counts stay the paper's).  The complex is what the walk
-asks for adjacency (``findi`` across each edge); the table only mirrors its
+asks for adjacency (``neighbour`` across each edge, the one face holding the
+reversed edge; ``findi`` in the stepwise mode); the table only mirrors its
 faces.
 
 Insertion order: a random permutation of the points from the seed; a point
@@ -416,6 +417,9 @@ class Bulldozer:
             assert found is not None, "the associated face of a pending point is in the hull"
             lst = found[0][1]
         own0: Indices = lst[lst != p] if type(lst) is np.ndarray else [q for q in lst if q != p]
+        # The face across an edge: neighbour (one lookup, a scan that stops at the face), or findi in
+        # stepwise mode, whose counts (the whole list scanned) are the paper's.
+        across = self._across_counted if self.stepwise else S.neighbour
 
         visible: dict[int, bool] = {fid0: True}  # face id -> can p see it (each face tested once)
         work: dict[int, _Visible] = {}
@@ -438,7 +442,10 @@ class Bulldozer:
                     else:
                         indeg += 1
                     continue
-                ((gtri, (gid, gpts)),) = S.findi(cx, (w, u))
+                found = across(cx, (w, u))
+                if found is None:
+                    raise BulldozerCheckError(f"the hull is not a closed surface: no face across edge {(u, w)} of {tri}")
+                gtri, (gid, gpts) = found
                 vis = visible.get(gid)
                 if vis is None:
                     vis = visible[gid] = o3(gtri[0], gtri[1], gtri[2], p) < 0
@@ -576,6 +583,11 @@ class Bulldozer:
         if check:
             self._check_bulldozed(p, routed, added)
         return cx
+
+    def _across_counted(self, cx: Complex[FaceDatum], edge: tuple[Vertex, Vertex]) -> tuple[Triangle, FaceDatum] | None:
+        """The face holding the directed ``edge``, by ``findi`` as the paper's code finds it (stepwise mode)."""
+        ((tri, datum),) = self.S.findi(cx, edge)
+        return tri, datum
 
     # -- check=True ------------------------------------------------------------------
 
