@@ -240,6 +240,13 @@ def _adjust(
     a subtree holding none of the present keys is returned as it is (nothing
     is built for the absent ones).  Shape and colours are kept.
     """
+    if hi - lo == 1:  # one key left: the single-key descent
+        k, v = items[lo]
+        try:
+            return _update(t, k, f, v)
+        except _Absent:
+            absent.append(items[lo])
+            return t
     c, a, y, yv, b = t
     i = lo
     while i < hi and items[i][0] < y:
