@@ -551,10 +551,12 @@ class TwoComplex(ComplexStructure[D]):
         Done here in one map operation per vertex touched instead of three per
         triangle: the changes are grouped by vertex, then each vertex's list is
         rebuilt once (one ``insertWith``, or ``remove`` when the vertex loses its
-        last triangle).  A backend with ``adjustMany`` (the uncounted red-black
-        tree) rebuilds all the present vertices' lists in one descent instead.  A bulldozer insertion that replaces 4 faces by 6 touches
-        7 vertices: 7 map updates where ``rem`` and ``add`` make 30.  O(V_t·lg V +
-        Σ δ) with V_t the vertices touched and δ their list lengths.
+        last triangle).  A bulldozer insertion that replaces 4 faces by 6 touches
+        7 vertices: 7 map updates where ``rem`` and ``add`` make 30.  A backend
+        with ``adjustMany`` (the uncounted red-black tree) rebuilds all the
+        present vertices' lists in one descent instead, copying the tree nodes
+        their search paths share once.  O(V_t·lg V + Σ δ) with V_t the vertices
+        touched and δ their list lengths.
         """
         removed, added = _arguments(removed, added)
         try:
