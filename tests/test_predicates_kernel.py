@@ -240,3 +240,28 @@ def test_the_kernels_written_out_filter_is_the_proved_function(kernel_fn: str, f
     assert _contains_run(fn, run), f"Orient3dKernel.{kernel_fn} does not contain the body of filter.{filter_fn.__name__}"
     read = {n.id for n in ast.walk(fn) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
     assert set(returned) <= read, "the kernel reads the values the filter function returns, by the same names"
+
+
+_finite = st.floats(allow_nan=False, allow_infinity=False, min_value=-1e75, max_value=1e75)  # every result finite (no NaN to compare)
+
+
+@settings(max_examples=200)
+@given(st.lists(_finite, min_size=9, max_size=9), st.lists(st.tuples(_finite, _finite, _finite), min_size=1, max_size=20))
+def test_the_in_place_plane_side_is_the_proved_function_bit_for_bit(
+    abc: list[float], qs: list[tuple[float, float, float]]
+) -> None:
+    """``plane_side_terms_into`` (the vectorised partition's form) computes in its input buffers: its
+    results must be bitwise those of ``plane_side_terms``, the function the filter constant is proved for."""
+    ax, ay, az, bx, by, bz, cx, cy, cz = abc
+    with np.errstate(all="ignore"):
+        terms = fp.plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
+        q = np.array(qs, dtype=np.float64)
+        det, perm = fp.plane_side_terms(*terms, ax, ay, az, q[:, 0], q[:, 1], q[:, 2])
+        det2, perm2 = fp.plane_side_terms_into(*terms, ax, ay, az, q[:, 0].copy(), q[:, 1].copy(), q[:, 2].copy())
+    assert det.tobytes() == det2.tobytes()
+    assert perm.tobytes() == perm2.tobytes()
+    # And each entry is what the scalar expression gives for that point alone (Python floats).
+    for i, (qx, qy, qz) in enumerate(qs):
+        with np.errstate(all="ignore"):
+            d, p = fp.plane_side_terms(*terms, ax, ay, az, qx, qy, qz)
+        assert np.float64(d).tobytes() == det2[i].tobytes() and np.float64(p).tobytes() == perm2[i].tobytes()

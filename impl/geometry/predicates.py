@@ -83,7 +83,7 @@ from persistri.impl.geometry.filter import (
     incircle_terms,
     orient2d_terms,
     orient3d_terms,
-    plane_side_terms,
+    plane_side_terms_into,
     plane_terms,
 )
 from persistri.impl.geometry.points import as_points
@@ -743,7 +743,7 @@ class Orient3dKernel:
         errbound = ERRBOUND_ORIENT3D
         flops = FLOPS_ORIENT3D
         exact = pred._orient3d_exact
-        side = plane_side_terms
+        side = plane_side_terms_into
         side_errbound = ERRBOUND_PLANE_SIDE
         plane_flops, side_flops = FLOPS_PLANE, FLOPS_PLANE_SIDE
         small = SMALL_BATCH
@@ -859,16 +859,16 @@ class Orient3dKernel:
         ) -> tuple[IntArray, IntArray]:
             """The positions in ``q_arr`` where orient3d(a, b, c, q) = -1 and where it is +1, increasing.
 
-            Vectorised through the prepared plane: :func:`~persistri.impl.geometry.filter.plane_side_terms`
+            Vectorised through the prepared plane: :func:`~persistri.impl.geometry.filter.plane_side_terms_into`
             on the gathered columns, then one comparison per side; about twenty numpy calls in all, whatever
             the length (the undecided entries, if any, one by one exactly).
             """
             nx, ny, nz, px, py, pz = terms6
             ax, ay, az = at
-            qx: Any = xs[q_arr]
-            det, thr = side(nx, ny, nz, px, py, pz, ax, ay, az, qx, ys[q_arr], zs[q_arr])
+            qy = ys[q_arr]  # gathered copies: plane_side_terms_into computes in them
+            det, thr = side(nx, ny, nz, px, py, pz, ax, ay, az, xs[q_arr], qy, zs[q_arr])
             thr *= side_errbound  # the threshold side_errbound * permanent, in place
-            neg_mask = det < -thr
+            neg_mask = det < np.negative(thr, out=qy)  # qy is free again
             pos_mask = det > thr
             neg: IntArray = neg_mask.nonzero()[0]
             pos: IntArray = pos_mask.nonzero()[0]
