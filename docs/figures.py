@@ -442,7 +442,7 @@ def _save(fig: Any, path: Path) -> Path:
 def hull_run() -> tuple[NDArray[np.float64], HullHistory, Predicates3]:
     """The run the hull pictures are drawn from, and its predicates with the bulldozer's centre."""
     pts = generate(HULL_DIST, HULL_N, seed=HULL_SEED)
-    hull = convex_hull(pts, history=True, seed=HULL_SEED, check=True)
+    hull = convex_hull(pts, history=True, seed=HULL_SEED, check=True, labels="input")  # labels = input rows
     history = hull.history
     assert history is not None
     _require(history.rows.tolist() == list(range(HULL_N)), "the run merged duplicates: labels are not input rows")

@@ -9,6 +9,7 @@ module                 concept
 :mod:`.exact`          doubles as integers at a common power-of-two scale
 :mod:`.filter`         float64 filters with proven error bounds
 :mod:`.sos`            Simulation of Simplicity (Edelsbrunner–Mücke)
+:mod:`.zorder`         z-order (Morton) labels: near points, near keys
 =====================  ==========================================================
 """
 
