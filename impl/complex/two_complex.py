@@ -149,26 +149,60 @@ def _drop_add(
     list's: each is looked for in the kept entries, in either orientation (one
     vertex suffices, as for ``add``).  _Missing if a pair to drop is not there (or
     is asked twice), _Present if a triangle to add is kept, _Emptied if nothing
-    is left.  One pass over ``old`` and one over the kept entries.
+    is left.  One pass over ``old``: on a surface every vertex the change keeps
+    has exactly one checked entry (the new triangle that starts at it), and that
+    case drops and checks in the same loop.
     """
     drops, checked, plain = change
-    if len(drops) == 1:
+    n = len(drops)
+    if len(checked) != 1:
+        return _drop_add_general(old, drops, checked, plain)
+    b0, c0, _ = checked[0]
+    kept: list[Entry] = []
+    append = kept.append
+    if n == 1:
         ((b, c),) = drops
-        kept = [e for e in old if e[0] != b or e[1] != c]
+        for e in old:
+            e0 = e[0]
+            e1 = e[1]
+            if e0 == b and e1 == c:
+                continue
+            if (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
+                raise _Present(False)
+            append(e)
     else:
         gone = set(drops)
-        kept = [e for e in old if (e[0], e[1]) not in gone]
+        for e in old:
+            e0 = e[0]
+            e1 = e[1]
+            if (e0, e1) in gone:
+                continue
+            if (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
+                raise _Present(False)
+            append(e)
+    if len(kept) + n != len(old):
+        raise _Missing
+    append(checked[0])
+    kept += plain
+    return tuple(kept)
+
+
+def _drop_add_general(
+    old: tuple[Entry, ...], drops: list[tuple[Vertex, Vertex]], checked: list[Entry], plain: list[Entry]
+) -> tuple[Entry, ...]:
+    """:func:`_drop_add` for no checked entry or several (a vertex left with nothing, or a change that is not a star's)."""
+    gone = set(drops)
+    kept = [e for e in old if (e[0], e[1]) not in gone]
     if len(kept) + len(drops) != len(old):
         raise _Missing
-    if checked:
-        pairs = {(e[0], e[1]) for e in kept}
-        for b, c, _ in checked:
-            if (b, c) in pairs or (c, b) in pairs:
+    for b, c, _ in checked:
+        for e in kept:
+            e0 = e[0]
+            if (e0 == b and e[1] == c) or (e0 == c and e[1] == b):
                 raise _Present(False)
-        kept += checked
-    if plain:
-        kept += plain
-    elif not kept:
+    kept += checked
+    kept += plain
+    if not kept:
         raise _Emptied
     return tuple(kept)
 
@@ -569,17 +603,19 @@ class TwoComplex(ComplexStructure[D]):
                 rep = self._replace_batched(rep, changes)
                 changes = {}
             drop_add, cat_new = self._drop_add, self._cat_new
+            n = m.numItems(rep)  # kept up to date: one numItems per vertex with drops, not two
             for v, change in changes.items():
                 if not change[0]:
                     rep = m.insertWith(cat_new, rep, v, tuple(change[1] + change[2]))
+                    n = m.numItems(rep)  # v may be new
                     continue
-                n0 = m.numItems(rep)
                 try:
                     out = m.insertWith(drop_add, rep, v, change)
                 except _Emptied:  # v is in no triangle any more
                     rep = m.remove(rep, v)[0]
+                    n -= 1
                     continue
-                if m.numItems(out) != n0:  # v had no list: a triangle to remove is absent
+                if m.numItems(out) != n:  # v had no list: a triangle to remove is absent
                     raise _Unbatched
                 rep = out
         except (_Unbatched, _Missing, _Present, TypeError, ValueError, AttributeError):
