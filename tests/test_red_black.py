@@ -384,7 +384,7 @@ def test_identity() -> None:
     assert red_black.Key.compare(1, 2).name == "LESS"
 
 
-# -- adjustMany: insertWith at several present keys in one descent ------------------------
+# -- adjust_many: insertWith at several present keys in one descent ------------------------
 
 
 def _union_of_paths(m: RBMap[int, Any], keys: list[int]) -> int:
@@ -405,13 +405,13 @@ def _union_of_paths(m: RBMap[int, Any], keys: list[int]) -> int:
 
 @given(st.lists(st.integers(0, 500), max_size=200), st.lists(st.integers(-20, 520), max_size=40, unique=True))
 def test_adjust_many_is_insert_with_at_the_present_keys(keys: list[int], probe: list[int]) -> None:
-    """``adjustMany`` = ``insertWith`` at each present key, absent items reported; only the paths' union is new."""
+    """``adjust_many`` = ``insertWith`` at each present key, absent items reported; only the paths' union is new."""
     m: RBMap[int, tuple[int, ...]] = S.empty()
     for k in keys:
         m = S.insert(m, k, (k,))
     before = S.listItemsi(m)
     items = [(k, (-k,)) for k in sorted(probe)]
-    out, absent = S.adjustMany(lambda old, new: old + new, m, items)
+    out, absent = S.adjust_many(lambda old, new: old + new, m, items)
     expected = m
     for k, v in items:
         if S.inDomain(m, k):
@@ -435,7 +435,7 @@ def test_adjust_many_shares_the_common_path() -> None:
         m = S.insert(m, k, 0)
     near = list(range(2000, 2008))
     old = {id(x) for x in nodes(m[1])}
-    out, absent = S.adjustMany(lambda old, new: old + new, m, [(k, 1) for k in near])
+    out, absent = S.adjust_many(lambda old, new: old + new, m, [(k, 1) for k in near])
     assert absent == [] and all(S.lookup(out, k) == 1 for k in near)
     fresh = sum(id(x) not in old for x in nodes(out[1]))
     separate = sum(S.search_cost(m, k) for k in near)
@@ -445,18 +445,18 @@ def test_adjust_many_shares_the_common_path() -> None:
 def test_adjust_many_errors() -> None:
     m = _int_map()
     with pytest.raises(ValueError, match="strictly increasing"):
-        S.adjustMany(lambda o, n: n, m, [(3, 0), (1, 0)])
+        S.adjust_many(lambda o, n: n, m, [(3, 0), (1, 0)])
     with pytest.raises(ValueError, match="strictly increasing"):
-        S.adjustMany(lambda o, n: n, m, [(3, 0), (3, 0)])
+        S.adjust_many(lambda o, n: n, m, [(3, 0), (3, 0)])
     with pytest.raises(TypeError, match="not ordered"):
-        S.adjustMany(lambda o, n: n, m, [(1, 0), ("x", 0)])
+        S.adjust_many(lambda o, n: n, m, [(1, 0), ("x", 0)])
 
     def f(old: int, new: int) -> int:
         raise TypeError("f says no")
 
     with pytest.raises(TypeError, match="^f says no$"):
-        S.adjustMany(f, m, [(3, 0)])
+        S.adjust_many(f, m, [(3, 0)])
     # Nothing present: f is not called, every item is reported absent; the empty map likewise.
-    assert S.adjustMany(f, m, [(-5, 1)]) == (m, [(-5, 1)])
-    assert S.adjustMany(f, S.empty(), [(1, 2)]) == (S.empty(), [(1, 2)])
-    assert S.adjustMany(f, m, []) == (m, [])
+    assert S.adjust_many(f, m, [(-5, 1)]) == (m, [(-5, 1)])
+    assert S.adjust_many(f, S.empty(), [(1, 2)]) == (S.empty(), [(1, 2)])
+    assert S.adjust_many(f, m, []) == (m, [])

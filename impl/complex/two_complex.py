@@ -220,7 +220,7 @@ def _cat_new(old: tuple[Entry, ...], adds: tuple[Entry, ...]) -> tuple[Entry, ..
 def _rebuild(
     old: tuple[Entry, ...], arg: tuple[tuple[list[tuple[Vertex, Vertex]], list[Entry], list[Entry]], Vertex, list[Vertex]]
 ) -> tuple[Entry, ...]:
-    """``replace``'s combine for a batched update (``adjustMany``): ``arg = (change, v, emptied)``.
+    """``replace``'s combine for a batched update (``adjust_many``): ``arg = (change, v, emptied)``.
 
     The vertex's new list as ``_cat_new`` or ``_drop_add`` make it; when nothing is
     left, ``()`` — never a list of a valid complex — with ``v`` appended to
@@ -371,9 +371,9 @@ class TwoComplex(ComplexStructure[D]):
         self._put = self._combiner(_put)
         self._drop_add = self._combiner(_drop_add)
         self._cat_new = self._combiner(_cat_new)
-        # A backend that updates several keys in one descent (red-black's adjustMany; uncounted only:
+        # A backend that updates several keys in one descent (red-black's adjust_many; uncounted only:
         # the counting wrapper has none, so counted runs make the per-vertex insertWith the paper counts).
-        self._adjust_many: Callable[..., tuple[Any, list[Any]]] | None = getattr(self._m, "adjustMany", None)
+        self._adjust_many: Callable[..., tuple[Any, list[Any]]] | None = getattr(self._m, "adjust_many", None)
         if stats is None:
             self.family = Family(self.kind, 2, backend, None, self)
         else:
@@ -587,7 +587,7 @@ class TwoComplex(ComplexStructure[D]):
         rebuilt once (one ``insertWith``, or ``remove`` when the vertex loses its
         last triangle).  A bulldozer insertion that replaces 4 faces by 6 touches
         7 vertices: 7 map updates where ``rem`` and ``add`` make 30.  A backend
-        with ``adjustMany`` (the uncounted red-black tree) rebuilds all the
+        with ``adjust_many`` (the uncounted red-black tree) rebuilds all the
         present vertices' lists in one descent instead, copying the tree nodes
         their search paths share once.  O(V_t·lg V + Σ δ) with V_t the vertices
         touched and δ their list lengths.
@@ -628,7 +628,7 @@ class TwoComplex(ComplexStructure[D]):
         return _new_complex(Complex, (self.family, rep, out_lin))
 
     def _replace_batched(self, rep: Any, changes: Changes) -> Any:
-        """``replace``'s map changes through the backend's ``adjustMany``: every present vertex's list rebuilt in
+        """``replace``'s map changes through the backend's ``adjust_many``: every present vertex's list rebuilt in
         one descent (the red-black tree copies the nodes its search paths share once), then the new vertices
         inserted and the emptied ones removed.  Raises what the per-vertex loop raises (_Missing, _Present;
         _Unbatched for a triangle to remove at a vertex with no list)."""

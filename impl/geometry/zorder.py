@@ -8,7 +8,7 @@ uses it only to *label* the points of a hull run
 vertices one bulldozer insertion touches are neighbours on the surface, so with
 z-order labels they are close in the complex's key order, their search paths in
 the red-black tree share most of their nodes, and one batched update
-(:meth:`~persistri.impl.maps.red_black.RedBlackMap.adjustMany`) copies each
+(:meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_many`) copies each
 shared node once.  Measured on the recorded key sets of an OnSphere 64K run: a
 batched descent visits 32% of the nodes that separate descents visit with
 z-order labels, 82% with labels in input order.

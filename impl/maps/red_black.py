@@ -47,7 +47,7 @@ find, lookup, inDomain O(lg n)     at most ``2·log2(n+1)`` nodes visited
 insert                 O(lg n)     O(lg n) new nodes; a present key costs two descents
 insertWith             O(lg n)     one descent when the key is present (path copied
                                    back up), else a search and an insert
-adjustMany             O(k lg n)   k present keys in one descent; shared path
+adjust_many             O(k lg n)   k present keys in one descent; shared path
                                    nodes copied once (persistri's addition)
 remove                 O(lg n)     one search for the value, then Kahrs' delete
 numItems, isEmpty      O(1)        the size is stored
@@ -481,7 +481,7 @@ class RedBlackMap(Generic[K, V]):
             raise _key_error(k, exc) from None
         return (n, new)
 
-    def adjustMany(
+    def adjust_many(
         self, f: Callable[[V, V], V], m: RBMap[K, V], items: list[tuple[K, V]], /
     ) -> tuple[RBMap[K, V], list[tuple[K, V]]]:
         """``(m', absent)``: ``m`` with ``k ↦ f(old, v)`` for each ``(k, v)`` of ``items`` whose key is in ``m``,
@@ -503,7 +503,7 @@ class RedBlackMap(Generic[K, V]):
             except TypeError as exc:
                 raise _key_error(items[j][0], exc) from None
             if not ordered:
-                raise ValueError(f"{_NAME}: adjustMany needs strictly increasing keys, got {items[j - 1][0]!r} "
+                raise ValueError(f"{_NAME}: adjust_many needs strictly increasing keys, got {items[j - 1][0]!r} "
                                  f"before {items[j][0]!r}")
         absent: list[tuple[K, V]] = []
         if t is None or not items:
