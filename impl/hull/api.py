@@ -184,7 +184,8 @@ def convex_hull(
       the vertices one insertion touches are near in key order and the red-black map updates
       them in one batched descent; ``"input"`` in input order, as the paper's experiments
       (and persistri's) do.  Either way the same seed inserts the same points in the same
-      order, and :attr:`Hull.rows` maps labels back to input rows.
+      order (from the same first tetrahedron, which ties among extreme points can change),
+      and :attr:`Hull.rows` maps labels back to input rows.
 
     Errors: ``TypeError``/``ValueError`` for input that is not an n × 3 array of
     finite reals (NaN/inf names the first bad row); :class:`DegenerateInputError`
@@ -249,7 +250,8 @@ def _convex_hull(
             distinct=m,
         )
     # by_input[label] = the label's position among the distinct points in input order; the random
-    # order is drawn over those positions, so that both labellings insert the same points in turn.
+    # order is drawn over those positions, so that both labellings insert the same points in turn
+    # (when they start from the same tetrahedron: ties among the extremes it is chosen from can differ).
     by_input: IntArray = np.arange(m, dtype=np.intp)
     if labels == "spatial":
         by_input = morton_order(arr[rows])
