@@ -598,26 +598,10 @@ class TwoComplex(ComplexStructure[D]):
             if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex
                 raise _Unbatched
             changes, out_lin = _group(removed, added, lin)
-            m = self._m
             if self._adjust_many is not None:
                 rep = self._replace_batched(rep, changes)
-                changes = {}
-            drop_add, cat_new = self._drop_add, self._cat_new
-            n = m.numItems(rep)  # kept up to date: one numItems per vertex with drops, not two
-            for v, change in changes.items():
-                if not change[0]:
-                    rep = m.insertWith(cat_new, rep, v, tuple(change[1] + change[2]))
-                    n = m.numItems(rep)  # v may be new
-                    continue
-                try:
-                    out = m.insertWith(drop_add, rep, v, change)
-                except _Emptied:  # v is in no triangle any more
-                    rep = m.remove(rep, v)[0]
-                    n -= 1
-                    continue
-                if m.numItems(out) != n:  # v had no list: a triangle to remove is absent
-                    raise _Unbatched
-                rep = out
+            else:
+                rep = self._replace_per_vertex(rep, changes)
         except (_Unbatched, _Missing, _Present, TypeError, ValueError, AttributeError):
             # Something is wrong: the fold raises the precise error the signature promises.
             return self._replace_fold(c, removed, added)
@@ -626,6 +610,29 @@ class TwoComplex(ComplexStructure[D]):
             st.faces_deleted += len(removed)
             st.faces_created += len(added)
         return _new_complex(Complex, (self.family, rep, out_lin))
+
+    def _replace_per_vertex(self, rep: Any, changes: Changes) -> Any:
+        """``replace``'s map changes one vertex at a time: an ``insertWith`` per vertex (``remove`` for an
+        emptied one).  Raises what the combining functions raise (_Missing, _Present; _Unbatched for a
+        triangle to remove at a vertex with no list)."""
+        m = self._m
+        drop_add, cat_new = self._drop_add, self._cat_new
+        n = m.numItems(rep)  # kept up to date: one numItems per vertex with drops, not two
+        for v, change in changes.items():
+            if not change[0]:
+                rep = m.insertWith(cat_new, rep, v, tuple(change[1] + change[2]))
+                n = m.numItems(rep)  # v may be new
+                continue
+            try:
+                out = m.insertWith(drop_add, rep, v, change)
+            except _Emptied:  # v is in no triangle any more
+                rep = m.remove(rep, v)[0]
+                n -= 1
+                continue
+            if m.numItems(out) != n:  # v had no list: a triangle to remove is absent
+                raise _Unbatched
+            rep = out
+        return rep
 
     def _replace_batched(self, rep: Any, changes: Changes) -> Any:
         """``replace``'s map changes through the backend's ``adjust_many``: every present vertex's list rebuilt in

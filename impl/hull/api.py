@@ -263,12 +263,9 @@ def _convex_hull(
     bd = Bulldozer(pred, structure, tetra, check=check, stepwise=stepwise)
     t0, t1, t2, t3 = (int(by_input[t]) for t in tetra)
     drawn = np.random.default_rng(seed).permutation(all_but(m, (t0, t1, t2, t3)))
-    if labels == "spatial":
-        label_of = np.empty(m, dtype=np.intp)
-        label_of[by_input] = np.arange(m, dtype=np.intp)
-        order = label_of[drawn]
-    else:
-        order = drawn
+    label_of = np.empty(m, dtype=np.intp)
+    label_of[by_input] = np.arange(m, dtype=np.intp)
+    order = label_of[drawn]
     versions: list[Complex[FaceDatum]] = [bd.complex]
     inserted: list[int] = [int(rows[tetra[0]])]
     tick = progress_callback(progress, "hull", order.size, batch=1024)
