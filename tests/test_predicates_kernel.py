@@ -196,9 +196,10 @@ def _filter_body(fn: Callable[..., Any]) -> tuple[list[str], list[str]]:
     assert isinstance(tree, ast.FunctionDef)
     body = tree.body[1:]  # after the docstring
     ret = body[-1]
-    assert isinstance(ret, ast.Return) and isinstance(ret.value, ast.Tuple)
-    names = [e.id for e in ret.value.elts if isinstance(e, ast.Name)]
-    assert len(names) == len(ret.value.elts), f"{fn.__name__} must return named values"
+    assert isinstance(ret, ast.Return) and isinstance(ret.value, (ast.Tuple, ast.Name))
+    values = ret.value.elts if isinstance(ret.value, ast.Tuple) else [ret.value]
+    names = [e.id for e in values if isinstance(e, ast.Name)]
+    assert len(names) == len(values), f"{fn.__name__} must return named values"
     return _dumps(body[:-1]), names
 
 
@@ -229,7 +230,7 @@ def _contains_run(fn: ast.FunctionDef, run: list[str]) -> bool:
 
 @pytest.mark.parametrize(
     ("kernel_fn", "filter_fn"),
-    [("orient3d", fp.orient3d_terms), ("partition", fp.plane_terms), ("partition", fp.plane_side_terms)],
+    [("orient3d", fp.orient3d_terms), ("partition", fp.plane_terms), ("partition", fp.plane_side_det)],
 )
 def test_the_kernels_written_out_filter_is_the_proved_function(kernel_fn: str, filter_fn: Callable[..., Any]) -> None:
     """The kernel's scalar paths write the filter expressions out in place (no call per test): they must be
@@ -240,6 +241,17 @@ def test_the_kernels_written_out_filter_is_the_proved_function(kernel_fn: str, f
     assert _contains_run(fn, run), f"Orient3dKernel.{kernel_fn} does not contain the body of filter.{filter_fn.__name__}"
     read = {n.id for n in ast.walk(fn) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
     assert set(returned) <= read, "the kernel reads the values the filter function returns, by the same names"
+
+
+def test_the_partitions_own_threshold_completes_the_proved_function() -> None:
+    """``plane_side_det`` is ``plane_side_terms`` without its last statement (the permanent), and the
+    partition's fallback for a point the semi-static threshold leaves undecided computes that very
+    statement: together the kernel's scalar path is still the proved ``plane_side_terms``."""
+    det_body, _ = _filter_body(fp.plane_side_det)
+    terms_body, returned = _filter_body(fp.plane_side_terms)
+    assert returned == ["det", "permanent"]
+    assert terms_body[:-1] == det_body
+    assert _contains_run(_kernel_function("partition"), terms_body[-1:])
 
 
 _finite = st.floats(allow_nan=False, allow_infinity=False, min_value=-1e75, max_value=1e75)  # every result finite (no NaN to compare)
@@ -265,3 +277,73 @@ def test_the_in_place_plane_side_is_the_proved_function_bit_for_bit(
         with np.errstate(all="ignore"):
             d, p = fp.plane_side_terms(*terms, ax, ay, az, qx, qy, qz)
         assert np.float64(d).tobytes() == det2[i].tobytes() and np.float64(p).tobytes() == perm2[i].tobytes()
+
+
+_coord = st.one_of(
+    _finite,
+    st.floats(allow_nan=False, allow_infinity=False, min_value=-4.0, max_value=4.0),
+    st.sampled_from([0.0, 1.0, -1.0, 2.0**-30, 1.0 + 2.0**-52, 3.0 * 2.0**60]),
+)
+
+
+@settings(max_examples=300)
+@given(st.lists(_coord, min_size=9, max_size=9), st.lists(st.tuples(_coord, _coord, _coord), min_size=1, max_size=12))
+def test_the_semi_static_threshold_bounds_every_points_own_threshold(
+    abc: list[float], qs: list[tuple[float, float, float]]
+) -> None:
+    """``plane_side_threshold`` over the box of the query points is at least each point's own computed
+    threshold ``fl(ERRBOUND_PLANE_SIDE · permanent)``, the one the filter constant is proved for (rounding
+    is monotone).  So whatever it decides, the proved filter decides alike."""
+    ax, ay, az, bx, by, bz, cx, cy, cz = abc
+    q = np.array(qs, dtype=np.float64)
+    lo, hi = q.min(axis=0).tolist(), q.max(axis=0).tolist()
+    with np.errstate(all="ignore"):
+        nx, ny, nz, px, py, pz = fp.plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
+        static = fp.plane_side_threshold(
+            px, py, pz, fp.plane_side_reach(ax, lo[0], hi[0]), fp.plane_side_reach(ay, lo[1], hi[1]),
+            fp.plane_side_reach(az, lo[2], hi[2]),
+        )
+        for qx, qy, qz in qs:
+            det, permanent = fp.plane_side_terms(nx, ny, nz, px, py, pz, ax, ay, az, qx, qy, qz)
+            own = fp.ERRBOUND_PLANE_SIDE * permanent
+            assert det == fp.plane_side_det(nx, ny, nz, ax, ay, az, qx, qy, qz) or det != det
+            if own == own:  # NaN (from inf - inf) decides nothing either way
+                assert own <= static or static != static, (own, static)
+
+
+@settings(max_examples=100)
+@given(st.lists(_finite, min_size=9, max_size=9), st.lists(st.tuples(_finite, _finite, _finite), min_size=1, max_size=20))
+def test_the_in_place_determinant_is_the_proved_one_bit_for_bit(
+    abc: list[float], qs: list[tuple[float, float, float]]
+) -> None:
+    """``plane_side_det_into`` (the semi-static vectorised stage) gives bitwise ``plane_side_terms``' det."""
+    ax, ay, az, bx, by, bz, cx, cy, cz = abc
+    with np.errstate(all="ignore"):
+        nx, ny, nz, px, py, pz = fp.plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
+        q = np.array(qs, dtype=np.float64)
+        det, _ = fp.plane_side_terms(nx, ny, nz, px, py, pz, ax, ay, az, q[:, 0], q[:, 1], q[:, 2])
+        det2 = fp.plane_side_det_into(nx, ny, nz, ax, ay, az, q[:, 0].copy(), q[:, 1].copy(), q[:, 2].copy())
+    assert det.tobytes() == det2.tobytes()
+
+
+@pytest.mark.parametrize("kind", ["random", "grid", "offset"])
+def test_counted_and_uncounted_partitions_agree(kind: str) -> None:
+    """Uncounted, the partition tests against the semi-static threshold first; counted, every point against
+    its own: the same exact answers (the grid's exact zeros included), at every size."""
+    rng = np.random.default_rng(5)
+    if kind == "random":
+        pts = rng.random((300, 3))
+    elif kind == "grid":
+        pts = _grid_with_planes()
+    else:
+        pts = rng.integers(-50, 50, size=(300, 3)).astype(float) * 1e-3 + 1e9
+    p = Predicates3(pts)
+    k = p.kernel()
+    for a, b, c in ((0, 1, 2), (0, 7, 42), (5, 36, 200)):
+        qs = [q for q in range(len(p)) if q not in (a, b, c)]
+        for part in (qs[:5], qs):
+            p.stats = None
+            fast = _lists(k.partition(a, b, c, part))
+            p.stats = Stats()
+            counted = _lists(k.partition(a, b, c, np.array(part, dtype=np.intp)))
+            assert fast == counted == _split(p, a, b, c, part)

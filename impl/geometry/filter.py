@@ -78,6 +78,10 @@ __all__ = [
     "plane_terms",
     "plane_side_terms",
     "plane_side_terms_into",
+    "plane_side_det",
+    "plane_side_det_into",
+    "plane_side_reach",
+    "plane_side_threshold",
     "orient3d_plane_terms",
     "FilterScaling",
     "choose_scaling",
@@ -288,6 +292,72 @@ def plane_side_terms_into(
     qz *= pz
     qx += qz  # ... + abs(aqz) * pz
     return det, qx
+
+
+def plane_side_det(nx: T, ny: T, nz: T, ax: T, ay: T, az: T, qx: T, qy: T, qz: T) -> T:
+    """The determinant of :func:`plane_side_terms` alone: its first four statements, the same operations.
+
+    For the semi-static stage of a plane-side test (:func:`plane_side_threshold`),
+    which compares this determinant with a threshold shared by all query points
+    and computes a point's own permanent only when that does not decide.  O(1).
+    """
+    aqx = ax - qx
+    aqy = ay - qy
+    aqz = az - qz
+    det = aqx * nx + aqy * ny + aqz * nz
+    return det
+
+
+def plane_side_det_into(
+    nx: float, ny: float, nz: float, ax: float, ay: float, az: float,
+    qx: NDArray[np.float64], qy: NDArray[np.float64], qz: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """:func:`plane_side_det` over float64 arrays, computed in ``qx``, ``qy``, ``qz`` (overwritten; ``qx`` returned).
+
+    Bitwise the determinant of :func:`plane_side_terms` and :func:`plane_side_terms_into`:
+    the same operations on the same operands in the same order.  O(len(qx)).
+    """
+    np.subtract(ax, qx, out=qx)  # aqx = ax - qx
+    np.subtract(ay, qy, out=qy)  # aqy = ay - qy
+    np.subtract(az, qz, out=qz)  # aqz = az - qz
+    qx *= nx  # aqx * nx
+    qy *= ny
+    qx += qy  # ... + aqy * ny
+    qz *= nz
+    qx += qz  # ... + aqz * nz
+    return qx
+
+
+def plane_side_reach(a: float, lo: float, hi: float) -> float:
+    """``max |fl(a - q)|`` over every double ``q`` with ``lo <= q <= hi``: ``|fl(a - lo)|`` or ``|fl(a - hi)|``.
+
+    Rounding is monotone, so ``fl(a - hi) <= fl(a - q) <= fl(a - lo)``.  NaN if
+    any argument is NaN.  O(1).
+    """
+    r = abs(a - lo)
+    s = abs(a - hi)
+    return s if s > r else r
+
+
+def plane_side_threshold(px: float, py: float, pz: float, rx: float, ry: float, rz: float) -> float:
+    """A threshold that is at least the filter threshold of :func:`plane_side_terms` for every point of a box.
+
+    ``fl(ERRBOUND_PLANE_SIDE · fl(rx·px + ry·py + rz·pz))``, with ``rx, ry, rz``
+    the reaches of the plane's point ``a`` over the box of all query points
+    (:func:`plane_side_reach`): the permanent's expression with each
+    ``|fl(a_j - q_j)|`` replaced by an upper bound on it.  IEEE rounding is
+    monotone (``x <= y`` implies ``fl(x) <= fl(y)``) and every factor is
+    nonnegative, so each operation of the permanent, and then the threshold
+    product, is bounded by the same operation here: the computed per-point
+    threshold ``fl(ERRBOUND_PLANE_SIDE · permanent)`` never exceeds this one.
+    Hence ``|det| >`` this threshold implies ``|det| >`` the point's own, and the
+    proved filter's conclusion holds — no new error analysis is needed, and
+    ``tests/test_predicates_kernel.py`` checks the inequality on adversarial
+    floats.  A point whose ``|det|`` is not above it falls back to its own
+    threshold, then to exact arithmetic.  Overflow gives ``inf`` and NaN gives
+    NaN, which no comparison accepts.  O(1).
+    """
+    return ERRBOUND_PLANE_SIDE * (rx * px + ry * py + rz * pz)
 
 
 def orient3d_plane_terms(

@@ -55,6 +55,7 @@ from fractions import Fraction
 from typing import Any, Final
 
 import itertools
+import math
 import struct
 
 import numpy as np
@@ -83,7 +84,10 @@ from persistri.impl.geometry.filter import (
     incircle_terms,
     orient2d_terms,
     orient3d_terms,
+    plane_side_det_into,
+    plane_side_reach,
     plane_side_terms_into,
+    plane_side_threshold,
     plane_terms,
 )
 from persistri.impl.geometry.points import as_points
@@ -154,19 +158,35 @@ class _IndexedPoints:
         self.stats = stats
         low, high = binary_exponents(pts[:exact_rows])
         nonzero = low < ZERO_LOW
-        scaling = choose_scaling(low[nonzero], high[nonzero])
+        # A zero's low is ZERO_LOW and its high -ZERO_LOW, beyond every nonzero's: the extremes over
+        # all coordinates are those over the nonzero ones (no masked copies of the arrays).
+        g = int(low.min()) if low.size else ZERO_LOW
+        h = int(high.max()) if high.size else -ZERO_LOW
+        some = g < ZERO_LOW  # some coordinate is nonzero
+        self._span = (g, h) if some else None
+        scaling = choose_scaling(np.array([g] if some else [], dtype=np.int64), np.array([h] if some else [], dtype=np.int64))
         shift = self._shift = scaling.shift
-        self._span = (int(low[nonzero].min()), int(high[nonzero].max())) if nonzero.any() else None
-        self._scale = IntegerScale.of(low, extra)
+        self._scale = IntegerScale(g if some else 0, extra)
         grain = np.full(n, _INVALID_GRAIN, dtype=np.int64)
         fl = np.full((n, dim), np.nan)
         if exact_rows:
-            # A row's scaled copy is exact unless a coordinate would lose bits (grain
-            # below 2^-1074) or overflow (magnitude 2^1024 or more); such rows stay NaN.
-            lost = ((low + shift < -1074) & nonzero) | (high + shift > 1024)
-            valid = ~lost.any(axis=1)
-            fl[:exact_rows][valid] = np.ldexp(pts[:exact_rows][valid], shift)
-            grain[:exact_rows] = np.where(valid, low.min(axis=1) + shift, _INVALID_GRAIN)
+            # A row's grain: the least over its coordinates (a zero's, ZERO_LOW, is never the least
+            # unless the row is all zeros).  Column by column: a reduction along rows of length 3 is slow.
+            row_low = low[:, 0].copy()
+            for j in range(1, dim):
+                np.minimum(row_low, low[:, j], out=row_low)
+            span = self._span
+            if span is None or (span[0] + shift >= -1074 and span[1] + shift <= 1024):
+                # The usual case, decided from the extremes alone: every row scales exactly.
+                fl[:exact_rows] = np.ldexp(pts[:exact_rows], shift)
+                grain[:exact_rows] = row_low + shift
+            else:
+                # A row's scaled copy is exact unless a coordinate would lose bits (grain
+                # below 2^-1074) or overflow (magnitude 2^1024 or more); such rows stay NaN.
+                lost = ((low + shift < -1074) & nonzero) | (high + shift > 1024)
+                valid = ~lost.any(axis=1)
+                fl[:exact_rows][valid] = np.ldexp(pts[:exact_rows][valid], shift)
+                grain[:exact_rows] = np.where(valid, row_low + shift, _INVALID_GRAIN)
         self._grain = grain
         self._uniform = scaling.uniform and bool(np.all(grain[:exact_rows] >= GRAIN_MIN))
         self._cols = tuple(np.ascontiguousarray(fl[:, j]) for j in range(dim))
@@ -744,6 +764,12 @@ class Orient3dKernel:
         flops = FLOPS_ORIENT3D
         exact = pred._orient3d_exact
         side = plane_side_terms_into
+        side_det = plane_side_det_into
+        reach, static_threshold = plane_side_reach, plane_side_threshold
+        nan = math.nan
+        # The box of every point with a float copy (the exact centroid's is NaN): the semi-static
+        # threshold bounds each point's own threshold over it.
+        (xlo, xhi), (ylo, yhi), (zlo, zhi) = (_finite_range(col) for col in pred._cols)
         side_errbound = ERRBOUND_PLANE_SIDE
         plane_flops, side_flops = FLOPS_PLANE, FLOPS_PLANE_SIDE
         small = SMALL_BATCH
@@ -822,9 +848,18 @@ class Orient3dKernel:
             py = abs(zx) + abs(xz)
             pz = abs(xy) + abs(yx)
             # end of filter.plane_terms
+            st = pred.stats
+            # The semi-static stage: one threshold for every point of the set (filter.plane_side_threshold),
+            # so most points need no permanent of their own.  Counted runs skip it (NaN decides nothing):
+            # each point is then tested against its own threshold, the FLOPS_PLANE_SIDE that Stats counts.
+            static = (
+                static_threshold(px, py, pz, reach(ax, xlo, xhi), reach(ay, ylo, yhi), reach(az, zlo, zhi))
+                if st is None
+                else nan
+            )
             if m >= small:
                 q_arr: IntArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
-                neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz, px, py, pz), q_arr)
+                neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz, px, py, pz), static, q_arr)
                 # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry.
                 return q_arr[neg], q_arr[pos]
             minus: list[int] = []
@@ -832,22 +867,27 @@ class Orient3dKernel:
             failures = 0
             for q in qs.tolist() if type(qs) is ndarray else qs:
                 qx, qy, qz = rows[q]
-                # filter.plane_side_terms:
+                # filter.plane_side_det:
                 aqx = ax - qx
                 aqy = ay - qy
                 aqz = az - qz
                 det = aqx * nx + aqy * ny + aqz * nz
-                permanent = abs(aqx) * px + abs(aqy) * py + abs(aqz) * pz
-                # end of filter.plane_side_terms
-                thr = side_errbound * permanent
-                if det < -thr:
+                # end of filter.plane_side_det
+                if det < -static:
                     minus.append(q)
-                elif det > thr:
+                elif det > static:
                     plus.append(q)
                 else:
-                    failures += 1
-                    (minus if exact(a, b, c, q, True) < 0 else plus).append(q)
-            st = pred.stats
+                    # The point's own threshold: the rest of filter.plane_side_terms.
+                    permanent = abs(aqx) * px + abs(aqy) * py + abs(aqz) * pz
+                    thr = side_errbound * permanent
+                    if det < -thr:
+                        minus.append(q)
+                    elif det > thr:
+                        plus.append(q)
+                    else:
+                        failures += 1
+                        (minus if exact(a, b, c, q, True) < 0 else plus).append(q)
             if st is not None:
                 st.plane_side_tests += m
                 st.flops += plane_flops + side_flops * m
@@ -855,24 +895,47 @@ class Orient3dKernel:
             return minus, plus
 
         def where(
-            a: int, b: int, c: int, at: tuple[float, float, float], terms6: tuple[float, ...], q_arr: IntArray
+            a: int,
+            b: int,
+            c: int,
+            at: tuple[float, float, float],
+            terms6: tuple[float, ...],
+            static: float,
+            q_arr: IntArray,
         ) -> tuple[IntArray, IntArray]:
             """The positions in ``q_arr`` where orient3d(a, b, c, q) = -1 and where it is +1, increasing.
 
-            Vectorised through the prepared plane: :func:`~persistri.impl.geometry.filter.plane_side_terms_into`
-            on the gathered columns, then one comparison per side; about twenty numpy calls in all, whatever
-            the length (the undecided entries, if any, one by one exactly).
+            Vectorised through the prepared plane.  With a ``static`` threshold (not NaN):
+            :func:`~persistri.impl.geometry.filter.plane_side_det_into` on the gathered columns and
+            one comparison per side (about fifteen numpy calls whatever the length), the few
+            undecided entries then by the scalar kernel (their own filter, then exact).  Without
+            (counted runs): :func:`~persistri.impl.geometry.filter.plane_side_terms_into`, each
+            entry against its own threshold, the undecided ones exactly.
             """
             nx, ny, nz, px, py, pz = terms6
             ax, ay, az = at
-            qy = ys[q_arr]  # gathered copies: plane_side_terms_into computes in them
+            m = q_arr.size
+            qy = ys[q_arr]  # gathered copies: the filter functions compute in them
+            if static == static:
+                det = side_det(nx, ny, nz, ax, ay, az, xs[q_arr], qy, zs[q_arr])
+                neg_mask = det < -static
+                pos_mask = det > static
+                neg: IntArray = neg_mask.nonzero()[0]
+                pos: IntArray = pos_mask.nonzero()[0]
+                if m - neg.size - pos.size:
+                    for i in (~(neg_mask | pos_mask)).nonzero()[0].tolist():
+                        if orient3d(a, b, c, int(q_arr[i])) < 0:
+                            neg_mask[i] = True
+                        else:
+                            pos_mask[i] = True
+                    neg, pos = neg_mask.nonzero()[0], pos_mask.nonzero()[0]
+                return neg, pos
             det, thr = side(nx, ny, nz, px, py, pz, ax, ay, az, xs[q_arr], qy, zs[q_arr])
             thr *= side_errbound  # the threshold side_errbound * permanent, in place
             neg_mask = det < np.negative(thr, out=qy)  # qy is free again
             pos_mask = det > thr
-            neg: IntArray = neg_mask.nonzero()[0]
-            pos: IntArray = pos_mask.nonzero()[0]
-            m = q_arr.size
+            neg = neg_mask.nonzero()[0]
+            pos = pos_mask.nonzero()[0]
             failures = m - neg.size - pos.size
             if failures:
                 for i in (~(neg_mask | pos_mask)).nonzero()[0].tolist():
@@ -891,7 +954,13 @@ class Orient3dKernel:
             ax, ay, az = rows[a]
             bx, by, bz = rows[b]
             cx, cy, cz = rows[c]
-            neg, pos = where(a, b, c, (ax, ay, az), plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz), qs)
+            nx, ny, nz, px, py, pz = terms = plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
+            static = (
+                static_threshold(px, py, pz, reach(ax, xlo, xhi), reach(ay, ylo, yhi), reach(az, zlo, zhi))
+                if pred.stats is None
+                else nan
+            )
+            neg, pos = where(a, b, c, (ax, ay, az), terms, static, qs)
             out[neg] = -1
             out[pos] = 1
             return out
@@ -905,6 +974,14 @@ class Orient3dKernel:
         self.orient3d = orient3d
         self.partition = partition
         self.signs = signs
+
+
+def _finite_range(col: NDArray[np.float64]) -> tuple[float, float]:
+    """The least and greatest non-NaN entries of ``col``, or NaN twice when there are none. O(len(col))."""
+    finite = col[~np.isnan(col)] if np.isnan(col).any() else col
+    if finite.size == 0:
+        return math.nan, math.nan
+    return float(finite.min()), float(finite.max())
 
 
 def _checked_partition(pred: Predicates3) -> Callable[[int, int, int, Indices], tuple[Indices, Indices]]:

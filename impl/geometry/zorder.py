@@ -78,4 +78,10 @@ def morton_order(points: NDArray[np.float64]) -> NDArray[np.intp]:
         else:
             q = np.zeros(n, dtype=np.uint64)
         code |= _spread(q) << np.uint64(j)
-    return np.argsort(code, kind="stable").astype(np.intp, copy=False)
+    # Codes are almost always distinct (2^63 cells), and then any sort is the stable one; the unstable
+    # sort is three times faster.  Only when two points share a cell is the stable sort redone.
+    order = np.argsort(code)
+    ranked = code[order]
+    if n > 1 and bool((ranked[1:] == ranked[:-1]).any()):
+        order = np.argsort(code, kind="stable")
+    return order.astype(np.intp, copy=False)

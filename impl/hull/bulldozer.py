@@ -119,6 +119,9 @@ INTERIOR: Final = 1
 ON_HULL: Final = 2
 """Status of a point that was inserted (a vertex of the hull when inserted)."""
 
+_RUN_BLOCK: Final = 1024
+"""How many points of the insertion order :meth:`Bulldozer.run` filters at once by status."""
+
 _HORIZON: Final = -1
 """The face id of an out-edge that leads off the visible region (a horizon edge)."""
 
@@ -189,16 +192,18 @@ def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
     pts = pred.points[:n]
     if n >= 4:
         with np.errstate(all="ignore"):
-            scale = float(np.max(np.abs(pts))) or 1.0
-            q = pts / scale
-            i0 = int(np.argmin(q[:, 0]))
-            dq = q - q[i0]
-            d0 = (dq**2).sum(axis=1)
+            # Scaled so that squares cannot overflow; a float heuristic, verified exactly below.
+            scale = max(float(pts.max()), -float(pts.min())) or 1.0
+            i0 = int(np.argmin(pts[:, 0]))
+            dq = pts - pts[i0]
+            dq /= scale
+            d0 = np.einsum("ij,ij->i", dq, dq)  # squared distances to point i0
             i1 = int(np.argmax(d0))
-            u = q[i1] - q[i0]
-            cr = np.cross(dq, u)
-            i2 = int(np.argmax((cr**2).sum(axis=1)))
-            nrm = np.cross(q[i1] - q[i0], q[i2] - q[i0])
+            u = dq[i1]
+            along = dq @ u
+            # Squared distances to the line (i0, i1), by Pythagoras: |dq|² - (dq·u)²/|u|².
+            i2 = int(np.argmax(d0 - along * along / float(u @ u)))
+            nrm = np.cross(u, dq[i2])
             i3 = int(np.argmax(np.abs(dq @ nrm)))
         cand = (i0, i1, i2, i3)
         if len(set(cand)) == 4 and pred.orient3d_sign(*cand) != 0:
@@ -694,10 +699,20 @@ class Bulldozer:
     # -- the whole run ---------------------------------------------------------------
 
     def run(self, order: IntArray, progress: Callable[[int], None] | None = None) -> Iterator[tuple[int, Complex[FaceDatum]]]:
-        """Insert the points of ``order`` that are outside when their turn comes; yield ``(p, version)``."""
-        status = self._status
-        for p in order.tolist():
-            if status[p] == PENDING:
-                yield p, self.insert(p)
+        """Insert the points of ``order`` that are outside when their turn comes; yield ``(p, version)``.
+
+        ``order`` is read in blocks of :data:`_RUN_BLOCK`: a point's status only
+        ever leaves ``PENDING``, so the points that are interior (or on the hull)
+        when a block begins are dropped from it in one vectorised step, and only
+        the others are visited one by one (each rechecked at its turn).  Late in
+        a run most points are interior, and this skips them at numpy speed.
+        ``progress`` is called with the size of each block.
+        """
+        status, view = self._status, self.status
+        for start in range(0, order.size, _RUN_BLOCK):
+            block = order[start : start + _RUN_BLOCK]
+            for p in block[view[block] == PENDING].tolist():
+                if status[p] == PENDING:
+                    yield p, self.insert(p)
             if progress is not None:
-                progress(1)
+                progress(block.size)
