@@ -18,7 +18,7 @@ from test_predicates import point_sets
 from persistri.impl.geometry import filter as fp
 from persistri.impl.geometry.filter import FLOPS_ORIENT3D, FLOPS_PLANE, FLOPS_PLANE_SIDE
 from persistri.impl.geometry.points import unique_rows
-from persistri.impl.geometry.predicates import SMALL_BATCH, Orient3dKernel, Predicates3
+from persistri.impl.geometry.predicates import KERNEL_BATCH, Orient3dKernel, Predicates3
 from persistri.impl.stats import Stats
 
 
@@ -70,12 +70,12 @@ def test_partition_vectorised_path_agrees(kind: str) -> None:
     n = len(p)
     for a, b, c in ((0, 1, 2), (0, 7, 42), (5, 36, 200)):
         qs = [q for q in rng.permutation(n).tolist() if q not in (a, b, c)]
-        assert len(qs) >= SMALL_BATCH  # the vectorised path
+        assert len(qs) >= KERNEL_BATCH  # the vectorised path
         minus, plus = k.partition(a, b, c, np.array(qs, dtype=np.intp))
         assert isinstance(minus, np.ndarray) and isinstance(plus, np.ndarray)
         assert _lists((minus, plus)) == _split(p, a, b, c, qs)
         assert k.signs(a, b, c, np.array(qs, dtype=np.intp)).tolist() == [p.orient3d(a, b, c, q) for q in qs]
-        small = qs[: SMALL_BATCH - 1]
+        small = qs[: KERNEL_BATCH - 1]
         got = k.partition(a, b, c, small)
         assert isinstance(got[0], list)
         assert _lists(got) == _split(p, a, b, c, small)
@@ -85,14 +85,14 @@ def test_partition_with_the_exact_centroid_and_empty_input() -> None:
     """A needle tetrahedron: the float centroid is not inside, the exact one has no float copy (NaN row)."""
     third = 1 / 3
     rng = np.random.default_rng(2)
-    pts = np.vstack([[[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0], [third, third, third + 2.0**-52]], rng.random((60, 3)) - 0.2])
+    pts = np.vstack([[[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0], [third, third, third + 2.0**-52]], rng.random((100, 3)) - 0.2])
     base = Predicates3(pts)
     c = base.with_centroid(0, 1, 2, 3)
     assert not c.centre_is_float
     k = c.kernel()
     centre = len(c) - 1
     qs = list(range(4, centre))
-    assert len(qs) >= SMALL_BATCH
+    assert len(qs) >= KERNEL_BATCH
     for arg in (qs, np.array(qs, dtype=np.intp), qs[:5]):
         q_list = [int(q) for q in arg]
         assert _lists(k.partition(centre, 0, 1, arg)) == _split(c, centre, 0, 1, q_list)

@@ -107,6 +107,13 @@ for the kernel's ``partition`` (CPU time, 256K-point InBall set): the scalar loo
 hundred points, so the two meet near 48 points; whole hull runs (OnSphere 8K, InBall 64K)
 measured the same, within noise, for every threshold from 32 to 96."""
 
+KERNEL_BATCH: Final[int] = 64
+"""Below this many points :attr:`Orient3dKernel.partition` loops over the points instead of
+running vectorised.  Higher than :data:`SMALL_BATCH` because the kernel's loop is cheaper than
+the checked scalar test: with the semi-static threshold a point costs about 0.2–0.4 µs in it,
+against the vectorised path's 25–35 µs for a call of up to a hundred points (measured at
+32 to 160 points of a 256K-point InBall set: the two meet between 80 and 96)."""
+
 IntArray = NDArray[np.intp]
 SignArray = NDArray[np.int8]
 _Terms = Callable[..., tuple[NDArray[np.float64], NDArray[np.float64]]]
@@ -729,7 +736,7 @@ class Orient3dKernel:
       the normal's permanents), so each point costs the 17 flops of
       :func:`~persistri.impl.geometry.filter.plane_side_terms` instead of
       orient3d's 41, under a filter constant proved for that composition
-      (``proofs/proof_predicates.py``).  Below :data:`SMALL_BATCH` points it
+      (``proofs/proof_predicates.py``).  Below :data:`KERNEL_BATCH` points it
       loops over the points and returns lists (an empty ``qs`` gives two empty
       tuples); from there on the same expression runs vectorised over numpy
       (the plane's terms enter as Python floats; about twenty numpy calls
@@ -772,7 +779,7 @@ class Orient3dKernel:
         (xlo, xhi), (ylo, yhi), (zlo, zhi) = (_finite_range(col) for col in pred._cols)
         side_errbound = ERRBOUND_PLANE_SIDE
         plane_flops, side_flops = FLOPS_PLANE, FLOPS_PLANE_SIDE
-        small = SMALL_BATCH
+        small = KERNEL_BATCH
         ndarray = np.ndarray
         # The scalar paths below run the filter expressions of :mod:`.filter` written out in place
         # (orient3d_terms; plane_terms, then plane_side_terms per point): a call per test costs as much
@@ -859,9 +866,9 @@ class Orient3dKernel:
             )
             if m >= small:
                 q_arr: IntArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
-                neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz, px, py, pz), static, q_arr)
+                neg_mask, pos_mask = where(a, b, c, (ax, ay, az), (nx, ny, nz, px, py, pz), static, q_arr)
                 # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry.
-                return q_arr[neg], q_arr[pos]
+                return q_arr[neg_mask.nonzero()[0]], q_arr[pos_mask.nonzero()[0]]
             minus: list[int] = []
             plus: list[int] = []
             failures = 0
@@ -902,55 +909,45 @@ class Orient3dKernel:
             terms6: tuple[float, ...],
             static: float,
             q_arr: IntArray,
-        ) -> tuple[IntArray, IntArray]:
-            """The positions in ``q_arr`` where orient3d(a, b, c, q) = -1 and where it is +1, increasing.
+        ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+            """Masks over ``q_arr``: where orient3d(a, b, c, q) = -1, and where it is +1.
 
             Vectorised through the prepared plane.  With a ``static`` threshold (not NaN):
             :func:`~persistri.impl.geometry.filter.plane_side_det_into` on the gathered columns and
-            one comparison per side (about fifteen numpy calls whatever the length), the few
-            undecided entries then by the scalar kernel (their own filter, then exact).  Without
-            (counted runs): :func:`~persistri.impl.geometry.filter.plane_side_terms_into`, each
-            entry against its own threshold, the undecided ones exactly.
+            one comparison per side (a dozen numpy calls whatever the length), the few undecided
+            entries then by the scalar kernel (their own filter, then exact).  Without (counted
+            runs): :func:`~persistri.impl.geometry.filter.plane_side_terms_into`, each entry
+            against its own threshold, the undecided ones exactly.
             """
             nx, ny, nz, px, py, pz = terms6
             ax, ay, az = at
-            m = q_arr.size
             qy = ys[q_arr]  # gathered copies: the filter functions compute in them
-            if static == static:
+            counted = static != static
+            if counted:
+                det, thr = side(nx, ny, nz, px, py, pz, ax, ay, az, xs[q_arr], qy, zs[q_arr])
+                thr *= side_errbound  # the threshold side_errbound * permanent, in place
+                neg_mask = det < np.negative(thr, out=qy)  # qy is free again
+                pos_mask = det > thr
+            else:
                 det = side_det(nx, ny, nz, ax, ay, az, xs[q_arr], qy, zs[q_arr])
                 neg_mask = det < -static
                 pos_mask = det > static
-                neg: IntArray = neg_mask.nonzero()[0]
-                pos: IntArray = pos_mask.nonzero()[0]
-                if m - neg.size - pos.size:
-                    for i in (~(neg_mask | pos_mask)).nonzero()[0].tolist():
-                        if orient3d(a, b, c, int(q_arr[i])) < 0:
-                            neg_mask[i] = True
-                        else:
-                            pos_mask[i] = True
-                    neg, pos = neg_mask.nonzero()[0], pos_mask.nonzero()[0]
-                return neg, pos
-            det, thr = side(nx, ny, nz, px, py, pz, ax, ay, az, xs[q_arr], qy, zs[q_arr])
-            thr *= side_errbound  # the threshold side_errbound * permanent, in place
-            neg_mask = det < np.negative(thr, out=qy)  # qy is free again
-            pos_mask = det > thr
-            neg = neg_mask.nonzero()[0]
-            pos = pos_mask.nonzero()[0]
-            failures = m - neg.size - pos.size
-            if failures:
+            m = q_arr.size
+            undecided = m - np.count_nonzero(neg_mask) - np.count_nonzero(pos_mask)
+            if undecided:
                 for i in (~(neg_mask | pos_mask)).nonzero()[0].tolist():
-                    if exact(a, b, c, int(q_arr[i]), True) < 0:
+                    q = int(q_arr[i])
+                    if (exact(a, b, c, q, True) if counted else orient3d(a, b, c, q)) < 0:
                         neg_mask[i] = True
                     else:
                         pos_mask[i] = True
-                neg, pos = neg_mask.nonzero()[0], pos_mask.nonzero()[0]
-            _count(pred.stats, m, failures)
-            return neg, pos
+            if counted:
+                _count(pred.stats, m, undecided)
+            return neg_mask, pos_mask
 
         def signs(a: int, b: int, c: int, qs: IntArray) -> SignArray:
-            out: SignArray = np.zeros(qs.size, dtype=np.int8)
             if qs.size == 0:
-                return out
+                return np.zeros(0, dtype=np.int8)
             ax, ay, az = rows[a]
             bx, by, bz = rows[b]
             cx, cy, cz = rows[c]
@@ -960,9 +957,8 @@ class Orient3dKernel:
                 if pred.stats is None
                 else nan
             )
-            neg, pos = where(a, b, c, (ax, ay, az), terms, static, qs)
-            out[neg] = -1
-            out[pos] = 1
+            neg_mask, pos_mask = where(a, b, c, (ax, ay, az), terms, static, qs)
+            out: SignArray = pos_mask.view(np.int8) - neg_mask.view(np.int8)
             return out
 
         def _count(st: Stats | None, m: int, failures: int) -> None:

@@ -49,7 +49,7 @@ outward face ``(a, b, c)``:
 Per point and face this is at most two plane-side tests (one "can q see F",
 one "which out-edge"), as the paper says (§3).  Conflict lists are tuples of
 point indices, or read-only numpy arrays from
-:data:`~persistri.impl.geometry.predicates.SMALL_BATCH` entries on; the
+:data:`~persistri.impl.geometry.predicates.KERNEL_BATCH` entries on; the
 kernel's ``partition`` tests a short list point by point and a long one in a
 vectorised batch.  An empty list is never partitioned (nothing to test).
 
@@ -89,7 +89,7 @@ from numpy.typing import NDArray
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Vertex, VertexState
-from persistri.impl.geometry.predicates import SMALL_BATCH, Indices, Predicates3
+from persistri.impl.geometry.predicates import KERNEL_BATCH, Indices, Predicates3
 from persistri.impl.hull.errors import DegenerateInputError
 
 __all__ = [
@@ -108,7 +108,7 @@ __all__ = [
 IntArray = NDArray[np.intp]
 Triangle = tuple[Vertex, Vertex, Vertex]
 Conflict = tuple[int, ...] | IntArray
-"""A conflict list: point indices, a tuple below ``SMALL_BATCH`` entries, else a read-only int array."""
+"""A conflict list: point indices, a tuple below ``KERNEL_BATCH`` entries, else a read-only int array."""
 FaceDatum = tuple[int, Conflict]
 """The datum of a hull face: ``(face id, conflict list)``."""
 
@@ -133,7 +133,7 @@ class BulldozerCheckError(AssertionError):
 def _freeze(pts: Indices) -> Conflict:
     """``pts`` as a conflict list: a tuple when short, else a read-only array (no copy)."""
     if isinstance(pts, np.ndarray):
-        if len(pts) < SMALL_BATCH:
+        if len(pts) < KERNEL_BATCH:
             return tuple(pts.tolist())
         pts.setflags(write=False)
         return pts
@@ -192,7 +192,9 @@ def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
     pts = pred.points[:n]
     if n >= 4:
         with np.errstate(all="ignore"):
-            # Scaled so that squares cannot overflow; a float heuristic, verified exactly below.
+            # Scaled so that squares cannot overflow; a float heuristic, verified exactly below.  Dot
+            # products by einsum, not BLAS: a threaded BLAS call leaves its worker threads spinning,
+            # which costs CPU time long after the call (measured: 0.1 s at 256K points).
             scale = max(float(pts.max()), -float(pts.min())) or 1.0
             i0 = int(np.argmin(pts[:, 0]))
             dq = pts - pts[i0]
@@ -200,11 +202,11 @@ def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
             d0 = np.einsum("ij,ij->i", dq, dq)  # squared distances to point i0
             i1 = int(np.argmax(d0))
             u = dq[i1]
-            along = dq @ u
+            along = np.einsum("ij,j->i", dq, u)
             # Squared distances to the line (i0, i1), by Pythagoras: |dq|² - (dq·u)²/|u|².
-            i2 = int(np.argmax(d0 - along * along / float(u @ u)))
+            i2 = int(np.argmax(d0 - along * along / float(np.einsum("i,i->", u, u))))
             nrm = np.cross(u, dq[i2])
-            i3 = int(np.argmax(np.abs(dq @ nrm)))
+            i3 = int(np.argmax(np.abs(np.einsum("ij,j->i", dq, nrm))))
         cand = (i0, i1, i2, i3)
         if len(set(cand)) == 4 and pred.orient3d_sign(*cand) != 0:
             return cand
