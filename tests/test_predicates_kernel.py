@@ -156,8 +156,10 @@ def test_centroid_shortcut_builds_what_the_full_setup_builds(n: int, seed: int, 
     if fast is None:
         assert full.filter_scale != p.filter_scale or not full.filter_scale[1]
         return
-    for attr in ("_n", "_dim", "_shift", "_span", "_scale", "_uniform", "_rows"):
+    for attr in ("_n", "_dim", "_shift", "_span", "_scale", "_uniform"):
         assert getattr(fast, attr) == getattr(full, attr), attr
+    # Rows are made on first use: the same floats once made, whichever were made before.
+    assert [fast._row(i) for i in range(n + 1)] == [full._row(i) for i in range(n + 1)]
     assert np.array_equal(fast._grain, full._grain)
     assert all(np.array_equal(x, y) for x, y in zip(fast._cols, full._cols))
     assert np.array_equal(fast.points, full.points)
@@ -347,3 +349,20 @@ def test_counted_and_uncounted_partitions_agree(kind: str) -> None:
             p.stats = Stats()
             counted = _lists(k.partition(a, b, c, np.array(part, dtype=np.intp)))
             assert fast == counted == _split(p, a, b, c, part)
+
+
+def test_rows_are_made_on_first_use_and_are_the_scaled_copy() -> None:
+    """Predicates3 makes a point's tuple of floats (the scalar tests' operands) when a test first reads it,
+    with its block; the kernel's scalar paths and the checked API make them alike, to the same floats."""
+    rng = np.random.default_rng(8)
+    pts = rng.random((200, 3)) * 3.0 - 1.0
+    p = Predicates3(pts)
+    assert not any(p._rows)  # nothing made yet
+    k = p.kernel()
+    assert k.orient3d(150, 3, 77, 199) == p.orient3d(150, 3, 77, 199)
+    made = [i for i, r in enumerate(p._rows) if r]
+    assert 0 < len(made) < 200 and {150, 3, 77, 199} <= set(made)
+    assert _lists(k.partition(120, 5, 60, [180, 181, 40])) == _split(p, 120, 5, 60, [180, 181, 40])
+    shift, _ = p.filter_scale
+    for i in range(200):
+        assert p._row(i) == tuple(np.ldexp(pts[i], shift).tolist())

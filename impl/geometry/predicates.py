@@ -99,6 +99,13 @@ __all__ = ["Predicates2", "Predicates3", "Orient3dKernel", "Indices", "affine_di
 _INVALID_GRAIN: Final[int] = -ZERO_LOW
 """Grain of a point with no valid float copy: fails every grain check."""
 
+_UNMADE: Final[tuple[float, ...]] = ()
+"""A lazy row not made yet: unpacking it raises ValueError, which the hot paths catch to make it."""
+
+_ROW_BLOCK: Final[int] = 32
+"""Lazy rows are made this many consecutive points at a time (a block's points are mostly near
+in space with z-order labels, and a block costs one call per axis)."""
+
 SMALL_BATCH: Final[int] = 32
 """Below this many entries a batch loops over the scalar test: numpy's fixed cost per
 call (some twenty array operations) outweighs the scalar tests it would replace.  Measured
@@ -151,11 +158,14 @@ class _IndexedPoints:
     _ints: dict[int, tuple[int, ...]]
     stats: Stats | None
 
-    def _setup(self, pts: NDArray[np.float64], *, exact_rows: int, extra: int, stats: Stats | None) -> None:
+    def _setup(
+        self, pts: NDArray[np.float64], *, exact_rows: int, extra: int, stats: Stats | None, lazy_rows: bool = False
+    ) -> None:
         """Build the filter copy and the integer scale from the first ``exact_rows`` rows.
 
         Rows from ``exact_rows`` on (the exact centroid, if any) get no float copy
         (NaN: every filter comparison rejects it) and their integers from :meth:`_int`.
+        ``lazy_rows``: each point's tuple of floats is made on first use (:meth:`_row`).
         """
         n, dim = pts.shape
         pts.setflags(write=False)
@@ -199,9 +209,26 @@ class _IndexedPoints:
         self._cols = tuple(np.ascontiguousarray(fl[:, j]) for j in range(dim))
         # One tuple per point: a test touches a few points, and a point's coordinates
         # then sit together in memory (a quarter faster than one list per axis at 10^5 points).
-        # Unpacked from the rows' bytes (a third faster than zipping three lists; the same floats).
-        self._rows = list(struct.iter_unpack(f"{dim}d", fl.data))
+        if lazy_rows:
+            # Made on first use, a block at a time (_row): a hull of points in a ball tests only the
+            # points near its surface one by one, and a tuple per point costs 0.3 µs to build.
+            self._rows = [_UNMADE] * n
+        else:
+            # Unpacked from the rows' bytes (a third faster than zipping three lists; the same floats).
+            self._rows = list(struct.iter_unpack(f"{dim}d", fl.data))
         self._ints = {}
+
+    def _row(self, i: int) -> tuple[float, ...]:
+        """Point ``i`` of the filter copy as a tuple of floats, made with its block of :data:`_ROW_BLOCK`
+        points if not made yet (lazy rows).  ``i`` must be a valid index. O(1) amortised."""
+        rows = self._rows
+        row = rows[i]
+        if row:
+            return row
+        start = i - i % _ROW_BLOCK
+        block = [col[start : start + _ROW_BLOCK].tolist() for col in self._cols]
+        rows[start : start + len(block[0])] = zip(*block)
+        return rows[i]
 
     # -- sizes and data ----------------------------------------------------------------
 
@@ -391,7 +418,7 @@ class Predicates3(_IndexedPoints):
         pts = as_points(points, 3)
         self._centre = None
         self._centre_exact = None
-        self._setup(pts, exact_rows=pts.shape[0], extra=0, stats=stats)
+        self._setup(pts, exact_rows=pts.shape[0], extra=0, stats=stats, lazy_rows=True)
 
     def __repr__(self) -> str:
         centre = "" if self._centre is None else f", centre={self._centre}"
@@ -447,7 +474,7 @@ class Predicates3(_IndexedPoints):
             cand = self._with_row(guess)
             if cand is None:
                 cand = Predicates3.__new__(Predicates3)
-                cand._setup(np.vstack([self._points, guess[None, :]]), exact_rows=n + 1, extra=0, stats=self.stats)
+                cand._setup(np.vstack([self._points, guess[None, :]]), exact_rows=n + 1, extra=0, stats=self.stats, lazy_rows=True)
             cand._centre = n
             cand._centre_exact = None
             if cand._strictly_inside(tetra, n, s):
@@ -460,7 +487,7 @@ class Predicates3(_IndexedPoints):
         out = Predicates3.__new__(Predicates3)
         out._centre = n
         out._centre_exact = None
-        out._setup(np.vstack([self._points, nearest]), exact_rows=n, extra=2, stats=self.stats)
+        out._setup(np.vstack([self._points, nearest]), exact_rows=n, extra=2, stats=self.stats, lazy_rows=True)
         out._centre_exact = exact
         out._ints[n] = exact  # the memo of exact integers serves the centre's from the start
         assert out._strictly_inside(tetra, n, s), "the exact centroid of a tetrahedron is interior"
@@ -532,14 +559,14 @@ class Predicates3(_IndexedPoints):
         (:data:`~persistri.impl.geometry.filter.FLOPS_ORIENT3D` flops), exact
         integers when it cannot decide.
         """
-        rows = self._rows
+        row = self._row
         try:
             if (a | b | c | d) < 0:
                 raise IndexError
-            ax, ay, az = rows[a]
-            bx, by, bz = rows[b]
-            cx, cy, cz = rows[c]
-            dx, dy, dz = rows[d]
+            ax, ay, az = row(a)
+            bx, by, bz = row(b)
+            cx, cy, cz = row(c)
+            dx, dy, dz = row(d)
         except (IndexError, TypeError):
             raise self._bad_index((a, b, c, d)) from None
         det, perm = orient3d_terms(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
@@ -561,11 +588,11 @@ class Predicates3(_IndexedPoints):
         """The true sign of the orient3d determinant: -1, 0 or +1 (no perturbation). O(1)."""
         self._fixed(a, b, c, d)
         if self._uniform or self._grain_ok(a, b, c, d):
-            rows = self._rows
-            ax, ay, az = rows[a]
-            bx, by, bz = rows[b]
-            cx, cy, cz = rows[c]
-            dx, dy, dz = rows[d]
+            row = self._row
+            ax, ay, az = row(a)
+            bx, by, bz = row(b)
+            cx, cy, cz = row(c)
+            dx, dy, dz = row(d)
             det, perm = orient3d_terms(ax, ay, az, bx, by, bz, cx, cy, cz, dx, dy, dz)
             thr = ERRBOUND_ORIENT3D * perm
             if det > thr or det < -thr:
@@ -766,6 +793,7 @@ class Orient3dKernel:
             self.signs = pred.orient3d_batch
             return
         rows = pred._rows
+        row = pred._row  # makes a lazy row: rows[i] unpacks to ValueError until then
         xs, ys, zs = pred._cols
         errbound = ERRBOUND_ORIENT3D
         flops = FLOPS_ORIENT3D
@@ -788,10 +816,13 @@ class Orient3dKernel:
         # by statement, with the functions' bodies.
 
         def orient3d(a: int, b: int, c: int, d: int) -> int:
-            ax, ay, az = rows[a]
-            bx, by, bz = rows[b]
-            cx, cy, cz = rows[c]
-            dx, dy, dz = rows[d]
+            try:
+                ax, ay, az = rows[a]
+                bx, by, bz = rows[b]
+                cx, cy, cz = rows[c]
+                dx, dy, dz = rows[d]
+            except ValueError:
+                (ax, ay, az), (bx, by, bz), (cx, cy, cz), (dx, dy, dz) = row(a), row(b), row(c), row(d)
             # filter.orient3d_terms:
             adx = ax - dx
             bdx = bx - dx
@@ -832,9 +863,12 @@ class Orient3dKernel:
             m = len(qs)
             if m == 0:
                 return (), ()
-            ax, ay, az = rows[a]
-            bx, by, bz = rows[b]
-            cx, cy, cz = rows[c]
+            try:
+                ax, ay, az = rows[a]
+                bx, by, bz = rows[b]
+                cx, cy, cz = rows[c]
+            except ValueError:
+                (ax, ay, az), (bx, by, bz), (cx, cy, cz) = row(a), row(b), row(c)
             # filter.plane_terms:
             bax = bx - ax
             bay = by - ay
@@ -866,14 +900,17 @@ class Orient3dKernel:
             )
             if m >= small:
                 q_arr: IntArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
-                neg_mask, pos_mask = where(a, b, c, (ax, ay, az), (nx, ny, nz, px, py, pz), static, q_arr)
+                neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz, px, py, pz), static, q_arr)
                 # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry.
-                return q_arr[neg_mask.nonzero()[0]], q_arr[pos_mask.nonzero()[0]]
+                return q_arr[neg], q_arr[pos]
             minus: list[int] = []
             plus: list[int] = []
             failures = 0
             for q in qs.tolist() if type(qs) is ndarray else qs:
-                qx, qy, qz = rows[q]
+                try:
+                    qx, qy, qz = rows[q]
+                except ValueError:
+                    qx, qy, qz = row(q)
                 # filter.plane_side_det:
                 aqx = ax - qx
                 aqy = ay - qy
@@ -909,8 +946,8 @@ class Orient3dKernel:
             terms6: tuple[float, ...],
             static: float,
             q_arr: IntArray,
-        ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
-            """Masks over ``q_arr``: where orient3d(a, b, c, q) = -1, and where it is +1.
+        ) -> tuple[IntArray, IntArray]:
+            """The positions in ``q_arr`` where orient3d(a, b, c, q) = -1 and where it is +1, increasing.
 
             Vectorised through the prepared plane.  With a ``static`` threshold (not NaN):
             :func:`~persistri.impl.geometry.filter.plane_side_det_into` on the gathered columns and
@@ -932,8 +969,10 @@ class Orient3dKernel:
                 det = side_det(nx, ny, nz, ax, ay, az, xs[q_arr], qy, zs[q_arr])
                 neg_mask = det < -static
                 pos_mask = det > static
+            neg: IntArray = neg_mask.nonzero()[0]
+            pos: IntArray = pos_mask.nonzero()[0]
             m = q_arr.size
-            undecided = m - np.count_nonzero(neg_mask) - np.count_nonzero(pos_mask)
+            undecided = m - neg.size - pos.size
             if undecided:
                 for i in (~(neg_mask | pos_mask)).nonzero()[0].tolist():
                     q = int(q_arr[i])
@@ -941,24 +980,30 @@ class Orient3dKernel:
                         neg_mask[i] = True
                     else:
                         pos_mask[i] = True
+                neg, pos = neg_mask.nonzero()[0], pos_mask.nonzero()[0]
             if counted:
                 _count(pred.stats, m, undecided)
-            return neg_mask, pos_mask
+            return neg, pos
 
         def signs(a: int, b: int, c: int, qs: IntArray) -> SignArray:
             if qs.size == 0:
                 return np.zeros(0, dtype=np.int8)
-            ax, ay, az = rows[a]
-            bx, by, bz = rows[b]
-            cx, cy, cz = rows[c]
+            try:
+                ax, ay, az = rows[a]
+                bx, by, bz = rows[b]
+                cx, cy, cz = rows[c]
+            except ValueError:
+                (ax, ay, az), (bx, by, bz), (cx, cy, cz) = row(a), row(b), row(c)
             nx, ny, nz, px, py, pz = terms = plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
             static = (
                 static_threshold(px, py, pz, reach(ax, xlo, xhi), reach(ay, ylo, yhi), reach(az, zlo, zhi))
                 if pred.stats is None
                 else nan
             )
-            neg_mask, pos_mask = where(a, b, c, (ax, ay, az), terms, static, qs)
-            out: SignArray = pos_mask.view(np.int8) - neg_mask.view(np.int8)
+            neg, pos = where(a, b, c, (ax, ay, az), terms, static, qs)
+            out: SignArray = np.zeros(qs.size, dtype=np.int8)
+            out[neg] = -1
+            out[pos] = 1
             return out
 
         def _count(st: Stats | None, m: int, failures: int) -> None:
