@@ -246,14 +246,12 @@ def test_the_kernels_written_out_filter_is_the_proved_function(kernel_fn: str, f
 
 
 def test_the_partitions_own_threshold_completes_the_proved_function() -> None:
-    """``plane_side_det`` is ``plane_side_terms`` without its last statement (the permanent), and the
-    partition's fallback for a point the semi-static threshold leaves undecided computes that very
-    statement: together the kernel's scalar path is still the proved ``plane_side_terms``."""
-    det_body, _ = _filter_body(fp.plane_side_det)
+    """The partition's fallback for a point the semi-static threshold leaves undecided computes the
+    differences and the permanent as ``plane_side_terms`` does (its determinant is ``plane_side_det``,
+    bitwise the same, checked below): together the kernel's scalar path is the proved function."""
     terms_body, returned = _filter_body(fp.plane_side_terms)
     assert returned == ["det", "permanent"]
-    assert terms_body[:-1] == det_body
-    assert _contains_run(_kernel_function("partition"), terms_body[-1:])
+    assert _contains_run(_kernel_function("partition"), terms_body[:3] + terms_body[-1:])
 
 
 _finite = st.floats(allow_nan=False, allow_infinity=False, min_value=-1e75, max_value=1e75)  # every result finite (no NaN to compare)
@@ -293,7 +291,7 @@ _coord = st.one_of(
 def test_the_semi_static_threshold_bounds_every_points_own_threshold(
     abc: list[float], qs: list[tuple[float, float, float]]
 ) -> None:
-    """``plane_side_threshold`` over the box of the query points is at least each point's own computed
+    """``plane_side_box_threshold`` over the box of the query points is at least each point's own computed
     threshold ``fl(ERRBOUND_PLANE_SIDE · permanent)``, the one the filter constant is proved for (rounding
     is monotone).  So whatever it decides, the proved filter decides alike."""
     ax, ay, az, bx, by, bz, cx, cy, cz = abc
@@ -301,10 +299,7 @@ def test_the_semi_static_threshold_bounds_every_points_own_threshold(
     lo, hi = q.min(axis=0).tolist(), q.max(axis=0).tolist()
     with np.errstate(all="ignore"):
         nx, ny, nz, px, py, pz = fp.plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
-        static = fp.plane_side_threshold(
-            px, py, pz, fp.plane_side_reach(ax, lo[0], hi[0]), fp.plane_side_reach(ay, lo[1], hi[1]),
-            fp.plane_side_reach(az, lo[2], hi[2]),
-        )
+        static = fp.plane_side_box_threshold(px, py, pz, ax, ay, az, (lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]))
         for qx, qy, qz in qs:
             det, permanent = fp.plane_side_terms(nx, ny, nz, px, py, pz, ax, ay, az, qx, qy, qz)
             own = fp.ERRBOUND_PLANE_SIDE * permanent
@@ -318,14 +313,16 @@ def test_the_semi_static_threshold_bounds_every_points_own_threshold(
 def test_the_in_place_determinant_is_the_proved_one_bit_for_bit(
     abc: list[float], qs: list[tuple[float, float, float]]
 ) -> None:
-    """``plane_side_det_into`` (the semi-static vectorised stage) gives bitwise ``plane_side_terms``' det."""
+    """``plane_side_det`` (the kernel's scalar loop) and ``plane_side_det_into`` (its vectorised stage) give
+    bitwise the det of ``plane_side_terms``, the function the filter constant is proved for."""
     ax, ay, az, bx, by, bz, cx, cy, cz = abc
     with np.errstate(all="ignore"):
         nx, ny, nz, px, py, pz = fp.plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
         q = np.array(qs, dtype=np.float64)
         det, _ = fp.plane_side_terms(nx, ny, nz, px, py, pz, ax, ay, az, q[:, 0], q[:, 1], q[:, 2])
         det2 = fp.plane_side_det_into(nx, ny, nz, ax, ay, az, q[:, 0].copy(), q[:, 1].copy(), q[:, 2].copy())
-    assert det.tobytes() == det2.tobytes()
+        det3 = [fp.plane_side_det(nx, ny, nz, ax, ay, az, qx, qy, qz) for qx, qy, qz in qs]
+    assert det.tobytes() == det2.tobytes() == np.array(det3, dtype=np.float64).tobytes()
 
 
 @pytest.mark.parametrize("kind", ["random", "grid", "offset"])

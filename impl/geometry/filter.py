@@ -80,8 +80,7 @@ __all__ = [
     "plane_side_terms_into",
     "plane_side_det",
     "plane_side_det_into",
-    "plane_side_reach",
-    "plane_side_threshold",
+    "plane_side_box_threshold",
     "orient3d_plane_terms",
     "FilterScaling",
     "choose_scaling",
@@ -295,16 +294,14 @@ def plane_side_terms_into(
 
 
 def plane_side_det(nx: T, ny: T, nz: T, ax: T, ay: T, az: T, qx: T, qy: T, qz: T) -> T:
-    """The determinant of :func:`plane_side_terms` alone: its first four statements, the same operations.
+    """The determinant of :func:`plane_side_terms` alone, in one expression: the same operations on the
+    same operands in the same order (``ax - qx``, its product with ``nx``, …), so bitwise the same value.
 
-    For the semi-static stage of a plane-side test (:func:`plane_side_threshold`),
+    For the semi-static stage of a plane-side test (:func:`plane_side_box_threshold`),
     which compares this determinant with a threshold shared by all query points
     and computes a point's own permanent only when that does not decide.  O(1).
     """
-    aqx = ax - qx
-    aqy = ay - qy
-    aqz = az - qz
-    det = aqx * nx + aqy * ny + aqz * nz
+    det = (ax - qx) * nx + (ay - qy) * ny + (az - qz) * nz
     return det
 
 
@@ -328,35 +325,42 @@ def plane_side_det_into(
     return qx
 
 
-def plane_side_reach(a: float, lo: float, hi: float) -> float:
-    """``max |fl(a - q)|`` over every double ``q`` with ``lo <= q <= hi``: ``|fl(a - lo)|`` or ``|fl(a - hi)|``.
+def plane_side_box_threshold(
+    px: float, py: float, pz: float, ax: float, ay: float, az: float, box: tuple[float, float, float, float, float, float]
+) -> float:
+    """A threshold at least the filter threshold of :func:`plane_side_terms` for every point of ``box``.
 
-    Rounding is monotone, so ``fl(a - hi) <= fl(a - q) <= fl(a - lo)``.  NaN if
-    any argument is NaN.  O(1).
+    ``box = (xlo, xhi, ylo, yhi, zlo, zhi)`` bounds the query points' coordinates;
+    ``px, py, pz`` are the plane's permanents (:func:`plane_terms`) and ``a`` its
+    point.  The *reach* ``r_x = max(|fl(a_x - xlo)|, |fl(a_x - xhi)|)`` bounds
+    ``|fl(a_x - q_x)|`` for every ``xlo <= q_x <= xhi``, because IEEE rounding is
+    monotone (``x <= y`` implies ``fl(x) <= fl(y)``), so ``fl(a_x - xhi) <=
+    fl(a_x - q_x) <= fl(a_x - xlo)``; likewise ``r_y`` and ``r_z``.  The result is
+    ``fl(ERRBOUND_PLANE_SIDE · fl(r_x·px + r_y·py + r_z·pz))``: the permanent's
+    expression with each ``|fl(a_j - q_j)|`` replaced by its reach.  Every factor
+    is nonnegative and rounding is monotone, so each operation of the permanent,
+    and then the threshold product, is bounded by the same operation here: a
+    point's own computed threshold ``fl(ERRBOUND_PLANE_SIDE · permanent)`` never
+    exceeds this one.  Hence ``|det| >`` this threshold implies ``|det| >`` the
+    point's own, and the proved filter's conclusion holds — no new error
+    analysis is needed; ``tests/test_predicates_kernel.py`` checks the inequality
+    on adversarial floats.  A point whose ``|det|`` is not above it falls back to
+    its own threshold, then to exact arithmetic.  Overflow gives ``inf`` and NaN
+    gives NaN, which no comparison accepts.  O(1).
     """
-    r = abs(a - lo)
-    s = abs(a - hi)
-    return s if s > r else r
-
-
-def plane_side_threshold(px: float, py: float, pz: float, rx: float, ry: float, rz: float) -> float:
-    """A threshold that is at least the filter threshold of :func:`plane_side_terms` for every point of a box.
-
-    ``fl(ERRBOUND_PLANE_SIDE · fl(rx·px + ry·py + rz·pz))``, with ``rx, ry, rz``
-    the reaches of the plane's point ``a`` over the box of all query points
-    (:func:`plane_side_reach`): the permanent's expression with each
-    ``|fl(a_j - q_j)|`` replaced by an upper bound on it.  IEEE rounding is
-    monotone (``x <= y`` implies ``fl(x) <= fl(y)``) and every factor is
-    nonnegative, so each operation of the permanent, and then the threshold
-    product, is bounded by the same operation here: the computed per-point
-    threshold ``fl(ERRBOUND_PLANE_SIDE · permanent)`` never exceeds this one.
-    Hence ``|det| >`` this threshold implies ``|det| >`` the point's own, and the
-    proved filter's conclusion holds — no new error analysis is needed, and
-    ``tests/test_predicates_kernel.py`` checks the inequality on adversarial
-    floats.  A point whose ``|det|`` is not above it falls back to its own
-    threshold, then to exact arithmetic.  Overflow gives ``inf`` and NaN gives
-    NaN, which no comparison accepts.  O(1).
-    """
+    xlo, xhi, ylo, yhi, zlo, zhi = box
+    rx = abs(ax - xlo)
+    s = abs(ax - xhi)
+    if s > rx:
+        rx = s
+    ry = abs(ay - ylo)
+    s = abs(ay - yhi)
+    if s > ry:
+        ry = s
+    rz = abs(az - zlo)
+    s = abs(az - zhi)
+    if s > rz:
+        rz = s
     return ERRBOUND_PLANE_SIDE * (rx * px + ry * py + rz * pz)
 
 

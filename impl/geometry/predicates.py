@@ -84,10 +84,9 @@ from persistri.impl.geometry.filter import (
     incircle_terms,
     orient2d_terms,
     orient3d_terms,
+    plane_side_box_threshold,
     plane_side_det_into,
-    plane_side_reach,
     plane_side_terms_into,
-    plane_side_threshold,
     plane_terms,
 )
 from persistri.impl.geometry.points import as_points
@@ -800,11 +799,12 @@ class Orient3dKernel:
         exact = pred._orient3d_exact
         side = plane_side_terms_into
         side_det = plane_side_det_into
-        reach, static_threshold = plane_side_reach, plane_side_threshold
+        box_threshold = plane_side_box_threshold
         nan = math.nan
         # The box of every point with a float copy (the exact centroid's is NaN): the semi-static
         # threshold bounds each point's own threshold over it.
         (xlo, xhi), (ylo, yhi), (zlo, zhi) = (_finite_range(col) for col in pred._cols)
+        box = (xlo, xhi, ylo, yhi, zlo, zhi)
         side_errbound = ERRBOUND_PLANE_SIDE
         plane_flops, side_flops = FLOPS_PLANE, FLOPS_PLANE_SIDE
         small = KERNEL_BATCH
@@ -890,14 +890,11 @@ class Orient3dKernel:
             pz = abs(xy) + abs(yx)
             # end of filter.plane_terms
             st = pred.stats
-            # The semi-static stage: one threshold for every point of the set (filter.plane_side_threshold),
+            # The semi-static stage: one threshold for every point of the set (filter.plane_side_box_threshold),
             # so most points need no permanent of their own.  Counted runs skip it (NaN decides nothing):
             # each point is then tested against its own threshold, the FLOPS_PLANE_SIDE that Stats counts.
-            static = (
-                static_threshold(px, py, pz, reach(ax, xlo, xhi), reach(ay, ylo, yhi), reach(az, zlo, zhi))
-                if st is None
-                else nan
-            )
+            # So do one or two points, for which the bound costs more than it saves.
+            static = box_threshold(px, py, pz, ax, ay, az, box) if st is None and m > 2 else nan
             if m >= small:
                 q_arr: IntArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
                 neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz, px, py, pz), static, q_arr)
@@ -906,23 +903,24 @@ class Orient3dKernel:
             minus: list[int] = []
             plus: list[int] = []
             failures = 0
+            below = -static
             for q in qs.tolist() if type(qs) is ndarray else qs:
                 try:
                     qx, qy, qz = rows[q]
                 except ValueError:
                     qx, qy, qz = row(q)
                 # filter.plane_side_det:
-                aqx = ax - qx
-                aqy = ay - qy
-                aqz = az - qz
-                det = aqx * nx + aqy * ny + aqz * nz
+                det = (ax - qx) * nx + (ay - qy) * ny + (az - qz) * nz
                 # end of filter.plane_side_det
-                if det < -static:
+                if det < below:
                     minus.append(q)
                 elif det > static:
                     plus.append(q)
                 else:
-                    # The point's own threshold: the rest of filter.plane_side_terms.
+                    # The point's own threshold: filter.plane_side_terms' permanent.
+                    aqx = ax - qx
+                    aqy = ay - qy
+                    aqz = az - qz
                     permanent = abs(aqx) * px + abs(aqy) * py + abs(aqz) * pz
                     thr = side_errbound * permanent
                     if det < -thr:
@@ -995,11 +993,7 @@ class Orient3dKernel:
             except ValueError:
                 (ax, ay, az), (bx, by, bz), (cx, cy, cz) = row(a), row(b), row(c)
             nx, ny, nz, px, py, pz = terms = plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
-            static = (
-                static_threshold(px, py, pz, reach(ax, xlo, xhi), reach(ay, ylo, yhi), reach(az, zlo, zhi))
-                if pred.stats is None
-                else nan
-            )
+            static = box_threshold(px, py, pz, ax, ay, az, box) if pred.stats is None else nan
             neg, pos = where(a, b, c, (ax, ay, az), terms, static, qs)
             out: SignArray = np.zeros(qs.size, dtype=np.int8)
             out[neg] = -1

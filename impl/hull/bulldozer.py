@@ -310,8 +310,9 @@ class Bulldozer:
         self.stepwise = stepwise
         self._lineage = VertexState.initial().lineage
         self.verts: dict[int, Vertex] = {}
-        # Per point, its status and the id of its associated face (-1 if none): Python containers, read
-        # one point at a time at Python speed, and numpy views of the same memory, for writing many at once.
+        # Per point, its status and the id of its associated face (-1 before it has one; the last face's
+        # id once it is interior or on the hull: read only while the point is pending): Python containers,
+        # read one point at a time at Python speed, and numpy views of the same memory, for writing many.
         self._status = bytearray([INTERIOR]) * self.n
         self._assoc = array("q", [-1]) * self.n
         self.status: NDArray[np.int8] = np.frombuffer(self._status, dtype=np.int8)
@@ -582,10 +583,9 @@ class Bulldozer:
         else:
             cx = S.replace(cx, lit, added)
         for gone in discarded:
+            # Only the status: a point's associated face id means something while it is pending.
             _assign(status, self.status, gone, INTERIOR)
-            _assign(assoc, self.assoc, gone, -1)
         status[p] = ON_HULL
-        assoc[p] = -1
         self.complex = cx
         if check:
             self._check_bulldozed(p, routed, added)
