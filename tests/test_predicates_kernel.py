@@ -221,6 +221,14 @@ def _kernel_function(name: str) -> ast.FunctionDef:
     return found[0]
 
 
+def _contains_in_order(fn: ast.FunctionDef, stmts: list[str]) -> bool:
+    """The statements occur in ``fn`` in this order (a subsequence of its statements in source order,
+    branches included): the kernel may test a semi-static threshold between them."""
+    nodes = sorted((n for n in ast.walk(fn) if isinstance(n, ast.stmt)), key=lambda n: (n.lineno, n.col_offset))
+    dumps = iter(_dumps(nodes))
+    return all(any(d == want for d in dumps) for want in stmts)
+
+
 def _contains_run(fn: ast.FunctionDef, run: list[str]) -> bool:
     for block in _blocks(fn):
         dumps = _dumps(block)
@@ -240,7 +248,7 @@ def test_the_kernels_written_out_filter_is_the_proved_function(kernel_fn: str, f
     they round exactly alike — any edit to one without the other fails here."""
     run, returned = _filter_body(filter_fn)
     fn = _kernel_function(kernel_fn)
-    assert _contains_run(fn, run), f"Orient3dKernel.{kernel_fn} does not contain the body of filter.{filter_fn.__name__}"
+    assert _contains_in_order(fn, run), f"Orient3dKernel.{kernel_fn} does not contain the body of filter.{filter_fn.__name__}"
     read = {n.id for n in ast.walk(fn) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
     assert set(returned) <= read, "the kernel reads the values the filter function returns, by the same names"
 
@@ -288,24 +296,31 @@ _coord = st.one_of(
 
 @settings(max_examples=300)
 @given(st.lists(_coord, min_size=9, max_size=9), st.lists(st.tuples(_coord, _coord, _coord), min_size=1, max_size=12))
-def test_the_semi_static_threshold_bounds_every_points_own_threshold(
+def test_the_semi_static_thresholds_bound_every_tests_own_threshold(
     abc: list[float], qs: list[tuple[float, float, float]]
 ) -> None:
-    """``plane_side_box_threshold`` over the box of the query points is at least each point's own computed
-    threshold ``fl(ERRBOUND_PLANE_SIDE · permanent)``, the one the filter constant is proved for (rounding
-    is monotone).  So whatever it decides, the proved filter decides alike."""
+    """The box thresholds of a point set are at least the own computed threshold
+    ``fl(ERRBOUND · permanent)`` of every test among its points — the threshold the filter constants are
+    proved for (rounding is monotone) — for orient3d and for the prepared-plane test alike.  So whatever
+    they decide, the proved filters decide alike."""
     ax, ay, az, bx, by, bz, cx, cy, cz = abc
-    q = np.array(qs, dtype=np.float64)
-    lo, hi = q.min(axis=0).tolist(), q.max(axis=0).tolist()
+    every = np.array([(ax, ay, az), (bx, by, bz), (cx, cy, cz), *qs], dtype=np.float64)
+    lo, hi = every.min(axis=0).tolist(), every.max(axis=0).tolist()
     with np.errstate(all="ignore"):
+        sides = (hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])
+        o3_static = fp.orient3d_box_threshold(*sides)
+        side_static = fp.plane_side_box_threshold(*sides)
         nx, ny, nz, px, py, pz = fp.plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
-        static = fp.plane_side_box_threshold(px, py, pz, ax, ay, az, (lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]))
         for qx, qy, qz in qs:
             det, permanent = fp.plane_side_terms(nx, ny, nz, px, py, pz, ax, ay, az, qx, qy, qz)
-            own = fp.ERRBOUND_PLANE_SIDE * permanent
             assert det == fp.plane_side_det(nx, ny, nz, ax, ay, az, qx, qy, qz) or det != det
+            own = fp.ERRBOUND_PLANE_SIDE * permanent
             if own == own:  # NaN (from inf - inf) decides nothing either way
-                assert own <= static or static != static, (own, static)
+                assert own <= side_static or side_static != side_static, (own, side_static)
+            _, permanent = fp.orient3d_terms(ax, ay, az, bx, by, bz, cx, cy, cz, qx, qy, qz)
+            own = fp.ERRBOUND_ORIENT3D * permanent
+            if own == own:
+                assert own <= o3_static or o3_static != o3_static, (own, o3_static)
 
 
 @settings(max_examples=100)

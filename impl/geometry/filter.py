@@ -80,6 +80,7 @@ __all__ = [
     "plane_side_terms_into",
     "plane_side_det",
     "plane_side_det_into",
+    "orient3d_box_threshold",
     "plane_side_box_threshold",
     "orient3d_plane_terms",
     "FilterScaling",
@@ -325,43 +326,48 @@ def plane_side_det_into(
     return qx
 
 
-def plane_side_box_threshold(
-    px: float, py: float, pz: float, ax: float, ay: float, az: float, box: tuple[float, float, float, float, float, float]
-) -> float:
-    """A threshold at least the filter threshold of :func:`plane_side_terms` for every point of ``box``.
+def orient3d_box_threshold(dx: float, dy: float, dz: float) -> float:
+    """A threshold at least the filter threshold of :func:`orient3d_terms` for any four points of a box.
 
-    ``box = (xlo, xhi, ylo, yhi, zlo, zhi)`` bounds the query points' coordinates;
-    ``px, py, pz`` are the plane's permanents (:func:`plane_terms`) and ``a`` its
-    point.  The *reach* ``r_x = max(|fl(a_x - xlo)|, |fl(a_x - xhi)|)`` bounds
-    ``|fl(a_x - q_x)|`` for every ``xlo <= q_x <= xhi``, because IEEE rounding is
-    monotone (``x <= y`` implies ``fl(x) <= fl(y)``), so ``fl(a_x - xhi) <=
-    fl(a_x - q_x) <= fl(a_x - xlo)``; likewise ``r_y`` and ``r_z``.  The result is
-    ``fl(ERRBOUND_PLANE_SIDE · fl(r_x·px + r_y·py + r_z·pz))``: the permanent's
-    expression with each ``|fl(a_j - q_j)|`` replaced by its reach.  Every factor
-    is nonnegative and rounding is monotone, so each operation of the permanent,
-    and then the threshold product, is bounded by the same operation here: a
-    point's own computed threshold ``fl(ERRBOUND_PLANE_SIDE · permanent)`` never
-    exceeds this one.  Hence ``|det| >`` this threshold implies ``|det| >`` the
-    point's own, and the proved filter's conclusion holds — no new error
-    analysis is needed; ``tests/test_predicates_kernel.py`` checks the inequality
-    on adversarial floats.  A point whose ``|det|`` is not above it falls back to
-    its own threshold, then to exact arithmetic.  Overflow gives ``inf`` and NaN
-    gives NaN, which no comparison accepts.  O(1).
+    ``dx, dy, dz`` are the box's sides as computed, ``fl(hi - lo)`` per axis.
+    Every computed difference of two coordinates in the box is bounded by the
+    side: ``a_x - d_x`` lies in ``[lo - hi, hi - lo]`` and IEEE rounding is
+    monotone (``x <= y`` implies ``fl(x) <= fl(y)``), so ``|fl(a_x - d_x)| <=
+    fl(hi - lo)``.  The result is ``fl(ERRBOUND_ORIENT3D · permanent)`` with
+    the permanent's expression evaluated on the sides in place of the
+    differences' absolute values.  All factors are nonnegative and each
+    rounded operation is monotone in its operands, so each operation of a
+    test's permanent, and then the threshold product, is bounded by the same
+    operation here: a test's own computed threshold never exceeds this one.
+    Hence ``|det| >`` this threshold implies ``|det| >`` the test's own, and the
+    proved filter's conclusion holds — no new error analysis is needed;
+    ``tests/test_predicates_kernel.py`` checks the inequality on adversarial
+    floats.  One constant per point set: a *semi-static* filter (Shewchuk's
+    static filter, with the box of the data; Devillers and Pion, "Efficient
+    exact geometric predicates for Delaunay triangulations", 2003).  A test
+    it leaves undecided goes on to its own threshold, then to exact
+    arithmetic.  Overflow gives ``inf`` and NaN gives NaN, which no comparison
+    accepts.  O(1).
     """
-    xlo, xhi, ylo, yhi, zlo, zhi = box
-    rx = abs(ax - xlo)
-    s = abs(ax - xhi)
-    if s > rx:
-        rx = s
-    ry = abs(ay - ylo)
-    s = abs(ay - yhi)
-    if s > ry:
-        ry = s
-    rz = abs(az - zlo)
-    s = abs(az - zhi)
-    if s > rz:
-        rz = s
-    return ERRBOUND_PLANE_SIDE * (rx * px + ry * py + rz * pz)
+    dxdy = dx * dy
+    sum2 = dxdy + dxdy  # bounds |bdx·cdy| + |cdx·bdy|, and each of the three such sums
+    permanent = sum2 * dz + sum2 * dz + sum2 * dz
+    return ERRBOUND_ORIENT3D * permanent
+
+
+def plane_side_box_threshold(dx: float, dy: float, dz: float) -> float:
+    """A threshold at least the filter threshold of :func:`plane_side_terms` (after :func:`plane_terms`)
+    for any plane through three points of a box and any query point in it.
+
+    As :func:`orient3d_box_threshold`, for the prepared-plane form: each
+    difference is bounded by the box's side, so the plane's permanents by
+    ``fl(dy·dz + dz·dy)`` and so on, and the point's permanent by the same
+    expression on those bounds.  O(1).
+    """
+    px = dy * dz + dz * dy
+    py = dz * dx + dx * dz
+    pz = dx * dy + dy * dx
+    return ERRBOUND_PLANE_SIDE * (dx * px + dy * py + dz * pz)
 
 
 def orient3d_plane_terms(

@@ -88,7 +88,7 @@ def unique_rows(points: NDArray[np.float64]) -> UniqueRows:
     # run of equal rows starts at its first occurrence); a run starts where a row differs
     # from the previous one.  Float comparison: -0.0 and 0.0 are one number.
     order = np.lexsort(points.T[::-1])
-    ranked = points[order]
+    ranked = np.take(points, order, axis=0)  # whole rows at once (fancy indexing goes element by element)
     starts = np.ones(n, dtype=bool)
     starts[1:] = np.any(ranked[1:] != ranked[:-1], axis=1)
     run = np.cumsum(starts) - 1  # the run of each sorted row

