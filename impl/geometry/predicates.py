@@ -754,6 +754,18 @@ class Orient3dKernel:
     a sixth of the test); ``tests/test_predicates_kernel.py`` checks that they
     are the proved functions' statements, in order, so they round alike.
 
+    **Semi-static stage.**  When nothing is counted (``stats`` is None) each
+    determinant is first compared with one threshold for the whole point set,
+    computed once from the bounding box of its points
+    (:func:`~persistri.impl.geometry.filter.orient3d_box_threshold`,
+    :func:`~persistri.impl.geometry.filter.plane_side_box_threshold`): it is at
+    least every test's own threshold (rounding is monotone), so it decides
+    only what the proved filter would decide.  A test's own permanent and
+    threshold are computed only when it does not decide — almost never on
+    real data, but always on exact zeros.  Counted runs skip the stage, so
+    that every test costs the ``FLOPS_*`` that :class:`~persistri.impl.stats.Stats`
+    adds.
+
     * :attr:`orient3d` ``(a, b, c, d) -> ±1`` — one test (about a microsecond);
     * :attr:`partition` ``(a, b, c, qs) -> (minus, plus)`` — the ``qs`` with
       ``orient3d(a, b, c, q) = -1`` (beyond the plane of the outward face
@@ -763,11 +775,13 @@ class Orient3dKernel:
       the normal's permanents), so each point costs the 17 flops of
       :func:`~persistri.impl.geometry.filter.plane_side_terms` instead of
       orient3d's 41, under a filter constant proved for that composition
-      (``proofs/proof_predicates.py``).  Below :data:`KERNEL_BATCH` points it
-      loops over the points and returns lists (an empty ``qs`` gives two empty
-      tuples); from there on the same expression runs vectorised over numpy
-      (the plane's terms enter as Python floats; about twenty numpy calls
-      whatever the length) and it returns int arrays.  Entries the filter leaves
+      (``proofs/proof_predicates.py``) — 8 of them when the semi-static stage
+      decides (the determinant, :func:`~persistri.impl.geometry.filter.plane_side_det`).
+      Below :data:`KERNEL_BATCH` points it loops over the points and returns
+      lists (an empty ``qs`` gives two empty tuples); from there on the same
+      expression runs vectorised over numpy (the plane's terms enter as Python
+      floats; about fifteen numpy calls whatever the length) and it returns
+      int arrays.  Entries the filter leaves
       undecided are settled one by one, exactly (then by SoS).  Counted as
       ``len(qs)`` plane-side tests and ``FLOPS_PLANE + len(qs) ·
       FLOPS_PLANE_SIDE`` flops.  O(len(qs)).
