@@ -144,8 +144,9 @@ def _join(parts: list[Indices]) -> Indices:
     """The concatenation of point lists (one array if any part is an array, else a list)."""
     if len(parts) == 1:
         return parts[0]
-    if any(isinstance(x, np.ndarray) for x in parts):
-        return np.concatenate([np.asarray(x, dtype=np.intp) for x in parts])
+    for x in parts:
+        if type(x) is np.ndarray:
+            return np.concatenate([x if type(x) is np.ndarray else np.array(x, dtype=np.intp) for x in parts])
     out: list[int] = []
     for x in parts:
         out.extend(x)
