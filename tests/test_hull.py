@@ -102,6 +102,25 @@ def test_tiny_and_mixed_scales_are_exact() -> None:
     assert verify_hull(mixed, convex_hull(mixed).simplices).ok
 
 
+def test_the_first_tetrahedron_at_the_edge_of_the_double_range(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Coordinates near ±1e308: the fat first tetrahedron is found by the float heuristic (scaled before
+    any difference, so nothing overflows), without the exact greedy fallback."""
+    from persistri.impl.geometry.predicates import Predicates3
+    from persistri.impl.hull.bulldozer import initial_tetrahedron
+
+    pts = generate("InBall", 200, seed=4) * 1.5e308
+    pred = Predicates3(pts)
+
+    def no_fallback(*_: object) -> tuple[int, ...]:
+        raise AssertionError("the heuristic tetrahedron should have been found")
+
+    monkeypatch.setattr(Predicates3, "affine_basis", no_fallback)
+    tetra = initial_tetrahedron(pred, len(pts))
+    monkeypatch.undo()
+    assert len(set(tetra)) == 4 and pred.orient3d_sign(*tetra) != 0
+    verify_hull(pts, convex_hull(pts).simplices).raise_if_failed()
+
+
 def test_duplicates_are_merged_and_reported() -> None:
     pts = generate("InBall", 60, seed=1)
     doubled = np.vstack([pts, pts[:10], pts[:1]])

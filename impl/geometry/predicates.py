@@ -137,8 +137,9 @@ class _IndexedPoints:
 
     The attribute ``stats`` is the :class:`~persistri.impl.stats.Stats` that tests
     report to, or None (nothing is counted); it may be reassigned at any time.
-    Everything else is fixed at construction (a memo of exact integer
-    coordinates aside).
+    Everything else is fixed at construction (memos aside: exact integer
+    coordinates, and for :class:`Predicates3` each point's tuple of floats,
+    made on first use).
     """
 
     __slots__ = (

@@ -198,8 +198,8 @@ def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
             # which costs CPU time long after the call (measured: 0.1 s at 256K points).
             scale = max(float(pts.max()), -float(pts.min())) or 1.0
             i0 = int(np.argmin(pts[:, 0]))
-            dq = pts - pts[i0]
-            dq /= scale
+            dq = pts / scale  # scaled before subtracting: 1e308 - (-1e308) would overflow
+            dq -= dq[i0].copy()
             d0 = np.einsum("ij,ij->i", dq, dq)  # squared distances to point i0
             i1 = int(np.argmax(d0))
             u = dq[i1]

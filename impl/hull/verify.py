@@ -192,9 +192,9 @@ def verify_hull(
             side_cache[key] = s
         return s
 
-    cen = pts[tri].mean(axis=1)
-    gf = pts[[a, b, c, d]].mean(axis=0)
-    with np.errstate(all="ignore"):
+    with np.errstate(all="ignore"):  # a heuristic: overflow near ±1e308 only disables it (isfinite below)
+        cen = pts[tri].mean(axis=1)
+        gf = pts[[a, b, c, d]].mean(axis=0)
         dirs = cen - gf
         dirs /= np.linalg.norm(dirs, axis=1)[:, None]
         qdirs = pts - gf
