@@ -56,15 +56,19 @@ def _grid_with_planes() -> NDArray[np.float64]:
     return np.array([[x, y, z] for x in g for y in g for z in g])
 
 
+def _point_set(kind: str, rng: np.random.Generator, n: int) -> NDArray[np.float64]:
+    """``n`` random points in the unit cube, the 6×6×6 grid, or ``n`` grid points of step 1e-3 offset by 1e9."""
+    if kind == "random":
+        return rng.random((n, 3))
+    if kind == "grid":
+        return _grid_with_planes()
+    return rng.integers(-50, 50, size=(n, 3)).astype(float) * 1e-3 + 1e9
+
+
 @pytest.mark.parametrize("kind", ["random", "grid", "offset"])
 def test_partition_vectorised_path_agrees(kind: str) -> None:
     rng = np.random.default_rng(3)
-    if kind == "random":
-        pts = rng.random((400, 3))
-    elif kind == "grid":
-        pts = _grid_with_planes()
-    else:
-        pts = rng.integers(-50, 50, size=(400, 3)).astype(float) * 1e-3 + 1e9
+    pts = _point_set(kind, rng, 400)
     p = Predicates3(pts)
     k = p.kernel()
     n = len(p)
@@ -344,14 +348,7 @@ def test_the_in_place_determinant_is_the_proved_one_bit_for_bit(
 def test_counted_and_uncounted_partitions_agree(kind: str) -> None:
     """Uncounted, the partition tests against the semi-static threshold first; counted, every point against
     its own: the same exact answers (the grid's exact zeros included), at every size."""
-    rng = np.random.default_rng(5)
-    if kind == "random":
-        pts = rng.random((300, 3))
-    elif kind == "grid":
-        pts = _grid_with_planes()
-    else:
-        pts = rng.integers(-50, 50, size=(300, 3)).astype(float) * 1e-3 + 1e9
-    p = Predicates3(pts)
+    p = Predicates3(_point_set(kind, np.random.default_rng(5), 300))
     k = p.kernel()
     for a, b, c in ((0, 1, 2), (0, 7, 42), (5, 36, 200)):
         qs = [q for q in range(len(p)) if q not in (a, b, c)]

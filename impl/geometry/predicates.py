@@ -1008,13 +1008,8 @@ class Orient3dKernel:
         def signs(a: int, b: int, c: int, qs: IntArray) -> SignArray:
             if qs.size == 0:
                 return np.zeros(0, dtype=np.int8)
-            try:
-                ax, ay, az = rows[a]
-                bx, by, bz = rows[b]
-                cx, cy, cz = rows[c]
-            except ValueError:
-                (ax, ay, az), (bx, by, bz), (cx, cy, cz) = row(a), row(b), row(c)
-            nx, ny, nz, px, py, pz = terms = plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
+            (ax, ay, az), (bx, by, bz), (cx, cy, cz) = row(a), row(b), row(c)  # once per call: no fast path
+            terms = plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
             static = side_static if pred.stats is None else nan
             neg, pos = where(a, b, c, (ax, ay, az), terms, static, qs)
             out: SignArray = np.zeros(qs.size, dtype=np.int8)
@@ -1035,7 +1030,8 @@ class Orient3dKernel:
 
 def _finite_range(col: NDArray[np.float64]) -> tuple[float, float]:
     """The least and greatest non-NaN entries of ``col``, or NaN twice when there are none. O(len(col))."""
-    finite = col[~np.isnan(col)] if np.isnan(col).any() else col
+    missing = np.isnan(col)
+    finite = col[~missing] if missing.any() else col
     if finite.size == 0:
         return math.nan, math.nan
     return float(finite.min()), float(finite.max())
