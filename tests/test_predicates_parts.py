@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from persistri.impl.geometry.exact import ZERO_LOW, IntegerScale, binary_exponents
+from persistri.impl.geometry.exact import ZERO_LOW, IntegerScale, binary_exponents, grain_span
 from persistri.impl.geometry.filter import (
     ERRBOUND_INCIRCLE,
     ERRBOUND_ORIENT2D,
@@ -48,6 +48,23 @@ def test_binary_exponents_of_zero_and_subnormals() -> None:
     low, high = binary_exponents(np.array([0.0, -0.0, 5e-324, 2.0**-1030 * 3, 1.0]))
     assert low.tolist() == [ZERO_LOW, ZERO_LOW, -1074, -1030, 0]
     assert high.tolist()[2:] == [-1073, -1028, 1]
+
+
+@given(st.lists(finite, min_size=1, max_size=12))
+def test_grain_span_is_the_extremes_of_the_binary_exponents(values: list[float]) -> None:
+    """The least grain and greatest magnitude over the nonzero values, from fractions (None if all are 0);
+    values spanning more binades than a quotient can hold take the per-entry route, and agree too."""
+    nonzero = [_low_high(v) for v in values if v != 0]
+    expected = (min(lo for lo, _ in nonzero), max(hi for _, hi in nonzero)) if nonzero else None
+    assert grain_span(np.array(values)) == expected
+
+
+def test_grain_span_at_the_ends_of_the_doubles() -> None:
+    assert grain_span(np.array([0.0, -0.0])) is None
+    assert grain_span(np.array([5e-324, 1.0])) == (-1074, 1)
+    assert grain_span(np.array([5e-324, -1.7e308])) == (-1074, 1024)  # the per-entry route
+    assert grain_span(np.array([3.0, 6.0, 12.0])) == (0, 4)  # 3 = 0b11: grain 2^0
+    assert grain_span(np.array([[0.5, 2.0**-60 * 5], [0.0, 8.0]])) == (-60, 4)
 
 
 @given(st.lists(finite, min_size=1, max_size=8), st.sampled_from([0, 2]))

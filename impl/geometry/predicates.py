@@ -65,6 +65,7 @@ from persistri.impl.geometry.exact import (
     ZERO_LOW,
     IntegerScale,
     binary_exponents,
+    grain_span,
     incircle_det,
     orient2d_det,
     orient3d_det,
@@ -151,7 +152,7 @@ class _IndexedPoints:
     _dim: int
     _cols: tuple[NDArray[np.float64], ...]
     _rows: list[tuple[float, ...]]
-    _grain: NDArray[np.int64]
+    _grain: NDArray[np.int64] | None
     _uniform: bool
     _shift: int
     _scale: IntegerScale
@@ -174,39 +175,36 @@ class _IndexedPoints:
         self._n = n
         self._dim = dim
         self.stats = stats
-        low, high = binary_exponents(pts[:exact_rows])
-        nonzero = low < ZERO_LOW
-        # A zero's low is ZERO_LOW and its high -ZERO_LOW, beyond every nonzero's: the extremes over
-        # all coordinates are those over the nonzero ones (no masked copies of the arrays).
-        g = int(low.min()) if low.size else ZERO_LOW
-        h = int(high.max()) if high.size else -ZERO_LOW
-        some = g < ZERO_LOW  # some coordinate is nonzero
-        self._span = (g, h) if some else None
-        scaling = choose_scaling(np.array([g] if some else [], dtype=np.int64), np.array([h] if some else [], dtype=np.int64))
+        span = self._span = grain_span(pts[:exact_rows]) if exact_rows else None
+        extremes = [span] if span else []  # the grain and magnitude extremes of the nonzero coordinates
+        scaling = choose_scaling(np.array([g for g, _ in extremes], dtype=np.int64), np.array([h for _, h in extremes], dtype=np.int64))
         shift = self._shift = scaling.shift
-        self._scale = IntegerScale(g if some else 0, extra)
-        grain = np.full(n, _INVALID_GRAIN, dtype=np.int64)
+        self._scale = IntegerScale(span[0] if span else 0, extra)
         fl = np.full((n, dim), np.nan)
-        if exact_rows:
-            # A row's grain: the least over its coordinates (a zero's, ZERO_LOW, is never the least
-            # unless the row is all zeros).  Column by column: a reduction along rows of length 3 is slow.
+        if scaling.uniform:
+            # The usual case, decided from the extremes alone: after the shift every grain is >= GRAIN_MIN and
+            # every magnitude <= TOP_MAX, so every row scales exactly and every filtered test is valid; the
+            # rows' grains are never read (None).
+            if exact_rows:
+                fl[:exact_rows] = np.ldexp(pts[:exact_rows], shift)
+            self._grain = None
+        else:
+            # Some grains are too fine for the filters: each row's grain decides whether its tests may be
+            # filtered.  A row's scaled copy is exact unless a coordinate would lose bits (grain below
+            # 2^-1074) or overflow (magnitude 2^1024 or more); such rows stay NaN.
+            low, high = binary_exponents(pts[:exact_rows])
+            # A row's grain: the least over its coordinates (a zero's, ZERO_LOW, is never the least unless
+            # the row is all zeros).  Column by column: a reduction along rows of length 3 is slow.
             row_low = low[:, 0].copy()
             for j in range(1, dim):
                 np.minimum(row_low, low[:, j], out=row_low)
-            span = self._span
-            if span is None or (span[0] + shift >= -1074 and span[1] + shift <= 1024):
-                # The usual case, decided from the extremes alone: every row scales exactly.
-                fl[:exact_rows] = np.ldexp(pts[:exact_rows], shift)
-                grain[:exact_rows] = row_low + shift
-            else:
-                # A row's scaled copy is exact unless a coordinate would lose bits (grain
-                # below 2^-1074) or overflow (magnitude 2^1024 or more); such rows stay NaN.
-                lost = ((low + shift < -1074) & nonzero) | (high + shift > 1024)
-                valid = ~lost.any(axis=1)
-                fl[:exact_rows][valid] = np.ldexp(pts[:exact_rows][valid], shift)
-                grain[:exact_rows] = np.where(valid, row_low + shift, _INVALID_GRAIN)
-        self._grain = grain
-        self._uniform = scaling.uniform and bool(np.all(grain[:exact_rows] >= GRAIN_MIN))
+            lost = ((low + shift < -1074) & (low < ZERO_LOW)) | (high + shift > 1024)
+            valid = ~lost.any(axis=1)
+            fl[:exact_rows][valid] = np.ldexp(pts[:exact_rows][valid], shift)
+            grain = np.full(n, _INVALID_GRAIN, dtype=np.int64)
+            grain[:exact_rows] = np.where(valid, row_low + shift, _INVALID_GRAIN)
+            self._grain = grain
+        self._uniform = scaling.uniform
         self._cols = tuple(np.ascontiguousarray(fl[:, j]) for j in range(dim))
         # One tuple per point: a test touches a few points, and a point's coordinates
         # then sit together in memory (a quarter faster than one list per axis at 10^5 points).
@@ -321,7 +319,9 @@ class _IndexedPoints:
             st.filter_failures += failures
 
     def _grain_ok(self, *indices: int) -> bool:
+        """Whether every point of ``indices`` has a grain the filters hold for (a non-uniform set only)."""
         g = self._grain
+        assert g is not None, "a uniform set keeps no per-point grains"
         return min(int(g[i]) for i in indices) >= GRAIN_MIN
 
     # -- the batch engine ----------------------------------------------------------------
@@ -380,9 +380,11 @@ class _IndexedPoints:
         if flip:
             np.negative(out, out=out)
         if not self._uniform:
+            grains = self._grain
+            assert grains is not None, "a non-uniform set keeps its per-point grains"
             grain = np.full(m, ZERO_LOW, dtype=np.int64)
             for i in idx:
-                grain = np.minimum(grain, self._grain[i])
+                grain = np.minimum(grain, grains[i])
             out[grain < GRAIN_MIN] = 0
         todo = np.flatnonzero(out == 0)
         self._count(m, flops, int(todo.size))
@@ -525,9 +527,8 @@ class Predicates3(_IndexedPoints):
         out._shift = shift
         out._span = (g, h)
         out._scale = IntegerScale(min(self._scale.exponent, g), 0)
-        # Grains of the row's zero coordinates are ZERO_LOW: its grain is that of its nonzero ones.
-        out._grain = np.append(self._grain, int(low.min()) + shift)
-        out._uniform = True  # the scaling is uniform: every grain, the new one included, is >= GRAIN_MIN
+        out._grain = None  # the scaling is uniform: every grain, the new one's included, is >= GRAIN_MIN
+        out._uniform = True
         out._cols = tuple(np.append(col, x) for col, x in zip(self._cols, scaled.tolist()))
         out._rows = self._rows + [tuple(scaled.tolist())]
         out._ints = dict(self._ints) if out._scale == self._scale else {}
@@ -661,7 +662,9 @@ class Predicates3(_IndexedPoints):
         cols = self._cols
         grain_ok = np.ones(m, dtype=bool)
         if not self._uniform:
-            grain_ok = np.minimum(self._grain[q], min(int(self._grain[a]), int(self._grain[b]))) >= GRAIN_MIN
+            grains = self._grain
+            assert grains is not None, "a non-uniform set keeps its per-point grains"
+            grain_ok = np.minimum(grains[q], min(int(grains[a]), int(grains[b]))) >= GRAIN_MIN
         for u, v in ((0, 1), (1, 2), (2, 0)):
             au, av = np.full(m, cols[u][a]), np.full(m, cols[v][a])
             bu, bv = np.full(m, cols[u][b]), np.full(m, cols[v][b])
@@ -908,10 +911,6 @@ class Orient3dKernel:
             nx = yz - zy
             ny = zx - xz
             nz = xy - yx
-            px = abs(yz) + abs(zy)
-            py = abs(zx) + abs(xz)
-            pz = abs(xy) + abs(yx)
-            # end of filter.plane_terms
             st = pred.stats
             # The semi-static stage first (one threshold for the whole point set), so most points need no
             # permanent of their own.  Counted runs skip it (NaN decides nothing): each point is then
@@ -919,13 +918,14 @@ class Orient3dKernel:
             static = side_static if st is None else nan
             if m >= small:
                 q_arr: IntArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
-                neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz, px, py, pz), static, q_arr)
+                neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz), static, q_arr)
                 # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry.
                 return q_arr[neg], q_arr[pos]
             minus: list[int] = []
             plus: list[int] = []
             failures = 0
             below = -static
+            px = py = pz = nan  # the plane's permanents: made for the first point the static stage leaves undecided
             for q in qs.tolist() if type(qs) is ndarray else qs:
                 try:
                     qx, qy, qz = rows[q]
@@ -939,6 +939,11 @@ class Orient3dKernel:
                 elif det > static:
                     plus.append(q)
                 else:
+                    if px != px:
+                        px = abs(yz) + abs(zy)
+                        py = abs(zx) + abs(xz)
+                        pz = abs(xy) + abs(yx)
+                        # end of filter.plane_terms
                     # The point's own threshold: filter.plane_side_terms' permanent.
                     aqx = ax - qx
                     aqy = ay - qy
@@ -963,7 +968,7 @@ class Orient3dKernel:
             b: int,
             c: int,
             at: tuple[float, float, float],
-            terms6: tuple[float, ...],
+            normal: tuple[float, float, float],
             static: float,
             q_arr: IntArray,
         ) -> tuple[IntArray, IntArray]:
@@ -976,11 +981,15 @@ class Orient3dKernel:
             runs): :func:`~persistri.impl.geometry.filter.plane_side_terms_into`, each entry
             against its own threshold, the undecided ones exactly.
             """
-            nx, ny, nz, px, py, pz = terms6
+            nx, ny, nz = normal
             ax, ay, az = at
             qy = ys[q_arr]  # gathered copies: the filter functions compute in them
             counted = static != static
             if counted:
+                # The plane's permanents (a counted run: each point against its own threshold), by the proved
+                # function from the same corners, so bitwise the scalar path's.
+                ra, rb, rc = row(a), row(b), row(c)
+                px, py, pz = plane_terms(*ra, *rb, *rc)[3:]
                 det, thr = side(nx, ny, nz, px, py, pz, ax, ay, az, xs[q_arr], qy, zs[q_arr])
                 thr *= side_errbound  # the threshold side_errbound * permanent, in place
                 neg_mask = det < np.negative(thr, out=qy)  # qy is free again
@@ -1009,9 +1018,9 @@ class Orient3dKernel:
             if qs.size == 0:
                 return np.zeros(0, dtype=np.int8)
             (ax, ay, az), (bx, by, bz), (cx, cy, cz) = row(a), row(b), row(c)  # once per call: no fast path
-            terms = plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
+            nx, ny, nz, _, _, _ = plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
             static = side_static if pred.stats is None else nan
-            neg, pos = where(a, b, c, (ax, ay, az), terms, static, qs)
+            neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz), static, qs)
             out: SignArray = np.zeros(qs.size, dtype=np.int8)
             out[neg] = -1
             out[pos] = 1
