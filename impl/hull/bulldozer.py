@@ -442,7 +442,8 @@ class Bulldozer:
             indeg = 0
             a, b, d = tri
             for u, w, f in ((a, b, d), (b, d, a), (d, a, b)):
-                known = pending_edges.pop((w, u), None)
+                back = (w, u)
+                known = pending_edges.pop(back, None)
                 if known is not None:
                     # The neighbour G was expanded first; its sign for (w, u) is minus ours.
                     s, gid, gtri = known
@@ -451,7 +452,7 @@ class Bulldozer:
                     else:
                         indeg += 1
                     continue
-                found = across(cx, (w, u))
+                found = across(cx, back)
                 if found is None:
                     raise BulldozerCheckError(f"the hull is not a closed surface: no face across edge {(u, w)} of {tri}")
                 gtri, (gid, gpts) = found
