@@ -242,3 +242,42 @@ def test_spatial_and_input_labels_insert_the_same_points(dist: str) -> None:
 def test_labels_must_be_spatial_or_input() -> None:
     with pytest.raises(ValueError, match="labels must be 'spatial' or 'input'"):
         convex_hull(generate("InBall", 10), labels="hilbert")
+
+
+def _first_cones(pts: np.ndarray) -> tuple[dict[frozenset[int], list[int]], dict[frozenset[int], list[int]]]:
+    """The cones of the first tetrahedron's faces by their definition and by the decision tree."""
+    from persistri.impl.complex.simpcomp import two_complex
+    from persistri.impl.geometry.predicates import Predicates3
+    from persistri.impl.hull.bulldozer import Bulldozer, all_but, initial_tetrahedron
+
+    pred = Predicates3(pts)
+    tetra = initial_tetrahedron(pred, len(pts))
+    bd = Bulldozer(pred.with_centroid(*tetra), two_complex("red_black", None), tetra)
+    others = all_but(len(pts), tetra)
+    faces = [tri for tri, _ in bd.faces.values()]
+    by_planes = {k: v.tolist() for k, v in bd._cones_by_planes(faces, others).items()}
+    by_tree = {k: v.tolist() for k, v in bd._cones_by_tree(tetra, others).items()}
+    return by_planes, by_tree
+
+
+@pytest.mark.parametrize("dist", sorted(DISTRIBUTIONS))
+def test_the_first_cones_by_decision_tree_are_the_cones_by_definition(dist: str) -> None:
+    """Uncounted runs split the points among the first faces' cones by three tests per point instead of six
+    planes per point: the same lists, on random points, on an integer grid (points on the planes through
+    the centre: Simulation of Simplicity decides) and on a few points (scalar partitions)."""
+    for pts in (generate(dist, 3000, seed=2), generate(dist, 40, seed=3)):
+        by_planes, by_tree = _first_cones(pts)
+        assert by_planes == by_tree and sum(map(len, by_tree.values())) == len(pts) - 4
+    grid = np.stack(np.meshgrid(*[np.arange(7.0)] * 3), axis=-1).reshape(-1, 3)
+    by_planes, by_tree = _first_cones(grid)
+    assert by_planes == by_tree and sum(map(len, by_tree.values())) == len(grid) - 4
+
+
+@settings(max_examples=40)
+@given(arrays(np.int8, st.tuples(st.integers(5, 80), st.just(3)), elements=st.integers(-3, 3)))
+def test_the_first_cones_agree_on_small_integer_clouds(raw: np.ndarray) -> None:
+    pts = np.unique(raw.astype(float), axis=0)
+    if len(pts) < 5 or affine_dimension(pts) < 3:
+        return
+    by_planes, by_tree = _first_cones(pts)
+    assert by_planes == by_tree

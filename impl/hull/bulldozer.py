@@ -349,7 +349,7 @@ class Bulldozer:
         return entry
 
     def _start(self, tetra: tuple[int, int, int, int]) -> Complex[FaceDatum]:
-        P, C = self.pred, self.C
+        P = self.pred
         V = {i: self._vertex(i) for i in tetra}
         a, b, c, d = tetra
         faces: list[Triangle] = []
@@ -359,7 +359,25 @@ class Bulldozer:
             faces.append(tri)
         others = all_but(self.n, tetra)
         self.status[list(tetra)] = ON_HULL
-        # The cone of face (x, y, z) from c: q on the inner side of the planes (c, x, y), (c, y, z), (c, z, x).
+        # Each other point goes to the face its ray from the centre leaves through: the face's cone.
+        cones = self._cones_by_planes(faces, others) if self.check or P.stats is not None else self._cones_by_tree(tetra, others)
+        cx = self.S.new(2)
+        for tri in faces:
+            x, y, z = tri
+            out, _ = self._partition(x, y, z, cones[frozenset(tri)])
+            _assign(self._status, self.status, out, PENDING)
+            cx = self.S.add(cx, *self._new_face(tri, out))
+        return cx
+
+    def _cones_by_planes(self, faces: list[Triangle], others: IntArray) -> dict[frozenset[int], IntArray]:
+        """The points of ``others`` in the cone from the centre through each face, by the cone's definition.
+
+        ``q`` is in the cone of face ``(x, y, z)`` iff it is on the inner side of the
+        three planes ``(c, x, y)``, ``(c, y, z)``, ``(c, z, x)``: six planes in all,
+        each tested on every point (counted runs, and ``check=True``, which also
+        verifies that the cones partition the points).  O(n) tests.
+        """
+        P, C = self.pred, self.C
         side: dict[tuple[int, int], NDArray[np.int8]] = {}
 
         def plane_side(x: int, y: int) -> NDArray[np.int8]:
@@ -371,7 +389,7 @@ class Bulldozer:
             side[(x, y)] = s
             return s
 
-        cx = self.S.new(2)
+        cones: dict[frozenset[int], IntArray] = {}
         claimed = np.zeros(others.size, dtype=bool)
         for tri in faces:
             x, y, z = tri
@@ -383,12 +401,42 @@ class Bulldozer:
             if self.check and bool(np.any(inside & claimed)):
                 raise BulldozerCheckError("the cones of the first tetrahedron's faces overlap")
             claimed |= inside
-            out, _ = self._partition(x, y, z, others[inside])
-            _assign(self._status, self.status, out, PENDING)
-            cx = self.S.add(cx, *self._new_face(tri, out))
+            cones[frozenset(tri)] = others[inside]
         if self.check and others.size and not bool(claimed.all()):
             raise BulldozerCheckError("some point lies in no cone of the first tetrahedron's faces")
-        return cx
+        return cones
+
+    def _cones_by_tree(self, tetra: tuple[int, int, int, int], others: IntArray) -> dict[frozenset[int], IntArray]:
+        """:meth:`_cones_by_planes` in three tests per point: a decision tree over the same planes.
+
+        The plane ``(c, a, b)`` has ``c`` and ``d`` on opposite sides (the centre is
+        inside), and the cone of ``abc`` lies on ``c``'s side, that of ``abd`` on
+        ``d``'s.  On ``c``'s side the cones met are those of the three faces at
+        ``c``; there, a point is in the cone of ``cxy`` iff it lies in the wedge
+        between the half-planes from the axis ``c → c`` (centre to vertex) through
+        ``x`` and through ``y`` — the routing question of the associated face
+        (two tests of the planes through the axis).  Likewise on ``d``'s side
+        around ``d``.  The same cones as the definition (a perturbed point set is
+        in general position, where both are exact), each list in increasing
+        order as there; ``tests/test_hull.py`` compares the two.  O(n) tests.
+        """
+        C, partition, o3 = self.C, self._partition, self._o3
+
+        def split(x: int, y: int, ref: int, pts: Indices) -> tuple[Indices, Indices]:
+            """``pts`` on ``ref``'s side of the plane ``(c, x, y)``, and on the other side."""
+            minus, plus = partition(C, x, y, pts)
+            return (plus, minus) if o3(C, x, y, ref) > 0 else (minus, plus)
+
+        a, b, c, d = tetra
+        found: dict[frozenset[int], list[Indices]] = {}
+        for apex, half, (x, y, z) in zip((c, d), split(a, b, c, others), ((a, b, d), (a, b, c))):
+            # Around the axis from the centre through apex, the wedges between x, y and z.
+            y_side, z_side = split(apex, x, y, half)
+            in_xy, in_yz = split(apex, y, x, y_side)
+            in_zx, in_zy = split(apex, z, x, z_side)
+            for corners, pts in (((apex, x, y), in_xy), ((apex, y, z), in_yz), ((apex, y, z), in_zy), ((apex, z, x), in_zx)):
+                found.setdefault(frozenset(corners), []).append(pts)
+        return {key: np.sort(np.asarray(_join(parts), dtype=np.intp)) for key, parts in found.items()}
 
     # -- one insertion ---------------------------------------------------------------
 
