@@ -219,3 +219,106 @@ def test_neighbour_events_are_validated() -> None:
         one_findi(2, 0)
     with pytest.raises(TraceFormatError, match="neighbour event 1"):
         one_findi(1, 2)
+
+
+# -- neighbours(c): neighbour for one version, each vertex's list read once ----------------------------
+
+WALKERS = [(name, make) for name, make in TWO_COMPLEXES if hasattr(make(2), "neighbours")]
+
+
+@pytest.mark.parametrize("make", [m for _, m in WALKERS], ids=[name for name, _ in WALKERS])
+@given(tris=triangles, later=triangles, probes=edges)
+def test_neighbours_of_a_version_is_neighbour_on_it(
+    make: Make, tris: list[list[int]], later: list[list[int]], probes: list[tuple[int, int]]
+) -> None:
+    """``neighbours(c)(e)`` is ``neighbour(c, e)``, probe after probe (vertices met again are read from what
+    the function kept), and stays so for an old version after newer ones are made from it."""
+    vs = fresh(N + 1)
+    C = make(2)
+    c = C.new(2)
+    for t in tris:
+        try:
+            c = C.add(c, tuple(vs[i] for i in t), tuple(t))
+        except (DuplicateSimplexError, OppositeOrientationError):
+            pass
+    across = C.neighbours(c)
+    persistent = not isinstance(C.inner if isinstance(C, TracingTwoComplex) else C, EphemeralTwoComplex)
+    for round_ in range(2):
+        for i, j in probes:
+            e = (vs[i], vs[j])
+            want = outcome(lambda: C.neighbour(c, e))
+            got = outcome(lambda: across(e))
+            assert got[0] == want[0] and (got[1] == want[1] or got[0] != "ok"), (e, got, want)
+            if got[0] != "ok":
+                assert "neighbour" in got[1]
+        if round_ == 0 and persistent:
+            d = c
+            for t in later:  # newer versions; c and what across kept are unchanged
+                try:
+                    d = C.add(d, tuple(vs[i] for i in t), ("later", *t))
+                except (DuplicateSimplexError, OppositeOrientationError):
+                    pass
+
+
+@pytest.mark.parametrize("make", [m for _, m in WALKERS], ids=[name for name, _ in WALKERS])
+def test_neighbours_refuses_what_neighbour_refuses(make: Make) -> None:
+    n, tris = icosahedron()
+    vs = fresh(n)
+    C = make(2)
+    c = build(C, vs, tris)
+    across = C.neighbours(c)
+    for k, e in _bad_arguments(C, c, vs):
+        want = outcome(lambda: C.neighbour(k, e))
+        got = outcome(lambda: C.neighbours(k)(e)) if k is not c else outcome(lambda: across(e))
+        assert want[0] != "ok" and got[0] == want[0], (k, e, got, want)
+        assert "neighbour" in got[1]
+    a, b = vs[tris[0][0]], vs[tris[0][1]]
+    assert across([a, b]) == C.neighbour(c, [a, b]) is not None
+
+
+def test_neighbours_reads_each_vertex_list_once() -> None:
+    """The specialised, uncounted 2-complex: one map lookup per vertex however many edges leave it."""
+    n, tris = icosahedron()
+    vs = fresh(n)
+    C = two_complex("red_black")
+    c = build(C, vs, tris)
+    crossings = [(vs[t[(i + 1) % 3]], vs[t[i]]) for t in tris for i in range(3)]
+    expected = [find_first(C, c, e) for e in crossings]
+    looked_up: list[Any] = []
+    real = C._m
+
+    class Counting:
+        def find(self, rep: Any, k: Any) -> Any:
+            looked_up.append(k)
+            return real.find(rep, k)
+
+    C._m = Counting()
+    try:
+        across = C.neighbours(c)
+        assert [across(e) for e in crossings] == expected
+    finally:
+        C._m = real
+    assert sorted(looked_up) == sorted(vs)  # every vertex once
+
+
+def find_first(C: Any, c: Any, e: Any) -> Any:
+    found = C.findi(c, e)
+    return found[0] if found else None
+
+
+def test_counted_neighbours_count_each_call_as_neighbour_does() -> None:
+    stats = Stats()
+    C = two_complex("red_black", stats)
+    n, tris = icosahedron()
+    vs = fresh(n)
+    c = build(C, vs, tris)
+    edges_ = [(vs[t[1]], vs[t[0]]) for t in tris]
+    stats.reset()
+    for e in edges_:
+        C.neighbour(c, e)
+    by_neighbour = (stats.dict_ops, stats.key_comparisons)
+    stats.reset()
+    across = C.neighbours(c)
+    for e in edges_:
+        across(e)
+    assert (stats.dict_ops, stats.key_comparisons) == by_neighbour == (len(edges_), by_neighbour[1])

@@ -60,8 +60,9 @@ point being inserted is read from the table, not looked up in the complex (the
 ``stepwise`` mode reads it from the complex, as the paper's code does, so its
 dictionary-operation counts stay the paper's).  The complex is what the walk
 asks for adjacency (``neighbour`` across each edge, the one face holding the
-reversed edge; ``findi`` in the stepwise mode); the table only mirrors its
-faces.
+reversed edge, through ``neighbours`` of the version being changed, which reads
+each vertex's list once; ``findi`` in the stepwise mode); the table only mirrors
+its faces.
 
 Insertion order: a random permutation of the points from the seed; a point
 that is interior when its turn comes is skipped.  This is equivalent to the
@@ -474,9 +475,10 @@ class Bulldozer:
             assert found is not None, "the associated face of a pending point is in the hull"
             lst = found[0][1]
         own0: Indices = lst[lst != p] if type(lst) is np.ndarray else [q for q in lst if q != p]
-        # The face across an edge: neighbour (one lookup, a scan that stops at the face), or findi in
-        # stepwise mode, whose counts (the whole list scanned) are the paper's.
-        across = self._across_counted if self.stepwise else S.neighbour
+        # The face across an edge: neighbour (one lookup, a scan that stops at the face; each vertex's list
+        # read once in this version), or findi in stepwise mode, whose counts (the whole list scanned) are
+        # the paper's.
+        across = self._across_counted(cx) if self.stepwise else S.neighbours(cx)
 
         visible: dict[int, bool] = {fid0: True}  # face id -> can p see it (each face tested once)
         work: dict[int, _Visible] = {}
@@ -500,7 +502,7 @@ class Bulldozer:
                     else:
                         indeg += 1
                     continue
-                found = across(cx, back)
+                found = across(back)
                 if found is None:
                     raise BulldozerCheckError(f"the hull is not a closed surface: no face across edge {(u, w)} of {tri}")
                 gtri, (gid, gpts) = found
@@ -641,10 +643,15 @@ class Bulldozer:
             self._check_bulldozed(p, routed, added)
         return cx
 
-    def _across_counted(self, cx: Complex[FaceDatum], edge: tuple[Vertex, Vertex]) -> tuple[Triangle, FaceDatum] | None:
-        """The face holding the directed ``edge``, by ``findi`` as the paper's code finds it (stepwise mode)."""
-        ((tri, datum),) = self.S.findi(cx, edge)
-        return tri, datum
+    def _across_counted(self, cx: Complex[FaceDatum]) -> Callable[[tuple[Vertex, Vertex]], tuple[Triangle, FaceDatum] | None]:
+        """The face holding a directed edge of ``cx``, by ``findi`` as the paper's code finds it (stepwise mode)."""
+        findi = self.S.findi
+
+        def across(edge: tuple[Vertex, Vertex]) -> tuple[Triangle, FaceDatum] | None:
+            ((tri, datum),) = findi(cx, edge)
+            return tri, datum
+
+        return across
 
     # -- check=True ------------------------------------------------------------------
 
