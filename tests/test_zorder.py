@@ -49,3 +49,30 @@ def test_degenerate_and_bad_shapes() -> None:
         morton_order(np.zeros((3, 4)))
     with pytest.raises(ValueError, match="shape"):
         morton_order(np.zeros(3))
+
+
+def _reference_order(pts: np.ndarray) -> list[int]:
+    """Rows by their full 3 × 21-bit Morton code, ties in input order: codes interleaved bit by bit in Python."""
+    top = (1 << 21) - 1
+    codes = []
+    cols = []
+    for j in range(pts.shape[1]):
+        col = pts[:, j]
+        lo, hi = float(col.min()) / 2, float(col.max()) / 2
+        q = np.clip(np.floor((col / 2 - lo) / (hi - lo) * top), 0, top).astype(np.int64) if hi > lo else np.zeros(len(col), dtype=np.int64)
+        cols.append(q.tolist())
+    for i in range(len(pts)):
+        codes.append(sum(((cols[j][i] >> b) & 1) << (3 * b + j) for j in range(len(cols)) for b in range(21)))
+    return sorted(range(len(pts)), key=lambda i: codes[i])
+
+
+def test_codes_that_share_their_leading_bits_are_still_ordered_by_the_whole_code() -> None:
+    """The fast path sorts the codes' leading bits with the row index below them; points closer than its
+    resolution (here pairs 2^-22 apart, in input order opposite to their codes) must still come in the
+    order of their whole codes."""
+    rng = np.random.default_rng(5)
+    base = rng.random((300, 3))
+    pts = np.concatenate([base + 2.0**-22, base])  # the second copy has the smaller codes
+    assert morton_order(pts).tolist() == _reference_order(pts)
+    spread_out = rng.random((500, 3))  # no shared leading bits: the fast path
+    assert morton_order(spread_out).tolist() == _reference_order(spread_out)

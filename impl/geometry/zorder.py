@@ -51,10 +51,7 @@ def morton_order(points: NDArray[np.float64]) -> NDArray[np.intp]:
 
     Each axis is mapped affinely onto ``0 … 2^21 - 1`` over the points' range on
     it (a constant axis maps to 0), then the codes interleave the axes' bits.
-    The sort compares the codes' leading ``64 - ⌈lg n⌉`` bits (the rest of a
-    64-bit word holds the row index; over 15 bits per axis up to 2^18 points)
-    and keeps rows whose leading bits are equal in input order: it is stable.
-    ``points[morton_order(points)]`` is the sorted array.
+    ``points[morton_order(points)]`` is the sorted array; the sort is stable.
 
     >>> import numpy as np
     >>> morton_order(np.array([[1.0, 1.0], [0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])).tolist()
@@ -81,12 +78,16 @@ def morton_order(points: NDArray[np.float64]) -> NDArray[np.intp]:
         else:
             q = np.zeros(n, dtype=np.uint64)
         code |= _spread(q) << np.uint64(j)
-    # One sort of plain integers, not an argsort: each code's leading bits with the row index below them
-    # (a vectorised sort of uint64 is four times faster than an argsort at 10^5 points).  The index
-    # breaks ties, so the order is stable.
+    # Usually one sort of plain integers, not an argsort (a vectorised sort of uint64 is four times
+    # faster than an argsort at 10^5 points): each code's leading bits with the row index below them.
+    # When no two codes share those leading bits, that is the order of the codes; otherwise (clustered
+    # points, or many of them) the stable argsort of the whole codes decides.
     index_bits = max(1, (n - 1).bit_length())
     keyed = (code >> np.uint64(max(0, 3 * BITS + index_bits - 64))) << np.uint64(index_bits)
     keyed |= np.arange(n, dtype=np.uint64)
     keyed.sort()
+    leading = keyed >> np.uint64(index_bits)
+    if n > 1 and bool((leading[1:] == leading[:-1]).any()):
+        return np.argsort(code, kind="stable").astype(np.intp, copy=False)
     keyed &= np.uint64((1 << index_bits) - 1)
     return keyed.astype(np.intp)
