@@ -486,9 +486,16 @@ class Bulldozer:
         # yet expanded -> (orient3d(u, w, c, p), F's id, F): the neighbour reads the sign from here.
         pending_edges: dict[tuple[Vertex, Vertex], tuple[int, int, Triangle]] = {}
 
-        def expand(fid: int, tri: Triangle, own: Indices) -> _Visible:
-            """Classify the three edges of the visible face ``tri``: horizon, out-arc or in-arc."""
+        def expand(fid: int, tri: Triangle, own: Indices, in_cone: bool = False) -> _Visible:
+            """Classify the three edges of the visible face ``tri``: horizon, out-arc or in-arc.
+
+            ``in_cone``: ``p`` lies in the face's cone from the centre (its associated face, Theorem 6),
+            so every edge ``(u, w)`` has ``orient3d(u, w, c, p) = -1`` — the cone's definition — and
+            leads out; the sign is then not tested (``check=True`` tests it, and that the face has
+            in-degree 0).
+            """
             outs: list[Out] = []
+            known_out = in_cone and not check
             indeg = 0
             a, b, d = tri
             for u, w, f in ((a, b, d), (b, d, a), (d, a, b)):
@@ -512,7 +519,7 @@ class Bulldozer:
                 if not vis:
                     outs.append((u, w, _HORIZON, None, ()))
                     continue
-                s = o3(u, w, C, p)
+                s = -1 if known_out else o3(u, w, C, p)
                 if check and o3(u, w, C, f) != -1:
                     raise BulldozerCheckError(f"the centre is not strictly behind face {tri} (orient3d(u, w, c, f) = +1)")
                 if s < 0:
@@ -523,7 +530,7 @@ class Bulldozer:
             rec = work[fid] = _Visible(tri, own, indeg, outs)
             return rec
 
-        first = expand(fid0, tri0, own0)
+        first = expand(fid0, tri0, own0, in_cone=True)
         if check and (first.indeg != 0 or len(first.outs) != 3):
             raise BulldozerCheckError(
                 f"the associated face of point {p} has in-degree {first.indeg} and out-degree "
