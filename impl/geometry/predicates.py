@@ -176,8 +176,10 @@ class _IndexedPoints:
         self._dim = dim
         self.stats = stats
         span = self._span = grain_span(pts[:exact_rows]) if exact_rows else None
-        extremes = [span] if span else []  # the grain and magnitude extremes of the nonzero coordinates
-        scaling = choose_scaling(np.array([g for g, _ in extremes], dtype=np.int64), np.array([h for _, h in extremes], dtype=np.int64))
+        # The least grain and the greatest magnitude of the nonzero coordinates decide the scale.
+        lows = np.array([span[0]] if span else [], dtype=np.int64)
+        highs = np.array([span[1]] if span else [], dtype=np.int64)
+        scaling = choose_scaling(lows, highs)
         shift = self._shift = scaling.shift
         self._scale = IntegerScale(span[0] if span else 0, extra)
         fl = np.full((n, dim), np.nan)

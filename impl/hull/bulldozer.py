@@ -361,7 +361,10 @@ class Bulldozer:
         others = all_but(self.n, tetra)
         self.status[list(tetra)] = ON_HULL
         # Each other point goes to the face its ray from the centre leaves through: the face's cone.
-        cones = self._cones_by_planes(faces, others) if self.check or P.stats is not None else self._cones_by_tree(tetra, others)
+        if self.check or P.stats is not None:
+            cones = self._cones_by_planes(faces, others)  # by definition: checked, and the counts of the paper
+        else:
+            cones = self._cones_by_tree(tetra, others)
         cx = self.S.new(2)
         for tri in faces:
             x, y, z = tri
@@ -413,11 +416,11 @@ class Bulldozer:
         The plane ``(c, a, b)`` has ``c`` and ``d`` on opposite sides (the centre is
         inside), and the cone of ``abc`` lies on ``c``'s side, that of ``abd`` on
         ``d``'s.  On ``c``'s side the cones met are those of the three faces at
-        ``c``; there, a point is in the cone of ``cxy`` iff it lies in the wedge
-        between the half-planes from the axis ``c → c`` (centre to vertex) through
-        ``x`` and through ``y`` — the routing question of the associated face
-        (two tests of the planes through the axis).  Likewise on ``d``'s side
-        around ``d``.  The same cones as the definition (a perturbed point set is
+        ``c``; there, a point is in the cone of the face ``c x y`` iff it lies in
+        the wedge between the half-planes that the axis from the centre through
+        the apex ``c`` spans with ``x`` and with ``y`` — the routing question of
+        the associated face (two tests of planes through the axis).  Likewise on
+        ``d``'s side around the apex ``d``.  The same cones as the definition (a perturbed point set is
         in general position, where both are exact), each list in increasing
         order as there; ``tests/test_hull.py`` compares the two.  O(n) tests.
         """
