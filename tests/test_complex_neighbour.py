@@ -54,6 +54,16 @@ def first_of_findi(C: Any, c: Any, e: Any) -> Any:
     return found[0] if found else None
 
 
+def add_all(C: Any, c: Any, vs: list[Any], tris: list[list[int]], tag: str = "") -> Any:
+    """``c`` with each triangle of ``tris`` added that ``add`` accepts (carrying its indices, after ``tag``)."""
+    for t in tris:
+        try:
+            c = C.add(c, tuple(vs[i] for i in t), (tag, *t) if tag else tuple(t))
+        except (DuplicateSimplexError, OppositeOrientationError):
+            pass
+    return c
+
+
 triangles = st.lists(st.lists(st.integers(0, N - 1), min_size=3, max_size=3, unique=True), max_size=14)
 edges = st.lists(st.tuples(st.integers(0, N), st.integers(0, N)), min_size=1, max_size=12)
 
@@ -63,12 +73,7 @@ edges = st.lists(st.tuples(st.integers(0, N), st.integers(0, N)), min_size=1, ma
 def test_neighbour_is_the_first_of_findi(make: Make, tris: list[list[int]], probes: list[tuple[int, int]]) -> None:
     vs = fresh(N + 1)  # vertex N is in no triangle
     C = make(2)
-    c = C.new(2)
-    for t in tris:
-        try:
-            c = C.add(c, tuple(vs[i] for i in t), tuple(t))
-        except (DuplicateSimplexError, OppositeOrientationError):
-            pass
+    c = add_all(C, C.new(2), vs, tris)
     for i, j in probes:
         e = (vs[i], vs[j])  # i == j: a repeated vertex, refused by both
         want = outcome(lambda: first_of_findi(C, c, e))
@@ -235,12 +240,7 @@ def test_neighbours_of_a_version_is_neighbour_on_it(
     the function kept), and stays so for an old version after newer ones are made from it."""
     vs = fresh(N + 1)
     C = make(2)
-    c = C.new(2)
-    for t in tris:
-        try:
-            c = C.add(c, tuple(vs[i] for i in t), tuple(t))
-        except (DuplicateSimplexError, OppositeOrientationError):
-            pass
+    c = add_all(C, C.new(2), vs, tris)
     across = C.neighbours(c)
     persistent = not isinstance(C.inner if isinstance(C, TracingTwoComplex) else C, EphemeralTwoComplex)
     for round_ in range(2):
@@ -252,12 +252,7 @@ def test_neighbours_of_a_version_is_neighbour_on_it(
             if got[0] != "ok":
                 assert "neighbour" in got[1]
         if round_ == 0 and persistent:
-            d = c
-            for t in later:  # newer versions; c and what across kept are unchanged
-                try:
-                    d = C.add(d, tuple(vs[i] for i in t), ("later", *t))
-                except (DuplicateSimplexError, OppositeOrientationError):
-                    pass
+            add_all(C, c, vs, later, "later")  # newer versions; c and what across kept are unchanged
 
 
 @pytest.mark.parametrize("make", [m for _, m in WALKERS], ids=[name for name, _ in WALKERS])
@@ -283,7 +278,7 @@ def test_neighbours_reads_each_vertex_list_once() -> None:
     C = two_complex("red_black")
     c = build(C, vs, tris)
     crossings = [(vs[t[(i + 1) % 3]], vs[t[i]]) for t in tris for i in range(3)]
-    expected = [find_first(C, c, e) for e in crossings]
+    expected = [first_of_findi(C, c, e) for e in crossings]
     looked_up: list[Any] = []
     real = C._m
 
@@ -299,11 +294,6 @@ def test_neighbours_reads_each_vertex_list_once() -> None:
     finally:
         C._m = real
     assert sorted(looked_up) == sorted(vs)  # every vertex once
-
-
-def find_first(C: Any, c: Any, e: Any) -> Any:
-    found = C.findi(c, e)
-    return found[0] if found else None
 
 
 def test_counted_neighbours_count_each_call_as_neighbour_does() -> None:

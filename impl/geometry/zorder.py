@@ -87,7 +87,7 @@ def morton_order(points: NDArray[np.float64]) -> NDArray[np.intp]:
     keyed |= np.arange(n, dtype=np.uint64)
     keyed.sort()
     leading = keyed >> np.uint64(index_bits)
-    if n > 1 and bool((leading[1:] == leading[:-1]).any()):
+    if bool((leading[1:] == leading[:-1]).any()):
         return np.argsort(code, kind="stable").astype(np.intp, copy=False)
     keyed &= np.uint64((1 << index_bits) - 1)
     return keyed.astype(np.intp)
