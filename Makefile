@@ -1,6 +1,7 @@
 # persistri: the two commands of the README.
 #   make demo   create .venv, install, run the main job, write results to out/
 #   make test   create .venv, install with the dev extras, run every check
+#               (on the compiled twin too, where there is a C compiler)
 PY      ?= python3
 VENV    := .venv
 BIN     := $(VENV)/bin
@@ -8,7 +9,7 @@ BIN     := $(VENV)/bin
 PROFILE ?= $(if $(CI),ci,dev)
 export HYPOTHESIS_PROFILE := $(PROFILE)
 
-.PHONY: demo test install install-dev links typecheck pytest proofs docs clean
+.PHONY: demo test install install-dev links typecheck pytest compiled pytest-twin proofs docs clean
 
 $(BIN)/python:
 	@$(PY) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "persistri needs Python 3.11 or newer; set PY=python3.11")'
@@ -40,12 +41,26 @@ demo: install
 
 typecheck: install-dev
 	$(BIN)/mypy -p persistri.spec -p persistri.impl
-	$(BIN)/mypy tests/typing/consumer.py proofs
+	$(BIN)/mypy tests/typing/consumer.py proofs tools
 	$(BIN)/python tests/typing/check_rejections.py
 
 pytest: install-dev
 	$(BIN)/python -m pytest -n 2 -p no:cacheprovider --durations=15
 	$(BIN)/python -m pytest -q -p no:cacheprovider --doctest-modules --doctest-glob='*.md' README.md docs --pyargs persistri.spec persistri.impl
+
+# The compiled twin (tools/compiled_twin.py, docs/performance.md): the same source with the
+# bulldozer's loop and its predicate kernel compiled by mypyc, in $(TWIN).  Built only on a machine
+# with a C compiler (persistri itself needs none); where it is built, the whole test suite runs on it.
+TWIN := build/compiled
+
+compiled: install-dev
+	$(BIN)/python tools/compiled_twin.py $(TWIN)
+
+pytest-twin: install-dev
+	@$(BIN)/python tools/compiled_twin.py $(TWIN); status=$$?; \
+	if [ $$status -eq 2 ]; then echo "pytest-twin: skipped, the compiled twin needs a C compiler"; exit 0; fi; \
+	if [ $$status -ne 0 ]; then exit $$status; fi; \
+	PYTHONPATH=$(TWIN) PERSISTRI_TWIN=1 $(BIN)/python -m pytest -n 2 -p no:cacheprovider -q
 
 proofs: install-dev
 	$(BIN)/python -m proofs
@@ -57,7 +72,7 @@ docs: install-dev
 	$(BIN)/python docs/figures.py
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 
-test: typecheck pytest proofs docs
+test: typecheck pytest pytest-twin proofs docs
 	@echo "make test: all checks passed"
 
 clean:

@@ -1,4 +1,4 @@
-"""Shared pytest configuration: the hypothesis profiles.
+"""Shared pytest configuration: the hypothesis profiles, and which build of persistri is under test.
 
 ``HYPOTHESIS_PROFILE=ci`` (set by ``make test`` under CI) is thorough;
 ``dev`` (the default) is quick.  Neither has a deadline: persistri's tests check
@@ -25,3 +25,10 @@ settings.register_profile(
     suppress_health_check=[HealthCheck.too_slow],
 )
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "dev"))
+
+
+def pytest_report_header() -> str:
+    """Which persistri the suite runs on: interpreted, or the compiled twin (``make test`` runs both)."""
+    from persistri.impl.bench.hull import persistri_build
+
+    return f"persistri: {persistri_build()}"

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 from typing import Any
 
 import pytest
@@ -60,3 +61,16 @@ def test_table_and_errors() -> None:
     assert bad.exit_code != 0 and "btree" in bad.output
     bad = CliRunner().invoke(main, ["bench", "hull", "--sizes", "3"])
     assert bad.exit_code != 0 and "at least 4" in bad.output
+
+
+def test_the_report_names_the_build_it_measured() -> None:
+    """Interpreted, or the compiled twin.  ``make test`` sets PERSISTRI_TWIN for its run of the suite on the
+    twin, so this also checks that that run really executes the compiled modules."""
+    result = invoke("--sizes", "60", "--dists", "InBall", "--json")
+    assert result.exit_code == 0, result.output
+    build = json.loads(result.output)["build"]
+    if os.environ.get("PERSISTRI_TWIN"):
+        assert build == "compiled twin (kernel, bulldozer by mypyc)"
+    else:
+        assert build == "interpreted"
+    assert f"persistri {build}" in " ".join(invoke("--sizes", "60", "--dists", "InBall").output.split())

@@ -14,7 +14,8 @@ from typing import Any
 
 import pytest
 
-from persistri.impl.geometry.predicates import Indices, Orient3dKernel, Predicates3
+from persistri.impl.geometry.kernel import Indices, Orient3dKernel
+from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.hull import bulldozer
 from persistri.impl.hull.api import convex_hull
 from persistri.impl.hull.bulldozer import BulldozerCheckError
@@ -23,28 +24,24 @@ from persistri.impl.hull.distributions import generate
 POINTS = generate("OnSphere", 300, seed=4)
 
 
-class _FaultyKernel:
-    """A kernel whose ``orient3d``/``partition`` are replaced by ``wrap(original)`` once ``after`` calls were made."""
+def _faulty_kernel(inner: Orient3dKernel, what: str, wrap: Callable[[Any], Any], after: int) -> Orient3dKernel:
+    """``inner`` with its ``orient3d`` or ``partition`` replaced by ``wrap(original)`` once ``after`` calls were made."""
+    original = getattr(inner, what)
+    faulty = wrap(original)
+    calls = [0]
 
-    def __init__(self, inner: Orient3dKernel, what: str, wrap: Callable[[Any], Any], after: int) -> None:
-        self.orient3d = inner.orient3d
-        self.partition = inner.partition
-        self.signs = inner.signs
-        original = getattr(inner, what)
-        faulty = wrap(original)
-        calls = [0]
+    def switch(*args: Any) -> Any:
+        calls[0] += 1
+        return (faulty if calls[0] > after else original)(*args)
 
-        def switch(*args: Any) -> Any:
-            calls[0] += 1
-            return (faulty if calls[0] > after else original)(*args)
-
-        setattr(self, what, switch)
+    setattr(inner, what, switch)
+    return inner
 
 
 @contextmanager
 def faulty(monkeypatch: pytest.MonkeyPatch, what: str, wrap: Callable[[Any], Any], after: int = 400) -> Iterator[None]:
     real = Predicates3.kernel
-    monkeypatch.setattr(Predicates3, "kernel", lambda self: _FaultyKernel(real(self), what, wrap, after))
+    monkeypatch.setattr(Predicates3, "kernel", lambda self: _faulty_kernel(real(self), what, wrap, after))
     yield
     monkeypatch.setattr(Predicates3, "kernel", real)
 

@@ -6,6 +6,7 @@ import ast
 import inspect
 import textwrap
 from collections.abc import Callable, Iterator
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -18,7 +19,8 @@ from test_predicates import point_sets
 from persistri.impl.geometry import filter as fp
 from persistri.impl.geometry.filter import FLOPS_ORIENT3D, FLOPS_PLANE, FLOPS_PLANE_SIDE
 from persistri.impl.geometry.points import unique_rows
-from persistri.impl.geometry.predicates import KERNEL_BATCH, Orient3dKernel, Predicates3
+from persistri.impl.geometry.kernel import KERNEL_BATCH
+from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.stats import Stats
 
 
@@ -219,8 +221,10 @@ def _blocks(node: ast.AST) -> Iterator[list[ast.stmt]]:
 
 
 def _kernel_function(name: str) -> ast.FunctionDef:
-    tree = ast.parse(textwrap.dedent(inspect.getsource(Orient3dKernel.__init__)))
-    found = [f for f in ast.walk(tree) if isinstance(f, ast.FunctionDef) and f.name == name]
+    # The kernel module's source file, beside filter.py (inspect cannot read the compiled twin's functions).
+    tree = ast.parse(Path(fp.__file__).with_name("kernel.py").read_text(encoding="utf-8"))
+    (init,) = [f for f in ast.walk(tree) if isinstance(f, ast.FunctionDef) and f.name == "__init__"]
+    found = [f for f in ast.walk(init) if isinstance(f, ast.FunctionDef) and f.name == name]
     assert len(found) == 1, name
     return found[0]
 

@@ -56,6 +56,7 @@ __all__ = [
     "run_hull_bench",
     "hull_table",
     "cpu_seconds",
+    "persistri_build",
 ]
 
 DEFAULT_HULL_SIZES: Final = (16_384, 65_536, 262_144)
@@ -130,6 +131,16 @@ class HullMemory:
         return (self.history_kept - self.final_only_kept) / max(self.versions - 1, 1)
 
 
+
+def persistri_build() -> str:
+    """Which persistri is running: ``"interpreted"``, or ``"compiled twin (kernel, bulldozer by mypyc)"``
+    when the modules that ``tools/compiled_twin.py`` compiles were imported as extension modules."""
+    from persistri.impl.geometry import kernel
+    from persistri.impl.hull import bulldozer
+
+    compiled = [m.__name__.rsplit(".", 1)[1] for m in (kernel, bulldozer) if not str(m.__file__).endswith(".py")]
+    return f"compiled twin ({', '.join(compiled)} by mypyc)" if compiled else "interpreted"
+
 @dataclass
 class HullBench:
     """The whole benchmark: what was measured and how."""
@@ -141,6 +152,7 @@ class HullBench:
     seed: int
     python: str = field(default_factory=lambda: f"Python {sys.version.split()[0]}")
     machine: str = field(default_factory=lambda: f"{platform.machine()} {platform.system()}")
+    build: str = field(default_factory=lambda: persistri_build())
     records: list[HullRecord] = field(default_factory=list)
     memory: HullMemory | None = None
 
@@ -154,6 +166,7 @@ class HullBench:
             "seed": self.seed,
             "python": self.python,
             "machine": self.machine,
+            "build": self.build,
             "timer": "CPU seconds (time.process_time), best of the repeats, cyclic GC off; Qhull (best of 3) timed "
             "right before each run, vs_qhull divides a subject's best run by the Qhull time taken before it",
             "records": [
@@ -327,7 +340,8 @@ def hull_table(bench: HullBench) -> Any:
         caption=(
             f"CPU seconds, best of {bench.repeat} run(s), each after Qhull's best of 3 (the Qhull s beside it; ×Qhull is "
             f"their ratio), cyclic GC off, seed {bench.seed}; "
-            f"×eph = time ÷ the ephemeral (dict, not persistent) baseline's; {bench.python} on {bench.machine}"
+            f"×eph = time ÷ the ephemeral (dict, not persistent) baseline's; {bench.python} on {bench.machine}; "
+            f"persistri {bench.build}"
         ),
         header_style="bold",
     )

@@ -21,7 +21,7 @@ operations done together:
 
 Every test is an exact ``orient3d`` with Simulation of Simplicity
 (:class:`~persistri.impl.geometry.predicates.Predicates3`, through its
-unvalidated :class:`~persistri.impl.geometry.predicates.Orient3dKernel`), so
+unvalidated :class:`~persistri.impl.geometry.kernel.Orient3dKernel`), so
 the algorithm runs on a point set in general position — the paper's standing
 assumption — and its output is a valid hull of the real points.  With the sign
 convention ``orient3d(a, b, c, q) = -1`` iff ``q`` is beyond the plane of the
@@ -49,7 +49,7 @@ outward face ``(a, b, c)``:
 Per point and face this is at most two plane-side tests (one "can q see F",
 one "which out-edge"), as the paper says (§3).  Conflict lists are tuples of
 point indices, or read-only numpy arrays from
-:data:`~persistri.impl.geometry.predicates.KERNEL_BATCH` entries on; the
+:data:`~persistri.impl.geometry.kernel.KERNEL_BATCH` entries on; the
 kernel's ``partition`` tests a short list point by point and a long one in a
 vectorised batch.  An empty list is never partitioned (nothing to test).
 
@@ -90,8 +90,9 @@ from numpy.typing import NDArray
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Vertex, VertexState
-from persistri.impl.geometry.predicates import KERNEL_BATCH, Indices, Predicates3
-from persistri.impl.hull.errors import DegenerateInputError
+from persistri.impl.geometry.kernel import KERNEL_BATCH, Indices
+from persistri.impl.geometry.predicates import Predicates3
+from persistri.impl.hull.errors import BulldozerCheckError, DegenerateInputError
 
 __all__ = [
     "Bulldozer",
@@ -125,10 +126,6 @@ _RUN_BLOCK: Final = 1024
 
 _HORIZON: Final = -1
 """The face id of an out-edge that leads off the visible region (a horizon edge)."""
-
-
-class BulldozerCheckError(AssertionError):
-    """A ``check=True`` assertion of the bulldozer failed: a theorem of Appendix A did not hold."""
 
 
 def _freeze(pts: Indices) -> Conflict:

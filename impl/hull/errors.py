@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["DegenerateInputError"]
+__all__ = ["DegenerateInputError", "BulldozerCheckError"]
 
 
 class DegenerateInputError(ValueError):
@@ -17,3 +17,10 @@ class DegenerateInputError(ValueError):
         super().__init__(message)
         self.affine_dimension = affine_dimension
         self.distinct = distinct
+
+
+class BulldozerCheckError(AssertionError):
+    """A ``check=True`` assertion of the bulldozer failed: a theorem of Appendix A did not hold.
+
+    Also importable from :mod:`persistri.impl.hull.bulldozer`, which raises it.
+    """

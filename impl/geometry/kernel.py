@@ -1,0 +1,370 @@
+"""The trusted fast path of ``orient3d`` for the bulldozer: :class:`Orient3dKernel` (paper §3, Appendix A).
+
+:meth:`Predicates3.kernel <persistri.impl.geometry.predicates.Predicates3.kernel>`
+makes it.  It answers the same signs as the checked
+:class:`~persistri.impl.geometry.predicates.Predicates3`, through the same proven
+filter, exact fallback and Simulation of Simplicity, without the checked API's
+validation; its ``partition`` splits a conflict list by a plane prepared once.
+It is a module of its own because it is the bulldozer's innermost loop: the
+compiled twin (``make compiled``, docs/performance.md) compiles it with mypyc.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from persistri.impl.geometry.filter import (
+    ERRBOUND_ORIENT3D,
+    ERRBOUND_PLANE_SIDE,
+    FLOPS_ORIENT3D,
+    FLOPS_PLANE,
+    FLOPS_PLANE_SIDE,
+    orient3d_box_threshold,
+    plane_side_box_threshold,
+    plane_side_det_into,
+    plane_side_terms_into,
+    plane_terms,
+)
+from persistri.impl.stats import Stats
+
+if TYPE_CHECKING:
+    from persistri.impl.geometry.predicates import Predicates3
+
+__all__ = ["Orient3dKernel", "Indices", "KERNEL_BATCH"]
+
+KERNEL_BATCH: Final[int] = 64
+"""Below this many points :attr:`Orient3dKernel.partition` loops over the points instead of
+running vectorised.  Higher than :data:`SMALL_BATCH` because the kernel's loop is cheaper than
+the checked scalar test: with the semi-static threshold a point costs about 0.2–0.4 µs in it,
+against the vectorised path's 25–35 µs for a call of up to a hundred points (measured at
+32 to 160 points of a 256K-point InBall set: the two meet between 80 and 96)."""
+
+IntArray = NDArray[np.intp]
+SignArray = NDArray[np.int8]
+
+Indices = Sequence[int] | IntArray
+"""Point indices as the kernel takes and returns them: a tuple or list of ints, or an int array."""
+
+
+class Orient3dKernel:
+    """``orient3d`` without validation, for algorithms that only ever pass valid, distinct indices.
+
+    Made by :meth:`Predicates3.kernel`.  The signs are those of
+    :meth:`Predicates3.orient3d` — the same proven filter
+    (:func:`~persistri.impl.geometry.filter.orient3d_terms`), the same exact
+    fallback and Simulation of Simplicity — and so is the counting
+    (``plane_side_tests``, ``flops``, ``filter_failures`` of the predicates'
+    ``stats``, read at every call).  What is left out is the work of the
+    checked API on every call: index validation, per-call type tests,
+    attribute lookups, and for batches ``np.asarray``/``min``/``max`` of the
+    indices and broadcasting.  Indices out of range or repeated are the
+    caller's error and are not diagnosed (a repeated index reaches SoS, which
+    raises ``ValueError``).  The scalar paths also write the filter expressions
+    out in place instead of calling :mod:`.filter` (a call per test costs about
+    a sixth of the test); ``tests/test_predicates_kernel.py`` checks that they
+    are the proved functions' statements, in order, so they round alike.
+
+    **Semi-static stage.**  When nothing is counted (``stats`` is None) each
+    determinant is first compared with one threshold for the whole point set,
+    computed once from the bounding box of its points
+    (:func:`~persistri.impl.geometry.filter.orient3d_box_threshold`,
+    :func:`~persistri.impl.geometry.filter.plane_side_box_threshold`): it is at
+    least every test's own threshold (rounding is monotone), so it decides
+    only what the proved filter would decide.  A test's own permanent and
+    threshold are computed only when it does not decide — almost never on
+    real data, but always on exact zeros.  Counted runs skip the stage, so
+    that every test costs the ``FLOPS_*`` that :class:`~persistri.impl.stats.Stats`
+    adds.
+
+    * :attr:`orient3d` ``(a, b, c, d) -> ±1`` — one test (about a microsecond);
+    * :attr:`partition` ``(a, b, c, qs) -> (minus, plus)`` — the ``qs`` with
+      ``orient3d(a, b, c, q) = -1`` (beyond the plane of the outward face
+      ``(a, b, c)``: they see it) and those with ``+1``, each in the order of
+      ``qs``.  The plane is prepared once
+      (:func:`~persistri.impl.geometry.filter.plane_terms`: its normal and
+      the normal's permanents), so each point costs the 17 flops of
+      :func:`~persistri.impl.geometry.filter.plane_side_terms` instead of
+      orient3d's 41, under a filter constant proved for that composition
+      (``proofs/proof_predicates.py``) — 8 of them when the semi-static stage
+      decides (the determinant, :func:`~persistri.impl.geometry.filter.plane_side_det`).
+      Below :data:`KERNEL_BATCH` points it loops over the points and returns
+      lists (an empty ``qs`` gives two empty tuples); from there on the same
+      expression runs vectorised over numpy (the plane's terms enter as Python
+      floats; about fifteen numpy calls whatever the length) and it returns
+      int arrays.  Entries the filter leaves
+      undecided are settled one by one, exactly (then by SoS).  Counted as
+      ``len(qs)`` plane-side tests and ``FLOPS_PLANE + len(qs) ·
+      FLOPS_PLANE_SIDE`` flops.  O(len(qs)).
+    * :attr:`signs` ``(a, b, c, qs) -> int8 array`` — ``orient3d(a, b, c, q)``
+      for each ``q`` of an int array, vectorised through the prepared plane at
+      any size (for whole point sets, e.g. the bulldozer's first cones), counted
+      alike.  O(len(qs)).
+
+    When the point set needs per-test grain checks (``filter_scale[1]`` is
+    False: an extreme dynamic range) both fall back to the checked methods.
+    """
+
+    __slots__ = ("orient3d", "partition", "signs")
+
+    orient3d: Callable[[int, int, int, int], int]
+    partition: Callable[[int, int, int, Indices], tuple[Indices, Indices]]
+    signs: Callable[[int, int, int, IntArray], SignArray]
+
+    def __init__(self, pred: Predicates3) -> None:
+        if not pred._uniform:
+            self.orient3d = pred.orient3d
+            self.partition = _checked_partition(pred)
+            self.signs = pred.orient3d_batch
+            return
+        rows = pred._rows
+        row = pred._row  # makes a lazy row: rows[i] unpacks to ValueError until then
+        xs, ys, zs = pred._cols
+        errbound = ERRBOUND_ORIENT3D
+        flops = FLOPS_ORIENT3D
+        exact = pred._orient3d_exact
+        side = plane_side_terms_into
+        side_det = plane_side_det_into
+        nan = math.nan
+        # The semi-static stage: thresholds for the box of every point with a float copy (the exact
+        # centroid's is NaN, and tests with it go on to exact arithmetic), each at least any test's own.
+        (xlo, xhi), (ylo, yhi), (zlo, zhi) = (_finite_range(col) for col in pred._cols)
+        o3_static = orient3d_box_threshold(xhi - xlo, yhi - ylo, zhi - zlo)
+        side_static = plane_side_box_threshold(xhi - xlo, yhi - ylo, zhi - zlo)
+        side_errbound = ERRBOUND_PLANE_SIDE
+        plane_flops, side_flops = FLOPS_PLANE, FLOPS_PLANE_SIDE
+        small = KERNEL_BATCH
+        ndarray = np.ndarray
+        # The scalar paths below run the filter expressions of :mod:`.filter` written out in place
+        # (orient3d_terms; plane_terms, then plane_side_terms per point): a call per test costs as much
+        # as a third of its arithmetic.  They are the same statements in the same order, so they round
+        # exactly as the proved functions do; tests/test_predicates_kernel.py compares them, statement
+        # by statement, with the functions' bodies.
+
+        def orient3d(a: int, b: int, c: int, d: int) -> int:
+            try:
+                ax, ay, az = rows[a]
+                bx, by, bz = rows[b]
+                cx, cy, cz = rows[c]
+                dx, dy, dz = rows[d]
+            except ValueError:
+                (ax, ay, az), (bx, by, bz), (cx, cy, cz), (dx, dy, dz) = row(a), row(b), row(c), row(d)
+            # filter.orient3d_terms:
+            adx = ax - dx
+            bdx = bx - dx
+            cdx = cx - dx
+            ady = ay - dy
+            bdy = by - dy
+            cdy = cy - dy
+            adz = az - dz
+            bdz = bz - dz
+            cdz = cz - dz
+            bdxcdy = bdx * cdy
+            cdxbdy = cdx * bdy
+            cdxady = cdx * ady
+            adxcdy = adx * cdy
+            adxbdy = adx * bdy
+            bdxady = bdx * ady
+            det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady)
+            st = pred.stats
+            if st is None:
+                # The semi-static stage (filter.orient3d_box_threshold): most tests stop here.
+                if det > o3_static:
+                    return 1
+                if det < -o3_static:
+                    return -1
+            else:
+                st.plane_side_tests += 1
+                st.flops += flops
+            # The test's own threshold:
+            permanent = (
+                (abs(bdxcdy) + abs(cdxbdy)) * abs(adz)
+                + (abs(cdxady) + abs(adxcdy)) * abs(bdz)
+                + (abs(adxbdy) + abs(bdxady)) * abs(cdz)
+            )
+            # end of filter.orient3d_terms
+            thr = errbound * permanent
+            if det > thr:
+                return 1
+            if det < -thr:
+                return -1
+            if st is not None:
+                st.filter_failures += 1
+            return exact(a, b, c, d, True)
+
+        def partition(a: int, b: int, c: int, qs: Indices) -> tuple[Indices, Indices]:
+            m = len(qs)
+            if m == 0:
+                return (), ()
+            try:
+                ax, ay, az = rows[a]
+                bx, by, bz = rows[b]
+                cx, cy, cz = rows[c]
+            except ValueError:
+                (ax, ay, az), (bx, by, bz), (cx, cy, cz) = row(a), row(b), row(c)
+            # filter.plane_terms:
+            bax = bx - ax
+            bay = by - ay
+            baz = bz - az
+            cax = cx - ax
+            cay = cy - ay
+            caz = cz - az
+            yz = bay * caz
+            zy = baz * cay
+            zx = baz * cax
+            xz = bax * caz
+            xy = bax * cay
+            yx = bay * cax
+            nx = yz - zy
+            ny = zx - xz
+            nz = xy - yx
+            st = pred.stats
+            # The semi-static stage first (one threshold for the whole point set), so most points need no
+            # permanent of their own.  Counted runs skip it (NaN decides nothing): each point is then
+            # tested against its own threshold, the FLOPS_PLANE_SIDE that Stats counts.
+            static = side_static if st is None else nan
+            if m >= small:
+                q_arr: IntArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
+                neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz), static, q_arr)
+                # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry.
+                return q_arr[neg], q_arr[pos]
+            minus: list[int] = []
+            plus: list[int] = []
+            failures = 0
+            below = -static
+            px = py = pz = nan  # the plane's permanents: made for the first point the static stage leaves undecided
+            for q in qs.tolist() if type(qs) is ndarray else qs:
+                try:
+                    qx, qy, qz = rows[q]
+                except ValueError:
+                    qx, qy, qz = row(q)
+                # filter.plane_side_det:
+                det = (ax - qx) * nx + (ay - qy) * ny + (az - qz) * nz
+                # end of filter.plane_side_det
+                if det < below:
+                    minus.append(q)
+                elif det > static:
+                    plus.append(q)
+                else:
+                    if px != px:
+                        px = abs(yz) + abs(zy)
+                        py = abs(zx) + abs(xz)
+                        pz = abs(xy) + abs(yx)
+                        # end of filter.plane_terms
+                    # The point's own threshold: filter.plane_side_terms' permanent.
+                    aqx = ax - qx
+                    aqy = ay - qy
+                    aqz = az - qz
+                    permanent = abs(aqx) * px + abs(aqy) * py + abs(aqz) * pz
+                    thr = side_errbound * permanent
+                    if det < -thr:
+                        minus.append(q)
+                    elif det > thr:
+                        plus.append(q)
+                    else:
+                        failures += 1
+                        (minus if exact(a, b, c, q, True) < 0 else plus).append(q)
+            if st is not None:
+                st.plane_side_tests += m
+                st.flops += plane_flops + side_flops * m
+                st.filter_failures += failures
+            return minus, plus
+
+        def where(
+            a: int,
+            b: int,
+            c: int,
+            at: tuple[float, float, float],
+            normal: tuple[float, float, float],
+            static: float,
+            q_arr: IntArray,
+        ) -> tuple[IntArray, IntArray]:
+            """The positions in ``q_arr`` where orient3d(a, b, c, q) = -1 and where it is +1, increasing.
+
+            Vectorised through the prepared plane.  With a ``static`` threshold (not NaN):
+            :func:`~persistri.impl.geometry.filter.plane_side_det_into` on the gathered columns and
+            one comparison per side (a dozen numpy calls whatever the length), the few undecided
+            entries then by the scalar kernel (their own filter, then exact).  Without (counted
+            runs): :func:`~persistri.impl.geometry.filter.plane_side_terms_into`, each entry
+            against its own threshold, the undecided ones exactly.
+            """
+            nx, ny, nz = normal
+            ax, ay, az = at
+            qy = ys[q_arr]  # gathered copies: the filter functions compute in them
+            counted = static != static
+            if counted:
+                # The plane's permanents (a counted run: each point against its own threshold), by the proved
+                # function from the same corners, so bitwise the scalar path's.
+                ra, rb, rc = row(a), row(b), row(c)
+                px, py, pz = plane_terms(*ra, *rb, *rc)[3:]
+                det, thr = side(nx, ny, nz, px, py, pz, ax, ay, az, xs[q_arr], qy, zs[q_arr])
+                thr *= side_errbound  # the threshold side_errbound * permanent, in place
+                neg_mask = det < np.negative(thr, out=qy)  # qy is free again
+                pos_mask = det > thr
+            else:
+                det = side_det(nx, ny, nz, ax, ay, az, xs[q_arr], qy, zs[q_arr])
+                neg_mask = det < -static
+                pos_mask = det > static
+            neg: IntArray = neg_mask.nonzero()[0]
+            pos: IntArray = pos_mask.nonzero()[0]
+            m = q_arr.size
+            undecided = m - neg.size - pos.size
+            if undecided:
+                for i in (~(neg_mask | pos_mask)).nonzero()[0].tolist():
+                    q = int(q_arr[i])
+                    if (exact(a, b, c, q, True) if counted else orient3d(a, b, c, q)) < 0:
+                        neg_mask[i] = True
+                    else:
+                        pos_mask[i] = True
+                neg, pos = neg_mask.nonzero()[0], pos_mask.nonzero()[0]
+            if counted:
+                _count(pred.stats, m, undecided)
+            return neg, pos
+
+        def signs(a: int, b: int, c: int, qs: IntArray) -> SignArray:
+            if qs.size == 0:
+                return np.zeros(0, dtype=np.int8)
+            (ax, ay, az), (bx, by, bz), (cx, cy, cz) = row(a), row(b), row(c)  # once per call: no fast path
+            nx, ny, nz, _, _, _ = plane_terms(ax, ay, az, bx, by, bz, cx, cy, cz)
+            static = side_static if pred.stats is None else nan
+            neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz), static, qs)
+            out: SignArray = np.zeros(qs.size, dtype=np.int8)
+            out[neg] = -1
+            out[pos] = 1
+            return out
+
+        def _count(st: Stats | None, m: int, failures: int) -> None:
+            if st is not None:
+                st.plane_side_tests += m
+                st.flops += plane_flops + side_flops * m
+                st.filter_failures += failures
+
+        self.orient3d = orient3d
+        self.partition = partition
+        self.signs = signs
+
+
+def _finite_range(col: NDArray[np.float64]) -> tuple[float, float]:
+    """The least and greatest non-NaN entries of ``col``, or NaN twice when there are none. O(len(col))."""
+    missing = np.isnan(col)
+    finite = col[~missing] if missing.any() else col
+    if finite.size == 0:
+        return math.nan, math.nan
+    return float(finite.min()), float(finite.max())
+
+
+def _checked_partition(pred: Predicates3) -> Callable[[int, int, int, Indices], tuple[Indices, Indices]]:
+    """:attr:`Orient3dKernel.partition` through the checked batch (per-test grain checks)."""
+
+    def partition(a: int, b: int, c: int, qs: Indices) -> tuple[Indices, Indices]:
+        q_arr = np.asarray(qs, dtype=np.intp)
+        if q_arr.size == 0:
+            return [], []
+        signs = pred.orient3d_batch(a, b, c, q_arr)
+        return q_arr[signs < 0], q_arr[signs > 0]
+
+    return partition

@@ -1,0 +1,114 @@
+"""Build persistri's compiled twin: the same source, with its innermost modules compiled by mypyc.
+
+    python tools/compiled_twin.py DIR
+
+copies the package (``impl/`` and ``spec/``) to ``DIR/persistri/`` and compiles
+:data:`MODULES` there with mypyc (which ships with mypy, a dev dependency), so
+that ``PYTHONPATH=DIR`` runs persistri with those modules as C extensions and
+every other module interpreted, from the same source.  ``make test`` runs the
+test suite on the twin too; ``docs/performance.md`` says what it is for and what
+it measures.  The twin is rebuilt only when a source file changed since the
+last build (a hash of them is kept in ``DIR/.sources``).
+
+Exit status: 0 when the twin is built (or already up to date), 2 when this
+machine has no C compiler (nothing is built: the twin is optional, and the
+interpreted package needs none), 1 on any other failure (a mypyc or compiler
+error is a defect of the source, not of the machine).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import shutil
+import subprocess
+import sys
+import sysconfig
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+MODULES = (
+    "persistri/impl/geometry/kernel.py",
+    "persistri/impl/hull/bulldozer.py",
+)
+"""The modules compiled: the bulldozer's insertion loop and the predicate kernel it calls, where an
+InBall run spends most of its interpreted time (docs/performance.md).  The persistent structures
+(the 2-complex, the maps) stay interpreted: their public operations raise the signature's errors
+for ill-typed arguments, where mypyc's entry checks would raise its own, and the identity of their
+shared nodes must survive (mypyc re-boxes fixed-length tuples)."""
+
+
+NO_COMPILER = 2
+
+
+def _sources() -> list[Path]:
+    return sorted(p for half in ("impl", "spec") for p in (ROOT / half).rglob("*") if p.is_file() and "__pycache__" not in p.parts)
+
+
+def _fingerprint() -> str:
+    digest = hashlib.sha256()
+    for path in _sources():
+        digest.update(str(path.relative_to(ROOT)).encode())
+        digest.update(path.read_bytes())
+    digest.update("\n".join(MODULES).encode())
+    digest.update(sys.version.encode())
+    return digest.hexdigest()
+
+
+def _compiler() -> str | None:
+    """The C compiler Python's own build used (``CC``), if it is on this machine."""
+    cc = (sysconfig.get_config_var("CC") or "cc").split()[0]
+    return shutil.which(cc)
+
+
+def _check(out: Path) -> None:
+    """Each module of :data:`MODULES` imports from the twin as an extension module."""
+    names = [m.removesuffix(".py").replace("/", ".") for m in MODULES]
+    probe = "import importlib, sys\n" + "".join(
+        f"m = importlib.import_module({n!r}); assert m.__file__.endswith('.so'), m.__file__\n" for n in names
+    )
+    subprocess.run([sys.executable, "-c", probe], cwd=out, check=True, env={"PYTHONPATH": str(out), "PATH": ""})
+
+
+def build(out: Path) -> int:
+    stamp = out / ".sources"
+    fingerprint = _fingerprint()
+    if stamp.exists() and stamp.read_text() == fingerprint:
+        print(f"compiled twin: {out} is up to date")
+        return 0
+    if _compiler() is None:
+        print("compiled twin: no C compiler on this machine, so it is not built (persistri needs none)")
+        return NO_COMPILER
+    if out.exists():
+        shutil.rmtree(out)
+    package = out / "persistri"
+    package.mkdir(parents=True)
+    ignore = shutil.ignore_patterns("__pycache__")
+    shutil.copytree(ROOT / "impl", package / "impl", ignore=ignore)
+    shutil.copytree(ROOT / "spec", package / "spec", ignore=ignore)
+    # A regular package (the installed one is a namespace package of impl/ and spec/), so that on
+    # PYTHONPATH the whole of persistri comes from the twin, never half from each.
+    (package / "__init__.py").write_text('"""persistri\'s compiled twin (tools/compiled_twin.py)."""\n')
+    print(f"compiled twin: compiling {len(MODULES)} modules with mypyc (a minute or two) …", flush=True)
+    log = out / "mypyc.log"
+    with log.open("w") as sink:
+        done = subprocess.run([sys.executable, "-m", "mypyc", *MODULES], cwd=out, stdout=sink, stderr=subprocess.STDOUT)
+    if done.returncode != 0:
+        sys.stdout.write(log.read_text()[-4000:])
+        print(f"compiled twin: mypyc failed (exit {done.returncode}); the full log is {log}")
+        return 1
+    _check(out)
+    stamp.write_text(fingerprint)
+    print(f"compiled twin: built in {out}")
+    return 0
+
+
+def main(argv: list[str]) -> int:
+    if len(argv) != 1:
+        print(__doc__)
+        return 1
+    return build(Path(argv[0]).resolve())
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
