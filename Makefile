@@ -50,7 +50,8 @@ pytest: install-dev
 
 # The compiled twin (tools/compiled_twin.py, docs/performance.md): the same source with the
 # bulldozer's loop and its predicate kernel compiled by mypyc, in $(TWIN).  Built only on a machine
-# with a C compiler (persistri itself needs none); where it is built, the whole test suite runs on it.
+# with a C compiler and Python headers (persistri itself needs neither); where it is built, the
+# whole test suite runs on it.
 TWIN := build/compiled
 
 compiled: install-dev
@@ -58,7 +59,7 @@ compiled: install-dev
 
 pytest-twin: install-dev
 	@$(BIN)/python tools/compiled_twin.py $(TWIN); status=$$?; \
-	if [ $$status -eq 2 ]; then echo "pytest-twin: skipped, the compiled twin needs a C compiler"; exit 0; fi; \
+	if [ $$status -eq 2 ]; then echo "pytest-twin: skipped, the compiled twin needs a C compiler and Python headers"; exit 0; fi; \
 	if [ $$status -ne 0 ]; then exit $$status; fi; \
 	PYTHONPATH=$(TWIN) PERSISTRI_TWIN=1 $(BIN)/python -m pytest -n 2 -p no:cacheprovider -q
 

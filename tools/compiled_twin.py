@@ -11,9 +11,9 @@ it measures.  The twin is rebuilt only when a source file changed since the
 last build (a hash of them is kept in ``DIR/.sources``).
 
 Exit status: 0 when the twin is built (or already up to date), 2 when this
-machine has no C compiler (nothing is built: the twin is optional, and the
-interpreted package needs none), 1 on any other failure (a mypyc or compiler
-error is a defect of the source, not of the machine).
+machine has no C compiler or no Python headers (nothing is built: the twin is
+optional, and the interpreted package needs neither), 1 on any other failure
+(a mypyc or compiler error is a defect of the source, not of the machine).
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ for ill-typed arguments, where mypyc's entry checks would raise its own, and the
 shared nodes must survive (mypyc re-boxes fixed-length tuples)."""
 
 
-NO_COMPILER = 2
+NO_TOOLCHAIN = 2
 
 
 def _sources() -> list[Path]:
@@ -55,10 +55,15 @@ def _fingerprint() -> str:
     return digest.hexdigest()
 
 
-def _compiler() -> str | None:
-    """The C compiler Python's own build used (``CC``), if it is on this machine."""
+def _toolchain() -> str | None:
+    """Why this machine cannot compile a C extension for this Python, or None if it can: the C compiler
+    Python's own build used (``CC``) must be on it, and Python's headers."""
     cc = (sysconfig.get_config_var("CC") or "cc").split()[0]
-    return shutil.which(cc)
+    if shutil.which(cc) is None:
+        return f"no C compiler ({cc})"
+    if not (Path(sysconfig.get_paths()["include"]) / "Python.h").exists():
+        return "no Python headers (Python.h)"
+    return None
 
 
 def _check(out: Path) -> None:
@@ -76,9 +81,10 @@ def build(out: Path) -> int:
     if stamp.exists() and stamp.read_text() == fingerprint:
         print(f"compiled twin: {out} is up to date")
         return 0
-    if _compiler() is None:
-        print("compiled twin: no C compiler on this machine, so it is not built (persistri needs none)")
-        return NO_COMPILER
+    missing = _toolchain()
+    if missing is not None:
+        print(f"compiled twin: not built, this machine has {missing} (persistri itself needs neither)")
+        return NO_TOOLCHAIN
     if out.exists():
         shutil.rmtree(out)
     package = out / "persistri"
