@@ -39,7 +39,8 @@ __all__ = ["Orient3dKernel", "Indices", "KERNEL_BATCH"]
 
 KERNEL_BATCH: Final[int] = 64
 """Below this many points :attr:`Orient3dKernel.partition` loops over the points instead of
-running vectorised.  Higher than :data:`SMALL_BATCH` because the kernel's loop is cheaper than
+running vectorised.  Higher than the checked batches'
+:data:`~persistri.impl.geometry.predicates.SMALL_BATCH` because the kernel's loop is cheaper than
 the checked scalar test: with the semi-static threshold a point costs about 0.2–0.4 µs in it,
 against the vectorised path's 25–35 µs for a call of up to a hundred points (measured at
 32 to 160 points of a 256K-point InBall set: the two meet between 80 and 96)."""
@@ -54,8 +55,8 @@ Indices = Sequence[int] | IntArray
 class Orient3dKernel:
     """``orient3d`` without validation, for algorithms that only ever pass valid, distinct indices.
 
-    Made by :meth:`Predicates3.kernel`.  The signs are those of
-    :meth:`Predicates3.orient3d` — the same proven filter
+    Made by :meth:`~persistri.impl.geometry.predicates.Predicates3.kernel`.  The signs are those of
+    :meth:`~persistri.impl.geometry.predicates.Predicates3.orient3d` — the same proven filter
     (:func:`~persistri.impl.geometry.filter.orient3d_terms`), the same exact
     fallback and Simulation of Simplicity — and so is the counting
     (``plane_side_tests``, ``flops``, ``filter_failures`` of the predicates'

@@ -52,10 +52,9 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from fractions import Fraction
-from typing import Any, Final
+from typing import Final
 
 import itertools
-import math
 import struct
 
 import numpy as np
@@ -74,24 +73,16 @@ from persistri.impl.geometry.filter import (
     ERRBOUND_INCIRCLE,
     ERRBOUND_ORIENT2D,
     ERRBOUND_ORIENT3D,
-    ERRBOUND_PLANE_SIDE,
     FLOPS_INCIRCLE,
     FLOPS_ORIENT2D,
     FLOPS_ORIENT3D,
-    FLOPS_PLANE,
-    FLOPS_PLANE_SIDE,
     GRAIN_MIN,
     choose_scaling,
     incircle_terms,
     orient2d_terms,
     orient3d_terms,
-    orient3d_box_threshold,
-    plane_side_box_threshold,
-    plane_side_det_into,
-    plane_side_terms_into,
-    plane_terms,
 )
-from persistri.impl.geometry.kernel import KERNEL_BATCH, Indices, Orient3dKernel
+from persistri.impl.geometry.kernel import Indices, Orient3dKernel
 from persistri.impl.geometry.points import as_points
 from persistri.impl.geometry.sos import sort_with_parity, sos_orient2d, sos_orient3d
 from persistri.impl.stats import Stats
