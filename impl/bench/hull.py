@@ -131,7 +131,6 @@ class HullMemory:
         return (self.history_kept - self.final_only_kept) / max(self.versions - 1, 1)
 
 
-
 def persistri_build() -> str:
     """Which persistri is running: ``"interpreted"``, or ``"compiled twin (kernel, bulldozer by mypyc)"``
     when the modules that ``tools/compiled_twin.py`` compiles were imported as extension modules."""
@@ -140,6 +139,7 @@ def persistri_build() -> str:
 
     compiled = [m.__name__.rsplit(".", 1)[1] for m in (kernel, bulldozer) if not str(m.__file__).endswith(".py")]
     return f"compiled twin ({', '.join(compiled)} by mypyc)" if compiled else "interpreted"
+
 
 @dataclass
 class HullBench:
@@ -152,7 +152,7 @@ class HullBench:
     seed: int
     python: str = field(default_factory=lambda: f"Python {sys.version.split()[0]}")
     machine: str = field(default_factory=lambda: f"{platform.machine()} {platform.system()}")
-    build: str = field(default_factory=lambda: persistri_build())
+    build: str = field(default_factory=persistri_build)
     records: list[HullRecord] = field(default_factory=list)
     memory: HullMemory | None = None
 
