@@ -4,7 +4,12 @@ A height grid is a 2D array of samples: ``heights[row, col]``.  persistri puts
 sample ``(row, col)`` at ``x = col``, ``y = row`` — row 0 is the array's first
 row, nothing is flipped — and an optional :class:`GridTransform` maps these grid
 coordinates to world coordinates (``x0 + col·dx``, ``y0 + row·dy``; north-up
-rasters have ``dy < 0``).
+rasters have ``dy < 0``), and carries the coordinate reference system the file
+states (:class:`~persistri.impl.terrain.crs.Crs`), if any.  A transform whose
+determinant ``dx·dy`` is negative (north-up, or east-left) mirrors the plane:
+:meth:`GridTransform.world_triangles` reverses triangles that are
+counterclockwise in grid coordinates so that they stay counterclockwise — normals
+up — in world coordinates.
 
 Inputs (:func:`read_grid`):
 
@@ -14,10 +19,15 @@ Inputs (:func:`read_grid`):
   ``dy`` (as matplotlib's Jacksboro sample does), they give the transform;
 * ``.asc`` — an ESRI ASCII grid (header ``ncols``, ``nrows``, ``xllcorner`` or
   ``xllcenter``, ``yllcorner`` or ``yllcenter``, ``cellsize`` or ``dx``/``dy``,
-  optional ``NODATA_value``; rows from north to south, which become rows 0, 1, …);
+  optional ``NODATA_value``; rows from north to south, which become rows 0, 1, …),
+  and its CRS from the ``.prj`` file of the same name beside it, if there is one;
 * ``.tif`` / ``.tiff`` — a GeoTIFF through ``tifffile`` (the optional extra
-  ``persistri[geotiff]``): the first page, its ``ModelPixelScale`` and
-  ``ModelTiepoint`` tags for the transform and ``GDAL_NODATA`` for no-data;
+  ``persistri[geotiff]``, whose ``imagecodecs`` decodes LZW, deflate, zstd,
+  PackBits, LZMA… with horizontal or floating-point predictors, in strips or
+  tiles): the first page (one band), its ``ModelPixelScale`` and ``ModelTiepoint``
+  tags — or an axis-aligned ``ModelTransformation`` — for the transform, its
+  GeoKeys for the CRS (:func:`~persistri.impl.terrain.crs.crs_from_geokeys`) and
+  ``GDAL_NODATA`` for no-data;
 * the word ``jacksboro``: the DEM shipped with matplotlib
   (``jacksboro_fault_dem.npz``, 344 × 403 integer heights in metres, cells of
   1/1200 degree).
@@ -34,6 +44,8 @@ from typing import Any, Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from persistri.impl.terrain.crs import Crs, crs_from_geokeys, prj_beside, read_prj
 
 __all__ = [
     "GRID_FORMATS",
@@ -66,14 +78,34 @@ class GridTransform:
 
     ``(x0, y0)`` is the world position of sample ``(row 0, col 0)`` and ``dx``,
     ``dy`` the cell size along columns and rows (``dy`` negative for north-up
-    rasters, whose row 0 is the northernmost).  A presentation of results: the
-    triangulation itself is computed in exact grid coordinates.
+    rasters, whose row 0 is the northernmost); ``crs`` the coordinate reference
+    system of the world coordinates, when the file states one.  A presentation of
+    results: the triangulation itself is computed in exact grid coordinates.
     """
 
     x0: float
     y0: float
     dx: float
     dy: float
+    crs: Crs | None = None
+
+    @property
+    def mirrors(self) -> bool:
+        """Whether the map reverses orientation: its determinant ``dx·dy`` is negative (north-up or east-left rasters)."""
+        return (self.dx < 0) != (self.dy < 0)
+
+    def world_triangles(self, triangles: NDArray[np.intp]) -> NDArray[np.intp]:
+        """``triangles``, counterclockwise in grid coordinates, made counterclockwise in world coordinates. O(m).
+
+        The one place persistri decides the orientation of world output: a
+        mirroring transform (:attr:`mirrors`) turns counterclockwise into clockwise,
+        so each triangle ``(a, b, c)`` becomes ``(a, c, b)`` — the same first vertex,
+        normals up (+z) again.  A new array either way.
+        """
+        tri = np.array(triangles, dtype=np.intp, copy=True).reshape(-1, 3)
+        if self.mirrors:
+            tri[:, [1, 2]] = tri[:, [2, 1]]
+        return tri
 
     def apply(self, xy: NDArray[np.float64]) -> NDArray[np.float64]:
         """World coordinates of the grid coordinates ``xy`` (``(k, 2)`` or ``(k, 3)``; a third column is copied)."""
@@ -112,7 +144,7 @@ def as_transform(transform: Any) -> GridTransform | None:
         raise ValueError(f"transform has a non-finite number: {nums}")
     if nums[2] == 0 or nums[3] == 0:
         raise ValueError(f"transform has a zero cell size: dx={nums[2]}, dy={nums[3]}")
-    return GridTransform(*nums)
+    return GridTransform(nums[0], nums[1], nums[2], nums[3])
 
 
 @dataclass(frozen=True)
@@ -122,6 +154,11 @@ class HeightGrid:
     heights: NDArray[np.float64]
     transform: GridTransform | None
     source: str
+
+    @property
+    def crs(self) -> Crs | None:
+        """The coordinate reference system of the world coordinates (carried by :attr:`transform`), if the file states one."""
+        return None if self.transform is None else self.transform.crs
 
 
 def as_heights(heights: ArrayLike, *, nodata: str | float = "error", what: str = "heights") -> NDArray[np.float64]:
@@ -293,8 +330,10 @@ def _read_asc(path: Path) -> HeightGrid:
         ylow = header["yllcorner"] + dy / 2
     else:
         raise ValueError(f"{path}: no yllcorner or yllcenter in the header")
+    prj = prj_beside(path)
+    crs = None if prj is None else read_prj(prj)
     # The first data row is the northernmost: row 0 sits (nrows - 1) cells above the lowest row's centre.
-    return HeightGrid(heights, GridTransform(x0, ylow + (nrows - 1) * dy, dx, -dy), str(path))
+    return HeightGrid(heights, GridTransform(x0, ylow + (nrows - 1) * dy, dx, -dy, crs), str(path))
 
 
 def _read_tiff(path: Path) -> HeightGrid:
@@ -303,40 +342,86 @@ def _read_tiff(path: Path) -> HeightGrid:
     except ImportError:
         raise ValueError(f"{path}: reading GeoTIFF needs tifffile: pip install 'persistri[geotiff]'") from None
     try:
-        with tifffile.TiffFile(path) as tif:
-            page = tif.pages[0]
-            data = np.asarray(page.asarray())
-            tags = {tag.code: tag.value for tag in page.tags.values()}  # type: ignore[union-attr]  # pages[0] is a TiffPage here
+        tif = tifffile.TiffFile(path)
     except Exception as exc:  # tifffile raises many types for malformed files
         raise ValueError(f"{path}: cannot read TIFF ({exc})") from None
-    if data.ndim == 3 and data.shape[-1] == 1:
-        data = data[..., 0]
+    with tif:
+        page = tif.pages[0] if len(tif.pages) else None
+        if not isinstance(page, tifffile.TiffPage):
+            raise ValueError(f"{path}: the TIFF holds no image")
+        codec = _codec_name(page)
+        try:
+            data = np.asarray(page.asarray())
+        except Exception as exc:  # a codec imagecodecs lacks, or a corrupt strip or tile
+            raise ValueError(f"{path}: cannot decode its {codec} compressed data ({_reason(exc)})") from None
+        nodata = page.tags.valueof(42113)  # GDAL_NODATA
+        geokeys: dict[str, Any] = dict(page.geotiff_tags or {}) if page.is_geotiff else {}
+        # A file with model tags but no GeoKeyDirectory is no GeoTIFF to tifffile; its tags still place it.
+        for code, name in ((33550, "ModelPixelScale"), (33922, "ModelTiepoint"), (34264, "ModelTransformation")):
+            if name not in geokeys and page.tags.valueof(code) is not None:
+                geokeys[name] = page.tags.valueof(code)
+    # tifffile gives one band as (rows, cols); several as (rows, cols, samples) or (samples, rows, cols).
+    if data.ndim == 3 and 1 in (data.shape[0], data.shape[-1]):
+        data = data.reshape(data.shape[1:] if data.shape[0] == 1 else data.shape[:-1])
     if data.ndim != 2:
-        raise ValueError(f"{path}: expected a single-band raster, got shape {data.shape}")
+        raise ValueError(
+            f"{path}: expected a single-band raster, got shape {data.shape} "
+            f"({page.samplesperpixel} samples per pixel, {len(tif.pages)} page(s))"
+        )
     heights = _float_heights(data, str(path)).copy()
-    nodata = tags.get(42113)
     if nodata is not None:
         try:
             value = float(str(nodata).strip().strip("\x00"))
         except ValueError:
             raise ValueError(f"{path}: GDAL_NODATA tag is not a number: {nodata!r}") from None
         heights[heights == value] = np.nan
-    transform = None
-    scale, tie = tags.get(33550), tags.get(33922)
+    return HeightGrid(heights, _tiff_transform(path, geokeys), str(path))
+
+
+def _codec_name(page: Any) -> str:
+    """The page's compression and predictor as a reader names them: ``LZW``, ``ADOBE_DEFLATE + predictor FLOATINGPOINT``."""
+    compression = getattr(page.compression, "name", str(page.compression))
+    predictor = int(getattr(page, "predictor", 1) or 1)
+    if predictor == 1:
+        return str(compression)
+    return f"{compression} + predictor {getattr(page.predictor, 'name', predictor)}"
+
+
+def _reason(exc: BaseException) -> str:
+    """Why decoding failed, in one line: tifffile says "<COMPRESSION.X: n> requires the 'imagecodecs' package"."""
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    if "imagecodecs" in text:
+        return f"{text}: pip install 'persistri[geotiff]'"
+    return text
+
+
+def _tiff_transform(path: Path, geokeys: dict[str, Any]) -> GridTransform | None:
+    """The transform of a GeoTIFF from its decoded GeoTIFF tags (GeoTIFF 1.1 §2.6 and §7.1), CRS included.
+
+    Sample (row, col) is the centre of a pixel for ``PixelIsArea`` rasters (the
+    default; tie points and the model transformation address pixel corners) and
+    the pixel position itself for ``PixelIsPoint``.
+    """
+    raster_type = geokeys.get("GTRasterTypeGeoKey")
+    shift = 0.0 if raster_type is not None and int(raster_type) == 2 else 0.5  # 2 = PixelIsPoint
+    crs = crs_from_geokeys(geokeys)
+    scale, tie = geokeys.get("ModelPixelScale"), geokeys.get("ModelTiepoint")
     if scale is not None and tie is not None and len(scale) >= 2 and len(tie) >= 6:
         i, j, x, y = float(tie[0]), float(tie[1]), float(tie[3]), float(tie[4])
         sx, sy = float(scale[0]), float(scale[1])
-        # Raster type (GeoKey 1025): 1 = PixelIsArea (the default; tie point at a corner), 2 = PixelIsPoint.
-        area = True
-        keys = tags.get(34735)
-        if keys is not None:
-            k = list(keys)
-            for n in range(4, len(k) - 3, 4):
-                if k[n] == 1025 and k[n + 1] == 0:
-                    area = k[n + 3] != 2
-        shift = 0.5 if area else 0.0
-        transform = GridTransform(x + (shift - i) * sx, y - (shift - j) * sy, sx, -sy)
-    return HeightGrid(heights, transform, str(path))
+        # ModelPixelScale is positive along both axes with y decreasing down the rows: a north-up raster.
+        return GridTransform(x + (shift - i) * sx, y - (shift - j) * sy, sx, -sy, crs)
+    matrix = geokeys.get("ModelTransformation")
+    if matrix is not None:
+        m = np.asarray(matrix, dtype=np.float64).reshape(4, 4)
+        if m[0, 1] != 0 or m[1, 0] != 0:
+            raise ValueError(
+                f"{path}: the raster is rotated or sheared (ModelTransformation {m[0, :2].tolist()}, "
+                f"{m[1, :2].tolist()}); persistri reads axis-aligned rasters only"
+            )
+        sx, sy = float(m[0, 0]), float(m[1, 1])
+        return GridTransform(float(m[0, 3]) + shift * sx, float(m[1, 3]) + shift * sy, sx, sy, crs)
+    return None
 
 
 def read_grid(source: str | Path) -> HeightGrid:
