@@ -38,7 +38,10 @@ within a budget of points is the level of least error among the first ones.
 Grid convention: sample ``heights[row, col]`` is the point ``x = col``,
 ``y = row`` (row 0 is the array's first row; nothing is flipped).  Triangles are
 counterclockwise in the ``(x, y)`` plane — ``orient2d > 0`` — which is clockwise
-when drawn with row 0 at the top.
+when drawn with row 0 at the top.  So it is in world coordinates of a north-up
+raster (``dy < 0``: the transform mirrors the plane); :meth:`Tin.world_triangles`
+gives the triangles for :meth:`Tin.world_vertices`, reversed where the transform
+mirrors, so that world meshes are counterclockwise seen from above too.
 
 >>> import numpy as np
 >>> plane = np.fromfunction(lambda r, c: r + 2 * c, (5, 6))
@@ -51,6 +54,9 @@ when drawn with row 0 at the top.
 ([3.0, 2.0, 7.0], 4.666666666666666)
 >>> tin.history.at(points=4).max_error            # the level before it, read back
 7.0
+>>> north_up = greedy_insertion(plane, max_error=0, transform=(500.0, 900.0, 10.0, -10.0))
+>>> north_up.world_vertices()[:, :2].tolist(), north_up.world_triangles().tolist()
+([[500.0, 900.0], [550.0, 900.0], [550.0, 860.0], [500.0, 860.0]], [[0, 3, 1], [1, 3, 2]])
 """
 
 from __future__ import annotations
@@ -72,6 +78,7 @@ from persistri.impl.maps import backend as map_backend
 from persistri.impl.progress import progress_callback
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.delaunay import Insertion, TriDatum, Triangulator, canonical_triangles
+from persistri.impl.terrain.crs import Crs
 from persistri.impl.terrain.grids import GridTransform, as_heights, as_transform
 
 __all__ = ["greedy_insertion", "Tin", "TinHistory", "plane_errors", "fan_errors", "apex_first", "grid_points"]
@@ -177,7 +184,9 @@ class Tin:
     * ``samples`` — the flat grid index ``row · cols + col`` of each vertex;
     * ``max_error``, ``rms_error`` — over every sample of the grid (vertices count as 0);
     * ``shape`` — the grid's ``(rows, cols)``; ``transform`` — the optional
-      :class:`~persistri.impl.terrain.grids.GridTransform` (see :meth:`world_vertices`);
+      :class:`~persistri.impl.terrain.grids.GridTransform` and with it the CRS
+      (:attr:`crs`); the mesh in world coordinates is :meth:`world_vertices` with
+      :meth:`world_triangles`;
     * ``history`` — every level of detail of the run (:class:`TinHistory`), or None
       when the run was asked not to keep it;
     * ``complex`` / ``structure`` — the persistent complex version of this mesh
@@ -202,11 +211,27 @@ class Tin:
         """The number of vertices."""
         return int(self.vertices.shape[0])
 
+    @property
+    def crs(self) -> Crs | None:
+        """The coordinate reference system of :meth:`world_vertices`, when the grid's file states one."""
+        return None if self.transform is None else self.transform.crs
+
     def world_vertices(self) -> FloatArray:
-        """The vertices in world coordinates (through :attr:`transform`; a copy of :attr:`vertices` if there is none)."""
+        """The vertices in world coordinates (through :attr:`transform`; a copy of :attr:`vertices` if there is none). O(k)."""
         if self.transform is None:
             return self.vertices.copy()
         return self.transform.apply(self.vertices)
+
+    def world_triangles(self) -> IntArray:
+        """The triangles for :meth:`world_vertices`: counterclockwise seen from above in world coordinates. O(m).
+
+        :attr:`triangles` are counterclockwise in grid coordinates; a north-up
+        raster's transform mirrors the plane, and there each triangle is reversed
+        (:meth:`~persistri.impl.terrain.grids.GridTransform.world_triangles`).  A copy.
+        """
+        if self.transform is None:
+            return self.triangles.copy()
+        return self.transform.world_triangles(self.triangles)
 
 
 @dataclass(frozen=True, eq=False)
@@ -486,8 +511,9 @@ def greedy_insertion(
       plane-side (orient2d/incircle) tests and their flops;
     * ``progress`` — True for a progress bar on stderr, or a callable taking the
       number of insertions since its last call;
-    * ``transform`` — georeferencing for :meth:`Tin.world_vertices`
-      (:func:`persistri.impl.terrain.grids.as_transform`);
+    * ``transform`` — georeferencing for :meth:`Tin.world_vertices` and
+      :meth:`Tin.world_triangles` (:func:`persistri.impl.terrain.grids.as_transform`;
+      a :class:`~persistri.impl.terrain.grids.GridTransform` read from a file carries its CRS);
     * ``nodata`` — what to do with NaN cells (:func:`persistri.impl.terrain.grids.as_heights`);
     * ``history`` — keep every level of detail (:attr:`Tin.history`); False keeps only the final mesh;
     * ``stepwise`` — change the complex as the paper's code does, a ``rem`` per cavity
