@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["POINT_FORMATS", "MESH_FORMATS", "read_points", "write_mesh"]
+__all__ = ["POINT_FORMATS", "MESH_FORMATS", "read_points", "write_mesh", "compact_mesh"]
 
 POINT_FORMATS = (".npy", ".csv", ".xyz", ".txt", ".ply")
 MESH_FORMATS = (".ply", ".obj", ".off", ".stl", ".npz")
@@ -76,6 +76,23 @@ def read_points(path: str | Path) -> NDArray[Any]:
     raise ValueError(f"{p}: unknown point format {suffix!r}; use one of {', '.join(POINT_FORMATS)}")
 
 
+def compact_mesh(
+    points: NDArray[Any], triangles: NDArray[Any]
+) -> tuple[NDArray[np.float64], NDArray[np.intp], NDArray[np.intp]]:
+    """The mesh on the points its triangles use: ``(used points, renumbered triangles, used)``. O(n + m).
+
+    ``used`` holds the indices into ``points`` of the kept points, ascending (so
+    their relative order is kept): ``points[used]`` are the new points and
+    ``used[new_triangles]`` equals ``triangles``.
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    tri = np.asarray(triangles, dtype=np.intp).reshape(-1, 3)
+    used: NDArray[np.intp] = np.unique(tri).astype(np.intp)
+    renumber = np.full(pts.shape[0], -1, dtype=np.intp)
+    renumber[used] = np.arange(used.size, dtype=np.intp)
+    return pts[used], renumber[tri], used
+
+
 def write_mesh(
     path: str | Path,
     points: NDArray[Any],
@@ -86,8 +103,9 @@ def write_mesh(
     """Write the triangle mesh ``(points, triangles)`` to ``path`` by its extension.
 
     ``.npz`` stores ``npz_arrays`` (the caller names the arrays, e.g. ``points``,
-    ``simplices`` and ``vertices`` for a hull); the other formats store the points
-    and triangles through meshio.
+    ``simplices`` and ``vertices`` for a hull); the other formats store the
+    triangles and only the points they use (:func:`compact_mesh`: a viewer would
+    show an unused point as a stray dot), through meshio.
     """
     p = Path(path)
     suffix = p.suffix.lower()
@@ -101,8 +119,9 @@ def write_mesh(
         return p
     import meshio
 
-    tri = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    used_points, renumbered, _ = compact_mesh(points, triangles)
+    tri = renumbered.astype(np.int64)
     if tri.size == 0 or int(tri.max()) < 2**31:
         tri = tri.astype(np.int32)  # PLY has no 64-bit integers: meshio would warn and cast anyway
-    meshio.write(p, meshio.Mesh(np.asarray(points, dtype=np.float64), [("triangle", tri)]))
+    meshio.write(p, meshio.Mesh(used_points, [("triangle", tri)]))
     return p
