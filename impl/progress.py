@@ -15,13 +15,16 @@ class ProgressBar:
         from rich.console import Console
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
+        console = Console(stderr=True)
+        # Off a terminal rich draws nothing but a blank line when the bar ends: draw nothing at all.
         self._p = Progress(
             TextColumn(title),
             BarColumn(),
             MofNCompleteColumn(),
             TimeElapsedColumn(),
             transient=True,
-            console=Console(stderr=True),
+            console=console,
+            disable=not console.is_terminal,
         )
         self._task = self._p.add_task(title, total=total)
         self._p.start()

@@ -20,10 +20,9 @@ from persistri.impl.bench import complex as bench_complex
 from persistri.impl.bench.complex_report import print_complex
 from persistri.impl.bench.maps import DEFAULT_REPEAT, DEFAULT_SEED, DEFAULT_SIZES, SUBJECTS, ProgressCallback, run_map_bench
 from persistri.impl.bench.maps_report import print_maps
+from persistri.impl.cli.console import stderr_console, stdout_console
 
 __all__ = ["bench", "parse_sizes", "progress_bar", "stdout_console"]
-
-_PIPE_WIDTH = 120
 
 
 def parse_sizes(text: str) -> tuple[int, ...]:
@@ -48,24 +47,15 @@ def _sizes_option(ctx: click.Context, param: click.Parameter, value: str) -> tup
     return parse_sizes(value)
 
 
-def stdout_console() -> Console:
-    """A rich console on stdout; at least 120 columns wide when stdout is a file or a pipe.
-
-    (rich assumes 80 columns when it cannot ask a terminal: too narrow for the tables.)
-    """
-    console = Console()
-    return console if console.is_terminal else Console(width=_PIPE_WIDTH)
-
-
 @contextmanager
 def progress_bar(console: Console, title: str) -> Iterator[ProgressCallback]:
     """A rich progress bar on ``console`` for the duration of the block, fed by the callback it yields.
 
-    The bar is transient (erased when done) and, like all of rich's live
-    displays, drawn only when ``console`` is a terminal.
+    The bar is transient (erased when done) and drawn only when ``console`` is
+    a terminal (off one, rich would leave a blank line).
     """
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
-    with Progress(*columns, console=console, transient=True) as progress:
+    with Progress(*columns, console=console, transient=True, disable=not console.is_terminal) as progress:
         task = progress.add_task(title, total=None)
 
         def update(done: int, total: int, what: str) -> None:
@@ -108,7 +98,7 @@ def maps(sizes: tuple[int, ...], repeat: int, seed: int, only: str | None, as_js
     1000,10000 takes a few minutes (the association list at 10^4 dominates).
     """
     only_names = None if only is None else [name.strip() for name in only.split(",") if name.strip()]
-    err = Console(stderr=True)
+    err = stderr_console()
     try:
         with progress_bar(err, "bench maps") as update:
             result = run_map_bench(sizes, repeat=repeat, seed=seed, only=only_names, on_progress=update)
@@ -148,7 +138,7 @@ def terrain(sizes: tuple[int, ...], repeat: int, backend: str, memory: bool, gri
     from persistri.impl.maps import UnknownBackendError
     from persistri.impl.terrain.grids import read_grid
 
-    err = Console(stderr=True)
+    err = stderr_console()
     try:
         grid = read_grid(grid_source)
         with progress_bar(err, "bench terrain") as update:
@@ -229,7 +219,7 @@ def complex_(
             trace = load_trace(trace_path)
         except TraceError as exc:
             raise click.BadParameter(str(exc), param_hint="--trace") from None
-    err = Console(stderr=True)
+    err = stderr_console()
     try:
         with progress_bar(err, "bench complex") as update:
             result = bench_complex.run_complex_bench(
@@ -295,7 +285,7 @@ def hull(
 
     dist_names = tuple(d.strip() for d in dists.split(",") if d.strip())
     backend_names = tuple(b.strip() for b in backends.split(",") if b.strip())
-    err = Console(stderr=True)
+    err = stderr_console()
     try:
         with progress_bar(err, "bench hull") as update:
             result = run_hull_bench(

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import click
 import numpy as np
-from rich.console import Console
 
+from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.hull import one_line, stats_table
 from persistri.impl.files import MESH_FORMATS, POINT_FORMATS, read_points, write_mesh
 from persistri.impl.maps import BACKENDS, UnknownBackendError
@@ -46,7 +46,7 @@ def delaunay_command(
     """
     from persistri.impl.terrain.scattered import delaunay
 
-    err = Console(stderr=True)
+    err = stderr_console()
     try:
         if input_path.suffix.lower() not in POINT_FORMATS:
             raise ValueError(f"{input_path}: unknown point format; use one of {', '.join(POINT_FORMATS)}")
@@ -82,6 +82,6 @@ def delaunay_command(
             + (f"; {len(dup)} duplicate rows merged ({shown})" if dup else "")
         )
     if show_stats and result.stats is not None:
-        Console().print(stats_table(result.stats, f"operation counts ({backend})"))
+        stdout_console().print(stats_table(result.stats, f"operation counts ({backend})"))
     if output is None and plot is None and quiet:
         click.echo(f"{len(result.triangles)} triangles")

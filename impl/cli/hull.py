@@ -5,9 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import click
-from rich.console import Console
 from rich.table import Table
 
+from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.files import MESH_FORMATS, POINT_FORMATS, read_points, write_mesh
 from persistri.impl.hull.api import convex_hull
 from persistri.impl.hull.distributions import DISTRIBUTIONS, generate
@@ -62,7 +62,7 @@ def hull(
     OUTPUT by extension: .ply, .obj, .off (triangles, outward) or .npz with the
     arrays points (the input as read), simplices and vertices (input row indices).
     """
-    err = Console(stderr=True)
+    err = stderr_console()
     try:
         if (input_path is None) == (dist is None):
             raise click.UsageError("give either INPUT or --dist NAME")
@@ -96,6 +96,6 @@ def hull(
             f"{len(result.duplicates)} duplicate rows merged{verified}"
         )
     if show_stats and result.stats is not None:
-        Console().print(stats_table(result.stats, f"operation counts ({backend})"))
+        stdout_console().print(stats_table(result.stats, f"operation counts ({backend})"))
     if output is None and plot is None and quiet:
         click.echo(f"{len(result.simplices)} faces, {len(result.vertices)} vertices")

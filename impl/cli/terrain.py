@@ -6,8 +6,8 @@ from pathlib import Path
 
 import click
 import numpy as np
-from rich.console import Console
 
+from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.hull import one_line, stats_table
 from persistri.impl.files import write_mesh
 from persistri.impl.maps import BACKENDS, UnknownBackendError
@@ -75,7 +75,7 @@ def terrain(
     """
     from persistri.impl.terrain.greedy import greedy_insertion
 
-    err = Console(stderr=True)
+    err = stderr_console()
     if max_error is None and max_points is None:
         raise click.UsageError("give --max-error, --max-points or both")
     rule = parse_nodata(nodata)
@@ -130,6 +130,6 @@ def terrain(
             f"max error {tin.max_error:.6g}, rms {tin.rms_error:.6g}{verified}"
         )
     if show_stats and tin.stats is not None:
-        Console().print(stats_table(tin.stats, f"operation counts ({backend})"))
+        stdout_console().print(stats_table(tin.stats, f"operation counts ({backend})"))
     if output is None and plot is None and quiet:
         click.echo(f"{tin.n_points} points, {len(tin.triangles)} triangles, max error {tin.max_error:.6g}")
