@@ -9,15 +9,15 @@ import numpy as np
 
 from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.hull import one_line, stats_table
-from persistri.impl.files import write_mesh
 from persistri.impl.maps import BACKENDS, UnknownBackendError
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.check import TerrainCheckError
+from persistri.impl.terrain.export import TIN_FORMATS, sidecar_wkt, write_tin
 from persistri.impl.terrain.grids import GRID_FORMATS, NODATA_RULES, read_grid
 
 __all__ = ["terrain", "TERRAIN_MESH_FORMATS", "parse_nodata"]
 
-TERRAIN_MESH_FORMATS = (".ply", ".obj", ".stl", ".off", ".npz")
+TERRAIN_MESH_FORMATS = TIN_FORMATS
 """Output formats of ``persistri terrain`` (by extension)."""
 
 
@@ -46,7 +46,12 @@ def parse_nodata(text: str) -> str | float:
     show_default=True,
     help="No-data (NaN) cells: error, fill (nearest valid cell), min (lowest valid height) or a height.",
 )
-@click.option("--world", is_flag=True, help="Write vertices in the input's world coordinates (.asc, GeoTIFF, jacksboro).")
+@click.option(
+    "--world",
+    is_flag=True,
+    help="Write the mesh in the input's world coordinates (.asc, GeoTIFF, jacksboro), counterclockwise seen from "
+    "above, with the input's CRS (a .prj beside a .ply/.obj/.stl/.off).",
+)
 @click.option("--backend", default="red_black", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
 @click.option("--check", is_flag=True, help="Assert the insertion invariants and verify the mesh exactly.")
 @click.option("--stats", "show_stats", is_flag=True, help="Print the operation counts (paper §4–5) as a table.")
@@ -68,10 +73,22 @@ def terrain(
 
     INPUT is a grid file (.npy, .npz, .asc, .tif/.tiff) or the word jacksboro
     (the DEM shipped with matplotlib).  Give --max-error, --max-points or both.
+
     Vertices are x = column, y = row, z = height (row 0 is the grid's first row),
-    triangles counterclockwise in (x, y).  OUTPUT by extension: .ply, .obj, .stl,
-    .off, or .npz with the arrays vertices, triangles, max_error, rms_error and
-    samples (the flat grid index of each vertex).
+    triangles counterclockwise in (x, y).  With --world they are in the input's
+    world coordinates (GeoTIFF tie point and pixel scale, .asc corner and cell
+    size) and the triangles are counterclockwise seen from above there too, so
+    normals point up (+z) for north-up and south-up rasters alike.
+
+    OUTPUT by extension: .ply, .obj, .stl, .off (only the vertices the triangles
+    use), or .npz with the arrays vertices, triangles, samples (the flat grid
+    index row * cols + col of each vertex), grid_shape, max_error, rms_error,
+    world, and for a georeferenced input transform (x0, y0, dx, dy) and crs
+    (EPSG:nnnn or WKT).  The CRS comes from the GeoTIFF's GeoKeys or from a .prj
+    beside an .asc; with --world a .ply/.obj/.stl/.off gets it as WKT in a .prj
+    file of the same name (mesh.ply -> mesh.prj).  GeoTIFFs may be compressed
+    (LZW, deflate, zstd, PackBits; tiled or in strips): pip install
+    'persistri[geotiff]'.
     """
     from persistri.impl.terrain.greedy import greedy_insertion
 
@@ -87,6 +104,8 @@ def terrain(
         grid = read_grid(source)
         if world and grid.transform is None:
             raise ValueError(f"{source}: --world needs georeferencing, and this input has none")
+        if output is not None:
+            sidecar_wkt(output, grid.crs, world=world)  # a CRS that cannot be written fails before the run
         stats = Stats() if show_stats else None
         tin = greedy_insertion(
             grid.heights,
@@ -101,20 +120,12 @@ def terrain(
         )
     except (ValueError, TypeError, OSError, UnknownBackendError, TerrainCheckError) as exc:
         raise click.ClickException(one_line(exc)) from None
-    vertices = tin.world_vertices() if world else tin.vertices
+    written: list[Path] = []
     if output is not None:
-        write_mesh(
-            output,
-            vertices,
-            tin.triangles,
-            npz_arrays={
-                "vertices": vertices,
-                "triangles": tin.triangles,
-                "max_error": np.float64(tin.max_error),
-                "rms_error": np.float64(tin.rms_error),
-                "samples": tin.samples,
-            },
-        )
+        try:
+            written = write_tin(output, tin, world=world)
+        except (ValueError, OSError) as exc:
+            raise click.ClickException(one_line(exc)) from None
     if plot is not None:
         from persistri.impl.terrain.plot import plot_tin
 
@@ -129,6 +140,11 @@ def terrain(
             f"terrain {source} ({rows} × {cols}): {tin.n_points:,} points, {len(tin.triangles):,} triangles, "
             f"max error {tin.max_error:.6g}, rms {tin.rms_error:.6g}{verified}"
         )
+        if written:
+            where = "grid coordinates" if not world else "world coordinates" + (
+                f", CRS {tin.crs.label}" if tin.crs is not None else ", no CRS in the input"
+            )
+            err.print(f"wrote {', '.join(str(w) for w in written)} ({where})")
     if show_stats and tin.stats is not None:
         stdout_console().print(stats_table(tin.stats, f"operation counts ({backend})"))
     if output is None and plot is None and quiet:

@@ -66,6 +66,14 @@ class Crs:
         """``EPSG:nnnn`` when the code is known, else the WKT: what ``pyproj.CRS(...)`` and GDAL accept."""
         return f"EPSG:{self.epsg}" if self.epsg is not None else str(self.wkt)
 
+    @property
+    def label(self) -> str:
+        """A short name for messages: ``EPSG:nnnn``, else the name the WKT gives (``"NAD83 / UTM zone 15N"``)."""
+        if self.epsg is not None:
+            return f"EPSG:{self.epsg}"
+        quoted = re.search(r'"([^"]*)"', str(self.wkt))
+        return f"WKT {quoted.group(1)!r}" if quoted else "WKT"
+
     def __str__(self) -> str:
         return self.name
 
