@@ -1,79 +1,288 @@
 """Reading point sets and writing triangle meshes, by file extension.
 
-Point inputs: ``.npy`` (an array), ``.csv`` / ``.xyz`` / ``.txt`` (one point per
-line, comma- or whitespace-separated, ``#`` comments and one optional header line),
-``.ply`` (the vertices of a PLY file, through meshio).  Mesh outputs: ``.ply``,
-``.obj``, ``.off``, ``.stl`` through meshio, and ``.npz`` holding named arrays.
-Every failure is a :class:`ValueError` with one readable line.
+Point inputs (:func:`read_points`):
+
+* ``.npy`` — an ``(n, d)`` array of reals (integers must be exact in float64;
+  object arrays are never unpickled);
+* ``.csv`` / ``.xyz`` / ``.txt`` — text, one point per line, read by
+  :func:`numpy.loadtxt`: numbers separated by commas, semicolons, tabs or
+  spaces (the delimiter is the first of ``,`` ``;`` tab found on the first data
+  line, else whitespace), any number of leading header lines (a line none of
+  whose fields is a number, e.g. ``x,y,z``), ``#`` comments (whole lines or
+  after the numbers), blank lines, Windows line ends and a UTF-8 byte-order mark;
+* ``.ply`` — the vertices of a PLY file, through meshio.
+
+Mesh outputs (:func:`write_mesh`): ``.ply``, ``.obj``, ``.off``, ``.stl`` through
+meshio, and ``.npz`` holding named arrays.
+
+Every failure is an :class:`InputFileError` (a :class:`ValueError`) whose text is
+one line naming the file and, for text, the line of the file (counting headers,
+comments and blank lines, from 1): ``points.csv: line 7: expected 3 numbers, got 2``.
 """
 
 from __future__ import annotations
 
+import re
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["POINT_FORMATS", "MESH_FORMATS", "read_points", "write_mesh", "compact_mesh"]
+from persistri.impl.geometry.points import as_points
 
-POINT_FORMATS = (".npy", ".csv", ".xyz", ".txt", ".ply")
+__all__ = ["POINT_FORMATS", "TEXT_FORMATS", "MESH_FORMATS", "InputFileError", "read_points", "write_mesh", "compact_mesh"]
+
+TEXT_FORMATS = (".csv", ".xyz", ".txt")
+"""Text point formats: one point per line."""
+
+POINT_FORMATS = (".npy", *TEXT_FORMATS, ".ply")
+"""The extensions :func:`read_points` reads."""
+
 MESH_FORMATS = (".ply", ".obj", ".off", ".stl", ".npz")
+"""The extensions :func:`write_mesh` writes."""
+
+_NPY_MAGIC = b"\x93NUMPY"
+_SHOWN = 40  # characters of a bad line or field quoted in a message
 
 
-def _read_text(path: Path) -> NDArray[Any]:
-    lines = [ln.strip() for ln in path.read_text().splitlines()]
-    rows = [ln for ln in lines if ln and not ln.startswith("#")]
-    if not rows:
-        raise ValueError(f"{path}: no points in the file")
-    sep = "," if "," in rows[0] else None
+class InputFileError(ValueError):
+    """A file that cannot be used as input; ``str()`` is one line, ``"<path>: <what is wrong>"``.
 
-    def parse(line: str) -> list[float]:
-        return [float(tok) for tok in line.split(sep)]
+    ``path`` is the file as the caller named it; ``line`` the 1-based line of a
+    text file the problem is on, when there is one.
+    """
+
+    def __init__(self, path: str | Path, message: str, *, line: int | None = None) -> None:
+        where = f"{path}: line {line}: " if line is not None else f"{path}: "
+        super().__init__(where + message)
+        self.path = str(path)
+        self.line = line
+
+
+def _quote(text: str) -> str:
+    text = text.strip()
+    return '"' + (text if len(text) <= _SHOWN else text[: _SHOWN - 1] + "…") + '"'
+
+
+def _widths(columns: Sequence[int]) -> str:
+    """``(3,)`` → ``"3"``, ``(2, 3)`` → ``"2 or 3"``."""
+    names = [str(c) for c in columns]
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " or " + names[-1]
+
+
+# -- text ------------------------------------------------------------------------------------
+
+
+def _decode(path: Path, raw: bytes) -> str:
+    """The text of a point file: UTF-8 (a byte-order mark is dropped); binary files are refused by name."""
+    if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        raise InputFileError(path, "UTF-16 text; save it as UTF-8 (or plain ASCII)")
+    nul = raw.find(b"\x00")
+    if nul >= 0:
+        raise InputFileError(path, f"a binary file, not text (a NUL byte at offset {nul})")
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise InputFileError(path, f"not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start})") from None
+
+
+def _delimiter(line: str) -> str | None:
+    """The field separator of a data line: the first of comma, semicolon, tab it holds; None = whitespace."""
+    return next((d for d in (",", ";", "\t") if d in line), None)
+
+
+def _loadtxt(lines: Sequence[str], delimiter: str | None) -> NDArray[np.float64]:
+    arr: NDArray[np.float64] = np.loadtxt(lines, delimiter=delimiter, comments="#", ndmin=2, dtype=np.float64)
+    return arr
+
+
+def _is_header(line: str) -> bool:
+    """A header line: none of its fields is a number (``x,y,z``; ``lon lat height``)."""
+    fields = np.genfromtxt([line], delimiter=_delimiter(line), comments="#", dtype=np.float64, ndmin=1)
+    return bool(np.isnan(fields).all())
+
+
+def _what_is_wrong(line: str, delimiter: str | None, width: int) -> str:
+    """Why one data line is not a row of ``width`` numbers (the line alone, parsed again)."""
+    try:
+        alone = _loadtxt([line], delimiter)
+    except ValueError as exc:
+        field = re.search(r"could not convert string '(.*)' to", str(exc))
+        if field is None:
+            return f"not a row of numbers: {_quote(line)}"
+        if not field.group(1).strip():
+            return f"an empty field: {_quote(line)}"
+        return f"{_quote(field.group(1))} is not a number"
+    return f"expected {width} numbers, got {alone.shape[1]}"
+
+
+def _first_bad(lines: Sequence[str], delimiter: str | None, width: int) -> int:
+    """The index of the first line that is not a row of ``width`` numbers (one exists).
+
+    Halves the range that holds it, parsing the first half alone each time:
+    O(total length) over all the steps, and only on the error path.
+    """
+
+    def good(chunk: Sequence[str]) -> bool:
+        try:
+            return bool(_loadtxt(chunk, delimiter).shape[1] == width)
+        except ValueError:
+            return False
+
+    lo, hi = 0, len(lines)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if good(lines[lo:mid]):
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+def _read_text(path: Path, columns: Sequence[int] | None) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
+    """The rows of a text point file and, for each, its 1-based line number in the file."""
+    text = _decode(path, path.read_bytes())
+    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
+    content = [i for i, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#")]
+    if not content:
+        raise InputFileError(path, "no points: the file is empty" if not text.strip() else "no points: only comments")
+    headers = 0
+    while headers < len(content) and _is_header(lines[content[headers]]):
+        headers += 1
+    if headers == len(content):
+        what = "a header line" if headers == 1 else f"{headers} lines of text"
+        raise InputFileError(path, f"no points: {what} and no row of numbers")
+    numbers = content[headers:]
+    data = [lines[i] for i in numbers]
+    delimiter = _delimiter(data[0])
+    first = numbers[0] + 1
+    try:
+        width = _loadtxt(data[:1], delimiter).shape[1]
+    except ValueError:
+        raise InputFileError(path, _what_is_wrong(data[0], delimiter, 0), line=first) from None
+    if columns is not None and width not in columns:
+        raise InputFileError(path, f"expected {_widths(columns)} numbers, got {width}", line=first)
+    try:
+        arr = _loadtxt(data, delimiter)
+    except ValueError:
+        bad = _first_bad(data, delimiter, width)
+        raise InputFileError(path, _what_is_wrong(data[bad], delimiter, width), line=numbers[bad] + 1) from None
+    line_numbers: NDArray[np.intp] = np.asarray(numbers, dtype=np.intp) + 1
+    return arr, line_numbers
+
+
+# -- binary ----------------------------------------------------------------------------------
+
+
+def _read_npy(path: Path, columns: Sequence[int] | None) -> NDArray[Any]:
+    """The array of a ``.npy`` file, its header checked before the data is read (no unpickling)."""
+    with path.open("rb") as fh:
+        magic = fh.read(len(_NPY_MAGIC))
+        if not magic:
+            raise InputFileError(path, "no points: the file is empty")
+        if magic.startswith(b"PK"):
+            raise InputFileError(path, "a .npz archive, not a .npy array")
+        if magic != _NPY_MAGIC:
+            raise InputFileError(path, "not a .npy file (no NumPy header)")
+        fh.seek(0)
+        try:
+            version = np.lib.format.read_magic(fh)
+            if version == (1, 0):
+                shape, _, dtype = np.lib.format.read_array_header_1_0(fh)
+            elif version == (2, 0):
+                shape, _, dtype = np.lib.format.read_array_header_2_0(fh)
+            else:  # 3.0 exists only for structured arrays with non-Latin-1 field names
+                raise InputFileError(path, f"a .npy file of format {version[0]}.{version[1]}: not an array of real numbers")
+            offset = fh.tell()
+        except (ValueError, EOFError) as exc:
+            raise InputFileError(path, f"a damaged .npy header ({str(exc).splitlines()[0]})") from None
+    if dtype.hasobject:
+        raise InputFileError(path, "holds Python objects (a pickled array); persistri never unpickles: save numbers")
+    if dtype.kind not in "biuf" or dtype.fields is not None:
+        raise InputFileError(path, f"holds {dtype} values, not real numbers")
+    _check_shape(path, tuple(shape), columns)
+    expected = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
+    held = path.stat().st_size - offset
+    if held < expected:
+        raise InputFileError(path, f"truncated: the header announces {shape} {dtype} ({expected:,} bytes), the file holds {held:,}")
+    try:
+        arr: NDArray[Any] = np.load(path, allow_pickle=False)
+    except (ValueError, EOFError, OSError) as exc:
+        raise InputFileError(path, f"cannot read .npy ({str(exc).splitlines()[0]})") from None
+    return arr
+
+
+def _check_shape(path: Path, shape: tuple[int, ...], columns: Sequence[int] | None) -> None:
+    if len(shape) != 2:
+        want = f"(n, {_widths(columns)})" if columns is not None else "(n, d)"
+        raise InputFileError(path, f"expected an array of shape {want}, got shape {shape}")
+    if shape[0] == 0:
+        raise InputFileError(path, f"no points: the array has shape {shape}")
+    if columns is not None and shape[1] not in columns:
+        raise InputFileError(path, f"expected {_widths(columns)} columns, got shape {shape}")
+
+
+def _read_ply(path: Path) -> NDArray[Any]:
+    import meshio
 
     try:
-        first = parse(rows[0])
-    except ValueError:
-        rows = rows[1:]  # a header line
-        if not rows:
-            raise ValueError(f"{path}: no points in the file") from None
-    parsed: list[list[float]] = []
-    for number, line in enumerate(rows, start=1):
-        try:
-            parsed.append(parse(line))
-        except ValueError:
-            raise ValueError(f"{path}: point {number} is not a row of numbers: {line!r}") from None
-    widths = {len(r) for r in parsed}
-    if len(widths) != 1:
-        raise ValueError(f"{path}: rows have different numbers of coordinates {sorted(widths)}")
-    del first
-    return np.array(parsed, dtype=np.float64)
+        mesh = meshio.read(path, file_format="ply")
+    except Exception as exc:  # meshio raises many types for malformed files
+        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise InputFileError(path, f"cannot read PLY ({first})") from None
+    pts: NDArray[Any] = np.asarray(mesh.points)
+    return pts
 
 
-def read_points(path: str | Path) -> NDArray[Any]:
-    """The point array stored in ``path`` (validation of shape and values is the caller's)."""
+# -- the entry point -------------------------------------------------------------------------
+
+
+def read_points(path: str | Path, columns: Sequence[int] | None = None) -> NDArray[np.float64]:
+    """The points stored in ``path``: a non-empty ``(n, d)`` float64 array of finite, exact values.
+
+    ``columns`` lists the accepted widths ``d`` (``(3,)`` for a hull,
+    ``(2, 3)`` for a Delaunay triangulation); None accepts any.  Raises
+    :class:`InputFileError` (one line naming the file; the line of a text
+    file, the row of an array counting from 0) for a missing or unreadable
+    file, an unknown extension, binary or non-UTF-8 text, a file with no
+    points, a bad or ragged row, the wrong number of columns, a NaN or
+    infinite coordinate, or an integer float64 cannot hold exactly.
+    O(n) (a text file with a bad row is parsed about twice more to find it).
+    """
     p = Path(path)
     suffix = p.suffix.lower()
-    if not p.exists():
-        raise ValueError(f"{p}: no such file")
-    if suffix == ".npy":
-        try:
-            arr: NDArray[Any] = np.load(p, allow_pickle=False)
-        except ValueError as exc:
-            raise ValueError(f"{p}: not a numeric .npy array ({exc})") from None
-        return arr
-    if suffix in (".csv", ".xyz", ".txt"):
-        return _read_text(p)
-    if suffix == ".ply":
-        import meshio
-
-        try:
-            mesh = meshio.read(p)
-        except Exception as exc:  # meshio raises many types for malformed files
-            raise ValueError(f"{p}: cannot read PLY ({exc})") from None
-        pts: NDArray[Any] = np.asarray(mesh.points, dtype=np.float64)
-        return pts
-    raise ValueError(f"{p}: unknown point format {suffix!r}; use one of {', '.join(POINT_FORMATS)}")
+    if p.is_symlink() and not p.exists():
+        raise InputFileError(p, f"a broken symbolic link (to {p.readlink()})")
+    if suffix not in POINT_FORMATS:
+        raise InputFileError(p, f"unknown point format {suffix or '(no extension)'}; use one of {', '.join(POINT_FORMATS)}")
+    try:
+        if suffix in TEXT_FORMATS:
+            arr, lines = _read_text(p, columns)
+            bad = ~np.isfinite(arr).all(axis=1)
+            if bad.any():
+                row = int(np.argmax(bad))
+                shown = ", ".join(repr(float(v)) for v in arr[row])
+                raise InputFileError(p, f"a coordinate is not finite ({shown})", line=int(lines[row]))
+            out: NDArray[np.float64] = arr + 0.0  # -0.0 becomes 0.0
+            return out
+        raw = _read_npy(p, columns) if suffix == ".npy" else _read_ply(p)
+    except FileNotFoundError:
+        raise InputFileError(p, "no such file") from None
+    except IsADirectoryError:
+        raise InputFileError(p, "a directory, not a file") from None
+    except PermissionError:
+        raise InputFileError(p, "cannot read it (permission denied)") from None
+    except InputFileError:
+        raise
+    except OSError as exc:
+        raise InputFileError(p, f"cannot read it ({exc.strerror or exc})") from None
+    _check_shape(p, raw.shape, columns)
+    try:
+        return as_points(raw, raw.shape[1], what=str(p))
+    except (TypeError, ValueError) as exc:  # a non-finite or inexact row, named by as_points (from 0)
+        raise InputFileError(p, str(exc).splitlines()[0].removeprefix(f"{p}: ")) from None
 
 
 def compact_mesh(
@@ -105,14 +314,13 @@ def write_mesh(
     ``.npz`` stores ``npz_arrays`` (the caller names the arrays, e.g. ``points``,
     ``simplices`` and ``vertices`` for a hull); the other formats store the
     triangles and only the points they use (:func:`compact_mesh`: a viewer would
-    show an unused point as a stray dot), through meshio.
+    show an unused point as a stray dot), through meshio.  The directory must exist (the command line
+    checks and creates it before computing: :mod:`persistri.impl.cli.paths`).
     """
     p = Path(path)
     suffix = p.suffix.lower()
     if suffix not in MESH_FORMATS:
         raise ValueError(f"{p}: unknown mesh format {suffix!r}; use one of {', '.join(MESH_FORMATS)}")
-    if p.parent and not p.parent.exists():
-        p.parent.mkdir(parents=True, exist_ok=True)
     if suffix == ".npz":
         arrays = npz_arrays if npz_arrays is not None else {"points": points, "triangles": triangles}
         np.savez(p, **arrays)
