@@ -353,7 +353,7 @@ def _read_tiff(path: Path) -> HeightGrid:
         try:
             data = np.asarray(page.asarray())
         except Exception as exc:  # a codec imagecodecs lacks, or a corrupt strip or tile
-            raise ValueError(f"{path}: cannot decode its {codec} compressed data ({_reason(exc)})") from None
+            raise ValueError(f"{path}: cannot decode its {codec} compression ({_reason(exc)})") from None
         nodata = page.tags.valueof(42113)  # GDAL_NODATA
         geokeys: dict[str, Any] = dict(page.geotiff_tags or {}) if page.is_geotiff else {}
         # A file with model tags but no GeoKeyDirectory is no GeoTIFF to tifffile; its tags still place it.
@@ -365,8 +365,7 @@ def _read_tiff(path: Path) -> HeightGrid:
         data = data.reshape(data.shape[1:] if data.shape[0] == 1 else data.shape[:-1])
     if data.ndim != 2:
         raise ValueError(
-            f"{path}: expected a single-band raster, got shape {data.shape} "
-            f"({page.samplesperpixel} samples per pixel, {len(tif.pages)} page(s))"
+            f"{path}: expected one band of heights, got {page.samplesperpixel} samples per pixel (shape {data.shape})"
         )
     heights = _float_heights(data, str(path)).copy()
     if nodata is not None:
@@ -390,6 +389,9 @@ def _codec_name(page: Any) -> str:
 def _reason(exc: BaseException) -> str:
     """Why decoding failed, in one line: tifffile says "<COMPRESSION.X: n> requires the 'imagecodecs' package"."""
     text = " ".join(str(exc).split()) or type(exc).__name__
+    # tifffile names a codec it has no decoder for ("COMPRESSION.EER_V0: 65000") or cannot name ("… is not a known …").
+    if isinstance(exc, KeyError) or "is not a known" in text or text.startswith(("COMPRESSION.", "PREDICTOR.")):
+        return f"neither tifffile nor imagecodecs decodes it: {text}"
     if "imagecodecs" in text:
         return f"{text}: pip install 'persistri[geotiff]'"
     return text
