@@ -14,11 +14,17 @@ export HYPOTHESIS_PROFILE := $(PROFILE)
 $(BIN)/python:
 	@$(PY) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "persistri needs Python 3.11 or newer; set PY=python3.11")'
 	$(PY) -m venv $(VENV)
-	$(BIN)/python -m pip install -q --upgrade pip "setuptools>=77" wheel
+	@$(BIN)/python -m pip install -q --upgrade pip "setuptools>=77" wheel >$(VENV)/install.log 2>&1 \
+		|| (cat $(VENV)/install.log; exit 1)
 
+# The library and the `adapters` extra (immutables, pyrsistent: small wheels), which the demo's map
+# benchmark compares persistri with.  pip's and setuptools' chatter (the strict editable install's
+# notice) goes to a log, shown only if the install fails.
 $(VENV)/.installed: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e . --config-settings editable_mode=strict
-	touch $@
+	@echo "installing persistri[adapters] into $(VENV) (log: $(VENV)/install.log)"
+	@$(BIN)/python -m pip install -q -e ".[adapters]" --config-settings editable_mode=strict \
+		>$(VENV)/install.log 2>&1 || (cat $(VENV)/install.log; exit 1)
+	@touch $@
 
 # lidar ships the second real DEM of `persistri experiments fig11` (lidar/data/dem.tif); only the
 # file is used, so none of its (heavy, geospatial) dependencies are installed.

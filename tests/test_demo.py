@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 from click.testing import CliRunner
 from rich.console import Console
 
+from persistri.impl.bench import maps as bench_maps
 from persistri.impl.bench.maps import RECORD_FIELDS, SUBJECTS
 from persistri.impl.cli import demo as demo_module
 from persistri.impl.cli.demo import DemoSettings, DemoStage, StageContext, StageResult, run_demo
@@ -61,6 +64,10 @@ def test_demo_writes_the_hull_and_the_map_benchmark(tmp_path: Path) -> None:
 
     for name in files:
         assert str(out / name) in result.stdout
+    # The dev extra installs the adapters extra, so every peer is measured and none is "unavailable".
+    assert "unavailable" not in result.stdout and "unavailable" not in text
+    assert {r["map"] for r in doc["records"] if r["status"] == "ok"} == {s.name for s in SUBJECTS}
+    assert not re.search(r"┃\s*┃\s*┃", result.stdout)  # the summary tables have no row of empty headers
 
 
 def _stage(name: str, log: list[str], failures: list[str] | None = None) -> DemoStage:
@@ -99,3 +106,21 @@ def test_bad_sizes_are_a_usage_error(tmp_path: Path) -> None:
     result = CliRunner().invoke(main, ["demo", "--out", str(tmp_path), "--bench-sizes", "ten"])
     assert result.exit_code == 2
     assert "'ten' is not a key count" in result.output
+
+
+def test_maps_not_installed_are_left_out_with_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    def not_installed() -> Any:
+        raise ModuleNotFoundError("No module named 'nosuchmap'")
+
+    absent = bench_maps.MapSubject("nosuchmap", "peer", "a map that is not installed", not_installed)
+    monkeypatch.setattr(bench_maps, "SUBJECTS", (*SUBJECTS[:2], absent))
+    monkeypatch.setattr(demo_module, "STAGES", tuple(s for s in demo_module.STAGES if s.name == "maps"))
+    result = CliRunner().invoke(main, ["demo", "--out", str(tmp_path), "--bench-sizes", "40"], catch_exceptions=False)
+    assert result.exit_code == 0, result.output
+    note = "not compared, not installed: nosuchmap (pip install 'persistri[adapters]' to compare them)"
+    text = (tmp_path / "bench_maps.txt").read_text(encoding="utf-8")
+    for shown in (result.stdout, text):
+        assert note in shown and "unavailable" not in shown
+        assert [line for line in shown.splitlines() if "nosuchmap" in line] == [note]
+    doc = json.loads((tmp_path / "bench_maps.json").read_text(encoding="utf-8"))
+    assert [r["status"] for r in doc["records"] if r["map"] == "nosuchmap"] == ["unavailable"]  # the data keep it

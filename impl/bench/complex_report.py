@@ -13,6 +13,7 @@ from rich.table import Table
 from rich.text import Text
 
 from persistri.impl.bench.complex import ComplexBench
+from persistri.impl.cli.console import text_console
 
 __all__ = ["complex_table", "complex_notes", "complex_report", "print_complex", "complex_text"]
 
@@ -112,8 +113,9 @@ def print_complex(bench: ComplexBench, console: Console) -> None:
     console.print(complex_report(bench))
 
 
-def complex_text(bench: ComplexBench, width: int = 140) -> str:
-    """What :func:`print_complex` prints, as plain text (no colour), ``width`` columns wide."""
+def complex_text(bench: ComplexBench, width: int | None = None) -> str:
+    """What :func:`print_complex` prints, as plain text (no colour); tables at most ``width`` columns wide
+    (default: their natural width), lines never folded."""
     buffer = io.StringIO()
-    print_complex(bench, Console(file=buffer, width=width, color_system=None, force_terminal=False))
+    print_complex(bench, text_console(buffer, width))
     return buffer.getvalue()

@@ -14,6 +14,7 @@ from rich.table import Table
 from rich.text import Text
 
 from persistri.impl.bench.maps import ADAPTED, OPERATIONS, MapBench
+from persistri.impl.cli.console import text_console
 
 __all__ = ["adapter_table", "maps_notes", "maps_report", "maps_table", "maps_text", "print_maps", "save_maps_chart"]
 
@@ -119,10 +120,11 @@ def print_maps(bench: MapBench, console: Console) -> None:
     console.print(maps_report(bench))
 
 
-def maps_text(bench: MapBench, width: int = 120) -> str:
-    """What :func:`print_maps` prints, as plain text (no colour), ``width`` columns wide."""
+def maps_text(bench: MapBench, width: int | None = None) -> str:
+    """What :func:`print_maps` prints, as plain text (no colour); tables at most ``width`` columns wide
+    (default: their natural width), lines never folded."""
     buffer = io.StringIO()
-    print_maps(bench, Console(file=buffer, width=width, color_system=None, force_terminal=False))
+    print_maps(bench, text_console(buffer, width))
     return buffer.getvalue()
 
 

@@ -27,18 +27,20 @@ from __future__ import annotations
 
 import json
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import click
-from rich.console import Console, RenderableType
+from rich.console import Console, Group, RenderableType
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TextColumn, TimeElapsedColumn
+from rich.text import Text
 
-from persistri.impl.bench.maps import DEFAULT_SEED, ProgressCallback, run_map_bench
+from persistri.impl.bench.maps import DEFAULT_SEED, MapBench, ProgressCallback, run_map_bench
 from persistri.impl.bench.maps_report import maps_report, maps_text, save_maps_chart
-from persistri.impl.cli.bench import parse_sizes, stdout_console
+from persistri.impl.cli.bench import parse_sizes
+from persistri.impl.cli.console import stdout_console
 
-__all__ = ["DemoSettings", "DemoStage", "StageContext", "StageResult", "STAGES", "demo", "run_demo"]
+__all__ = ["DemoSettings", "DemoStage", "StageContext", "StageResult", "STAGES", "demo", "run_demo", "without_unavailable"]
 
 DEMO_HULL_POINTS = 4_000
 """Points of the demo's hull (BordHeavy): checked at every insertion, so kept modest."""
@@ -90,16 +92,37 @@ class DemoStage:
     run: Callable[[StageContext], StageResult]
 
 
+def without_unavailable(bench: MapBench) -> tuple[MapBench, str | None]:
+    """``bench`` without the rows of maps that could not be loaded, and one line naming them and how to get them.
+
+    The line is ``None`` when every map loaded.  The peers and adapters come with
+    the ``adapters`` extra (``make demo`` installs it); a demo run without them
+    shows what it measured rather than a block of "unavailable" rows.
+    """
+    missing = bench.unavailable()
+    if not missing:
+        return bench, None
+    shown = replace(bench, records=tuple(r for r in bench.records if r.status != "unavailable"))
+    note = f"not compared, not installed: {', '.join(missing)} (pip install 'persistri[adapters]' to compare them)"
+    return shown, note
+
+
 def maps_stage(ctx: StageContext) -> StageResult:
-    """Run the map benchmark and write ``bench_maps.json``, ``bench_maps.txt`` and ``bench_maps.png``."""
+    """Run the map benchmark and write ``bench_maps.json``, ``bench_maps.txt`` and ``bench_maps.png``.
+
+    The JSON keeps every record; the table, text and chart leave out maps that
+    are not installed, with one line saying how to get them (:func:`without_unavailable`).
+    """
     s = ctx.settings
     result = run_map_bench(s.bench_sizes, repeat=s.repeat, seed=s.seed, on_progress=ctx.progress)
+    shown, note = without_unavailable(result)
     json_path, txt_path, png_path = (s.out / f"bench_maps.{ext}" for ext in ("json", "txt", "png"))
     json_path.write_text(json.dumps(result.as_dict(), indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
-    txt_path.write_text(maps_text(result), encoding="utf-8")
-    save_maps_chart(result, png_path)
+    txt_path.write_text(maps_text(shown) + ("" if note is None else note + "\n"), encoding="utf-8")
+    save_maps_chart(shown, png_path)
     failures = [f"bench maps: {r.map} at n={r.n:,}: {r.note}" for r in result.errors()]
-    return StageResult([json_path, txt_path, png_path], maps_report(result), failures)
+    summary: RenderableType = maps_report(shown) if note is None else Group(maps_report(shown), Text(note))
+    return StageResult([json_path, txt_path, png_path], summary, failures)
 
 
 def hull_stage(ctx: StageContext) -> StageResult:
@@ -138,9 +161,9 @@ def hull_stage(ctx: StageContext) -> StageResult:
     )
     ply = write_mesh(out / "hull.ply", points, hull.simplices)
     png = plot_hull(points, hull.simplices, out / "hull.png", title=f"BordHeavy, n = {n:,}: {report}")
-    table = Table(title="convex hull (bulldozer, red-black backend)")
-    table.add_column("")
-    table.add_column("", justify="right")
+    table = Table(title="convex hull (bulldozer, red-black backend)", show_header=False)
+    table.add_column()
+    table.add_column(justify="right")
     assert hull.history is not None
     for name, value in (
         ("points", f"{n:,}"),
@@ -198,9 +221,9 @@ def terrain_stage(ctx: StageContext) -> StageResult:
                    title=f"Jacksboro DEM: {tin.n_points:,} points, max error {tin.max_error:.1f} m")
     assert tin.history is not None
     coarse = tin.history.at(points=min(500, tin.n_points))
-    table = Table(title="terrain (greedy insertion, red-black backend)")
-    table.add_column("")
-    table.add_column("", justify="right")
+    table = Table(title="terrain (greedy insertion, red-black backend)", show_header=False)
+    table.add_column()
+    table.add_column(justify="right")
     for name, value in (
         ("grid", f"{tin.shape[0]} × {tin.shape[1]} samples"),
         ("points / triangles", f"{tin.n_points:,} / {len(tin.triangles):,}"),
@@ -228,14 +251,15 @@ STAGES: tuple[DemoStage, ...] = (
 def run_demo(settings: DemoSettings, console: Console, stages: Sequence[DemoStage] | None = None) -> list[StageResult]:
     """Run ``stages`` (default :data:`STAGES`) in order under one rich progress display on ``console``.
 
-    Each stage's summary is printed as it finishes.
+    Each stage's summary is printed as it finishes.  The bars are drawn only on a terminal
+    (elsewhere rich would print them all at the end, after the summaries).
     """
     if stages is None:
         stages = STAGES
     settings.out.mkdir(parents=True, exist_ok=True)
     results: list[StageResult] = []
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
-    with Progress(*columns, console=console) as progress:
+    with Progress(*columns, console=console, disable=not console.is_terminal) as progress:
         for stage in stages:
             task = progress.add_task(stage.title, total=None)
 
