@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 import math
 from pathlib import Path
+from typing import Any
 
 import click
 import numpy as np
@@ -19,9 +20,9 @@ from persistri.impl.cli.experiments import parse_size_options
 from persistri.impl.cli.main import main
 from persistri.impl.experiments import dems as dems_module
 from persistri.impl.experiments.counts import HullCount, HullCountCache, hull_counts
-from persistri.impl.experiments.dems import DemUnavailableError, lidar_dem, load_dem
+from persistri.impl.experiments.dems import DemUnavailableError, dem_missing, lidar_dem, load_dem
 from persistri.impl.experiments.fig8 import Fig8Record
-from persistri.impl.experiments.fig11 import Fig11Record, count_dem
+from persistri.impl.experiments.fig11 import Fig11Record, choose_dems, count_dem
 from persistri.impl.experiments.output import Comparison, markdown_table, parse_size, parse_sizes, read_records, write_csv
 from persistri.impl.experiments.suite import QUICK, sizes_for
 
@@ -237,3 +238,76 @@ def test_output_helpers(tmp_path: Path) -> None:
     (tmp_path / "bad.csv").write_text("n,seed\n1,2\n")
     with pytest.raises(ValueError, match="missing columns"):
         read_records(tmp_path / "bad.csv", Fig8Record)
+
+
+def _without_lidar(monkeypatch: pytest.MonkeyPatch) -> None:
+    """As where the PyPI package that ships the second DEM is not installed (an installed wheel's venv)."""
+    import importlib.metadata
+
+    real = importlib.metadata.distribution
+
+    def distribution(name: str) -> importlib.metadata.Distribution:
+        if name == "lidar":
+            raise importlib.metadata.PackageNotFoundError(name)
+        return real(name)
+
+    monkeypatch.setattr(importlib.metadata, "distribution", distribution)
+
+
+def test_default_dems_leave_out_a_missing_lidar_with_a_note(monkeypatch: pytest.MonkeyPatch) -> None:
+    assert choose_dems() == (("jacksboro", "lidar"), ())  # the dev extra installs both
+    assert choose_dems(["lidar", "lidar"]) == (("lidar",), ())
+    _without_lidar(monkeypatch)
+    assert dem_missing("jacksboro") is None
+    names, notes = choose_dems()
+    assert names == ("jacksboro",)
+    assert len(notes) == 1 and notes[0].startswith("the lidar DEM is left out: ")
+    assert "pip install --no-deps lidar==0.8.4" in notes[0]
+    with pytest.raises(DemUnavailableError, match="pip install --no-deps lidar==0.8.4"):
+        choose_dems(["jacksboro", "lidar"])  # asked for by name: an error, not a note
+    with pytest.raises(ValueError, match="unknown DEM"):
+        choose_dems(["everest"])
+    with pytest.raises(ValueError, match="at least one"):
+        choose_dems([])
+
+
+def test_lidar_without_a_geotiff_reader_is_missing_too(monkeypatch: pytest.MonkeyPatch) -> None:
+    import importlib.util
+
+    real = importlib.util.find_spec
+
+    def find_spec(name: str, package: str | None = None) -> Any:
+        return None if name == "tifffile" else real(name, package)
+
+    monkeypatch.setattr(importlib.util, "find_spec", find_spec)
+    why = dem_missing("lidar")
+    assert why is not None and "pip install 'persistri[geotiff]'" in why
+    assert choose_dems()[0] == ("jacksboro",)
+    with pytest.raises(DemUnavailableError, match="tifffile"):
+        lidar_dem()
+
+
+def test_cli_runs_fig11_without_lidar_and_says_so(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    _without_lidar(monkeypatch)
+    out = tmp_path / "run"
+    result = CliRunner().invoke(main, ["experiments", "fig11", "--quick", "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    notes = [line for line in result.stderr.splitlines() if line.strip()]
+    assert len(notes) == 1 and notes[0].startswith("note: fig11: the lidar DEM is left out: ")
+    assert notes[0].endswith("pip install --no-deps lidar==0.8.4")
+    recs = read_records(out / "fig11.csv", Fig11Record)
+    assert {r.dem for r in recs} == {"jacksboro"} and [r.points for r in recs] == list(QUICK["fig11"])
+    page = (out / "fig11.md").read_text()
+    assert "on one real DEM" in page and "left out: the lidar DEM is left out" in page
+    assert "Note — fig11: the lidar DEM is left out" in (out / "summary.md").read_text()
+    assert "Traceback" not in result.output
+
+
+def test_cli_asked_for_a_missing_dem_fails_before_any_work(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    _without_lidar(monkeypatch)
+    out = tmp_path / "run"
+    result = CliRunner().invoke(main, ["experiments", "all", "--quick", "--out", str(out), "--dems", "jacksboro,lidar"])
+    assert result.exit_code == 1
+    lines = [line for line in result.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("Error: ") and "pip install --no-deps lidar==0.8.4" in lines[0]
+    assert not out.exists()  # checked before Fig. 6 started

@@ -1,8 +1,8 @@
 """``persistri experiments``: regenerate the paper's Figs. 6, 7, 8 and 11 as CSV, PNG and a paper-vs-ours table.
 
 The measuring code is :mod:`persistri.impl.experiments`; this command parses
-options, draws one progress bar per figure on stderr and prints where the files
-went on stdout.
+options, draws one progress bar per figure on stderr (on a terminal), prints a
+note for anything left out on stderr, and where the files went on stdout.
 """
 
 from __future__ import annotations
@@ -15,9 +15,12 @@ import click
 from rich.console import Console, JustifyMethod
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 from rich.table import Table
+from rich.text import Text
 
+from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.experiments.dems import DEMS, DemUnavailableError
 from persistri.impl.experiments.fig8 import BACKENDS as FIG8_BACKENDS
+from persistri.impl.experiments.fig11 import DEFAULT_DEMS, OPTIONAL_DEMS
 from persistri.impl.experiments.output import Progress as ProgressCallback
 from persistri.impl.experiments.output import parse_sizes
 from persistri.impl.experiments.suite import FIGURES, replot, run_experiments, sizes_for
@@ -78,7 +81,8 @@ def _bars(console: Console) -> Iterator[Progress]:
         TimeElapsedColumn(),
         TimeRemainingColumn(),
     )
-    with Progress(*columns, console=console, transient=False) as progress:
+    # Off a terminal rich would print every bar's last state at the end: nothing to follow there.
+    with Progress(*columns, console=console, transient=False, disable=not console.is_terminal) as progress:
         yield progress
 
 
@@ -101,7 +105,13 @@ def _bars(console: Console) -> Iterator[Progress]:
     show_default=True,
     help="Fig. 8: complexes to replay the trace on (the ephemeral baseline always runs).",
 )
-@click.option("--dems", default=",".join(DEMS), show_default=True, help="Fig. 11: the DEMs.")
+@click.option(
+    "--dems",
+    default=None,
+    metavar="NAMES",
+    help=f"Fig. 11: the DEMs, comma-separated, of {', '.join(DEMS)}.  Default: {','.join(DEFAULT_DEMS)}, leaving out "
+    f"{', '.join(sorted(OPTIONAL_DEMS))} with a note where its package is not installed.",
+)
 @click.option("--replot", "replot_only", is_flag=True, help="Measure nothing: redraw the PNGs and rewrite the pages from an earlier run's CSV and JSON in --out.")
 def experiments(
     which: tuple[str, ...],
@@ -111,7 +121,7 @@ def experiments(
     seeds: str,
     repeat: int,
     backends: str,
-    dems: str,
+    dems: str | None,
     replot_only: bool,
 ) -> None:
     """Regenerate the paper's Fig. 6, 7, 8, 11 (several, or all) into --out: CSV, PNG and a paper-vs-persistri table each.
@@ -138,16 +148,17 @@ def experiments(
     sizes = parse_size_options(names, size_values)
     seed_list = _ints(seeds, "--seeds")
     backend_list = tuple(b.strip() for b in backends.split(",") if b.strip())
-    dem_list = tuple(d.strip() for d in dems.split(",") if d.strip())
-    unknown = [d for d in dem_list if d not in DEMS]
-    if unknown or not dem_list:
-        raise click.BadParameter(f"known DEMs: {', '.join(DEMS)}", param_hint="--dems")
+    dem_list = None if dems is None else tuple(d.strip() for d in dems.split(",") if d.strip())
+    if dem_list is not None:
+        unknown = [d for d in dem_list if d not in DEMS]
+        if unknown or not dem_list:
+            raise click.BadParameter(f"known DEMs: {', '.join(DEMS)}", param_hint="--dems")
     try:
         for n in names:
             sizes_for(n, quick=quick, override=sizes)
     except ValueError as exc:
         raise click.BadParameter(str(exc), param_hint="--sizes") from None
-    err = Console(stderr=True)
+    err = stderr_console()
     try:
         with _bars(err) as bars:
 
@@ -174,7 +185,7 @@ def experiments(
         raise click.ClickException(str(exc)) from None
     except ValueError as exc:
         raise click.ClickException(str(exc)) from None
-    table = Table(title=f"persistri experiments → {out}")
+    table = Table(title=Text(f"persistri experiments → {out}"))
     columns: tuple[tuple[str, JustifyMethod], ...] = (
         ("figure", "left"),
         ("sizes", "left"),
@@ -192,6 +203,8 @@ def experiments(
             f"{r.cpu_seconds:.1f}",
             " ".join(p.name for p in r.files),
         )
-    Console(width=max(Console().width, 100)).print(table)
+    for note in summary.notes:
+        err.print(f"note: {note}", markup=False, highlight=False)
+    stdout_console().print(table)
     if summary.path is not None:
         click.echo(f"summary: {summary.path}")

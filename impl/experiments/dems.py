@@ -14,7 +14,9 @@ are not available to us; two real DEMs that Python packages ship are:
   The package's runtime dependencies are not needed: install it with
   ``pip install --no-deps lidar==0.8.4`` (``make install-dev`` does).  The file is
   found through the package's installed metadata, without importing the package,
-  and read by :func:`persistri.impl.terrain.grids.read_grid` (``tifffile``).
+  and read by :func:`persistri.impl.terrain.grids.read_grid` (``tifffile``, the
+  ``geotiff`` extra).  It is optional: :func:`dem_missing` says whether it and its
+  reader are installed, and Fig. 11 leaves it out, with a note, when they are not.
 
 Both are loaded without a network.  matplotlib's other elevation sample,
 ``topobathy.npz`` (91 × 120 cells), has fewer samples than Fig. 11's largest
@@ -33,7 +35,9 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["Dem", "DemUnavailableError", "DEMS", "LIDAR_REQUIREMENT", "load_dem", "jacksboro_dem", "lidar_dem"]
+__all__ = [
+    "Dem", "DemUnavailableError", "DEMS", "LIDAR_REQUIREMENT", "dem_missing", "load_dem", "jacksboro_dem", "lidar_dem",
+]
 
 LIDAR_REQUIREMENT: Final = "lidar==0.8.4"
 """The PyPI release whose wheel ships the second DEM (``lidar/data/dem.tif``)."""
@@ -106,15 +110,27 @@ def _lidar_path() -> Path:
     return path
 
 
+def _lidar_reader() -> None:
+    from importlib.util import find_spec
+
+    if find_spec("tifffile") is None:
+        raise DemUnavailableError(
+            "the second DEM of Fig. 11 (lidar/data/dem.tif) is a GeoTIFF, and reading it needs tifffile, which is "
+            "not installed: pip install 'persistri[geotiff]'"
+        )
+
+
 def lidar_dem() -> Dem:
     """The LiDAR DEM shipped by the PyPI package ``lidar`` (400 × 400, 1 m cells); module docstring.
 
-    Raises :class:`DemUnavailableError` when the package is not installed, and
-    ValueError if the file holds no-data cells (this release's has none).
+    Raises :class:`DemUnavailableError` when the package or the GeoTIFF reader
+    (tifffile) is not installed, and ValueError if the file holds no-data cells
+    (this release's has none).
     """
     from persistri.impl.terrain.grids import as_heights, read_grid
 
     path = _lidar_path()
+    _lidar_reader()
     with _quiet_tifffile():
         grid = read_grid(path)
     heights = as_heights(grid.heights, what=str(path))  # ValueError on no-data cells
@@ -130,6 +146,30 @@ def lidar_dem() -> Dem:
 
 DEMS: Final[dict[str, Callable[[], Dem]]] = {"jacksboro": jacksboro_dem, "lidar": lidar_dem}
 """The DEMs Fig. 11 can run on, by name."""
+
+
+def _lidar_installed() -> None:
+    _lidar_path()
+    _lidar_reader()
+
+
+_INSTALLED: Final[dict[str, Callable[[], None]]] = {"jacksboro": lambda: None, "lidar": _lidar_installed}
+"""Per DEM, a check that what ships and reads it is installed (:class:`DemUnavailableError` if not);
+matplotlib, which ships the Jacksboro DEM, is a dependency of persistri."""
+
+
+def dem_missing(name: str) -> str | None:
+    """Why the DEM ``name`` cannot be loaded here (one line saying what to install), or ``None`` if it can.
+
+    Checks the installed packages without reading the DEM.  ValueError names the known DEMs.
+    """
+    if name not in DEMS:
+        raise ValueError(f"unknown DEM {name!r}; known: {', '.join(DEMS)}")
+    try:
+        _INSTALLED[name]()
+    except DemUnavailableError as exc:
+        return str(exc)
+    return None
 
 
 def load_dem(name: str) -> Dem:

@@ -13,8 +13,10 @@ reaches each size: the run is deterministic, so the counts at ``k`` points are
 those of a run stopped there.  The run is ``stepwise`` (a ``rem`` per cavity
 triangle, an ``add`` per fan triangle, as the paper's code changes the complex),
 so the key comparisons are those of the algorithm the paper measured.  The DEMs are two real ones that packages ship
-(:mod:`persistri.impl.experiments.dems`).  Writes ``fig11.csv``, ``fig11.png``
-and ``fig11.md``; progress is reported in inserted points.
+(:mod:`persistri.impl.experiments.dems`); by default the second (``lidar``) is
+left out, with a note, where its package is not installed
+(:func:`choose_dems`).  Writes ``fig11.csv``, ``fig11.png`` and ``fig11.md``;
+progress is reported in inserted points.
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Final
 
-from persistri.impl.experiments.dems import Dem, load_dem
+from persistri.impl.experiments.dems import Dem, DemUnavailableError, dem_missing, load_dem
 from persistri.impl.experiments.output import (
     Comparison,
     Progress,
@@ -39,7 +41,10 @@ from persistri.impl.experiments.output import (
 )
 from persistri.impl.stats import Stats
 
-__all__ = ["PAPER_SIZES", "QUICK_SIZES", "DEFAULT_DEMS", "Fig11Record", "run_fig11", "write_fig11", "fig11"]
+__all__ = [
+    "PAPER_SIZES", "QUICK_SIZES", "DEFAULT_DEMS", "OPTIONAL_DEMS", "Fig11Record", "choose_dems", "run_fig11", "write_fig11",
+    "fig11",
+]
 
 PAPER_SIZES: Final = (1_600, 3_200, 6_400, 12_800)
 """The paper's mesh sizes (points)."""
@@ -49,6 +54,40 @@ QUICK_SIZES: Final = (100, 200, 400)
 
 DEFAULT_DEMS: Final = ("jacksboro", "lidar")
 """The two real DEMs (:data:`persistri.impl.experiments.dems.DEMS`)."""
+
+OPTIONAL_DEMS: Final = frozenset({"lidar"})
+"""Default DEMs that are left out, with a note, where what ships them is not installed (:func:`choose_dems`):
+``lidar`` comes from a PyPI package outside persistri's dependencies; matplotlib's Jacksboro DEM is always there."""
+
+
+def choose_dems(dems: Sequence[str] | None = None) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The DEMs Fig. 11 runs on, and one note per default DEM left out; checks packages, reads no DEM.
+
+    ``dems`` given: exactly those, each of which must be installed
+    (:class:`~persistri.impl.experiments.dems.DemUnavailableError` saying what to
+    install, ValueError for an unknown name or an empty list).  ``None``:
+    :data:`DEFAULT_DEMS`, leaving out each of :data:`OPTIONAL_DEMS` that is not
+    installed, with a note naming it and what to install.
+    """
+    if dems is not None:
+        if not dems:
+            raise ValueError("fig11: give at least one DEM")
+        for name in dems:
+            why = dem_missing(name)
+            if why is not None:
+                raise DemUnavailableError(why)
+        return tuple(dict.fromkeys(dems)), ()
+    chosen: list[str] = []
+    notes: list[str] = []
+    for name in DEFAULT_DEMS:
+        why = dem_missing(name)
+        if why is None:
+            chosen.append(name)
+        elif name in OPTIONAL_DEMS:
+            notes.append(f"the {name} DEM is left out: {why}")
+        else:
+            raise DemUnavailableError(why)
+    return tuple(chosen), tuple(notes)
 
 
 @dataclass(frozen=True, slots=True)
@@ -147,19 +186,19 @@ def count_dem(
 def run_fig11(
     sizes: Sequence[int] = PAPER_SIZES,
     *,
-    dems: Sequence[str] = DEFAULT_DEMS,
+    dems: Sequence[str] | None = None,
     backend: str = "red_black",
     progress: Progress | None = None,
 ) -> list[Fig11Record]:
-    """:func:`count_dem` on each DEM of ``dems`` (names in :data:`~persistri.impl.experiments.dems.DEMS`).
+    """:func:`count_dem` on each DEM of ``dems`` (names in :data:`~persistri.impl.experiments.dems.DEMS`;
+    ``None``: the defaults that are installed, :func:`choose_dems`).
 
     Every DEM is loaded first, so a missing one
     (:class:`~persistri.impl.experiments.dems.DemUnavailableError`) fails before any work.
     ``progress(done, total, what)`` counts inserted points over all DEMs.
     """
-    loaded = [load_dem(name) for name in dems]
-    if not loaded:
-        raise ValueError("fig11: give at least one DEM")
+    names, _ = choose_dems(dems)
+    loaded = [load_dem(name) for name in names]
     top = max(sizes)
     total = top * len(loaded)
     records: list[Fig11Record] = []
@@ -271,6 +310,10 @@ def _comparisons(records: Sequence[Fig11Record], sources: dict[str, str]) -> lis
     return out
 
 
+def _count_dems(k: int) -> str:
+    return {1: "one real DEM", 2: "two real DEMs"}.get(k, f"{k} real DEMs")
+
+
 def write_fig11(records: Sequence[Fig11Record], dems: Sequence[Dem], out: Path, info: RunInfo) -> Path:
     """Write ``fig11.csv``, ``fig11.png`` and ``fig11.md`` into ``out``; returns the Markdown page's path."""
     paths = figure_paths(out, "fig11")
@@ -297,7 +340,7 @@ def write_fig11(records: Sequence[Fig11Record], dems: Sequence[Dem], out: Path, 
         title="Fig. 11 — greedy terrain insertion: operation counts",
         intro=(
             "Key comparisons and floating-point operations of Garland–Heckbert greedy insertion on the persistent "
-            "triangulation, against the number of mesh points, on two real DEMs (paper §5, Fig. 11)."
+            f"triangulation, against the number of mesh points, on {_count_dems(len(dems))} (paper §5, Fig. 11)."
         ),
         info=info,
         comparisons=_comparisons(records, sources),
@@ -330,17 +373,21 @@ def fig11(
     out: Path,
     sizes: Sequence[int] = PAPER_SIZES,
     *,
-    dems: Sequence[str] = DEFAULT_DEMS,
+    dems: Sequence[str] | None = None,
     backend: str = "red_black",
     progress: Progress | None = None,
 ) -> list[Fig11Record]:
-    """Run Fig. 11 (:func:`run_fig11`) and write its files into ``out`` (:func:`write_fig11`); returns the records."""
+    """Run Fig. 11 (:func:`run_fig11`) and write its files into ``out`` (:func:`write_fig11`); returns the records.
+
+    ``dems`` as for :func:`choose_dems`; a default DEM left out is named, with
+    what to install, in the page's *Run* line.
+    """
     w0, c0 = time.perf_counter(), time.process_time()
-    records = run_fig11(sizes, dems=dems, backend=backend, progress=progress)
-    info = RunInfo(
-        {"sizes": ", ".join(f"{n:,}" for n in sorted(set(sizes))), "DEMs": ", ".join(dems), "backend": backend},
-        time.perf_counter() - w0,
-        time.process_time() - c0,
-    )
-    write_fig11(records, [load_dem(name) for name in dems], out, info)
+    names, left_out = choose_dems(dems)
+    records = run_fig11(sizes, dems=names, backend=backend, progress=progress)
+    parameters = {"sizes": ", ".join(f"{n:,}" for n in sorted(set(sizes))), "DEMs": ", ".join(names), "backend": backend}
+    if left_out:
+        parameters["left out"] = "; ".join(left_out)
+    info = RunInfo(parameters, time.perf_counter() - w0, time.process_time() - c0)
+    write_fig11(records, [load_dem(name) for name in names], out, info)
     return records

@@ -4,7 +4,8 @@ Two presets (:data:`PAPER`, :data:`QUICK`) give each figure its sizes; any
 figure's sizes can be overridden.  :func:`run_experiments` runs the figures
 in the order asked, shares the counted hull runs between Figs. 6 and 7, writes
 each figure's files, and writes ``summary.md``: the sizes, the time each figure
-took and the claims' verdicts, one line each.  :func:`replot` redraws the figures and
+took and the claims' verdicts, one line each, and a note for anything left out
+(Fig. 11's optional second DEM where its package is not installed).  :func:`replot` redraws the figures and
 rewrites the pages of an earlier run from its ``figN.csv`` and ``figN.json``,
 without measuring again.
 """
@@ -65,6 +66,8 @@ class Summary:
     out: Path
     runs: list[FigureRun] = field(default_factory=list)
     path: Path | None = None
+    notes: list[str] = field(default_factory=list)
+    """What was left out and how to get it, one line each (``fig11: the lidar DEM is left out: …``)."""
 
     @property
     def wall_seconds(self) -> float:
@@ -94,14 +97,17 @@ def run_experiments(
     seeds: Sequence[int] = (0,),
     backends: Sequence[str] = f8.BACKENDS,
     repeat: int = 1,
-    dems: Sequence[str] = f11.DEFAULT_DEMS,
+    dems: Sequence[str] | None = None,
     progress: Callable[[str], Progress] | None = None,
 ) -> Summary:
     """Run the figures ``names`` (in :data:`FIGURES` order) into ``out``; returns the :class:`Summary`.
 
     ``progress(name)`` is asked for each figure's progress callback.
-    ``backends`` and ``repeat`` are Fig. 8's, ``dems`` Fig. 11's.  Every
-    figure's sizes are checked before the first one starts.
+    ``backends`` and ``repeat`` are Fig. 8's, ``dems`` Fig. 11's (``None``: the
+    installed defaults, :func:`~persistri.impl.experiments.fig11.choose_dems`).
+    Every figure's sizes, and Fig. 11's DEMs, are checked before the first
+    figure starts (:class:`~persistri.impl.experiments.dems.DemUnavailableError`
+    for a DEM asked for by name that is not installed).
     """
     unknown = [n for n in names if n not in FIGURES]
     if unknown:
@@ -115,10 +121,11 @@ def run_experiments(
     for n, ss in plan.items():
         if ss[0] < 4:
             raise ValueError(f"{n}: sizes must be at least 4, got {ss[0]}")
+    left_out = f11.choose_dems(dems)[1] if "fig11" in plan else ()
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     cache = HullCountCache()
-    summary = Summary(out)
+    summary = Summary(out, notes=[f"fig11: {note}" for note in left_out])
     for n in order:
         cb = progress(n) if progress is not None else None
         w0, c0 = time.perf_counter(), time.process_time()
@@ -161,6 +168,7 @@ def _write_summary(summary: Summary, *, quick: bool, seeds: Sequence[int]) -> Pa
             "",
             "Fig. 7 reuses the counted runs Fig. 6 made at the same size, so its time is what remained to do.",
             "",
+            *(line for note in summary.notes for line in (f"Note — {note}", "")),
         ]
     )
     path = summary.out / "summary.md"
