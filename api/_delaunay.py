@@ -1,0 +1,203 @@
+"""``persistri.Delaunay``: the exact 2D Delaunay triangulation in scipy.spatial's shape.
+
+A thin, immutable view of :func:`persistri.impl.terrain.scattered.delaunay`
+(the incremental Delaunay triangulation of paper §5 on the persistent complex)
+with the attributes of :class:`scipy.spatial.Delaunay` and an exact
+``find_simplex`` (:mod:`persistri.impl.terrain.locate`).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from persistri._arrays import read_only
+from persistri.impl.complex.adjacency import triangle_neighbors, vertex_neighbor_vertices, vertex_to_simplex
+from persistri.impl.stats import Stats
+from persistri.impl.terrain.locate import locate_points
+from persistri.impl.terrain.scattered import DelaunayTriangulation, delaunay
+
+__all__ = ["Delaunay"]
+
+IntcArray = NDArray[np.intc]
+FloatArray = NDArray[np.float64]
+
+
+
+class Delaunay:
+    """The exact Delaunay triangulation of 2D points (paper §5), in the shape of :class:`scipy.spatial.Delaunay`.
+
+    ``Delaunay(points, *, backend="red_black", seed=0, check=False, stats=None)``
+    triangulates ``points`` (``(n, 2)`` reals), every decision exact, ties among
+    cocircular points broken by Simulation of Simplicity
+    (:func:`persistri.impl.terrain.scattered.delaunay` documents the arguments).
+    Every distinct input point is a vertex — at coordinates where Qhull drops
+    points (UTM eastings, centimetre spacing) too.
+
+    Attributes (arrays are read-only; index arrays are ``np.intc`` like scipy's):
+
+    * ``points`` — ``(n, 2)`` float64, the input as validated;
+    * ``simplices`` — ``(m, 3)`` triangles as input rows, counterclockwise;
+    * ``neighbors`` — ``(m, 3)``: ``neighbors[i, j]`` is the triangle across the
+      edge opposite ``simplices[i, j]``, -1 on the hull;
+    * ``convex_hull`` — ``(h, 2)``: the hull's edges as input rows, in
+      counterclockwise order around it (collinear hull points are vertices);
+    * ``vertex_neighbor_vertices`` — ``(indptr, indices)``: the vertices joined to
+      vertex ``k`` are ``indices[indptr[k]:indptr[k+1]]`` (sorted);
+    * ``vertex_to_simplex`` — ``(n,)``: a triangle of each vertex, -1 for a merged row;
+    * ``duplicates`` — ``(k, 2)``: ``[row, earlier equal row]`` for every input row
+      merged into an earlier, exactly equal one;
+    * ``coplanar`` — ``(k, 3)``: scipy's report of input points that are not
+      vertices, ``[row, a triangle at its twin, the twin]``: here only the
+      merged duplicates;
+    * ``npoints``, ``ndim`` (2), ``nsimplex``, ``seed``, and ``result``, the full
+      :class:`~persistri.impl.terrain.scattered.DelaunayTriangulation`.
+
+    Errors, one line each: :class:`TypeError` / :class:`ValueError` for input that
+    is not ``(n, 2)`` finite reals;
+    :class:`~persistri.impl.terrain.errors.DegenerateInputError` (a ``ValueError``)
+    for fewer than 3 distinct points or all on one line.  Expected O(n log n).
+
+    >>> import numpy as np, persistri
+    >>> tri = persistri.Delaunay([[0, 0], [2, 0], [0, 2], [2, 2], [3, 1]])
+    >>> tri.simplices.tolist()
+    [[0, 1, 2], [1, 3, 2], [1, 4, 3]]
+    >>> tri.find_simplex([[0.5, 0.5], [1, 1], [2, 0], [-1, 0]]).tolist()    # interior, edge, vertex, outside
+    [0, 0, 0, -1]
+    """
+
+    __slots__ = ("_tri", "_points", "_simplices", "_neighbors", "_hull_edges", "_vnv", "_v2s")
+
+    _tri: DelaunayTriangulation
+    _points: FloatArray
+    _simplices: IntcArray
+    _neighbors: IntcArray
+    _hull_edges: IntcArray
+    _vnv: tuple[IntcArray, IntcArray] | None
+    _v2s: IntcArray | None
+
+    def __init__(
+        self, points: ArrayLike, *, backend: str = "red_black", seed: int = 0, check: bool = False, stats: Stats | None = None
+    ) -> None:
+        self._adopt(delaunay(points, backend=backend, seed=seed, check=check, stats=stats))
+
+    def _adopt(self, tri: DelaunayTriangulation) -> None:
+        self._tri = tri
+        self._points = read_only(tri.points)
+        self._simplices = read_only(tri.triangles, np.intc)
+        # The walks of find_simplex need the adjacency, so it is built up front.
+        self._neighbors = read_only(triangle_neighbors(tri.triangles), np.intc)
+        cycle = tri.hull
+        self._hull_edges = read_only(np.stack([cycle, np.roll(cycle, -1)], axis=1), np.intc)
+        self._vnv = None
+        self._v2s = None
+
+    @classmethod
+    def from_triangulation(cls, tri: DelaunayTriangulation) -> Delaunay:
+        """The public view of a :class:`~persistri.impl.terrain.scattered.DelaunayTriangulation` already computed."""
+        if not isinstance(tri, DelaunayTriangulation):
+            raise TypeError(f"Delaunay.from_triangulation needs a persistri DelaunayTriangulation, not {type(tri).__name__}")
+        self = cls.__new__(cls)
+        self._adopt(tri)
+        return self
+
+    def find_simplex(self, xi: ArrayLike) -> IntcArray:
+        """For each point of ``xi`` (shape ``(..., 2)``), a triangle containing it, or -1 outside the hull.
+
+        Exact: a point on an edge or a vertex is inside (one of the triangles
+        there), a point outside the hull by the least representable amount is
+        outside; no tolerance, unlike scipy's (:mod:`persistri.impl.terrain.locate`).
+        The result has shape ``xi.shape[:-1]``, dtype ``np.intc``.  A NaN or
+        infinite coordinate raises :class:`ValueError`.  Expected O(log n) per
+        point (a k-d tree for the start, then a short exact walk).
+        """
+        if isinstance(xi, (str, bytes)):
+            raise TypeError(f"xi must be an array of 2D points, not {type(xi).__name__}")
+        try:
+            raw = np.asarray(xi)
+        except (ValueError, TypeError) as exc:
+            raise ValueError(f"xi must be a rectangular array of 2D points: {exc}") from None
+        if raw.ndim == 0 or raw.shape[-1] != 2:
+            raise ValueError(f"xi must be an array of 2D points, shape (..., 2), got shape {raw.shape}")
+        found = locate_points(self._tri.points, self._tri.triangles, self._neighbors, raw.reshape(-1, 2))
+        out: IntcArray = found.astype(np.intc).reshape(raw.shape[:-1])
+        return out
+
+    # -- scipy.spatial.Delaunay's attributes -----------------------------------------
+
+    @property
+    def points(self) -> FloatArray:
+        """``(n, 2)`` float64: the input points as validated (read-only)."""
+        return self._points
+
+    @property
+    def simplices(self) -> IntcArray:
+        """``(m, 3)``: the triangles as input rows, counterclockwise (read-only)."""
+        return self._simplices
+
+    @property
+    def neighbors(self) -> IntcArray:
+        """``(m, 3)``: the triangle across the edge opposite ``simplices[i, j]``, -1 on the hull (read-only)."""
+        return self._neighbors
+
+    @property
+    def convex_hull(self) -> IntcArray:
+        """``(h, 2)``: the hull's edges as input rows, counterclockwise around it (read-only)."""
+        return self._hull_edges
+
+    @property
+    def vertex_neighbor_vertices(self) -> tuple[IntcArray, IntcArray]:
+        """``(indptr, indices)``: vertex ``k``'s neighbours are ``indices[indptr[k]:indptr[k+1]]``. O(m log m), once."""
+        if self._vnv is None:
+            indptr, indices = vertex_neighbor_vertices(self._tri.triangles, self.npoints)
+            self._vnv = (read_only(indptr, np.intc), read_only(indices, np.intc))
+        return self._vnv
+
+    @property
+    def vertex_to_simplex(self) -> IntcArray:
+        """``(n,)``: a triangle having each input row as a vertex, -1 for a merged duplicate. O(m), once."""
+        if self._v2s is None:
+            self._v2s = read_only(vertex_to_simplex(self._tri.triangles, self.npoints), np.intc)
+        return self._v2s
+
+    @property
+    def duplicates(self) -> IntcArray:
+        """``(k, 2)``: ``[row, earlier equal row]`` for each input row merged into an exactly equal earlier one."""
+        return read_only(np.array(self._tri.duplicates, dtype=np.intc).reshape(-1, 2))
+
+    @property
+    def coplanar(self) -> IntcArray:
+        """``(k, 3)``: ``[row, triangle, vertex]`` for each input row that is not a vertex (merged duplicates only)."""
+        dup = np.array(self._tri.duplicates, dtype=np.intc).reshape(-1, 2)
+        out = np.stack([dup[:, 0], self.vertex_to_simplex[dup[:, 1]], dup[:, 1]], axis=1).astype(np.intc)
+        return read_only(out)
+
+    @property
+    def npoints(self) -> int:
+        """The number of input rows (duplicates included)."""
+        return int(self._points.shape[0])
+
+    @property
+    def ndim(self) -> int:
+        """2."""
+        return 2
+
+    @property
+    def nsimplex(self) -> int:
+        """The number of triangles."""
+        return int(self._simplices.shape[0])
+
+    @property
+    def seed(self) -> int:
+        """The seed of the insertion order (the triangulation does not depend on it where it is unique)."""
+        return self._tri.seed
+
+    @property
+    def result(self) -> DelaunayTriangulation:
+        """The full result of :func:`persistri.delaunay`: the persistent complex, its structure, counts."""
+        return self._tri
+
+    def __repr__(self) -> str:
+        return f"persistri.Delaunay({self.npoints} points, {self.nsimplex} triangles, {self._hull_edges.shape[0]} hull edges)"

@@ -1,0 +1,50 @@
+"""persistri.maps — the persistent ``ORD_MAP`` backends, as structures over immutable map values.
+
+Each structure is an object whose methods are the SML/NJ signature's operations
+(:class:`persistri.spec.OrdMap`); the map values are plain immutable data, and
+every operation returns a new one (persistence).
+
+================  ===================  ===============================================================
+structure         its class, values    what
+================  ===================  ===============================================================
+``assoc_list``    ``AssocListMap``,    sorted association list: the teaching baseline, O(n)
+                  ``ALMap``
+``red_black``     ``RedBlackMap``,     Okasaki's red-black tree with Kahrs' deletion, O(lg n)
+                  ``RBMap``
+``hamt``          ``HamtMap``,         Bagwell's hash array mapped trie (keys hashable and ordered)
+                  ``HMap``
+================  ===================  ===============================================================
+
+``backend(name)`` resolves any name of :data:`BACKENDS` (the adapters for
+``immutables`` and ``pyrsistent`` too, with the ``persistri[adapters]`` extra);
+``counted(structure, stats)`` counts dictionary operations and key comparisons
+into a :class:`persistri.Stats`.  The classes are generic: ``RedBlackMap[int, str]()``
+is the structure at those types, for type-checked code.
+
+>>> from persistri.maps import red_black as rb
+>>> m1 = rb.insert(rb.empty(), 3, "three")
+>>> rb.find(m1, 3), rb.find(rb.remove(m1, 3)[0], 3)
+(('three',), None)
+"""
+
+from persistri.impl.maps import BACKENDS, UnknownBackendError, backend
+from persistri.impl.maps.assoc_list import ALMap, AssocListMap, assoc_list
+from persistri.impl.maps.counted import counted
+from persistri.impl.maps.hamt import HamtMap, HMap, hamt
+from persistri.impl.maps.red_black import RBMap, RedBlackMap, red_black
+
+__all__ = [
+    "assoc_list",
+    "red_black",
+    "hamt",
+    "AssocListMap",
+    "ALMap",
+    "RedBlackMap",
+    "RBMap",
+    "HamtMap",
+    "HMap",
+    "counted",
+    "backend",
+    "BACKENDS",
+    "UnknownBackendError",
+]
