@@ -8,6 +8,11 @@ from __future__ import annotations
 
 import csv
 import math
+import os
+import shutil
+import subprocess
+import sys
+import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -311,3 +316,70 @@ def test_cli_asked_for_a_missing_dem_fails_before_any_work(monkeypatch: pytest.M
     lines = [line for line in result.stderr.splitlines() if line.strip()]
     assert len(lines) == 1 and lines[0].startswith("Error: ") and "pip install --no-deps lidar==0.8.4" in lines[0]
     assert not out.exists()  # checked before Fig. 6 started
+
+
+_REPO = Path(__file__).resolve().parents[1]
+_NOT_IN_A_USERS_VENV = ("persistri", "__editable__", "lidar")
+"""Entries of the dev venv's site-packages the wheel's venv does not see: the editable persistri, and the
+package that ships Fig. 11's second DEM (``make install-dev`` adds it; a user's ``pip install`` does not)."""
+
+
+def _run(args: list[str], cwd: Path) -> subprocess.CompletedProcess[str]:
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "COLUMNS", "PERSISTRI_TWIN")}
+    return subprocess.run(args, cwd=cwd, env=env, capture_output=True, text=True, timeout=600, check=False)
+
+
+@pytest.mark.skipif(bool(os.environ.get("PERSISTRI_TWIN")), reason="packaging is the same for the compiled twin")
+def test_quick_experiments_from_an_installed_wheel(tmp_path: Path) -> None:
+    """Build the wheel from the source tree, install it (offline) into a fresh venv that has persistri's
+    dependencies but not the checkout, and run ``persistri experiments all --quick`` from outside the checkout.
+
+    The venv is made without pip and given the dev venv's packages by links (no download), minus
+    :data:`_NOT_IN_A_USERS_VENV`.  ~30 s: a wheel build, an install, the quick run.
+    """
+    # The sources the wheel is built from, copied (a build in the checkout would write its build/).
+    src = tmp_path / "src"
+    src.mkdir()
+    with (_REPO / "pyproject.toml").open("rb") as fh:
+        project = tomllib.load(fh)
+    for name in sorted({d.split("/")[0] for d in project["tool"]["setuptools"]["package-dir"].values()}):
+        shutil.copytree(_REPO / name, src / name, ignore=shutil.ignore_patterns("__pycache__", "*.so", "*.pyd"))
+    for name in ("pyproject.toml", project["project"]["readme"], "LICENSE"):
+        shutil.copy2(_REPO / name, src / name)
+    wheels = tmp_path / "wheels"
+    py = sys.executable
+    built = _run([py, "-m", "pip", "wheel", "-q", "--no-deps", "--no-index", "--no-build-isolation", str(src), "-w", str(wheels)], tmp_path)
+    assert built.returncode == 0, built.stderr
+    (wheel,) = wheels.glob("persistri-*.whl")
+
+    venv = tmp_path / "venv"
+    made = _run([py, "-m", "venv", "--without-pip", str(venv)], tmp_path)
+    assert made.returncode == 0, made.stderr
+    vpy = venv / "bin" / "python"
+    purelib = "import sysconfig; print(sysconfig.get_paths()['purelib'])"
+    site = Path(_run([str(vpy), "-c", purelib], tmp_path).stdout.strip())
+    dev_site = Path(_run([py, "-c", purelib], tmp_path).stdout.strip())
+    assert site.is_dir() and dev_site.is_dir() and site != dev_site
+    for entry in dev_site.iterdir():
+        if not entry.name.lower().startswith(_NOT_IN_A_USERS_VENV):
+            (site / entry.name).symlink_to(entry)
+    installed = _run([str(vpy), "-m", "pip", "install", "-q", "--no-index", "--no-deps", str(wheel)], tmp_path)
+    assert installed.returncode == 0, installed.stderr
+
+    where = _run([str(vpy), "-c", "import persistri.impl, persistri.spec; print(persistri.impl.__file__)"], tmp_path)
+    assert Path(where.stdout.strip()).is_relative_to(site), where.stdout + where.stderr  # the wheel, not the checkout
+    assert (site / "persistri" / "impl" / "py.typed").is_file() and (site / "persistri" / "spec" / "py.typed").is_file()
+
+    out = tmp_path / "exq"
+    run = _run([str(venv / "bin" / "persistri"), "experiments", "all", "--quick", "--out", str(out)], tmp_path)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "Traceback" not in run.stderr and "Warning" not in run.stderr
+    assert [line for line in run.stderr.splitlines() if line.strip()] == [
+        "note: fig11: the lidar DEM is left out: the second DEM of Fig. 11 ships in the PyPI package 'lidar' "
+        "(lidar/data/dem.tif), which is not installed: pip install --no-deps lidar==0.8.4"
+    ]
+    for name in ("fig6", "fig7", "fig8", "fig11"):
+        assert (out / f"{name}.png").read_bytes().startswith(PNG_MAGIC) and _rows(out / f"{name}.csv"), name
+        assert f"[{name}]({name}.md)" in (out / "summary.md").read_text()
+    assert {r.dem for r in read_records(out / "fig11.csv", Fig11Record)} == {"jacksboro"}
+    assert f"summary: {out / 'summary.md'}" in run.stdout
