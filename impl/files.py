@@ -315,7 +315,7 @@ def write_mesh(
     ``simplices`` and ``vertices`` for a hull); the other formats store the
     triangles and only the points they use (:func:`compact_mesh`: a viewer would
     show an unused point as a stray dot), through meshio.  The directory must exist (the command line
-    checks and creates it before computing: :mod:`persistri.impl.cli.paths`).
+    checks and creates it before computing: :mod:`persistri.impl.cli.checks`).
     """
     p = Path(path)
     suffix = p.suffix.lower()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import meshio
@@ -57,20 +58,21 @@ def test_npy_and_xyz_inputs(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("content", "message"),
     [
-        ("0,0,0\n1,0,0\n0,1,0\n0,0,nan\n", "row 3 is not finite"),
-        ("0,0,0\n1,1,1\n2,2,2\n3,3,3\n", "collinear"),
-        ("0,0\n1,0\n", r"\(n, 3\)"),
-        ("a,b,c\n1,2,x\n", "not a row of numbers"),
+        ("0,0,0\n1,0,0\n0,1,0\n0,0,nan\n", r"bad\.csv: line 4: a coordinate is not finite \(0\.0, 0\.0, nan\)"),
+        ("0,0,0\n1,1,1\n2,2,2\n3,3,3\n", r"bad\.csv: .*collinear"),
+        ("0,0\n1,0\n", r"bad\.csv: line 1: expected 3 numbers, got 2"),
+        ("a,b,c\n1,2,x\n", r'bad\.csv: line 2: "x" is not a number'),
     ],
 )
-def test_bad_files_exit_nonzero_with_one_line(tmp_path: Path, content: str, message: str) -> None:
+def test_bad_files_exit_2_with_one_line(tmp_path: Path, content: str, message: str) -> None:
     src = tmp_path / "bad.csv"
     src.write_text(content)
-    code, text = run(str(src), "-o", str(tmp_path / "x.npz"), "--quiet")
-    assert code != 0
-    lines = [ln for ln in text.splitlines() if ln.strip()]
-    assert len(lines) == 1 and lines[0].startswith("Error:"), text
-    assert pytest.importorskip("re").search(message, lines[0]), lines[0]
+    result = CliRunner().invoke(main, ["hull", str(src), "-o", str(tmp_path / "x.npz"), "--quiet"])
+    assert result.exit_code == 2
+    lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("persistri: "), result.output
+    assert re.search(message, lines[0]), lines[0]
+    assert not (tmp_path / "x.npz").exists()
 
 
 @pytest.mark.parametrize(
@@ -81,7 +83,7 @@ def test_bad_files_exit_nonzero_with_one_line(tmp_path: Path, content: str, mess
         ("missing.npy",),
     ],
 )
-def test_bad_options_exit_nonzero_with_one_line(args: tuple[str, ...]) -> None:
-    code, text = run(*args, "--quiet")
-    assert code != 0
-    assert len([ln for ln in text.splitlines() if ln.strip()]) == 1, text
+def test_bad_options_exit_2_with_one_line(args: tuple[str, ...]) -> None:
+    result = CliRunner().invoke(main, ["hull", *args, "--quiet"])
+    assert result.exit_code == 2
+    assert len([ln for ln in result.output.splitlines() if ln.strip()]) == 1, result.output

@@ -26,7 +26,7 @@ def run(*args: str) -> tuple[int, str]:
 
 def one_error_line(text: str, pattern: str) -> None:
     lines = [ln for ln in text.splitlines() if ln.strip()]
-    assert len(lines) == 1 and lines[0].startswith("Error:"), text
+    assert len(lines) == 1 and lines[0].startswith("persistri: "), text
     assert re.search(pattern, lines[0]), lines[0]
 
 
@@ -86,8 +86,8 @@ def test_asc_with_nodata(tmp_path: Path) -> None:
     h[3, 4] = np.nan
     src = write_asc(tmp_path / "g.asc", h, x0=1000.0, y0=2000.0, cellsize=5.0)
     code, text = run("terrain", str(src), "--max-error", "0", "-o", str(tmp_path / "m.npz"), "--quiet")
-    assert code != 0
-    one_error_line(text, r"1 no-data cell \(NaN\), the first at \(row 3, col 4\)")
+    assert code == 2
+    one_error_line(text, r"g\.asc: 1 no-data cell \(NaN\), the first at \(row 3, col 4\); .*--nodata fill")
     code, text = run("terrain", str(src), "--max-error", "0", "--nodata", "fill", "-o", str(tmp_path / "m.npz"), "--quiet")
     assert code == 0, text
     code, text = run("terrain", str(src), "--max-error", "0", "--nodata", "-7.5", "-o", str(tmp_path / "n.npz"), "--quiet")
@@ -99,19 +99,20 @@ def test_asc_with_nodata(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("args", "pattern"),
     [
-        (("terrain", "missing.npy", "--max-points", "10"), "no such file"),
-        (("terrain", "g.xyz", "--max-points", "10"), "unknown grid format"),
-        (("terrain", "jacksboro", "--max-points", "10", "-o", "m.vtk"), "unknown mesh format"),
-        (("terrain", "jacksboro", "--max-points", "10", "--backend", "btree"), "unknown map backend"),
-        (("terrain", "row.npy", "--max-points", "10"), "at least 2 rows and 2 columns"),
-        (("terrain", "row.npy", "--max-points", "10", "--world"), "at least 2 rows|georeferencing"),
+        (("terrain", "missing.npy", "--max-points", "10"), "missing.npy: no such file"),
+        (("terrain", "g.xyz", "--max-points", "10"), "g.xyz: unknown grid format"),
+        (("terrain", "jacksboro", "--max-points", "10", "-o", "m.vtk"), "m.vtk: unknown mesh format"),
+        (("terrain", "jacksboro", "--max-points", "10", "--backend", "btree"), "--backend btree: unknown map backend"),
+        (("terrain", "row.npy", "--max-points", "10"), "row.npy: .*at least 2 rows and 2 columns"),
+        (("terrain", "row.npy", "--max-points", "10", "--world"), "row.npy: .*(at least 2 rows|georeferencing)"),
     ],
 )
 def test_bad_terrain_input_is_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, args: tuple[str, ...], pattern: str) -> None:
     monkeypatch.chdir(tmp_path)
     np.save(tmp_path / "row.npy", np.zeros((1, 8)))
+    (tmp_path / "g.xyz").write_text("0 0 0\n")
     code, text = run(*args)
-    assert code == 1
+    assert code == 2
     one_error_line(text, pattern)
 
 
@@ -162,18 +163,18 @@ def test_delaunay_xyz_to_ply_carries_z(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("content", "pattern"),
     [
-        ("0,0\n1,1\n2,2\n3,3\n", "collinear"),
-        ("0,0\n1,0\n", "2 distinct points"),
-        ("0,0,0,0\n1,0,0,0\n0,1,0,0\n", "rows of x,y or x,y,z"),
-        ("0,0\n1,nan\n0,1\n", "row 1 is not finite"),
-        ("a,b\n1,x\n", "not a row of numbers"),
+        ("0,0\n1,1\n2,2\n3,3\n", r"bad\.csv: .*collinear"),
+        ("0,0\n1,0\n", r"bad\.csv: 2 distinct points"),
+        ("0,0,0,0\n1,0,0,0\n0,1,0,0\n", r"bad\.csv: line 1: expected 2 or 3 numbers, got 4"),
+        ("0,0\n1,nan\n0,1\n", r"bad\.csv: line 2: a coordinate is not finite \(1\.0, nan\)"),
+        ("a,b\n1,x\n", r'bad\.csv: line 2: "x" is not a number'),
     ],
 )
 def test_bad_delaunay_input_is_one_line(tmp_path: Path, content: str, pattern: str) -> None:
     src = tmp_path / "bad.csv"
     src.write_text(content)
     code, text = run("delaunay", str(src), "-o", str(tmp_path / "x.npz"), "--quiet")
-    assert code == 1
+    assert code == 2
     one_error_line(text, pattern)
 
 

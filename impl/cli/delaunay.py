@@ -7,20 +7,21 @@ from pathlib import Path
 import click
 import numpy as np
 
+from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_input
 from persistri.impl.cli.console import stderr_console, stdout_console
-from persistri.impl.cli.hull import one_line, stats_table
+from persistri.impl.cli.errors import about
+from persistri.impl.cli.hull import stats_table
 from persistri.impl.files import MESH_FORMATS, POINT_FORMATS, read_points, write_mesh
-from persistri.impl.maps import BACKENDS, UnknownBackendError
+from persistri.impl.maps import BACKENDS
 from persistri.impl.stats import Stats
-from persistri.impl.terrain.check import TerrainCheckError
 
 __all__ = ["delaunay_command"]
 
 
 @click.command("delaunay")
-@click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False, path_type=Path))
-@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), help=f"Output ({', '.join(MESH_FORMATS)}).")
-@click.option("--plot", type=click.Path(dir_okay=False, path_type=Path), help="Draw the triangulation to this PNG.")
+@click.argument("input_path", metavar="INPUT", type=click.Path(path_type=Path))
+@click.option("-o", "--output", type=click.Path(path_type=Path), help=f"Output ({', '.join(MESH_FORMATS)}).")
+@click.option("--plot", type=click.Path(path_type=Path), help=f"Draw the triangulation to this image ({', '.join(PLOT_FORMATS)}).")
 @click.option("--backend", default="red_black", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the insertion order.")
 @click.option("--check", is_flag=True, help="Assert the insertion invariants and verify the triangulation exactly.")
@@ -47,31 +48,30 @@ def delaunay_command(
     from persistri.impl.terrain.scattered import delaunay
 
     err = stderr_console()
-    try:
-        if input_path.suffix.lower() not in POINT_FORMATS:
-            raise ValueError(f"{input_path}: unknown point format; use one of {', '.join(POINT_FORMATS)}")
-        if output is not None and output.suffix.lower() not in MESH_FORMATS:
-            raise ValueError(f"{output}: unknown output format; use one of {', '.join(MESH_FORMATS)}")
-        raw = np.asarray(read_points(input_path))
-        if raw.ndim != 2 or raw.shape[1] not in (2, 3):
-            raise ValueError(f"{input_path}: expected rows of x,y or x,y,z, got an array of shape {raw.shape}")
-        stats = Stats() if show_stats else None
+    check_input(input_path, POINT_FORMATS, kind="point")
+    outputs = Outputs()
+    outputs.file(output, MESH_FORMATS, what="mesh")
+    outputs.file(plot, PLOT_FORMATS, what="plot")
+    check_backend(backend)
+    raw = read_points(input_path, (2, 3))
+    stats = Stats() if show_stats else None
+    with about(input_path):
         result = delaunay(raw[:, :2], backend=backend, check=check, stats=stats, seed=seed)
-    except (ValueError, TypeError, OSError, UnknownBackendError, TerrainCheckError) as exc:
-        raise click.ClickException(one_line(exc)) from None
-    if output is not None:
-        xyz = np.zeros((raw.shape[0], 3))
-        xyz[:, : raw.shape[1]] = raw
-        write_mesh(
-            output,
-            xyz,
-            result.triangles,
-            npz_arrays={"points": raw, "triangles": result.triangles, "hull": result.hull},
-        )
-    if plot is not None:
-        from persistri.impl.terrain.plot import plot_triangulation
+    with outputs.staged() as stage:
+        if output is not None:
+            xyz = np.zeros((raw.shape[0], 3))
+            xyz[:, : raw.shape[1]] = raw
+            write_mesh(
+                stage(output),
+                xyz,
+                result.triangles,
+                npz_arrays={"points": raw, "triangles": result.triangles, "hull": result.hull},
+            )
+        if plot is not None:
+            from persistri.impl.terrain.plot import plot_triangulation
 
-        plot_triangulation(result.points, result.triangles, plot, title=f"{input_path.name}: {len(result.triangles):,} triangles")
+            title = f"{input_path.name}: {len(result.triangles):,} triangles"
+            plot_triangulation(result.points, result.triangles, stage(plot), title=title)
     if not quiet:
         verified = " (verified exactly)" if check else ""
         dup = result.duplicates

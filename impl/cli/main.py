@@ -7,6 +7,7 @@ import click
 from persistri.impl.cli.bench import bench
 from persistri.impl.cli.conformance import conformance
 from persistri.impl.cli.demo import demo
+from persistri.impl.cli.errors import PersistriGroup
 from persistri.impl.cli.hull import hull
 from persistri.impl.cli.terrain import terrain
 from persistri.impl.cli.delaunay import delaunay_command
@@ -15,10 +16,16 @@ from persistri.impl.cli.experiments import experiments
 __all__ = ["main"]
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.group(cls=PersistriGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="persistri")
 def main() -> None:
-    """persistri: persistent triangulations (Blelloch et al.), typed and checked."""
+    """persistri: persistent triangulations (Blelloch et al.), typed and checked.
+
+    Every failure (a bad input file, an output that cannot be written, a failed
+    check) is one line on stderr naming the file, and exit status 2; files are
+    checked before any computation and outputs appear only when all are written.
+    An output's directory must exist, except its last level, which is created.
+    """
 
 
 main.add_command(conformance)

@@ -7,11 +7,12 @@ from pathlib import Path
 import click
 import numpy as np
 
+from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_input
 from persistri.impl.cli.console import stderr_console, stdout_console
-from persistri.impl.cli.hull import one_line, stats_table
-from persistri.impl.maps import BACKENDS, UnknownBackendError
+from persistri.impl.cli.errors import about, fail
+from persistri.impl.cli.hull import stats_table
+from persistri.impl.maps import BACKENDS
 from persistri.impl.stats import Stats
-from persistri.impl.terrain.check import TerrainCheckError
 from persistri.impl.terrain.export import TIN_FORMATS, sidecar_wkt, write_tin
 from persistri.impl.terrain.grids import GRID_FORMATS, NODATA_RULES, read_grid
 
@@ -22,28 +23,40 @@ TERRAIN_MESH_FORMATS = TIN_FORMATS
 
 
 def parse_nodata(text: str) -> str | float:
-    """``--nodata`` as :func:`persistri.impl.terrain.grids.as_heights` takes it: a rule name or a height."""
+    """``--nodata`` as :func:`persistri.impl.terrain.grids.as_heights` takes it: a rule name or a height.
+
+    Raises :class:`click.BadParameter` (a usage error) for anything else.
+    """
     if text in NODATA_RULES:
         return text
     try:
         value = float(text)
     except ValueError:
-        raise click.BadParameter(f"{text!r}: give one of {', '.join(NODATA_RULES)} or a height") from None
+        raise click.BadParameter(f"{text} is neither {', '.join(NODATA_RULES)} nor a height") from None
     if not np.isfinite(value):
-        raise click.BadParameter(f"{text!r}: the fill height must be finite")
+        raise click.BadParameter(f"{text} is not a finite height")
     return value
+
+
+def _nodata_option(ctx: click.Context, param: click.Parameter, value: str) -> str | float:
+    return parse_nodata(value)
 
 
 @click.command("terrain")
 @click.argument("source", metavar="INPUT")
 @click.option("--max-error", type=click.FloatRange(min=0), help="Stop once every sample is within this vertical distance.")
 @click.option("--max-points", type=click.IntRange(min=4), help="Stop once the mesh has this many vertices.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), help=f"Output mesh ({', '.join(TERRAIN_MESH_FORMATS)}).")
-@click.option("--plot", type=click.Path(dir_okay=False, path_type=Path), help="Draw the mesh over the shaded relief to this PNG.")
+@click.option("-o", "--output", type=click.Path(path_type=Path), help=f"Output mesh ({', '.join(TERRAIN_MESH_FORMATS)}).")
+@click.option(
+    "--plot",
+    type=click.Path(path_type=Path),
+    help=f"Draw the mesh over the shaded relief to this image ({', '.join(PLOT_FORMATS)}).",
+)
 @click.option(
     "--nodata",
     default="error",
     show_default=True,
+    callback=_nodata_option,
     help="No-data (NaN) cells: error, fill (nearest valid cell), min (lowest valid height) or a height.",
 )
 @click.option(
@@ -62,7 +75,7 @@ def terrain(
     max_points: int | None,
     output: Path | None,
     plot: Path | None,
-    nodata: str,
+    nodata: str | float,
     world: bool,
     backend: str,
     check: bool,
@@ -95,18 +108,27 @@ def terrain(
     err = stderr_console()
     if max_error is None and max_points is None:
         raise click.UsageError("give --max-error, --max-points or both")
-    rule = parse_nodata(nodata)
-    try:
-        if output is not None and output.suffix.lower() not in TERRAIN_MESH_FORMATS:
-            raise ValueError(f"{output}: unknown mesh format; use one of {', '.join(TERRAIN_MESH_FORMATS)}")
-        if source.lower() != "jacksboro" and Path(source).suffix.lower() not in GRID_FORMATS:
-            raise ValueError(f"{source}: unknown grid format; use one of {', '.join(GRID_FORMATS)} or 'jacksboro'")
-        grid = read_grid(source)
-        if world and grid.transform is None:
-            raise ValueError(f"{source}: --world needs georeferencing, and this input has none")
-        if output is not None:
+    check_input(Path(source), GRID_FORMATS, kind="grid", words=("jacksboro",))
+    outputs = Outputs()
+    outputs.file(output, TERRAIN_MESH_FORMATS, what="mesh")
+    outputs.file(plot, PLOT_FORMATS, what="plot")
+    check_backend(backend)
+    grid = read_grid(source)
+    if world and grid.transform is None:
+        fail(f"{source}: --world needs georeferencing, and this input has none")
+    if output is not None:
+        with about(output):
             sidecar_wkt(output, grid.crs, world=world)  # a CRS that cannot be written fails before the run
-        stats = Stats() if show_stats else None
+    missing = np.isnan(grid.heights)
+    if nodata == "error" and bool(missing.any()):
+        count = int(missing.sum())
+        row, col = (int(v) for v in np.argwhere(missing)[0])
+        fail(
+            f"{source}: {count} no-data cell{'s' if count != 1 else ''} (NaN), the first at (row {row}, col {col}); "
+            "say how to treat them: --nodata fill, min or a height"
+        )
+    stats = Stats() if show_stats else None
+    with about(source):
         tin = greedy_insertion(
             grid.heights,
             max_error=max_error,
@@ -116,23 +138,19 @@ def terrain(
             stats=stats,
             progress=not quiet,
             transform=grid.transform,
-            nodata=rule,
+            nodata=nodata,
         )
-    except (ValueError, TypeError, OSError, UnknownBackendError, TerrainCheckError) as exc:
-        raise click.ClickException(one_line(exc)) from None
     written: list[Path] = []
-    if output is not None:
-        try:
-            written = write_tin(output, tin, world=world)
-        except (ValueError, OSError) as exc:
-            raise click.ClickException(one_line(exc)) from None
-    if plot is not None:
-        from persistri.impl.terrain.plot import plot_tin
+    with outputs.staged() as stage:
+        if output is not None:
+            written = [stage.target(w) for w in write_tin(stage(output), tin, world=world)]
+        if plot is not None:
+            from persistri.impl.terrain.plot import plot_tin
 
-        heights = np.nan_to_num(grid.heights, nan=float(np.nanmin(grid.heights)))
-        name = "jacksboro" if source.lower() == "jacksboro" else Path(source).name
-        plot_tin(heights, tin.vertices, tin.triangles, plot,
-                 title=f"{name}: {tin.n_points:,} points, max error {tin.max_error:.4g}")
+            heights = np.nan_to_num(grid.heights, nan=float(np.nanmin(grid.heights)))
+            name = "jacksboro" if source.lower() == "jacksboro" else Path(source).name
+            plot_tin(heights, tin.vertices, tin.triangles, stage(plot),
+                     title=f"{name}: {tin.n_points:,} points, max error {tin.max_error:.4g}")
     if not quiet:
         verified = " (verified exactly)" if check else ""
         rows, cols = tin.shape
