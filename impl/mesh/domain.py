@@ -6,17 +6,45 @@ region around a hole point bounded by segments) and, optionally, region
 points with an attribute and an area bound.  The domain it describes, as in
 Triangle: the convex hull of the vertices, less every region reachable from
 outside the hull or from a hole point without crossing a segment
-("concavities and holes eaten away").
+("concavities and holes eaten away").  In terms of the segments' faces
+(:mod:`~persistri.impl.mesh.faces`): the union of the bounded faces that hold
+no hole point, with the segments and vertices between and on them.
+
+:func:`as_pslg` builds a validated PSLG; :meth:`PSLG.from_dict` does the same
+from a dictionary in the form ``triangle.triangulate`` takes, and
+:meth:`PSLG.to_dict` gives that form back.  :func:`domain_of` computes the
+domain's faces, which are kept, and its exact area.
+
+Every geometric decision is exact (:class:`~persistri.impl.geometry.predicates.Predicates2`'s
+true signs, integer arithmetic): inputs at UTM offsets are decided like small ones.
+The paper (§1) motivates the application; the domain model is Triangle's.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["PSLG"]
+from persistri.impl.geometry.exact import IntegerScale
+from persistri.impl.geometry.points import as_points, unique_rows
+from persistri.impl.geometry.predicates import Predicates2
+from persistri.impl.mesh.faces import UNBOUNDED, PlanarFaces, common_scale, planar_faces
+
+__all__ = ["PSLG", "DomainError", "Domain", "as_pslg", "domain_of"]
+
+_KEYS = ("vertices", "segments", "holes", "regions", "vertex_markers", "segment_markers", "vertex_attributes")
+
+_PAIR_BUDGET = 1 << 22
+"""Candidate segment pairs examined per block of the crossing sweep (bounds its memory)."""
+
+
+class DomainError(ValueError):
+    """A PSLG is not a valid domain; the one-line message names the offending element."""
 
 
 def _no_pairs() -> NDArray[np.intp]:
@@ -41,7 +69,12 @@ class PSLG:
     * ``regions`` — ``(r, 4)`` float64 rows ``(x, y, attribute, max_area)``
       (``max_area <= 0``: no bound), Triangle's regional attributes;
     * ``vertex_markers`` / ``segment_markers`` — ``(n,)`` / ``(m,)`` intp boundary markers
-      (Triangle's; 0 when the file gives none).
+      (Triangle's; 0 when the file gives none);
+    * ``vertex_attributes`` — ``(n, k)`` float64, Triangle's vertex attributes, or None;
+    * ``notes`` — what :func:`as_pslg` repaired or noticed, one line each (merged
+      duplicate vertices, split segments, vertices outside the domain);
+    * ``vertex_map`` — for a PSLG from :func:`as_pslg`, the row of ``vertices`` each
+      input vertex became (duplicates merge), else None.
 
     A ``PSLG`` built directly is NOT validated; :func:`~persistri.impl.mesh.domain.as_pslg`
     builds a validated one (crossing segments, vertices on segment interiors, duplicates,
@@ -54,3 +87,559 @@ class PSLG:
     regions: NDArray[np.float64] = field(default_factory=_no_regions)
     vertex_markers: NDArray[np.intp] | None = None
     segment_markers: NDArray[np.intp] | None = None
+    vertex_attributes: NDArray[np.float64] | None = None
+    notes: tuple[str, ...] = ()
+    vertex_map: NDArray[np.intp] | None = None
+
+    def __repr__(self) -> str:
+        return (
+            f"PSLG({self.vertices.shape[0]} vertices, {self.segments.shape[0]} segments, "
+            f"{self.holes.shape[0]} holes, {self.regions.shape[0]} regions)"
+        )
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], *, convex: bool = False, repair: bool = True) -> PSLG:
+        """A validated PSLG from ``triangle.triangulate``'s input form (:func:`as_pslg` checks it).
+
+        Keys: ``vertices`` (required), ``segments``, ``holes``, ``regions`` (rows of
+        four), ``vertex_markers`` and ``segment_markers`` (``(k,)`` or ``(k, 1)``),
+        ``vertex_attributes``.  Any other key is an error naming it.
+
+        >>> PSLG.from_dict({'vertices': [[0, 0], [1, 0], [0, 1]], 'segments': [[0, 1], [1, 2], [2, 0]]})
+        PSLG(3 vertices, 3 segments, 0 holes, 0 regions)
+        """
+        if not isinstance(data, Mapping):
+            raise DomainError(f"a PSLG dictionary must be a mapping, not {type(data).__name__}")
+        unknown = sorted(set(map(str, data)) - set(_KEYS))
+        if unknown:
+            raise DomainError(f"unknown PSLG key {unknown[0]!r} (the keys are {', '.join(_KEYS)})")
+        if "vertices" not in data:
+            raise DomainError("a PSLG dictionary needs 'vertices'")
+        return as_pslg(
+            data["vertices"],
+            data.get("segments", ()),
+            data.get("holes", ()),
+            data.get("regions", ()),
+            vertex_markers=data.get("vertex_markers"),
+            segment_markers=data.get("segment_markers"),
+            vertex_attributes=data.get("vertex_attributes"),
+            convex=convex,
+            repair=repair,
+        )
+
+    def to_dict(self) -> dict[str, NDArray[Any]]:
+        """``triangle.triangulate``'s input form: its keys and dtypes, empty arrays left out.
+
+        ``triangle.triangulate(pslg.to_dict(), 'pq30')`` meshes this domain with Triangle.
+        """
+        out: dict[str, NDArray[Any]] = {"vertices": np.array(self.vertices, dtype=np.float64)}
+        if self.segments.size:
+            out["segments"] = np.array(self.segments, dtype=np.intc)
+        if self.holes.size:
+            out["holes"] = np.array(self.holes, dtype=np.float64)
+        if self.regions.size:
+            out["regions"] = np.array(self.regions, dtype=np.float64)
+        if self.vertex_markers is not None:
+            out["vertex_markers"] = np.array(self.vertex_markers, dtype=np.intc).reshape(-1, 1)
+        if self.segment_markers is not None and self.segments.size:
+            out["segment_markers"] = np.array(self.segment_markers, dtype=np.intc).reshape(-1, 1)
+        if self.vertex_attributes is not None and self.vertex_attributes.size:
+            out["vertex_attributes"] = np.array(self.vertex_attributes, dtype=np.float64)
+        return out
+
+
+# -- input arrays ---------------------------------------------------------------------------
+
+
+def _int_array(values: ArrayLike, what: str, width: int | None) -> NDArray[np.intp]:
+    raw = np.asarray(values)
+    if raw.size == 0:
+        return np.zeros((0, width) if width else (0,), dtype=np.intp)
+    if raw.dtype == object or raw.dtype.kind not in "iu":
+        if raw.dtype.kind == "f" and np.all(np.isfinite(raw)) and np.all(raw == np.round(raw)):
+            raw = raw.astype(np.int64)
+        else:
+            raise DomainError(f"{what} must be integers, got {raw.dtype}")
+    if width is None:
+        if raw.ndim == 2 and raw.shape[1] == 1:
+            raw = raw[:, 0]
+        if raw.ndim != 1:
+            raise DomainError(f"{what} must be a (k,) or (k, 1) array, got shape {raw.shape}")
+    elif raw.ndim != 2 or raw.shape[1] != width:
+        raise DomainError(f"{what} must be a (k, {width}) array, got shape {raw.shape}")
+    return raw.astype(np.intp)
+
+
+def _real_rows(values: ArrayLike, what: str, width: int) -> NDArray[np.float64]:
+    raw = np.asarray(values) if not isinstance(values, (str, bytes)) else values
+    if isinstance(raw, np.ndarray) and raw.size == 0:
+        return np.zeros((0, width), dtype=np.float64)
+    try:
+        return as_points(values, width, what=what)
+    except (TypeError, ValueError) as exc:
+        raise DomainError(str(exc)) from None
+
+
+def _fmt(x: float) -> str:
+    return repr(float(x))
+
+
+def _pt(p: NDArray[np.float64]) -> str:
+    return f"({_fmt(p[0])}, {_fmt(p[1])})"
+
+
+# -- validation -------------------------------------------------------------------------------
+
+
+def as_pslg(
+    vertices: ArrayLike,
+    segments: ArrayLike = (),
+    holes: ArrayLike = (),
+    regions: ArrayLike = (),
+    *,
+    vertex_markers: ArrayLike | None = None,
+    segment_markers: ArrayLike | None = None,
+    vertex_attributes: ArrayLike | None = None,
+    convex: bool = False,
+    repair: bool = True,
+) -> PSLG:
+    """A validated :class:`PSLG`, or :class:`DomainError` with one line naming what is wrong.
+
+    Refused, always (vertex and segment numbers are input rows):
+
+    * NaN or infinite coordinates, wrong shapes, non-integer or out-of-range segment indices;
+    * a segment joining a vertex to itself, or two vertices at the same point;
+    * two segments that cross without a shared vertex (their exact crossing point is
+      not representable: split them yourself where you want the vertex);
+    * a hole or region point on a segment or vertex, or outside every boundary: in
+      the unbounded face and outside the convex hull of the vertices ("outside the
+      domain"), or inside the hull but reachable from outside without crossing a
+      segment ("not enclosed": its flood fill would eat everything);
+    * an empty domain (every bounded face eaten by holes, or no closed boundary),
+      and fewer than 3 non-collinear vertices.
+
+    Repaired when ``repair`` (the default, as Triangle does) and refused otherwise:
+
+    * **duplicate vertices** (exactly equal rows) are merged into the first; segments
+      are renumbered (``vertex_map``);
+    * **a vertex on a segment's interior** splits the segment there, so the segment
+      is the union of its pieces, which is what it meant; collinear segments that
+      overlap are split this way into pieces, and repeated pieces merged.
+
+    Always merged: repeated segments (either orientation).  Each repair is one line
+    of ``notes``, as is each input vertex outside the domain (it cannot be a mesh
+    vertex).  ``convex=True`` adds the convex hull's edges as segments (Triangle's
+    ``-c``), so that a set of points with no closed boundary is meshed over its hull.
+
+    Cost: O((n + m) log n + k) exact tests, k the number of (segment, vertex) and
+    (segment, segment) pairs whose bounding boxes overlap: a sweep in x, so near
+    O(m log m) for boundaries of ordinary shape and O(m²) only for many long
+    segments over one slab; plus the faces' nesting (:mod:`~persistri.impl.mesh.faces`).
+    """
+    pts = _real_rows(vertices, "vertices", 2)
+    n_in = pts.shape[0]
+    seg = _int_array(segments, "segments", 2)
+    m_in = seg.shape[0]
+    if m_in:
+        bad = np.flatnonzero((seg < 0).any(axis=1) | (seg >= n_in).any(axis=1))
+        if bad.size:
+            k = int(bad[0])
+            raise DomainError(f"segment {k} {tuple(seg[k].tolist())}: a vertex index is outside 0..{n_in - 1}")
+        same = np.flatnonzero(seg[:, 0] == seg[:, 1])
+        if same.size:
+            k = int(same[0])
+            raise DomainError(f"segment {k} joins vertex {int(seg[k, 0])} to itself")
+    hol = _real_rows(holes, "holes", 2)
+    reg = _regions(regions)
+    vmark = None if vertex_markers is None else _int_array(vertex_markers, "vertex_markers", None)
+    if vmark is not None and vmark.shape[0] != n_in:
+        raise DomainError(f"vertex_markers has {vmark.shape[0]} entries for {n_in} vertices")
+    smark = None if segment_markers is None else _int_array(segment_markers, "segment_markers", None)
+    if smark is not None and smark.shape[0] != m_in:
+        raise DomainError(f"segment_markers has {smark.shape[0]} entries for {m_in} segments")
+    vattr = None
+    if vertex_attributes is not None:
+        raw = np.asarray(vertex_attributes, dtype=np.float64)
+        if raw.ndim == 1:
+            raw = raw.reshape(-1, 1)
+        if raw.ndim != 2 or raw.shape[0] != n_in:
+            raise DomainError(f"vertex_attributes must be an ({n_in}, k) array, got shape {raw.shape}")
+        vattr = np.ascontiguousarray(raw)
+    notes: list[str] = []
+
+    # Duplicate vertices: merged into the first occurrence (exact equality of doubles).
+    uniq = unique_rows(pts)
+    name = uniq.first  # the input row each vertex is named by
+    if uniq.first.size < n_in:
+        dup = np.flatnonzero(uniq.first[uniq.inverse] != np.arange(n_in))
+        for i in dup.tolist():
+            j = int(uniq.first[uniq.inverse[i]])
+            msg = f"vertices {j} and {i} are the same point {_pt(pts[i])}"
+            if not repair:
+                raise DomainError(msg)
+            notes.append(msg + f": vertex {i} merged into {j}")
+    verts = np.ascontiguousarray(pts[uniq.first])
+    n = verts.shape[0]
+    seg = uniq.inverse[seg] if m_in else seg
+    if m_in:
+        same = np.flatnonzero(seg[:, 0] == seg[:, 1])
+        if same.size:
+            k = int(same[0])
+            a, b = (int(v) for v in segments_in_rows(segments)[k])
+            raise DomainError(f"segment {k} ({a}–{b}) has both ends at the same point {_pt(pts[a])}")
+    if vmark is not None:
+        vmark = vmark[uniq.first]
+    if vattr is not None:
+        vattr = vattr[uniq.first]
+
+    every = np.concatenate([verts, hol, reg[:, :2]]) if hol.size or reg.size else verts
+    pred = Predicates2(every)
+    if n < 3 or not np.any(pred.orient2d_sign_batch(0, 1, np.arange(2, n)) != 0):
+        raise DomainError(f"the {n} distinct vertices are collinear (or fewer than 3): they bound no region")
+
+    origin = np.arange(seg.shape[0], dtype=np.intp)  # the input segment each current one comes from (-1: hull)
+    marks = smark.copy() if smark is not None else None
+    if convex:
+        hull = _convex_hull(verts, pred)
+        extra = np.array([[hull[k], hull[(k + 1) % len(hull)]] for k in range(len(hull))], dtype=np.intp)
+        seg = np.concatenate([seg, extra])
+        origin = np.concatenate([origin, np.full(extra.shape[0], -1, dtype=np.intp)])
+        if marks is not None:
+            marks = np.concatenate([marks, np.zeros(extra.shape[0], dtype=np.intp)])
+
+    seg, origin, marks = _dedupe(seg, origin, marks, notes, name)
+    seg, origin, marks = _split_at_vertices(verts, seg, origin, marks, pred, notes, name, repair)
+    seg, origin, marks = _dedupe(seg, origin, marks, notes, name)
+    _refuse_crossings(verts, seg, pred, _Labels(seg, origin, name))
+
+    result = PSLG(
+        vertices=verts,
+        segments=seg,
+        holes=hol,
+        regions=reg,
+        vertex_markers=vmark,
+        segment_markers=marks,
+        vertex_attributes=vattr,
+        notes=(),
+        vertex_map=uniq.inverse.astype(np.intp),
+    )
+    dom = domain_of(result, pred=pred)
+    for v in np.flatnonzero(~dom.vertex_inside).tolist():
+        notes.append(f"vertex {int(name[v])} at {_pt(verts[v])} lies outside the domain: it cannot be a mesh vertex")
+    return PSLG(
+        vertices=result.vertices,
+        segments=result.segments,
+        holes=result.holes,
+        regions=result.regions,
+        vertex_markers=result.vertex_markers,
+        segment_markers=result.segment_markers,
+        vertex_attributes=result.vertex_attributes,
+        notes=tuple(notes),
+        vertex_map=result.vertex_map,
+    )
+
+
+def segments_in_rows(segments: ArrayLike) -> NDArray[np.intp]:
+    """``segments`` as an ``(m, 2)`` index array (for messages naming input rows)."""
+    return np.asarray(segments).reshape(-1, 2).astype(np.intp)
+
+
+def _regions(regions: ArrayLike) -> NDArray[np.float64]:
+    raw = np.asarray(regions)
+    if raw.size == 0:
+        return _no_regions()
+    if raw.ndim != 2 or raw.shape[1] != 4:
+        raise DomainError(f"regions must be an (r, 4) array of rows (x, y, attribute, max_area), got shape {raw.shape}")
+    try:
+        return as_points(raw, 4, what="regions")
+    except (TypeError, ValueError) as exc:
+        raise DomainError(str(exc)) from None
+
+
+def _convex_hull(verts: NDArray[np.float64], pred: Predicates2) -> list[int]:
+    """The convex hull's extreme vertices, counterclockwise (Andrew's monotone chain, exact turns). O(n log n)."""
+    order = np.lexsort((verts[:, 1], verts[:, 0])).tolist()
+
+    def chain(seq: list[int]) -> list[int]:
+        out: list[int] = []
+        for p in seq:
+            while len(out) >= 2 and pred.orient2d_sign(out[-2], out[-1], p) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+
+    lower, upper = chain(order), chain(order[::-1])
+    return lower[:-1] + upper[:-1]
+
+
+@dataclass(frozen=True)
+class _Labels:
+    """Names segments in messages by their input row and input vertex rows."""
+
+    seg: NDArray[np.intp]
+    origin: NDArray[np.intp]
+    name: NDArray[np.intp]
+
+    def __call__(self, k: int) -> str:
+        a, b = (int(self.name[v]) for v in self.seg[k])
+        o = int(self.origin[k])
+        return f"segment {o} ({a}–{b})" if o >= 0 else f"convex hull edge ({a}–{b})"
+
+
+def _dedupe(
+    seg: NDArray[np.intp],
+    origin: NDArray[np.intp],
+    marks: NDArray[np.intp] | None,
+    notes: list[str],
+    name: NDArray[np.intp],
+) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp] | None]:
+    """Merge repeated segments (either orientation) into the first; a note for each input one dropped."""
+    label = _Labels(seg, origin, name)
+    if seg.shape[0] < 2:
+        return seg, origin, marks
+    key = np.sort(seg, axis=1)
+    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    if first.size == seg.shape[0]:
+        return seg, origin, marks
+    keep = np.sort(first)
+    for k in np.flatnonzero(first[inverse] != np.arange(seg.shape[0])).tolist():
+        j = int(first[inverse[k]])
+        if origin[k] >= 0 and origin[k] != origin[j]:
+            notes.append(f"{label(k)} repeats {label(j)}: merged")
+    return seg[keep], origin[keep], None if marks is None else marks[keep]
+
+
+def _split_at_vertices(
+    verts: NDArray[np.float64],
+    seg: NDArray[np.intp],
+    origin: NDArray[np.intp],
+    marks: NDArray[np.intp] | None,
+    pred: Predicates2,
+    notes: list[str],
+    name: NDArray[np.intp],
+    repair: bool,
+) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp] | None]:
+    """Split every segment at the vertices on its interior (exact collinearity), or refuse.
+
+    Candidates come from the vertices sorted by x: those in the segment's
+    closed bounding box; exact ``orient2d_sign == 0`` decides (collinear and in
+    the box means on the closed segment).
+    """
+    m = seg.shape[0]
+    if m == 0:
+        return seg, origin, marks
+    label = _Labels(seg, origin, name)
+    by_x = np.argsort(verts[:, 0], kind="stable")
+    xs_sorted = verts[by_x, 0]
+    ys = verts[:, 1]
+    new_seg: list[list[int]] = []
+    new_origin: list[int] = []
+    new_marks: list[int] = []
+    split_any = False
+    for k in range(m):
+        a, b = int(seg[k, 0]), int(seg[k, 1])
+        ax, ay = float(verts[a, 0]), float(verts[a, 1])
+        bx, by = float(verts[b, 0]), float(verts[b, 1])
+        lo = int(np.searchsorted(xs_sorted, min(ax, bx), side="left"))
+        hi = int(np.searchsorted(xs_sorted, max(ax, bx), side="right"))
+        cand = by_x[lo:hi]
+        cand = cand[(ys[cand] >= min(ay, by)) & (ys[cand] <= max(ay, by)) & (cand != a) & (cand != b)]
+        on: list[int] = []
+        if cand.size:
+            signs = pred.orient2d_sign_batch(a, b, cand)
+            on = cand[signs == 0].tolist()
+        if on and origin[k] >= 0:
+            first = on[0] if len(on) == 1 else min(on, key=lambda v: (abs(verts[v, 0] - ax), abs(verts[v, 1] - ay)))
+            msg = f"vertex {int(name[first])} at {_pt(verts[first])} lies on the interior of {label(k)}"
+            if not repair:
+                raise DomainError(msg)
+            rest = f" (and {len(on) - 1} more)" if len(on) > 1 else ""
+            notes.append(msg + rest + ": split there")
+        chain = [a] + sorted(on, key=lambda v: (float(verts[v, 0]), float(verts[v, 1])), reverse=(ax, ay) > (bx, by)) + [b]
+        split_any = split_any or bool(on)
+        for u, v in zip(chain[:-1], chain[1:]):
+            new_seg.append([u, v])
+            new_origin.append(int(origin[k]))
+            if marks is not None:
+                new_marks.append(int(marks[k]))
+    if not split_any:
+        return seg, origin, marks
+    return (
+        np.array(new_seg, dtype=np.intp).reshape(-1, 2),
+        np.array(new_origin, dtype=np.intp),
+        None if marks is None else np.array(new_marks, dtype=np.intp),
+    )
+
+
+def _refuse_crossings(verts: NDArray[np.float64], seg: NDArray[np.intp], pred: Predicates2, label: _Labels) -> None:
+    """Raise for the first pair of segments (in sweep order) that cross; exact.
+
+    After splitting, two segments meet only at a shared endpoint or by crossing
+    properly: each straddles the other's line (both orientation products < 0).
+    Candidate pairs come from a sweep in x over the segments' bounding boxes.
+    """
+    m = seg.shape[0]
+    if m < 2:
+        return
+    a, b = seg[:, 0], seg[:, 1]
+    lo_x = np.minimum(verts[a, 0], verts[b, 0])
+    hi_x = np.maximum(verts[a, 0], verts[b, 0])
+    lo_y = np.minimum(verts[a, 1], verts[b, 1])
+    hi_y = np.maximum(verts[a, 1], verts[b, 1])
+    order = np.argsort(lo_x, kind="stable")
+    sorted_lo = lo_x[order]
+    end = np.searchsorted(sorted_lo, hi_x[order], side="right")
+    count = np.maximum(end - np.arange(m) - 1, 0)
+    start = 0
+    while start < m:
+        stop = start + 1
+        budget = int(count[start])
+        while stop < m and budget + int(count[stop]) <= _PAIR_BUDGET:
+            budget += int(count[stop])
+            stop += 1
+        rows = np.arange(start, stop)
+        reps = count[rows]
+        first_pos = np.repeat(rows, reps)
+        offsets = np.arange(int(reps.sum())) - np.repeat(np.cumsum(reps) - reps, reps)
+        i, j = order[first_pos], order[first_pos + 1 + offsets]
+        keep = (lo_y[i] <= hi_y[j]) & (lo_y[j] <= hi_y[i])
+        keep &= (a[i] != a[j]) & (a[i] != b[j]) & (b[i] != a[j]) & (b[i] != b[j])
+        for s, t in zip(i[keep].tolist(), j[keep].tolist()):
+            p, q, r, u = int(a[s]), int(b[s]), int(a[t]), int(b[t])
+            if pred.orient2d_sign(p, q, r) * pred.orient2d_sign(p, q, u) < 0 and (
+                pred.orient2d_sign(r, u, p) * pred.orient2d_sign(r, u, q) < 0
+            ):
+                s, t = min(s, t), max(s, t)
+                x, y = _crossing_point(verts, seg[s], seg[t])
+                raise DomainError(f"{label(s)} and {label(t)} cross at about ({x:.17g}, {y:.17g}) without a shared vertex")
+        start = stop
+
+
+def _crossing_point(verts: NDArray[np.float64], s: NDArray[np.intp], t: NDArray[np.intp]) -> tuple[float, float]:
+    p, r = verts[s[0]], verts[t[0]]
+    d, e = verts[s[1]] - p, verts[t[1]] - r
+    with np.errstate(all="ignore"):
+        denom = d[0] * e[1] - d[1] * e[0]
+        lam = ((r[0] - p[0]) * e[1] - (r[1] - p[1]) * e[0]) / denom
+        return float(p[0] + lam * d[0]), float(p[1] + lam * d[1])
+
+
+# -- the domain's faces --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class Domain:
+    """The region a clean PSLG describes: its segments' faces and which of them are kept.
+
+    * ``faces`` — the :class:`~persistri.impl.mesh.faces.PlanarFaces` of the segments;
+    * ``kept`` — per bounded face, whether it is in the domain (it holds no hole point);
+    * ``hole_face`` / ``region_face`` — the face of each hole and region point;
+    * ``vertex_inside`` — per vertex, whether it is in the closed domain (on a kept
+      face's boundary or inside a kept face): the vertices a mesh must have;
+    * ``area`` — the domain's exact area.
+    """
+
+    pslg: PSLG
+    faces: PlanarFaces
+    kept: NDArray[np.bool_]
+    hole_face: NDArray[np.intp]
+    region_face: NDArray[np.intp]
+    vertex_inside: NDArray[np.bool_]
+    area: Fraction
+
+    @property
+    def area2(self) -> int:
+        """Twice the area in the faces' scaled integer units (``faces.scale``)."""
+        return sum(a for a, k in zip(self.faces.face_area2, self.kept.tolist()) if k)
+
+    def left_kept(self, h: int) -> bool:
+        """Whether the face on the left of half-edge ``h`` is in the domain. O(1)."""
+        f = self.faces.face_of_half_edge(h)
+        return f != UNBOUNDED and bool(self.kept[f])
+
+    def boundary_coefficient(self, s: int) -> int:
+        """+1 if segment ``s`` (as listed) has the domain on its left only, -1 on its right only, else 0.
+
+        The domain's boundary, as a chain, is the sum of these times the segments. O(1).
+        """
+        return int(self.left_kept(2 * s)) - int(self.left_kept(2 * s + 1))
+
+
+def domain_of(pslg: PSLG, *, scale: IntegerScale | None = None, pred: Predicates2 | None = None) -> Domain:
+    """The faces of a clean PSLG (as :func:`as_pslg` makes it), which are kept, and its exact area.
+
+    Raises :class:`DomainError` for a hole or region point on the graph or
+    outside every boundary, and for an empty domain.  ``scale`` (default: the
+    least for the vertices) fixes the faces' integer units.  ``pred``: a
+    :class:`Predicates2` over the vertices followed by the hole and region
+    points, if one exists already.  Cost: :func:`~persistri.impl.mesh.faces.planar_faces`
+    and one point location per hole, region point and isolated vertex.
+    """
+    verts, seg = pslg.vertices, pslg.segments
+    n = verts.shape[0]
+    faces = planar_faces(verts, seg, scale=scale if scale is not None else common_scale(verts))
+    kept = np.ones(faces.n_faces, dtype=bool)
+    hull: list[int] | None = None
+
+    def place(p: NDArray[np.float64], what: str, k: int, row: int) -> int:
+        nonlocal hull, pred
+        where = faces.locate(float(p[0]), float(p[1]))
+        if where.vertex is not None:
+            raise DomainError(f"{what} {k} at {_pt(p)} is on vertex {where.vertex}")
+        if where.segment is not None:
+            a, b = (int(v) for v in seg[where.segment])
+            raise DomainError(f"{what} {k} at {_pt(p)} lies on the segment ({a}–{b})")
+        if where.face == UNBOUNDED:
+            if pred is None:
+                pred = Predicates2(np.concatenate([verts, pslg.holes, pslg.regions[:, :2]]))
+            if hull is None:
+                hull = _convex_hull(verts, pred)
+            inside = all(pred.orient2d_sign(hull[i], hull[(i + 1) % len(hull)], row) > 0 for i in range(len(hull)))
+            if inside:
+                raise DomainError(
+                    f"{what} {k} at {_pt(p)} is not enclosed by segments: its flood fill reaches the outside "
+                    "of the convex hull and would eat everything (close the boundary around it)"
+                )
+            raise DomainError(f"{what} {k} at {_pt(p)} lies outside the domain (outside the convex hull of the vertices)")
+        return where.face
+
+    hole_face = np.array(
+        [place(p, "hole", k, n + k) for k, p in enumerate(pslg.holes)], dtype=np.intp
+    ).reshape(-1)
+    kept[hole_face] = False
+    h = pslg.holes.shape[0]
+    region_face = np.array(
+        [place(p[:2], "region", k, n + h + k) for k, p in enumerate(pslg.regions)], dtype=np.intp
+    ).reshape(-1)
+    for k, f in enumerate(region_face.tolist()):
+        if not kept[f]:
+            raise DomainError(f"region {k} at {_pt(pslg.regions[k, :2])} lies in a hole (the face of a hole point)")
+    if faces.n_faces == 0:
+        raise DomainError(
+            "the segments enclose no region: the domain is empty (close the boundary, or pass convex=True "
+            "to mesh the convex hull)"
+        )
+    if not kept.any():
+        k = 0
+        f = int(hole_face[0])
+        ring = "–".join(str(v) for v in faces.face_vertices(f)[:6])
+        raise DomainError(
+            f"the domain is empty: hole {k} at {_pt(pslg.holes[k])} eats the region bounded by vertices "
+            f"{ring}{'…' if len(faces.face_vertices(f)) > 6 else ''} (is the boundary around the hole closed?)"
+        )
+
+    inside = np.zeros(n, dtype=bool)
+    he = faces.half_edges
+    for hh in range(he.shape[0]):
+        f = faces.face_of_half_edge(hh)
+        if f != UNBOUNDED and kept[f]:
+            inside[he[hh, 0]] = True
+    lonely = np.ones(n, dtype=bool)
+    lonely[seg.reshape(-1)] = False
+    for v in np.flatnonzero(lonely).tolist():
+        f = faces.locate(float(verts[v, 0]), float(verts[v, 1])).face
+        inside[v] = f != UNBOUNDED and bool(kept[f])
+    area2 = sum(a for a, k in zip(faces.face_area2, kept.tolist()) if k)
+    area = Fraction(area2, 2) * Fraction(2) ** (2 * faces.scale.exponent)
+    return Domain(pslg, faces, kept, hole_face, region_face, inside, area)
