@@ -160,7 +160,7 @@ def terrain(
         )
         if written:
             where = "grid coordinates" if not world else "world coordinates" + (
-                f", CRS {tin.crs.label}" if tin.crs is not None else ", no CRS in the input"
+                f", CRS {tin.crs.label}" if tin.crs is not None else ", no CRS read from the input"
             )
             err.print(f"wrote {', '.join(str(w) for w in written)} ({where})")
     if show_stats and tin.stats is not None:
