@@ -32,7 +32,16 @@ from numpy.typing import NDArray
 
 from persistri.impl.geometry.points import as_points
 
-__all__ = ["POINT_FORMATS", "TEXT_FORMATS", "MESH_FORMATS", "InputFileError", "read_points", "write_mesh", "compact_mesh"]
+__all__ = [
+    "POINT_FORMATS",
+    "TEXT_FORMATS",
+    "MESH_FORMATS",
+    "InputFileError",
+    "read_points",
+    "read_npy",
+    "write_mesh",
+    "compact_mesh",
+]
 
 TEXT_FORMATS = (".csv", ".xyz", ".txt")
 """Text point formats: one point per line."""
@@ -176,12 +185,19 @@ def _read_text(path: Path, columns: Sequence[int] | None) -> tuple[NDArray[np.fl
 # -- binary ----------------------------------------------------------------------------------
 
 
-def _read_npy(path: Path, columns: Sequence[int] | None) -> NDArray[Any]:
-    """The array of a ``.npy`` file, its header checked before the data is read (no unpickling)."""
+def read_npy(path: str | Path) -> NDArray[Any]:
+    """The array of a ``.npy`` file of real numbers, its header checked before the data is read.
+
+    Raises :class:`InputFileError` for an empty, truncated or foreign file (a
+    ``.npz`` archive, anything without the NumPy header), and for an array of
+    Python objects (never unpickled), strings, complex numbers or records.
+    Shared by the point and the grid readers; the shape is theirs to check.
+    """
+    path = Path(path)
     with path.open("rb") as fh:
         magic = fh.read(len(_NPY_MAGIC))
         if not magic:
-            raise InputFileError(path, "no points: the file is empty")
+            raise InputFileError(path, "the file is empty")
         if magic.startswith(b"PK"):
             raise InputFileError(path, "a .npz archive, not a .npy array")
         if magic != _NPY_MAGIC:
@@ -202,7 +218,6 @@ def _read_npy(path: Path, columns: Sequence[int] | None) -> NDArray[Any]:
         raise InputFileError(path, "holds Python objects (a pickled array); persistri never unpickles: save numbers")
     if dtype.kind not in "biuf" or dtype.fields is not None:
         raise InputFileError(path, f"holds {dtype} values, not real numbers")
-    _check_shape(path, tuple(shape), columns)
     expected = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
     held = path.stat().st_size - offset
     if held < expected:
@@ -267,7 +282,7 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None) -> NDArr
                 raise InputFileError(p, f"a coordinate is not finite ({shown})", line=int(lines[row]))
             out: NDArray[np.float64] = arr + 0.0  # -0.0 becomes 0.0
             return out
-        raw = _read_npy(p, columns) if suffix == ".npy" else _read_ply(p)
+        raw = read_npy(p) if suffix == ".npy" else _read_ply(p)
     except FileNotFoundError:
         raise InputFileError(p, "no such file") from None
     except IsADirectoryError:

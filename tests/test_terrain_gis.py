@@ -43,7 +43,7 @@ def run(*args: str) -> tuple[int, str]:
 
 def one_error_line(text: str, pattern: str) -> None:
     lines = [ln for ln in text.splitlines() if ln.strip()]
-    assert len(lines) == 1 and lines[0].startswith("Error:"), text
+    assert len(lines) == 1 and lines[0].startswith("persistri: "), text
     assert re.search(pattern, lines[0]), lines[0]
 
 

@@ -38,6 +38,7 @@ No-data cells (the file's no-data value, NaN) become NaN in :attr:`HeightGrid.he
 
 from __future__ import annotations
 
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Final
@@ -181,20 +182,20 @@ def as_heights(heights: ArrayLike, *, nodata: str | float = "error", what: str =
     Integer heights must be exactly representable as float64 (|h| ≤ 2^53).
     """
     if isinstance(heights, (str, bytes)):
-        raise TypeError(f"{what} must be a 2D array of real numbers, not {type(heights).__name__}")
+        raise TypeError(f"{what}: expected a 2D array of real numbers, not {type(heights).__name__}")
     try:
         raw = np.asarray(heights)
     except (ValueError, TypeError) as exc:
-        raise ValueError(f"{what} must be a rectangular 2D array (ragged rows?): {exc}") from None
+        raise ValueError(f"{what}: not a rectangular 2D array (ragged rows?): {exc}") from None
     if raw.dtype == object:
-        raise ValueError(f"{what} must be a rectangular 2D array of real numbers (ragged rows or non-numeric entries)")
+        raise ValueError(f"{what}: not a rectangular 2D array of real numbers (ragged rows or non-numeric entries)")
     if raw.dtype.kind not in "biuf":
-        raise TypeError(f"{what} must be real numbers, not {raw.dtype}")
+        raise TypeError(f"{what}: expected real numbers, not {raw.dtype}")
     if raw.ndim != 2:
-        raise ValueError(f"{what} must be a 2D array (rows, cols), got {raw.ndim} dimension(s) of shape {raw.shape}")
+        raise ValueError(f"{what}: expected a 2D array (rows, cols), got {raw.ndim} dimension(s) of shape {raw.shape}")
     rows, cols = raw.shape
     if rows < 2 or cols < 2:
-        raise ValueError(f"{what} must have at least 2 rows and 2 columns, got shape {raw.shape}")
+        raise ValueError(f"{what}: a terrain needs at least 2 rows and 2 columns, got shape {raw.shape}")
     arr = np.ascontiguousarray(raw, dtype=np.float64)
     if raw.dtype.kind in "iu" and bool(np.any(arr.astype(raw.dtype) != raw)):
         raise ValueError(f"{what}: an integer height is not exactly representable as float64")
@@ -264,9 +265,9 @@ def _from_npz(data: Any, source: str) -> HeightGrid:
     if chosen is None:
         two_d = [k for k, a in arrays.items() if a.ndim == 2]
         if len(two_d) != 1:
+            held = f"its 2D arrays are {', '.join(two_d)}" if two_d else f"it holds no 2D array (only {', '.join(names) or 'nothing'})"
             raise ValueError(
-                f"{source}: cannot tell which array holds the heights (2D arrays: {two_d or 'none'}); "
-                f"name it one of {', '.join(_NPZ_NAMES)}"
+                f"{source}: cannot tell which array holds the heights ({held}); name it one of {', '.join(_NPZ_NAMES)}"
             )
         chosen = two_d[0]
     heights = _float_heights(arrays[chosen], source)
@@ -281,6 +282,8 @@ def _float_heights(a: NDArray[Any], source: str) -> NDArray[np.float64]:
     if a.dtype.kind not in "biuf":
         raise ValueError(f"{source}: the heights are not numbers (dtype {a.dtype})")
     out: NDArray[np.float64] = np.asarray(a, dtype=np.float64)
+    if a.dtype.kind in "iu" and bool(np.any(out.astype(a.dtype) != a)):
+        raise ValueError(f"{source}: an integer height is not exactly representable as float64 (beyond 2^53)")
     return out
 
 
@@ -295,13 +298,20 @@ def _read_asc(path: Path) -> HeightGrid:
             try:
                 header[parts[0].lower()] = float(parts[1])
             except ValueError:
-                raise ValueError(f"{path}: header line {i + 1} is not 'key value': {line!r}") from None
+                raise ValueError(f"{path}: line {i + 1}: the header value of {parts[0]} is not a number: {parts[1]}") from None
+            if not np.isfinite(header[parts[0].lower()]):
+                raise ValueError(f"{path}: line {i + 1}: the header value of {parts[0]} is not finite: {parts[1]}")
             body_start = i + 1
         else:
             break
     for key in ("ncols", "nrows"):
         if key not in header:
             raise ValueError(f"{path}: not an ESRI ASCII grid (no {key} in the header)")
+        if header[key] != int(header[key]) or header[key] < 1:
+            raise ValueError(f"{path}: {key} in the header must be a positive integer, not {header[key]:g}")
+    for key in ("cellsize", "dx", "dy"):
+        if key in header and header[key] <= 0:
+            raise ValueError(f"{path}: {key} in the header must be positive, not {header[key]:g}")
     ncols, nrows = int(header["ncols"]), int(header["nrows"])
     try:
         values = np.array(" ".join(lines[body_start:]).split(), dtype=np.float64)
@@ -437,24 +447,53 @@ def read_grid(source: str | Path) -> HeightGrid:
     path = Path(source)
     if not path.exists():
         raise ValueError(f"{path}: no such file")
+    if path.is_dir():
+        raise ValueError(f"{path}: a directory, not a file")
     suffix = path.suffix.lower()
     if suffix == ".npy":
-        try:
-            arr = np.load(path, allow_pickle=False)
-        except ValueError as exc:
-            raise ValueError(f"{path}: not a numeric .npy array ({exc})") from None
-        return HeightGrid(_float_heights(np.asarray(arr), str(path)), None, str(path))
-    if suffix == ".npz":
-        try:
-            with np.load(path, allow_pickle=False) as data:
-                return _from_npz(data, str(path))
-        except (ValueError, OSError) as exc:
-            raise ValueError(f"{path}: cannot read .npz ({exc})") from None
-    if suffix == ".asc":
-        return _read_asc(path)
-    if suffix in (".tif", ".tiff"):
-        return _read_tiff(path)
-    raise ValueError(f"{path}: unknown grid format {suffix!r}; use one of {', '.join(GRID_FORMATS)} or 'jacksboro'")
+        from persistri.impl.files import read_npy
+
+        grid = HeightGrid(_float_heights(read_npy(path), str(path)), None, str(path))
+    elif suffix == ".npz":
+        grid = _read_npz(path)
+    elif suffix == ".asc":
+        grid = _read_asc(path)
+    elif suffix in (".tif", ".tiff"):
+        grid = _read_tiff(path)
+    else:
+        raise ValueError(f"{path}: unknown grid format {suffix or '(no extension)'}; use one of {', '.join(GRID_FORMATS)} or jacksboro")
+    _check_grid(grid.heights, path)
+    return grid
+
+
+def _read_npz(path: Path) -> HeightGrid:
+    """The grid of a ``.npz`` archive (:func:`_from_npz`); a file that is not one is named as such."""
+    if path.stat().st_size == 0:
+        raise ValueError(f"{path}: the file is empty")
+    if not zipfile.is_zipfile(path):
+        raise ValueError(f"{path}: not a .npz archive (not a zip file, or a truncated one)")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            return _from_npz(data, str(path))
+    except ValueError as exc:
+        if "allow_pickle" in str(exc):
+            raise ValueError(f"{path}: holds Python objects (pickled arrays); persistri never unpickles: save numbers") from None
+        if str(exc).startswith(f"{path}:"):
+            raise
+        raise ValueError(f"{path}: cannot read .npz ({str(exc).splitlines()[0]})") from None
+    except (OSError, EOFError, zipfile.BadZipFile) as exc:
+        raise ValueError(f"{path}: a damaged .npz archive ({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})") from None
+
+
+def _check_grid(heights: NDArray[np.float64], path: Path) -> None:
+    """Fail unless ``heights`` (as read from ``path``) can be a terrain whatever the no-data rule: :func:`as_heights`'s checks.
+
+    The NaN cells are left to the caller's rule; a grid of nothing but NaN is refused here.
+    """
+    try:
+        as_heights(heights, nodata=0.0, what=str(path))
+    except (TypeError, ValueError) as exc:
+        raise ValueError(str(exc).splitlines()[0]) from None
 
 
 def write_asc(path: str | Path, heights: ArrayLike, *, x0: float = 0.0, y0: float = 0.0, cellsize: float = 1.0,
