@@ -46,7 +46,7 @@ demo: install
 	$(BIN)/persistri demo --out out
 
 typecheck: install-dev
-	$(BIN)/mypy -p persistri.spec -p persistri.impl
+	$(BIN)/mypy -p persistri
 	$(BIN)/mypy tests/typing/consumer.py proofs tools
 	$(BIN)/python tests/typing/check_rejections.py
 

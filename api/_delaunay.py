@@ -65,7 +65,7 @@ class Delaunay:
     >>> tri.simplices.tolist()
     [[0, 1, 2], [1, 3, 2], [1, 4, 3]]
     >>> tri.find_simplex([[0.5, 0.5], [1, 1], [2, 0], [-1, 0]]).tolist()    # interior, edge, vertex, outside
-    [0, 0, 0, -1]
+    [0, 0, 2, -1]
     """
 
     __slots__ = ("_tri", "_points", "_simplices", "_neighbors", "_hull_edges", "_vnv", "_v2s")

@@ -9,6 +9,7 @@ returns a *new* hull and leaves this one as it was.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import Any
 
@@ -18,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from persistri._arrays import read_only
 from persistri.impl.complex.adjacency import triangle_neighbors
 from persistri.impl.hull.api import Hull, HullHistory, convex_hull
-from persistri.impl.hull.measures import enclosed_volume, facet_equations, surface_area
+from persistri.impl.hull.measures import enclosed_volume, equations_of, facet_normals
 from persistri.impl.stats import Stats
 
 __all__ = ["ConvexHull"]
@@ -74,7 +75,9 @@ class ConvexHull:
     (12.0, 8.0)
     """
 
-    __slots__ = ("_hull", "_check", "_points", "_simplices", "_vertices", "_neighbors", "_equations", "_area", "_volume")
+    __slots__ = (
+        "_hull", "_check", "_points", "_simplices", "_vertices", "_neighbors", "_facets", "_equations", "_area", "_volume"
+    )
 
     _hull: Hull
     _check: bool
@@ -82,6 +85,7 @@ class ConvexHull:
     _simplices: IntcArray
     _vertices: IntcArray
     _neighbors: IntcArray | None
+    _facets: tuple[FloatArray, FloatArray] | None
     _equations: FloatArray | None
     _area: float | None
     _volume: float | None
@@ -107,6 +111,7 @@ class ConvexHull:
         self._simplices = read_only(hull.simplices, np.intc)
         self._vertices = read_only(hull.vertices, np.intc)
         self._neighbors = None
+        self._facets = None
         self._equations = None
         self._area = None
         self._volume = None
@@ -171,14 +176,22 @@ class ConvexHull:
     def equations(self) -> FloatArray:
         """``(m, 4)``: outward unit normal and offset per triangle; ``normal·x + offset <= 0`` inside. O(m), once."""
         if self._equations is None:
-            self._equations = read_only(facet_equations(self._hull.points, self._hull.simplices))
+            normals, _ = self._normals()
+            self._equations = read_only(equations_of(self._hull.points, self._hull.simplices, normals))
         return self._equations
+
+    def _normals(self) -> tuple[FloatArray, FloatArray]:
+        """The facets' unit normals and cross-product lengths (:func:`~persistri.impl.hull.measures.facet_normals`), once."""
+        if self._facets is None:
+            self._facets = facet_normals(self._hull.points, self._hull.simplices)
+        return self._facets
 
     @property
     def area(self) -> float:
         """The surface area of the hull. O(m), once."""
         if self._area is None:
-            self._area = surface_area(self._hull.points, self._hull.simplices)
+            _, lengths = self._normals()
+            self._area = math.fsum(lengths.tolist()) / 2
         return self._area
 
     @property

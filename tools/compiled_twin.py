@@ -2,7 +2,8 @@
 
     python tools/compiled_twin.py DIR
 
-copies the package (``impl/`` and ``spec/``) to ``DIR/persistri/`` and compiles
+copies the package (``api/``, the top-level ``persistri`` with its public names, and
+``impl/`` and ``spec/`` inside it) to ``DIR/persistri/`` and compiles
 :data:`MODULES` there with mypyc (which ships with mypy, a dev dependency), so
 that ``PYTHONPATH=DIR`` runs persistri with those modules as C extensions and
 every other module interpreted, from the same source.  ``make test`` runs the
@@ -40,9 +41,12 @@ shared nodes must survive (mypyc re-boxes fixed-length tuples)."""
 
 NO_TOOLCHAIN = 2
 
+PARTS = ("api", "impl", "spec")
+"""The source folders of the package: ``api/`` is ``persistri`` itself, ``impl/`` and ``spec/`` its halves."""
+
 
 def _sources() -> list[Path]:
-    return sorted(p for half in ("impl", "spec") for p in (ROOT / half).rglob("*") if p.is_file() and "__pycache__" not in p.parts)
+    return sorted(p for part in PARTS for p in (ROOT / part).rglob("*") if p.is_file() and "__pycache__" not in p.parts)
 
 
 def _fingerprint() -> str:
@@ -88,13 +92,12 @@ def build(out: Path) -> int:
     if out.exists():
         shutil.rmtree(out)
     package = out / "persistri"
-    package.mkdir(parents=True)
     ignore = shutil.ignore_patterns("__pycache__")
+    # The whole package, its own __init__ (api/) included, as the installed layout maps it: on PYTHONPATH
+    # the twin's persistri shadows the installed one entirely, never half from each.
+    shutil.copytree(ROOT / "api", package, ignore=ignore)
     shutil.copytree(ROOT / "impl", package / "impl", ignore=ignore)
     shutil.copytree(ROOT / "spec", package / "spec", ignore=ignore)
-    # A regular package (the installed one is a namespace package of impl/ and spec/), so that on
-    # PYTHONPATH the whole of persistri comes from the twin, never half from each.
-    (package / "__init__.py").write_text('"""persistri\'s compiled twin (tools/compiled_twin.py)."""\n')
     print(f"compiled twin: compiling {len(MODULES)} modules with mypyc (a minute or two) …", flush=True)
     log = out / "mypyc.log"
     with log.open("w") as sink:

@@ -45,7 +45,7 @@ from numpy.typing import ArrayLike, NDArray
 from persistri.impl.geometry.exact import IntegerScale, grain_span
 from persistri.impl.geometry.points import as_points
 
-__all__ = ["facet_normals", "facet_equations", "surface_area", "enclosed_volume"]
+__all__ = ["facet_normals", "facet_equations", "equations_of", "surface_area", "enclosed_volume"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
@@ -146,10 +146,15 @@ def facet_equations(points: ArrayLike, simplices: ArrayLike) -> FloatArray:
     """
     pts, tri = _checked(points, simplices)
     normals, _ = facet_normals(pts, tri)
-    out = np.empty((tri.shape[0], 4))
+    return equations_of(pts, tri, normals)
+
+
+def equations_of(points: FloatArray, simplices: IntArray, normals: FloatArray) -> FloatArray:
+    """:func:`facet_equations` from normals already computed by :func:`facet_normals` (validated arrays). O(m)."""
+    out = np.empty((simplices.shape[0], 4))
     out[:, :3] = normals
     with np.errstate(all="ignore"):
-        out[:, 3] = -np.einsum("ij,ij->i", normals, np.take(pts, tri[:, 0], axis=0))
+        out[:, 3] = -np.einsum("ij,ij->i", normals, np.take(points, simplices[:, 0], axis=0))
     return out
 
 
@@ -164,7 +169,8 @@ def enclosed_volume(points: ArrayLike, simplices: ArrayLike) -> float:
 
     ``Σ a·(b × c) / 6`` over the triangles (the divergence theorem) on exact
     integer coordinates; for a closed outward surface it is the enclosed volume.
-    O(m) big-integer operations on object arrays (about 1 µs per triangle).
+    O(m) big-integer operations on object arrays: some 7 µs per triangle (1.4 s for a
+    200,000-triangle hull, whose construction takes twenty times longer).
     """
     pts, tri = _checked(points, simplices)
     if tri.shape[0] == 0:

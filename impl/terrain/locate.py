@@ -73,7 +73,7 @@ def start_triangles(points: NDArray[np.float64], triangles: IntArray, queries: N
 
 
 def locate_points(
-    points: ArrayLike, triangles: ArrayLike, neighbors: ArrayLike, queries: ArrayLike
+    points: ArrayLike, triangles: ArrayLike, neighbors: ArrayLike, queries: ArrayLike, *, max_steps: int | None = None
 ) -> IntArray:
     """For each row of ``queries`` (``(q, 2)``), a triangle containing it (closed), or -1 outside the hull.
 
@@ -82,7 +82,9 @@ def locate_points(
     adjacency (``neighbors[i, j]`` across the edge opposite vertex ``j``, -1 on
     the hull: :func:`persistri.impl.complex.adjacency.triangle_neighbors`).
     Exact (module docstring).  ``queries`` must be finite reals: a NaN or
-    infinite row raises :class:`ValueError` naming it.
+    infinite row raises :class:`ValueError` naming it.  ``max_steps`` bounds the
+    walk (default ``4m + 16``); a query still walking then is located by testing
+    every triangle (O(m) each).
     """
     pts = as_points(points, 2)
     tri = np.asarray(triangles, dtype=np.intp)
@@ -95,7 +97,7 @@ def locate_points(
     result = np.full(q, -1, dtype=np.intp)
     cur = start_triangles(pts, tri, qs)
     active = np.arange(q, dtype=np.intp)
-    limit = 4 * tri.shape[0] + 16
+    limit = 4 * tri.shape[0] + 16 if max_steps is None else max_steps
     for step in range(limit):
         if not active.size:
             return result
