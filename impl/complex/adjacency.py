@@ -12,7 +12,7 @@ conventions (:mod:`persistri`).
 >>> import numpy as np
 >>> square = np.array([[0, 1, 2], [0, 2, 3]])     # two counterclockwise triangles
 >>> triangle_neighbors(square).tolist()             # entry j: across the edge opposite vertex j
-[[-1, -1, 1], [-1, -1, 0]]
+[[-1, 1, -1], [-1, -1, 0]]
 >>> indptr, indices = vertex_neighbor_vertices(square, 5)
 >>> indices[indptr[0]:indptr[1]].tolist(), indptr[4:].tolist()    # vertex 4 is in no triangle
 ([1, 2, 3], [5, 5])
