@@ -15,7 +15,7 @@ conventions (:mod:`persistri`).
 [[-1, 1, -1], [-1, -1, 0]]
 >>> indptr, indices = vertex_neighbor_vertices(square, 5)
 >>> indices[indptr[0]:indptr[1]].tolist(), indptr[4:].tolist()    # vertex 4 is in no triangle
-([1, 2, 3], [5, 5])
+([1, 2, 3], [10, 10])
 """
 
 from __future__ import annotations
