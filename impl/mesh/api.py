@@ -1,0 +1,405 @@
+"""Quality meshes of planar domains, every step a version: :func:`triangulate` and :func:`refine` (paper §1).
+
+``triangulate(domain, min_angle=30)`` builds the constrained Delaunay
+triangulation of a PSLG (:mod:`~persistri.impl.mesh.cdt`) and refines it
+(:mod:`~persistri.impl.mesh.ruppert`); ``min_angle=0`` and no area bound give
+the plain CDT.  The result, a :class:`QualityMesh`, holds numpy arrays in the
+style of ``triangle.triangulate`` and its whole **history**: ``mesh.history[k]``
+is the persistent complex after ``k`` insertions, sharing structure with the
+others, and ``mesh.history.mesh(k)`` reads it back as arrays.
+
+``refine(mesh, min_angle=…, max_area=…)`` continues from a mesh's last version
+as *another future*: refining one CDT twice, with different bounds, gives two
+meshes whose histories start at the same version, and every version of both
+stays valid (no version is ever changed; the point set they draw their new
+points from is append-only, so a point index means one point in every future).
+
+>>> import numpy as np
+>>> from persistri.impl.mesh.domain import as_pslg
+>>> square = as_pslg([[0, 0], [4, 0], [4, 4], [0, 4]], [[0, 1], [1, 2], [2, 3], [3, 0]])
+>>> cdt = triangulate(square)
+>>> cdt.triangles.shape, len(cdt.history)
+((2, 3), 1)
+>>> fine = refine(cdt, min_angle=30, max_area=1.0)
+>>> fine.min_angle_reached, fine.max_area_reached, len(fine.history) == fine.insertions + 1
+(True, True, True)
+"""
+
+from __future__ import annotations
+
+import gc
+import math
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.two_complex import TwoComplex
+from persistri.impl.geometry.growing import GrowingPredicates2
+from persistri.impl.maps import backend as map_backend
+from persistri.impl.mesh.cdt import SegmentGeometry, constrained_delaunay
+from persistri.impl.mesh.domain import PSLG, as_pslg
+from persistri.impl.mesh.quality import AngleBound
+from persistri.impl.mesh.ruppert import Counts, Refiner
+from persistri.impl.mesh.steiner import offcenter_constant
+from persistri.impl.mesh.triangulation import EXTERIOR, MeshDatum, MeshTriangulation
+from persistri.impl.progress import progress_callback
+
+__all__ = ["QualityMesh", "MeshHistory", "MeshArrays", "triangulate", "refine"]
+
+IntArray = NDArray[np.intp]
+
+
+@dataclass(frozen=True, eq=False)
+class MeshArrays:
+    """One version read back as arrays (the :class:`QualityMesh` fields of the same names).
+
+    ``points[k]`` is the point index (in the run's append-only point set) of output vertex ``k``.
+    """
+
+    vertices: NDArray[np.float64]
+    triangles: IntArray
+    segments: IntArray
+    segment_of: IntArray
+    regions: IntArray
+    points: IntArray
+
+
+@dataclass(frozen=True, eq=False)
+class _Run:
+    """What every future of one CDT shares: the triangulation (predicates, structure, vertices) and the segments."""
+
+    T: MeshTriangulation
+    geo: SegmentGeometry
+    domain: PSLG
+
+
+def _arrays(run: _Run, c: Complex[MeshDatum]) -> MeshArrays:
+    """Version ``c`` as arrays: the input vertices first (rows kept), then the Steiner vertices present, by index."""
+    items = run.T.S.items(c)
+    n = run.geo.n_input
+    steiner = sorted({int(v) for t, _ in items for v in t if int(v) >= n})
+    points = np.array(list(range(n)) + steiner, dtype=np.intp)
+    index = np.full(len(run.T.pred), -1, dtype=np.intp)
+    index[points] = np.arange(points.size)
+    tris = [t for t, d in items if d[1] != EXTERIOR]
+    regions = [d[1] for t, d in items if d[1] != EXTERIOR]
+    segs: dict[tuple[int, int], int] = {}
+    for _, d in items:
+        for lo, hi, s in d[2]:
+            segs[(lo, hi)] = s
+    seg_rows = sorted(segs.items(), key=lambda kv: (kv[1], kv[0]))
+    return MeshArrays(
+        vertices=np.array(run.T.pred.points[points], dtype=np.float64),
+        triangles=index[np.array(tris, dtype=np.intp).reshape(-1, 3)],
+        segments=index[np.array([k for k, _ in seg_rows], dtype=np.intp).reshape(-1, 2)],
+        segment_of=np.array([s for _, s in seg_rows], dtype=np.intp),
+        regions=np.array(regions, dtype=np.intp),
+        points=points,
+    )
+
+
+class MeshHistory:
+    """Every version of one refinement, oldest first: ``history[k]`` is the complex after ``k`` insertions.
+
+    ``history[0]`` is the version the run started from (the CDT, or the mesh
+    :func:`refine` continued); ``inserted[k - 1]`` the point index inserted to
+    make version ``k``; :meth:`mesh` reads a version back as arrays.  The
+    versions share structure: keeping all of them costs O(lg n) map nodes per
+    changed vertex, not a copy each.
+    """
+
+    def __init__(self, run: _Run, versions: list[Complex[MeshDatum]], inserted: list[int]) -> None:
+        self._run = run
+        self.versions: tuple[Complex[MeshDatum], ...] = tuple(versions)
+        self.inserted: tuple[int, ...] = tuple(inserted)
+
+    def __len__(self) -> int:
+        return len(self.versions)
+
+    def __getitem__(self, k: int) -> Complex[MeshDatum]:
+        return self.versions[k]
+
+    def __iter__(self) -> Iterator[Complex[MeshDatum]]:
+        return iter(self.versions)
+
+    @property
+    def structure(self) -> TwoComplex[MeshDatum]:
+        """The structure that reads the versions."""
+        return self._run.T.S
+
+    def mesh(self, k: int) -> MeshArrays:
+        """Version ``k`` as arrays (domain triangles, counterclockwise; segments; regions). O(size)."""
+        return _arrays(self._run, self.versions[k])
+
+
+@dataclass(frozen=True, eq=False)
+class QualityMesh:
+    """A mesh of a planar domain and the history that made it (module docstring).
+
+    * ``vertices`` — ``(N, 2)`` float64: the domain's vertices first, in their rows,
+      then the Steiner points (every one lies exactly where it is: split points
+      exactly on their segment);
+    * ``triangles`` — ``(T, 3)`` rows of ``vertices``, counterclockwise, the domain's
+      triangles only (holes and concavities eaten away);
+    * ``segments`` — ``(S, 2)``: the mesh edges that lie on input segments, and
+      ``segment_of`` — the input segment of each;
+    * ``regions`` — ``(T,)``: the region of each triangle (0: none; ``r + 1``: the
+      region of ``domain.regions[r]``);
+    * ``insertions``, ``segment_splits``, ``circumcenters``, ``offcenters`` — what the
+      refinement inserted; ``undos`` — circumcentres inserted and then dropped
+      by returning to the previous version (they encroached a subsegment);
+      ``blocked`` — ones not inserted (a segment lay between); ``exempt`` —
+      triangles left below the angle bound at small input angles;
+    * ``min_angle`` / ``max_area`` — the bounds asked; ``min_angle_reached`` /
+      ``max_area_reached`` — whether every domain triangle meets them (exempt
+      ones excepted for the angle), decided exactly;
+    * ``history`` — every version (:class:`MeshHistory`); ``domain`` the PSLG.
+    """
+
+    vertices: NDArray[np.float64]
+    triangles: IntArray
+    segments: IntArray
+    segment_of: IntArray
+    regions: IntArray
+    domain: PSLG
+    history: MeshHistory
+    min_angle: float
+    max_area: float | None
+    min_angle_reached: bool
+    max_area_reached: bool
+    insertions: int
+    segment_splits: int
+    circumcenters: int
+    offcenters: int
+    undos: int
+    blocked: int
+    exempt: int
+    _run: _Run
+
+    @property
+    def complex(self) -> Complex[MeshDatum]:
+        """The last version."""
+        return self.history[-1]
+
+    def smallest_angle(self) -> float:
+        """The smallest angle over the domain's triangles, in degrees (floating point: for reports). O(T)."""
+        return smallest_angle(self.vertices, self.triangles)
+
+
+def smallest_angle(vertices: NDArray[np.float64], triangles: IntArray) -> float:
+    """The smallest interior angle of ``triangles`` in degrees, in floating point (reports only; 60 for none)."""
+    if triangles.size == 0:
+        return 60.0
+    p = vertices[triangles]
+    best = 180.0
+    for k in range(3):
+        a, b, c = p[:, k], p[:, (k + 1) % 3], p[:, (k + 2) % 3]
+        u, w = b - a, c - a
+        cross = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0])
+        dot = (u * w).sum(axis=1)
+        best = min(best, float(np.degrees(np.arctan2(cross, dot)).min()))
+    return best
+
+
+def _as_domain(domain: PSLG | Mapping[str, Any]) -> PSLG:
+    if isinstance(domain, PSLG):
+        if domain.vertex_map is not None:
+            return domain
+        return as_pslg(domain.vertices, domain.segments, domain.holes, domain.regions)
+    if isinstance(domain, Mapping):
+        return PSLG.from_dict(domain)
+    raise TypeError(f"domain must be a PSLG or a dictionary of arrays, not {type(domain).__name__}")
+
+
+def _area(max_area: float | None) -> Fraction | None:
+    if max_area is None:
+        return None
+    if isinstance(max_area, bool) or not isinstance(max_area, (int, float)):
+        raise TypeError(f"max_area must be a positive real number or None, not {type(max_area).__name__}")
+    if not (math.isfinite(max_area) and max_area > 0):
+        raise ValueError(f"max_area must be a positive finite number, got {max_area!r}")
+    return Fraction(float(max_area))
+
+
+def _finish(
+    run: _Run,
+    versions: list[Complex[MeshDatum]],
+    inserted: list[int],
+    counts: Counts,
+    reached: bool,
+    min_angle: float,
+    max_area: float | None,
+    area_reached: bool,
+) -> QualityMesh:
+    history = MeshHistory(run, versions, inserted)
+    arr = _arrays(run, versions[-1])
+    return QualityMesh(
+        vertices=arr.vertices,
+        triangles=arr.triangles,
+        segments=arr.segments,
+        segment_of=arr.segment_of,
+        regions=arr.regions,
+        domain=run.domain,
+        history=history,
+        min_angle=min_angle,
+        max_area=max_area,
+        min_angle_reached=reached,
+        max_area_reached=area_reached,
+        insertions=counts.insertions,
+        segment_splits=counts.segment_splits,
+        circumcenters=counts.circumcenters,
+        offcenters=counts.offcenters,
+        undos=counts.undos,
+        blocked=counts.blocked,
+        exempt=counts.exempt,
+        _run=run,
+    )
+
+
+def _refine_run(
+    run: _Run,
+    start: Complex[MeshDatum],
+    min_angle: float,
+    max_area: float | None,
+    *,
+    offcenters: bool,
+    max_steiner: int | None,
+    progress: bool | Callable[[int], Any],
+    check: bool,
+) -> QualityMesh:
+    bound = AngleBound.of(min_angle)
+    area = _area(max_area)
+    regs = run.domain.regions
+    region_area = {r + 1: Fraction(float(regs[r, 3])) for r in range(regs.shape[0]) if regs[r, 3] > 0}
+    if max_steiner is not None and (isinstance(max_steiner, bool) or not isinstance(max_steiner, int) or max_steiner < 0):
+        raise ValueError(f"max_steiner must be a nonnegative integer or None, got {max_steiner!r}")
+    refiner = Refiner(run.T, run.geo, bound, area, region_area, offcenter_constant(bound.degrees) if offcenters else 0.0)
+    bar = progress_callback(progress, "refining", None, batch=64)
+    collector = gc.isenabled()
+    gc.disable()  # persistent nodes form no cycles: the cyclic collector only costs time
+    try:
+        result = refiner.run(start, max_steiner=max_steiner, progress=bar)
+    finally:
+        if collector:
+            gc.enable()
+        if bar is not None and hasattr(bar, "close"):
+            bar.close()
+    mesh = _finish(
+        run,
+        result.versions,
+        result.inserted,
+        result.counts,
+        result.angle_reached,
+        bound.degrees,
+        max_area,
+        result.area_reached,
+    )
+    if check:
+        _check(mesh)
+    return mesh
+
+
+def _check(mesh: QualityMesh) -> None:
+    """``check=True``: the independent exact checker, when it is installed with the package."""
+    try:
+        from persistri.impl.mesh.verify import verify_mesh
+    except ImportError:  # pragma: no cover - the checker ships with the package
+        return
+    report = verify_mesh(
+        mesh.domain,
+        mesh.vertices,
+        mesh.triangles,
+        min_angle=mesh.min_angle or None,
+        max_area=mesh.max_area,
+        exact_segments=True,
+    )
+    if not report.ok:
+        raise AssertionError(f"check=True: the mesh fails the exact checker: {report}")
+
+
+def triangulate(
+    domain: PSLG | Mapping[str, Any],
+    *,
+    min_angle: float = 0.0,
+    max_area: float | None = None,
+    backend: str = "red_black",
+    check: bool = False,
+    progress: bool | Callable[[int], Any] = False,
+    offcenters: bool = True,
+    max_steiner: int | None = None,
+) -> QualityMesh:
+    """A quality mesh of ``domain`` (a :class:`PSLG`, or ``triangle.triangulate``'s dictionary): module docstring.
+
+    * ``min_angle`` — the smallest angle wanted, degrees in ``[0, 60)`` (0: none;
+      20.7 is the bound Ruppert's theory guarantees; Triangle's users ask 20–34);
+    * ``max_area`` — the largest triangle area wanted (None: none); regions'
+      own bounds (``domain.regions[:, 3] > 0``) apply inside them;
+    * ``backend`` — the ``ORD_MAP`` backend of the complex;
+    * ``check`` — run the independent exact checker on the result (:mod:`~persistri.impl.mesh.verify`);
+    * ``progress`` — a progress bar (or a callable taking step counts);
+    * ``offcenters`` — Üngör's off-centres (fewer triangles) or circumcentres only;
+    * ``max_steiner`` — stop after this many Steiner points (Triangle's ``-S``).
+
+    With ``min_angle=0`` and no area bound the result is the constrained
+    Delaunay triangulation (history of one version).  Errors, one line each:
+    :class:`~persistri.impl.mesh.domain.DomainError` for a bad domain,
+    :class:`ValueError` for bad bounds, :class:`~persistri.impl.mesh.steiner.PrecisionLimitError`
+    when a split would need more precision than doubles have.  Expected
+    O(n log n) for the CDT, then O(lg n) complex work per insertion.
+    """
+    pslg = _as_domain(domain)
+    bound = AngleBound.of(min_angle)
+    _area(max_area)
+    pred = GrowingPredicates2(pslg.vertices)
+    structure: TwoComplex[MeshDatum] = TwoComplex(map_backend(backend))
+    T = MeshTriangulation(pred, structure)
+    collector = gc.isenabled()
+    gc.disable()
+    try:
+        cdt, geo = constrained_delaunay(T, pslg)
+    finally:
+        if collector:
+            gc.enable()
+    run = _Run(T, geo, pslg)
+    if bound.degrees == 0.0 and max_area is None and not bool(np.any(pslg.regions[:, 3] > 0)):
+        mesh = _finish(run, [cdt], [], Counts(), True, 0.0, None, True)
+        if check:
+            _check(mesh)
+        return mesh
+    return _refine_run(
+        run, cdt, bound.degrees, max_area, offcenters=offcenters, max_steiner=max_steiner, progress=progress, check=check
+    )
+
+
+def refine(
+    mesh: QualityMesh,
+    *,
+    min_angle: float,
+    max_area: float | None = None,
+    offcenters: bool = True,
+    max_steiner: int | None = None,
+    progress: bool | Callable[[int], Any] = False,
+    check: bool = False,
+) -> QualityMesh:
+    """Refine ``mesh`` further, from its last version, as a new future (module docstring); ``mesh`` is unchanged.
+
+    The new mesh's ``history[0]`` is ``mesh``'s last version.  Arguments as
+    :func:`triangulate`.
+    """
+    if not isinstance(mesh, QualityMesh):
+        raise TypeError(f"refine takes a QualityMesh (from triangulate), not {type(mesh).__name__}")
+    return _refine_run(
+        mesh._run,
+        mesh.complex,
+        min_angle,
+        max_area,
+        offcenters=offcenters,
+        max_steiner=max_steiner,
+        progress=progress,
+        check=check,
+    )

@@ -1,0 +1,400 @@
+"""Ruppert's Delaunay refinement with undo by persistence (Ruppert 1995; Shewchuk 1997; the paper's §1).
+
+The paper's introduction names this algorithm as the reason to want
+persistent triangulations: a refinement "in which we undo a partial
+triangulation on the fly in the rare case that boundary constraints lead to
+undesirable acute triangles".  Here every insertion makes a new version of the
+persistent complex (:mod:`persistri.impl.mesh.triangulation`), and the undo is
+just *not adopting* it: the version before the insertion is still there, intact,
+in O(1).
+
+**The algorithm** (:class:`Refiner`), on the constrained Delaunay triangulation
+of a PSLG (:mod:`persistri.impl.mesh.cdt`):
+
+1. A *subsegment* (a mesh edge on an input segment) is **encroached** when the
+   apex of a domain triangle beside it lies strictly inside its diametral
+   circle — exactly, ``(u − x) · (w − x) < 0``
+   (:meth:`~persistri.impl.geometry.growing.GrowingPredicates2.dot_sign`;
+   Thales' theorem, ``proofs/proof_mesh.py``).  Encroached subsegments are
+   split first, before any triangle (Ruppert's priority).
+2. A domain triangle is **bad** when its smallest angle is below ``min_angle``
+   or its area above ``max_area`` (or its region's bound), decided exactly
+   (:mod:`~persistri.impl.mesh.quality`).  Bad triangles are taken shortest
+   shortest-edge first (Triangle's order: buckets by the binary exponent of the
+   squared shortest edge, first in first out within one), and each is split by
+   its circumcentre or, when nearer, its off-centre (:mod:`~persistri.impl.mesh.steiner`).
+3. **The undo.**  The new point ``c`` is inserted (one new version).  If ``c``
+   encroaches a subsegment of its cavity's boundary, the new version is
+   dropped — the refinement goes on from the version it started from, which
+   persistence kept — and the subsegments ``c`` encroaches are split instead;
+   the triangle goes back to the queue.  :attr:`Counts.undos` counts these.
+   (A mutable mesh must delete ``c`` and restore the cavity; Triangle does so
+   with its ``deletevertex``.)  When ``c`` lies beyond a segment as seen from its
+   triangle (only possible for an off-centre or a rounding near a segment:
+   Ruppert's lemma says a circumcentre lies in the domain when no subsegment
+   is encroached), the straight walk to it stops at that segment and the
+   subsegment is split without inserting ``c`` (:attr:`Counts.blocked`).
+
+**Splitting a subsegment** puts a point exactly on it (:func:`~persistri.impl.mesh.steiner.split_parameter`):
+at its midpoint, or — when exactly one end is an input vertex where segments
+meet — on the *concentric shell* around that vertex, at the power of two
+``2^k`` nearest to half the length (``1.5 · 2^k <= length < 3 · 2^k``; Ruppert's
+and Shewchuk's fix for small input angles: the splits on two segments meeting
+at a small angle land at the same distances from their common vertex).
+
+**Termination.**  With no input angle below 60° (Shewchuk 1997, Theorem 8 and
+after; Ruppert's original argument with bound ``arcsin(1/(2√2)) ≈ 20.7°``), every
+new vertex is at least a constant times the *local feature size* away from every
+other, so the mesh has bounded size for ``min_angle <= 20.7°``; in practice
+(Triangle's experience) bounds up to about 33.8° terminate.  **Small input
+angles** (below 60°) break the argument: splitting one segment near the angle
+encroaches the other, forever.  Concentric shells make the splits on both
+segments land at equal distances from the apex, and, following Miller, Pav and
+Walkington (as Triangle does), a bad triangle whose shortest edge joins two
+Steiner vertices on *different* segments that share an endpoint ``o``, at equal
+distance from ``o`` — both placed on the same shell around ``o``, or with squared
+distances to ``o`` within a factor 1.001 of each other (Triangle's rule; the
+comparison is exact, on integers: the factor is a tolerance of the rule, which
+splits at midpoints when both ends of a segment are shared vertices, not of any
+predicate) — is **exempt**: it is not split (such a triangle's small angle is
+forced by the input angle; :attr:`Counts.exempt`).  Triangles exempt this way are
+the only ones allowed below the bound; :attr:`Refinement.reached` says whether
+every other triangle meets it.  ``max_steiner`` caps the number of Steiner
+points for bounds beyond the theory's reach (Triangle's ``-S``).
+
+Costs per accepted insertion: the cavity's O(k) complex operations (O(lg n)
+each) and exact tests, plus O(1) exact quality and encroachment tests per new
+triangle; an undone one costs the same and leaves nothing behind but its
+point's index (the point set is append-only).
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+from persistri.impl.complex.structure import Complex
+from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
+from persistri.impl.mesh.quality import AngleBound, area_exceeds, shape
+from persistri.impl.mesh.steiner import PrecisionLimitError, split_parameter, steiner_point
+from persistri.impl.mesh.triangulation import (
+    EXTERIOR,
+    Constraint,
+    MeshDatum,
+    MeshError,
+    MeshTriangulation,
+    Tri,
+    constraint_of,
+    edge_key,
+)
+
+__all__ = ["Counts", "Refinement", "Refiner"]
+
+
+@dataclass
+class Counts:
+    """What a refinement did.
+
+    * ``insertions`` — accepted insertions (= new versions), ``segment_splits +
+      circumcenters + offcenters``;
+    * ``undos`` — insertions made and then dropped because the new point
+      encroached a subsegment (the paper's undo by persistence);
+    * ``blocked`` — circumcentres or off-centres not inserted because a segment
+      stood between them and their triangle (the segment was split instead);
+    * ``exempt`` — bad-angle triangles left alone at small input angles.
+    """
+
+    insertions: int = 0
+    segment_splits: int = 0
+    circumcenters: int = 0
+    offcenters: int = 0
+    undos: int = 0
+    blocked: int = 0
+    exempt: int = 0
+
+
+@dataclass
+class Refinement:
+    """The result of a run: ``versions[k]`` is the mesh after ``k`` insertions (``versions[0]`` the start);
+    ``inserted[k - 1]`` the point inserted to make version ``k``; ``angle_reached`` / ``area_reached`` whether
+    every domain triangle of the last version meets the angle bound (exempt ones excepted) / the area bounds,
+    decided exactly (False only when ``max_steiner`` stopped the run)."""
+
+    versions: list[Complex[MeshDatum]]
+    inserted: list[int]
+    counts: Counts
+    angle_reached: bool
+    area_reached: bool
+    exempt: set[int] = field(default_factory=set)
+    """Ids of the last version's exempt triangles."""
+
+
+class Refiner:
+    """One refinement run from one version (module docstring); :meth:`run` returns a :class:`Refinement`.
+
+    * ``T`` / ``geo`` — the triangulation and the segments' geometry (shared with
+      other runs from the same CDT: both are append-only);
+    * ``bound`` — the minimum angle; ``max_area`` — a global area bound or None;
+      ``region_area`` — area bounds by region code (Triangle's regional ``-a``);
+    * ``offconstant`` — the off-centre constant (0: circumcentres only).
+    """
+
+    def __init__(
+        self,
+        T: MeshTriangulation,
+        geo: SegmentGeometry,
+        bound: AngleBound,
+        max_area: Fraction | None,
+        region_area: dict[int, Fraction],
+        offconstant: float,
+    ) -> None:
+        self.T = T
+        self.P = T.pred
+        self.S = T.S
+        self.geo = geo
+        self.bound = bound
+        self.max_area = max_area
+        self.region_area = region_area
+        self.offconstant = offconstant
+        self.counts = Counts()
+        self._bad: list[tuple[int, int, Tri, MeshDatum]] = []
+        self._seq = 0
+        self._segs: deque[Constraint] = deque()
+        self._exempt: set[int] = set()
+
+    # -- tests -----------------------------------------------------------------------------
+
+    def _area_bad(self, t: Tri, region: int) -> bool:
+        bound = self.region_area.get(region, self.max_area)
+        if bound is None:
+            return False
+        return area_exceeds(self.P, t[0], t[1], t[2], bound)
+
+    def _is_bad(self, t: Tri, d: MeshDatum) -> bool:
+        """Whether the domain triangle ``t`` must be split; exempt triangles are recorded, not bad."""
+        sh = shape(self.P, t[0], t[1], t[2], self.bound)
+        if self._area_bad(t, d[1]):
+            return True
+        if sh.good_angle:
+            return False
+        if self._exempt_edge(sh.p, sh.q):
+            self._exempt.add(d[0])
+            return False
+        return True
+
+    def _exempt_edge(self, p: int, q: int) -> bool:
+        """Whether edge ``pq`` joins two split points on different segments, equidistant from their common endpoint."""
+        on = self.geo.on_segment
+        sp, sq = on.get(p), on.get(q)
+        if sp is None or sq is None or sp[0] == sq[0]:
+            return False
+        ends_p, ends_q = self.geo.ends[sp[0]], self.geo.ends[sq[0]]
+        for o in set(ends_p) & set(ends_q):
+            shp, shq = self.geo.shell.get(p), self.geo.shell.get(q)
+            if shp is not None and shp == shq and shp[0] == o:
+                return True
+            (po, pp, pq), _ = self.P.integers(o, p, q)
+            dp = (pp[0] - po[0]) ** 2 + (pp[1] - po[1]) ** 2
+            dq = (pq[0] - po[0]) ** 2 + (pq[1] - po[1]) ** 2
+            # Triangle's test, decided on integers: squared distances within a factor 1.001 of each other.
+            if 999 * dq < 1000 * dp < 1001 * dq:
+                return True
+        return False
+
+    def _push_bad(self, t: Tri, d: MeshDatum, edge2: float | None = None) -> None:
+        if edge2 is None:
+            edge2 = shape(self.P, t[0], t[1], t[2], self.bound).edge2
+        bucket = math.frexp(edge2)[1] if 0.0 < edge2 < math.inf else 0
+        self._seq += 1
+        heapq.heappush(self._bad, (bucket, self._seq, t, d))
+
+    def _encroached(self, c: Complex[MeshDatum], u: Any, w: Any) -> bool:
+        """Whether the subsegment ``{u, w}`` of version ``c`` has a domain triangle whose apex is strictly inside its diametral circle."""
+        for x, y in ((u, w), (w, u)):
+            found = self.S.neighbour(c, (x, y))
+            if found is None:
+                continue
+            t, d = found
+            if d[1] != EXTERIOR and t[2] >= 0 and self.P.dot_sign(x, y, t[2]) < 0:
+                return True
+        return False
+
+    def _examine(self, c: Complex[MeshDatum], created: tuple[tuple[Tri, MeshDatum], ...]) -> None:
+        """Queue the bad triangles among ``created`` and the subsegments their apexes encroach."""
+        P = self.P
+        for t, d in created:
+            if d[1] == EXTERIOR:
+                continue
+            if self._is_bad(t, d):
+                self._push_bad(t, d)
+            for lo, hi, s in d[2]:
+                k = [v for v in t if v != lo and v != hi][0]
+                if P.dot_sign(lo, hi, k) < 0:
+                    self._segs.append((lo, hi, s))
+
+    # -- steps -----------------------------------------------------------------------------
+
+    def _alive(self, c: Complex[MeshDatum], t: Tri, d: MeshDatum) -> bool:
+        found = self.S.data(c, t)
+        return found is not None and found[0] is d
+
+    def _split(self, c: Complex[MeshDatum], sub: Constraint) -> tuple[Complex[MeshDatum], int] | None:
+        """Split the subsegment ``sub`` of version ``c``: the new version and the point, or None if it is gone."""
+        T, P, geo = self.T, self.P, self.geo
+        lo, hi, s = sub
+        vu, vw = T.vertex(lo), T.vertex(hi)
+        beside = self.S.neighbour(c, (vu, vw))
+        if beside is None or constraint_of(beside[1], lo, hi) != s:
+            return None
+        if beside[0][2] < 0 or beside[1][1] == EXTERIOR:
+            other = self.S.neighbour(c, (vw, vu))
+            if other is not None and other[0][2] >= 0:
+                beside = other
+        tu, tw = param_on_segment(P, geo, s, lo), param_on_segment(P, geo, s, hi)
+        u, w = lo, hi
+        if tu > tw:
+            u, w, tu, tw = w, u, tw, tu
+        wanted = (tu + tw) / 2
+        shell: tuple[int, int] | None = None
+        a, b = geo.ends[s]
+        u_apex = u < geo.n_input and geo.incident[u] > 1
+        w_apex = w < geo.n_input and geo.incident[w] > 1
+        if u_apex != w_apex:
+            o = u if u_apex else w
+            (pu, pw), e = P.integers(u, w)
+            length = math.hypot(pu[0] - pw[0], pu[1] - pw[1]) * 2.0**e
+            (pa, pb), e2 = P.integers(a, b)
+            total = math.hypot(pa[0] - pb[0], pa[1] - pb[1]) * 2.0**e2
+            if length > 0 and total > 0 and math.isfinite(length) and math.isfinite(total):
+                k = math.floor(math.log2(length / 3.0)) + 1  # 1.5 · 2^k <= length < 3 · 2^k
+                while length < 1.5 * 2.0**k:
+                    k -= 1
+                while length >= 3.0 * 2.0**k:
+                    k += 1
+                dt = Fraction(2.0**k / total)
+                wanted = tu + dt if o == u else tw - dt
+                shell = (o, k)
+        try:
+            t, x, y = split_parameter(P, a, b, tu, tw, wanted)
+        except PrecisionLimitError as exc:
+            raise PrecisionLimitError(f"splitting segment {s} between vertices {u} and {w}: {exc}") from None
+        p = P.append(x, y)
+        geo.on_segment[p] = (s, t)
+        if shell is not None:
+            geo.shell[p] = shell
+        ins = T.insert(c, p, beside, split=(lo, hi, s))
+        self.counts.segment_splits += 1
+        self._examine(ins.version, ins.created)
+        return ins.version, p
+
+    def _split_triangle(
+        self, c: Complex[MeshDatum], t: Tri, d: MeshDatum
+    ) -> tuple[Complex[MeshDatum], int] | None:
+        """Try to split bad triangle ``t``: the new version and point, or None when undone or blocked (the
+        subsegments to split instead are queued and ``t`` goes back to the queue)."""
+        T, P = self.T, self.P
+        sh = shape(P, t[0], t[1], t[2], self.bound)
+        x, y, off = steiner_point(P, sh.p, sh.q, sh.r, self.offconstant)
+        p = P.append(x, y)
+        where = T.walk_to(c, (t, d), p)
+        if where[0] == "blocked":
+            lo, hi, s = where[1]
+            if s < 0:
+                raise MeshError(f"internal: the Steiner point of triangle {t} lies outside the triangulation")
+            self.counts.blocked += 1
+            self._segs.append((lo, hi, s))
+            self._push_bad(t, d, sh.edge2)
+            return None
+        ft, fd = where[1]
+        for v in ft:
+            if P.same(v, p):
+                raise PrecisionLimitError(
+                    f"the Steiner point of triangle {tuple(int(v) for v in t)} rounds onto vertex {int(v)}: "
+                    "the mesh is at the limit of double precision here"
+                )
+        for u, w in ((ft[0], ft[1]), (ft[1], ft[2]), (ft[2], ft[0])):
+            s = constraint_of(fd, u, w) if fd[2] else -1
+            if s >= 0 and P.orient2d_sign(u, w, p) == 0:
+                # On a subsegment: it encroaches it (strictly inside its diametral circle).
+                self.counts.blocked += 1
+                self._segs.append((*edge_key(u, w), s))
+                self._push_bad(t, d, sh.edge2)
+                return None
+        ins = T.insert(c, p, (ft, fd))
+        encroached = [
+            (lo, hi, s) for tri, dat in ins.created for lo, hi, s in dat[2] if P.dot_sign(lo, hi, p) < 0
+        ]
+        if encroached:
+            # The paper's undo: drop the new version and go on from c, which persistence kept.
+            self.counts.undos += 1
+            self._segs.extend(encroached)
+            self._push_bad(t, d, sh.edge2)
+            return None
+        if off:
+            self.counts.offcenters += 1
+        else:
+            self.counts.circumcenters += 1
+        self._examine(ins.version, ins.created)
+        return ins.version, p
+
+    # -- the run ---------------------------------------------------------------------------
+
+    def run(
+        self, start: Complex[MeshDatum], *, max_steiner: int | None = None, progress: Callable[[int], Any] | None = None
+    ) -> Refinement:
+        """Refine from version ``start`` until no subsegment is encroached and no triangle is bad (or
+        ``max_steiner`` points were added).  O(output · log) expected in practice."""
+        versions = [start]
+        inserted: list[int] = []
+        c = start
+        seen: set[tuple[int, int]] = set()
+        for t, d in self.S.items(c):
+            if d[1] == EXTERIOR:
+                continue
+            if self._is_bad(t, d):
+                self._push_bad(t, d)
+            for lo, hi, s in d[2]:
+                if (lo, hi) not in seen and self._encroached(c, self.T.vertex(lo), self.T.vertex(hi)):
+                    seen.add((lo, hi))
+                    self._segs.append((lo, hi, s))
+        while True:
+            if max_steiner is not None and len(inserted) >= max_steiner:
+                break
+            step: tuple[Complex[MeshDatum], int] | None = None
+            if self._segs:
+                step = self._split(c, self._segs.popleft())
+            elif self._bad:
+                _, _, t, d = heapq.heappop(self._bad)
+                if not self._alive(c, t, d):
+                    continue
+                step = self._split_triangle(c, t, d)
+            else:
+                break
+            if step is not None:
+                c, p = step
+                versions.append(c)
+                inserted.append(p)
+                if progress is not None:
+                    progress(1)
+        counts = self.counts
+        counts.insertions = len(inserted)
+        self._exempt.clear()
+        angle_ok = area_ok = True
+        for t, d in self.S.items(c):
+            if d[1] == EXTERIOR:
+                continue
+            if area_ok and self._area_bad(t, d[1]):
+                area_ok = False
+            sh = shape(self.P, t[0], t[1], t[2], self.bound)
+            if not sh.good_angle:
+                if self._exempt_edge(sh.p, sh.q):
+                    self._exempt.add(d[0])
+                else:
+                    angle_ok = False
+        counts.exempt = len(self._exempt)
+        return Refinement(versions, inserted, counts, angle_ok, area_ok, set(self._exempt))

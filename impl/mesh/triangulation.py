@@ -1,0 +1,331 @@
+"""The constrained Delaunay triangulation as a persistent 2-complex: insertion, location and walks (paper §1, §4, §5).
+
+A :class:`MeshTriangulation` reads and changes versions of a
+:class:`~persistri.impl.complex.two_complex.TwoComplex` whose triangles carry a
+:data:`MeshDatum`; it never changes a version: every insertion returns a new
+one, and every old version stays a valid mesh (Ruppert's undo is to keep using
+the old one; :mod:`persistri.impl.mesh.ruppert`).
+
+**What a version holds.**  The whole convex hull of the vertices is
+triangulated, as in :mod:`persistri.impl.terrain.delaunay`: counterclockwise
+finite triangles plus one *ghost* ``(u, w, ∞)`` on every hull edge, ``∞`` a
+symbolic vertex (label -1), so that the complex is a closed surface, the
+neighbour across any edge is one ``find``, and walks need no special case.  The
+domain is the part of it that is not *exterior*: each triangle's datum says
+which region it belongs to (:data:`EXTERIOR` for the concavities and holes that
+were eaten away, and for ghosts).  Exterior triangles are kept rather than
+deleted because deleting them would open the surface; they are never refined.
+
+**Constraints are data of the version.**  A datum records which of the
+triangle's edges lie on input segments, and on which (``(lo, hi, segment)``
+per constrained edge, ``lo < hi`` the vertex labels).  Both triangles beside a
+constrained edge record it (a ghost too, for a segment on the hull), so a
+version knows its own constraints: an old version read after later splits
+still has its own subsegments.
+
+**Insertion** (:meth:`MeshTriangulation.insert`) is Bowyer–Watson restricted
+by the constraints: the cavity is the set of triangles in conflict with the new
+point (exact ``incircle``, SoS for ties; the ghost rule of
+:mod:`~persistri.impl.terrain.delaunay` for ghosts) reachable from the start
+triangle *without crossing a constrained edge* — except the one subsegment
+being split, when the point lies exactly on it.  The cavity is replaced by the
+fan from the point to its boundary (one ``replace``: one version).  This keeps
+the triangulation constrained Delaunay (Delaunay refinement's standard step:
+Shewchuk 1997, §2.1): a triangle outside the cavity is not in conflict or is
+separated from the point by a segment, which is what constrained Delaunay
+allows.  No fan triangle is flat: a point on the line of a boundary edge but
+outside the edge is strictly outside every circle through its endpoints (the
+chord lemma of :mod:`proofs.proof_terrain`), so that edge's inner triangle would
+not be in conflict; a point *on* a boundary edge is a split, and the split
+edge is not on the boundary.
+
+Costs: an insertion whose cavity has ``k`` triangles costs ``O(k)`` complex
+operations (O(lg n) each) and ``O(k)`` exact predicates; a walk ``O(length)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Final, Literal
+
+from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.two_complex import TwoComplex
+from persistri.impl.complex.vertex import Lineage, Vertex, VertexState
+from persistri.impl.geometry.growing import GrowingPredicates2
+
+__all__ = [
+    "EXTERIOR",
+    "INFINITE",
+    "Constraint",
+    "MeshDatum",
+    "Tri",
+    "Insertion",
+    "MeshTriangulation",
+    "MeshError",
+]
+
+EXTERIOR: Final[int] = -1
+"""The region of exterior triangles (eaten concavities, holes) and of ghosts."""
+
+INFINITE: Final[int] = -1
+"""The label of the symbolic vertex at infinity."""
+
+Constraint = tuple[int, int, int]
+"""``(lo, hi, segment)``: the edge between vertex labels ``lo < hi`` lies on input segment ``segment``."""
+
+MeshDatum = tuple[int, int, tuple[Constraint, ...]]
+"""The datum of a triangle: ``(id, region, constraints)``; ids are unique over the run (never reused)."""
+
+Tri = tuple[Vertex, Vertex, Vertex]
+
+
+class MeshError(ValueError):
+    """A meshing step met input it cannot handle (crossing segments, a precision limit); the message says which."""
+
+
+@dataclass(frozen=True, slots=True)
+class Insertion:
+    """One insertion: the new ``version``, the cavity ``removed`` and the fan ``created`` (each ``(triangle, datum)``)."""
+
+    version: Complex[MeshDatum]
+    removed: tuple[tuple[Tri, MeshDatum], ...]
+    created: tuple[tuple[Tri, MeshDatum], ...]
+
+
+def edge_key(u: int, w: int) -> tuple[int, int]:
+    """The unordered edge ``{u, w}`` as ``(lo, hi)``."""
+    return (u, w) if u < w else (w, u)
+
+
+def constraint_of(datum: MeshDatum, u: int, w: int) -> int:
+    """The input segment the edge ``{u, w}`` of a triangle with ``datum`` lies on, or -1. O(1)."""
+    lo, hi = (u, w) if u < w else (w, u)
+    for a, b, s in datum[2]:
+        if a == lo and b == hi:
+            return s
+    return -1
+
+
+class MeshTriangulation:
+    """The operations on versions of a constrained triangulation over the points of a :class:`GrowingPredicates2`.
+
+    ``MeshTriangulation(pred, structure)``; vertices are made on first use
+    (:meth:`vertex`, label = point index) in one lineage, ``∞`` has label -1.
+    The object holds no version: every method takes the version it reads.
+    """
+
+    def __init__(self, pred: GrowingPredicates2, structure: TwoComplex[MeshDatum], *, check: bool = False) -> None:
+        self.pred = pred
+        self.S = structure
+        self.check = check
+        self.lineage: Lineage = VertexState.initial().lineage
+        self._verts: dict[int, Vertex] = {}
+        self.infinite: Vertex = self.vertex(INFINITE)
+        self._next_id = 0
+
+    def vertex(self, i: int) -> Vertex:
+        """The vertex of point ``i`` (``-1``: the symbolic infinite vertex). O(1)."""
+        v = self._verts.get(i)
+        if v is None:
+            v = Vertex(i, None, self.lineage)
+            self._verts[i] = v
+        return v
+
+    def new_datum(self, region: int, constraints: tuple[Constraint, ...] = ()) -> MeshDatum:
+        """A datum with a fresh id."""
+        tid = self._next_id
+        self._next_id += 1
+        return (tid, region, constraints)
+
+    def empty(self) -> Complex[MeshDatum]:
+        """The empty 2-complex of this triangulation's structure."""
+        return self.S.new(2)
+
+    # -- reading a version ---------------------------------------------------------------
+
+    def across(self, c: Complex[MeshDatum], u: Vertex, w: Vertex) -> tuple[Tri, MeshDatum]:
+        """The triangle ``(w, u, x)`` on the far side of the edge ``(u, w)`` of a triangle holding ``(u, w)``. O(lg n)."""
+        found = self.S.neighbour(c, (w, u))
+        if found is None:
+            raise MeshError(f"internal: no triangle holds the edge {(int(w), int(u))}: the complex is not closed")
+        return found
+
+    def conflicts(self, tri: Tri, p: int) -> bool:
+        """Whether point ``p`` is in conflict with ``tri``: strictly inside its circle (SoS), or the ghost rule. O(1)."""
+        a, b, c = tri
+        if a < 0 or b < 0 or c < 0:
+            k = tri.index(self.infinite)
+            u, w = tri[(k + 1) % 3], tri[(k + 2) % 3]
+            s = self.pred.orient2d_sign(u, w, p)
+            if s:
+                return s > 0
+            return self.pred.between(u, w, p)
+        return self.pred.incircle(a, b, c, p) > 0
+
+    # -- insertion -----------------------------------------------------------------------
+
+    def insert(
+        self,
+        c: Complex[MeshDatum],
+        p: int,
+        start: tuple[Tri, MeshDatum],
+        split: tuple[int, int, int] | None = None,
+    ) -> Insertion:
+        """Insert point ``p`` into version ``c`` from ``start``, a triangle in conflict with it (module docstring).
+
+        ``split = (u, w, segment)``: ``p`` lies exactly on the constrained edge
+        ``{u, w}`` of segment ``segment`` (``start`` beside it), which the cavity may
+        cross; the two halves ``{u, p}``, ``{p, w}`` become constrained.  Returns the
+        :class:`Insertion`; ``c`` is unchanged.
+        """
+        vp = self.vertex(p)
+        inf = self.infinite
+        conflicts = self.conflicts
+        stri, sdat = start
+        if self.check and not conflicts(stri, p):
+            raise MeshError(f"internal: point {p} is not in conflict with the start triangle {stri}")
+        crossing = edge_key(split[0], split[1]) if split is not None else None
+        cavity: dict[int, tuple[Tri, MeshDatum]] = {sdat[0]: start}
+        rejected: set[int] = set()
+        # Each boundary edge (u, w) with the region inside it and its segment (-1 if none).
+        boundary: list[tuple[Vertex, Vertex, int, int]] = []
+        a, b, cc = stri
+        stack = [(a, b, sdat), (b, cc, sdat), (cc, a, sdat)]
+        neighbour = self.S.neighbour
+        while stack:
+            u, w, dat = stack.pop()
+            seg = constraint_of(dat, u, w) if dat[2] else -1
+            if seg >= 0 and edge_key(u, w) != crossing:
+                boundary.append((u, w, dat[1], seg))
+                continue
+            found = neighbour(c, (w, u))
+            assert found is not None, "a closed surface has a triangle beyond every edge"
+            ntri, ndat = found
+            nid = ndat[0]
+            if nid in cavity:
+                continue
+            if nid not in rejected and conflicts(ntri, p):
+                cavity[nid] = found
+                x = ntri[2]
+                stack.append((u, x, ndat))
+                stack.append((x, w, ndat))
+                continue
+            rejected.add(nid)
+            boundary.append((u, w, dat[1], seg))
+
+        succ = {u: (w, region, seg) for u, w, region, seg in boundary}
+        if len(succ) != len(boundary):
+            raise MeshError(f"internal: the cavity of point {p} is not a disc")
+        first = succ[inf][0] if inf in succ else boundary[0][0]
+        new_constraints: dict[tuple[int, int], int] = {}
+        if split is not None:
+            new_constraints[edge_key(split[0], p)] = split[2]
+            new_constraints[edge_key(p, split[1])] = split[2]
+        created: list[tuple[Tri, MeshDatum]] = []
+        u = first
+        pred = self.pred
+        while True:
+            w, region, seg = succ[u]
+            if w == inf:
+                break
+            tri = (u, w, vp)
+            if self.check and pred.orient2d_sign(u, w, p) <= 0:
+                raise MeshError(f"internal: point {p} makes the flat or inverted triangle {tri}")
+            cons: list[Constraint] = []
+            if seg >= 0:
+                cons.append((*edge_key(u, w), seg))
+            for x, y in ((w, vp), (vp, u)):
+                s2 = new_constraints.get(edge_key(x, y), -1)
+                if s2 >= 0:
+                    cons.append((*edge_key(x, y), s2))
+            created.append((tri, self.new_datum(region, tuple(cons))))
+            u = w
+            if u == first:
+                break
+        if inf in succ:
+            # An open fan: p is on the hull; two ghosts close it, on the new hull edges (p, u) and (first, p).
+            for g, (x, y) in (((u, inf, vp), (vp, u)), ((inf, first, vp), (first, vp))):
+                s2 = new_constraints.get(edge_key(x, y), -1)
+                cons2: tuple[Constraint, ...] = ((*edge_key(x, y), s2),) if s2 >= 0 else ()
+                created.append((g, self.new_datum(EXTERIOR, cons2)))
+        removed = tuple(cavity.values())
+        version = self.S.replace(c, [t for t, _ in removed], created)
+        return Insertion(version, removed, tuple(created))
+
+    # -- location ------------------------------------------------------------------------
+
+    def locate(self, c: Complex[MeshDatum], p: int, hint: tuple[Tri, MeshDatum]) -> tuple[Tri, MeshDatum]:
+        """A triangle of ``c`` in conflict with ``p``: a visibility walk from ``hint`` that ignores constraints.
+
+        As :meth:`persistri.impl.terrain.delaunay.Triangulator.locate` (Devillers'
+        stochastic walk; a ghost reached is in conflict unless ``p`` is on the line of
+        its hull edge and outside it, and then every triangle is tested).  O(walk).
+        """
+        S, P = self.S, self.pred
+        inf = self.infinite
+        tri, dat = hint
+        came: tuple[Vertex, Vertex] | None = None
+        turn = 0
+        for _ in range(1 << 22):
+            if inf in tri:
+                if self.conflicts(tri, p):
+                    return tri, dat
+                break
+            a, b, cc = tri
+            edges = ((a, b), (b, cc), (cc, a))
+            turn += 1
+            for j in range(3):
+                u, w = edges[(turn + j) % 3]
+                if came == (u, w):
+                    continue
+                if P.orient2d(u, w, p) < 0:
+                    tri, dat = self.across(c, u, w)
+                    came = (w, u)
+                    break
+            else:
+                return tri, dat
+        for t, d in S.items(c):
+            if self.conflicts(t, p):
+                return t, d
+        raise MeshError(f"internal: no triangle is in conflict with point {p}")
+
+    def walk_to(
+        self, c: Complex[MeshDatum], start: tuple[Tri, MeshDatum], p: int
+    ) -> tuple[Literal["found"], tuple[Tri, MeshDatum]] | tuple[Literal["blocked"], Constraint]:
+        """Walk from the finite triangle ``start`` towards point ``p`` along a straight line, never crossing a segment.
+
+        ``("found", (triangle, datum))``: the triangle containing ``p`` (SoS
+        orientation; ``p`` may lie exactly on its boundary); ``("blocked", (u, w,
+        segment))``: the line from ``start`` to ``p`` crosses the constrained edge
+        ``{u, w}`` (``segment`` -1 for a hull edge that is no segment).  The line
+        starts at the vertex of ``start`` opposite the edge ``p`` lies beyond (a
+        circumcentre or off-centre of ``start`` lies beyond at most one of its
+        edges: two would need two obtuse angles).  O(length).
+        """
+        P = self.P_orient
+        tri, dat = start
+        a, b, cc = tri
+        outs = [(u, w, v) for u, w, v in ((a, b, cc), (b, cc, a), (cc, a, b)) if P(u, w, p) < 0]
+        if not outs:
+            return "found", start
+        # The exit edge (r, l), directed as in the current triangle: r right of the line v → p, l left of it.
+        r, l, v = outs[0]
+        inf = self.infinite
+        while True:
+            seg = constraint_of(dat, r, l) if dat[2] else -1
+            if seg >= 0:
+                return "blocked", (*edge_key(r, l), seg)
+            tri, dat = self.across(c, r, l)  # (l, r, z)
+            z = tri[2]
+            if z == inf:
+                return "blocked", (*edge_key(r, l), -1)
+            if P(r, z, p) > 0 and P(z, l, p) > 0:
+                return "found", (tri, dat)
+            if P(v, p, z) > 0:
+                l = z  # the line leaves through (r, z)
+            else:
+                r = z  # through (z, l)
+
+    def P_orient(self, a: int, b: int, c: int) -> int:
+        """SoS orient2d (1 for ``∞`` is never asked: walks stop at ghosts)."""
+        return self.pred.orient2d(a, b, c)
