@@ -248,26 +248,33 @@ class Refiner:
         T, P, geo = self.T, self.P, self.geo
         lo, hi, s = sub
         vu, vw = T.vertex(lo), T.vertex(hi)
-        beside = self.S.neighbour(c, (vu, vw))
-        if beside is None or constraint_of(beside[1], lo, hi) != s:
+        sides = [self.S.neighbour(c, (vu, vw)), self.S.neighbour(c, (vw, vu))]
+        if sides[0] is None or constraint_of(sides[0][1], lo, hi) != s:
             return None
-        if beside[0][2] < 0 or beside[1][1] == EXTERIOR:
-            other = self.S.neighbour(c, (vw, vu))
-            if other is not None and other[0][2] >= 0:
-                beside = other
+        # The side whose apex encroaches (else any domain side): Triangle's choice, which decides the shells.
+        beside = sides[0]
+        best = -1
+        for side in sides:
+            if side is None or side[0][2] < 0 or side[1][1] == EXTERIOR:
+                continue
+            rank = 1 if P.dot_sign(side[0][0], side[0][1], side[0][2]) < 0 else 0
+            if rank > best:
+                best, beside = rank, side
+        (x0, x1, apex), bdat = beside
         tu, tw = param_on_segment(P, geo, s, lo), param_on_segment(P, geo, s, hi)
-        u, w = lo, hi
         if tu > tw:
-            u, w, tu, tw = w, u, tw, tu
+            tu, tw = tw, tu
+        a, b = geo.ends[s]
+        # Concentric shells (Ruppert, Shewchuk; Triangle's rule): around an end where the triangle beside the
+        # subsegment has a second constrained edge, i.e. where two segments meet at that triangle's corner.
+        acute_0 = constraint_of(bdat, apex, x0) >= 0 if bdat[2] else False
+        acute_1 = constraint_of(bdat, x1, apex) >= 0 if bdat[2] else False
         wanted = (tu + tw) / 2
         shell: tuple[int, int] | None = None
-        a, b = geo.ends[s]
-        u_apex = u < geo.n_input and geo.incident[u] > 1
-        w_apex = w < geo.n_input and geo.incident[w] > 1
-        if u_apex != w_apex:
-            o = u if u_apex else w
-            (pu, pw), e = P.integers(u, w)
-            length = math.hypot(pu[0] - pw[0], pu[1] - pw[1]) * 2.0**e
+        if acute_0 or acute_1:
+            o, other = (int(x1), int(x0)) if acute_1 else (int(x0), int(x1))
+            (po, pt), e = P.integers(o, other)
+            length = math.hypot(po[0] - pt[0], po[1] - pt[1]) * 2.0**e
             (pa, pb), e2 = P.integers(a, b)
             total = math.hypot(pa[0] - pb[0], pa[1] - pb[1]) * 2.0**e2
             if length > 0 and total > 0 and math.isfinite(length) and math.isfinite(total):
@@ -277,8 +284,10 @@ class Refiner:
                 while length >= 3.0 * 2.0**k:
                     k += 1
                 dt = Fraction(2.0**k / total)
-                wanted = tu + dt if o == u else tw - dt
+                t_o = param_on_segment(P, geo, s, o)
+                wanted = t_o + dt if t_o == tu else t_o - dt
                 shell = (o, k)
+        u, w = lo, hi
         try:
             t, x, y = split_parameter(P, a, b, tu, tw, wanted)
         except PrecisionLimitError as exc:
