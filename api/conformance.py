@@ -20,6 +20,8 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from persistri.spec.conformance import *  # noqa: F403  - the suite's own __all__, checked by mypy
+
+    __all__: list[str]
 else:
 
     def __getattr__(name: str) -> object:

@@ -193,7 +193,7 @@ def test_errors_are_one_line() -> None:
     with pytest.raises(ValueError, match=r"shape \(\.\.\., 2\), got shape \(4, 3\)"):
         tri.find_simplex(np.zeros((4, 3)))
     with pytest.raises(ValueError, match="xi: row 1 is not finite"):
-        tri.find_simplex([[0, 0], [np.nan, 0]])
+        tri.find_simplex(np.array([[0, 0], [np.nan, 0]]))
     with pytest.raises(TypeError, match="xi must be real numbers"):
         tri.find_simplex([["a", "b"]])
     with pytest.raises(ValueError, match="rectangular"):

@@ -216,7 +216,7 @@ def test_errors_are_the_deep_apis_one_line() -> None:
     with pytest.raises(ValueError, match=r"must be an \(n, 3\) array, got shape \(4, 2\)"):
         persistri.ConvexHull(np.zeros((4, 2)))
     with pytest.raises(ValueError, match="row 1 is not finite"):
-        persistri.ConvexHull([[0, 0, 0], [np.nan, 0, 0], [0, 1, 0], [0, 0, 1]])
+        persistri.ConvexHull(np.array([[0, 0, 0], [np.nan, 0, 0], [0, 1, 0], [0, 0, 1]]))
     with pytest.raises(ValueError, match="coplanar|affine dimension 2"):
         persistri.ConvexHull([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
     with pytest.raises(TypeError, match="real numbers"):

@@ -15,7 +15,10 @@ directory) and checks, snippet by snippet, that
   map) is REJECTED at the ascription, with mypy's note naming the conflicting
   member and the expected signature;
 * (d) a ``str`` key passed to a map typed ``OrdMap[int, str, M]`` is REJECTED
-  with error code ``arg-type``, both in generic code and at the real backends.
+  with error code ``arg-type``, both in generic code and at the real backends;
+* (e) a misspelt public name (``persistri.ConvexHul``) is REJECTED (``attr-defined``:
+  the lazy module ``__getattr__`` must not make every name ``Any``), and so is a
+  wrong use of a public attribute's type.
 
 Because each defective snippet is derived from the accepted one by a single
 textual edit, a rejection can only come from that edit.  Every snippet must
@@ -236,7 +239,7 @@ def add_word(s: OrdMap[int, str, M], m: M) -> M:
         name="str_key_assoc_list",
         why="(d) a str key passed to the association list ascribed OrdMap[int, str, ALMap[int, str]] is rejected",
         source='''
-from persistri.impl.maps.assoc_list import ALMap, assoc_list
+from persistri.maps import ALMap, assoc_list
 from persistri.spec import OrdMap
 
 s: OrdMap[int, str, ALMap[int, str]] = assoc_list
@@ -260,7 +263,30 @@ m2 = s.insert(m, "two", "2")  # reject
             code="arg-type",
             messages=(f'Argument 2 to "insert" of "{cls}" has incompatible type "str"; expected "int"',),
         )
-        for module, cls in (("persistri.impl.maps.red_black", "RedBlackMap"), ("persistri.impl.maps.hamt", "HamtMap"))
+        for module, cls in (("persistri.maps", "RedBlackMap"), ("persistri.maps", "HamtMap"))
+    ),
+    Snippet(
+        name="misspelt_public_name",
+        why="(e) a misspelt public name is rejected: the lazy module __getattr__ is hidden from mypy, not Any",
+        source='''
+import persistri
+
+hull = persistri.ConvexHul([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])  # reject
+''',
+        code="attr-defined",
+        messages=('Module has no attribute "ConvexHul"',),
+    ),
+    Snippet(
+        name="public_attribute_type",
+        why="(e) the public API's attributes are typed: a hull's volume is not a str",
+        source='''
+import persistri
+
+hull = persistri.ConvexHull([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+volume: str = hull.volume  # reject
+''',
+        code="assignment",
+        messages=(_ASSIGN, 'expression has type "float", variable has type "str"'),
     ),
 )
 """Every snippet, accepted or rejected (see the module docstring)."""

@@ -1,8 +1,10 @@
 """A downstream consumer of persistri, typed the way user code is.
 
 This file lives OUTSIDE the package on purpose: it imports the *installed*
-``persistri.spec`` and ``persistri.impl`` (the strict editable install) and must
-pass ``mypy tests/typing/consumer.py`` under the project's strict settings
+package (the strict editable install) through its public names only —
+``persistri`` and its public submodules ``persistri.maps``,
+``persistri.conformance`` and ``persistri.spec``, never ``persistri.impl`` — and
+must pass ``mypy tests/typing/consumer.py`` under the project's strict settings
 (``make typecheck`` runs it).  ``assert_type`` pins the types mypy infers, so a
 change that silently widens a signature to ``Any`` (or narrows it wrongly) makes
 the type check fail, not just the run.
@@ -18,11 +20,12 @@ import operator
 from collections.abc import Iterable
 from typing import Any, TypeVar, assert_never, assert_type
 
-from persistri.impl.maps.assoc_list import ALMap, AssocListMap, assoc_list
-from persistri.impl.maps.counted import counted
-from persistri.impl.maps.hamt import HamtMap, HMap, hamt
-from persistri.impl.maps.red_black import RBMap, RedBlackMap, red_black
-from persistri.impl.stats import Stats
+import numpy as np
+from numpy.typing import NDArray
+
+import persistri
+from persistri import Stats
+from persistri.maps import ALMap, AssocListMap, HamtMap, HMap, RBMap, RedBlackMap, assoc_list, counted, hamt, red_black
 from persistri.spec import NATURAL_ORDER, SOME, NotFound, Option, OrdKey, OrdMap, Order, valOf
 
 K = TypeVar("K")
@@ -177,3 +180,71 @@ assert rb_counted.inDomain(rb_map, 3) and stats.dict_ops == before_ops + 1
 backends: list[OrdMap[str, int, Any]] = [assoc_list, red_black, hamt, counted(hamt, Stats())]
 for b in backends:
     exercise(b)
+
+
+# -- the public geometry: scipy.spatial's shape, typed ---------------------------------
+
+IntcArray = NDArray[np.intc]
+FloatArray = NDArray[np.float64]
+
+assert_type(persistri.__version__, str)
+
+cube = np.array([[x, y, z] for x in (0, 2) for y in (0, 2) for z in (0, 2)], dtype=np.float64)
+hull = persistri.ConvexHull(cube, history=True, backend="red_black", seed=1)
+assert_type(hull, persistri.ConvexHull)
+assert_type(hull.points, FloatArray)
+assert_type(hull.simplices, IntcArray)
+assert_type(hull.vertices, IntcArray)
+assert_type(hull.neighbors, IntcArray)
+assert_type(hull.equations, FloatArray)
+assert_type(hull.duplicates, IntcArray)
+assert_type(hull.volume, float)
+assert_type(hull.area, float)
+assert_type(hull.nsimplex, int)
+assert_type(hull.history, "persistri.HullHistory | None")
+assert_type(hull.result, persistri.Hull)
+assert hull.volume == 8.0 and hull.area == 24.0 and hull.vertices.tolist() == list(range(8))
+assert hull.history is not None and len(hull.history) >= 1
+assert_type(hull.history.simplices(0), "NDArray[np.intp]")
+
+# Persistence: a new hull, the old one unchanged.
+taller = hull.add_points([[1.0, 1.0, 5.0]])
+assert_type(taller, persistri.ConvexHull)
+assert taller.volume == 12.0 and hull.volume == 8.0
+
+# The functions under the classes, and their result types.
+deep: persistri.Hull = persistri.convex_hull(cube)
+assert_type(persistri.ConvexHull.from_hull(deep), persistri.ConvexHull)
+report = persistri.verify_hull(cube, hull.simplices)
+assert_type(report, persistri.HullReport)
+assert_type(report.ok, bool)
+assert report.ok
+
+xy = np.array([[0, 0], [2, 0], [0, 2], [2, 2], [3, 1]], dtype=np.float64)
+tri = persistri.Delaunay(xy)
+assert_type(tri, persistri.Delaunay)
+assert_type(tri.simplices, IntcArray)
+assert_type(tri.neighbors, IntcArray)
+assert_type(tri.convex_hull, IntcArray)
+assert_type(tri.coplanar, IntcArray)
+assert_type(tri.vertex_neighbor_vertices, tuple[IntcArray, IntcArray])
+assert_type(tri.find_simplex(xy), IntcArray)
+assert_type(tri.result, persistri.DelaunayTriangulation)
+assert tri.find_simplex([[-1.0, 0.0]]).tolist() == [-1]
+assert_type(persistri.delaunay(xy), persistri.DelaunayTriangulation)
+
+heights = np.zeros((5, 6))
+heights[2, 3] = 7.0
+tin = persistri.greedy_insertion(heights, max_points=5)
+assert_type(tin, persistri.Tin)
+assert tin.n_points == 5
+
+counts = Stats()
+persistri.ConvexHull(cube, stats=counts)
+assert counts.dict_ops > 0
+
+# The conformance suite, under its public name (the classes only: running it is the test suite's job).
+suite: type[persistri.conformance.OrdMapConformance] = persistri.conformance.OrdMapConformance
+missing = persistri.conformance.missing_operations(red_black)
+assert_type(missing, list[str])
+assert missing == [] and suite.__name__ == "OrdMapConformance"
