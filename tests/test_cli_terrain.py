@@ -282,4 +282,4 @@ def test_bench_terrain_table_on_jacksboro_and_bad_sizes() -> None:
     bad = CliRunner().invoke(main, ["bench", "terrain", "--sizes", "two"])
     assert bad.exit_code == 2
     missing = CliRunner().invoke(main, ["bench", "terrain", "--sizes", "8", "--grid", "nope.npy"])
-    assert missing.exit_code == 1 and "no such file" in missing.output
+    assert missing.exit_code == 2 and missing.stderr == "persistri: nope.npy: no such file\n"

@@ -190,7 +190,7 @@ def test_cli_rejects_bad_options(tmp_path: Path) -> None:
         result = runner.invoke(main, args)
         assert result.exit_code == 2, (args, result.output)
     result = runner.invoke(main, ["experiments", "fig8", "--out", str(tmp_path), "--sizes", "64", "--backends", "btree"])
-    assert result.exit_code == 1 and "unknown complex 'btree'" in result.output
+    assert result.exit_code == 2 and "unknown complex 'btree'" in result.output
     assert not list(tmp_path.iterdir())  # nothing was written
 
 
@@ -312,9 +312,9 @@ def test_cli_asked_for_a_missing_dem_fails_before_any_work(monkeypatch: pytest.M
     _without_lidar(monkeypatch)
     out = tmp_path / "run"
     result = CliRunner().invoke(main, ["experiments", "all", "--quick", "--out", str(out), "--dems", "jacksboro,lidar"])
-    assert result.exit_code == 1
+    assert result.exit_code == 2
     lines = [line for line in result.stderr.splitlines() if line.strip()]
-    assert len(lines) == 1 and lines[0].startswith("Error: ") and "pip install --no-deps lidar==0.8.4" in lines[0]
+    assert len(lines) == 1 and lines[0].startswith("persistri: ") and "pip install --no-deps lidar==0.8.4" in lines[0]
     assert not out.exists()  # checked before Fig. 6 started
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 from collections.abc import Iterator
 from contextlib import contextmanager
+from pathlib import Path
 
 import click
 from rich.console import Console
@@ -20,9 +21,14 @@ from persistri.impl.bench import complex as bench_complex
 from persistri.impl.bench.complex_report import print_complex
 from persistri.impl.bench.maps import DEFAULT_REPEAT, DEFAULT_SEED, DEFAULT_SIZES, SUBJECTS, ProgressCallback, run_map_bench
 from persistri.impl.bench.maps_report import print_maps
+from persistri.impl.cli.checks import check_backend, check_input
 from persistri.impl.cli.console import stderr_console, stdout_console
+from persistri.impl.cli.errors import about
 
-__all__ = ["bench", "parse_sizes", "progress_bar", "stdout_console"]
+__all__ = ["bench", "parse_sizes", "progress_bar", "stdout_console", "TRACE_FORMATS"]
+
+TRACE_FORMATS = (".npz", ".json")
+"""The formats of a saved trace (``bench complex --trace``)."""
 
 
 def parse_sizes(text: str) -> tuple[int, ...]:
@@ -135,19 +141,17 @@ def terrain(sizes: tuple[int, ...], repeat: int, backend: str, memory: bool, gri
     the final mesh alone.
     """
     from persistri.impl.bench.terrain import run_terrain_bench, terrain_table
-    from persistri.impl.maps import UnknownBackendError
-    from persistri.impl.terrain.grids import read_grid
+    from persistri.impl.terrain.grids import GRID_FORMATS, read_grid
 
     err = stderr_console()
-    try:
-        grid = read_grid(grid_source)
-        with progress_bar(err, "bench terrain") as update:
-            result = run_terrain_bench(
-                sizes, heights=grid.heights, grid_name=grid_source, backend=backend, repeat=repeat, memory=memory,
-                on_progress=update,
-            )
-    except (ValueError, UnknownBackendError) as exc:
-        raise click.ClickException(str(exc).splitlines()[0]) from None
+    check_input(Path(grid_source), GRID_FORMATS, kind="grid", words=("jacksboro",))
+    check_backend(backend)
+    grid = read_grid(grid_source)
+    with about(grid_source), progress_bar(err, "bench terrain") as update:
+        result = run_terrain_bench(
+            sizes, heights=grid.heights, grid_name=grid_source, backend=backend, repeat=repeat, memory=memory,
+            on_progress=update,
+        )
     if as_json:
         click.echo(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
     else:
@@ -178,7 +182,7 @@ def terrain(sizes: tuple[int, ...], repeat: int, backend: str, memory: bool, gri
 @click.option(
     "--trace",
     "trace_path",
-    type=click.Path(exists=True, dir_okay=False),
+    type=click.Path(path_type=Path),
     default=None,
     help="Replay this saved trace (.npz or .json, a closed 2-complex at its end) instead of a generated workload.",
 )
@@ -196,7 +200,7 @@ def complex_(
     sizes: tuple[int, ...],
     workload: str,
     stepwise: bool,
-    trace_path: str | None,
+    trace_path: Path | None,
     repeat: int,
     seed: int,
     only: str | None,
@@ -210,31 +214,30 @@ def complex_(
     the final sphere across every edge.  Prints CPU seconds, µs per operation
     and the ratio to the baseline.  Exit status 1 if a complex failed.
     """
-    from persistri.impl.complex.trace import TraceError, load_trace
+    from persistri.impl.complex.trace import load_trace
 
     only_names = None if only is None else [name.strip() for name in only.split(",") if name.strip()]
+    known = [s.name for s in bench_complex.SUBJECTS]
+    unknown = [name for name in only_names or () if name not in known]
+    if unknown:
+        raise click.BadParameter(f"unknown complex {', '.join(unknown)}; known: {', '.join(known)}", param_hint="--only")
     trace = None
     if trace_path is not None:
-        try:
+        check_input(trace_path, TRACE_FORMATS, kind="trace")
+        with about(trace_path):
             trace = load_trace(trace_path)
-        except TraceError as exc:
-            raise click.BadParameter(str(exc), param_hint="--trace") from None
     err = stderr_console()
-    try:
-        with progress_bar(err, "bench complex") as update:
-            result = bench_complex.run_complex_bench(
-                sizes,
-                workload="hull" if workload == "hull" else "sphere",
-                stepwise=stepwise,
-                trace=trace,
-                repeat=repeat,
-                seed=seed,
-                only=only_names,
-                on_progress=update,
-            )
-    except ValueError as exc:
-        hint = "--only" if only_names is not None and "unknown complex" in str(exc) else "--trace"
-        raise click.BadParameter(str(exc), param_hint=hint) from None
+    with about(trace_path), progress_bar(err, "bench complex") as update:
+        result = bench_complex.run_complex_bench(
+            sizes,
+            workload="hull" if workload == "hull" else "sphere",
+            stepwise=stepwise,
+            trace=trace,
+            repeat=repeat,
+            seed=seed,
+            only=only_names,
+            on_progress=update,
+        )
     if as_json:
         click.echo(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
     else:
@@ -281,25 +284,23 @@ def hull(
     sizes take many minutes (256K points dominate).
     """
     from persistri.impl.bench.hull import hull_table, run_hull_bench
-    from persistri.impl.maps import UnknownBackendError
 
     dist_names = tuple(d.strip() for d in dists.split(",") if d.strip())
     backend_names = tuple(b.strip() for b in backends.split(",") if b.strip())
+    for name in backend_names:
+        check_backend(name)
     err = stderr_console()
-    try:
-        with progress_bar(err, "bench hull") as update:
-            result = run_hull_bench(
-                sizes,
-                dists=dist_names,
-                backends=backend_names,
-                repeat=repeat,
-                seed=seed,
-                memory=memory,
-                memory_n=memory_n,
-                on_progress=update,
-            )
-    except (ValueError, UnknownBackendError) as exc:
-        raise click.ClickException(str(exc).splitlines()[0]) from None
+    with progress_bar(err, "bench hull") as update:
+        result = run_hull_bench(
+            sizes,
+            dists=dist_names,
+            backends=backend_names,
+            repeat=repeat,
+            seed=seed,
+            memory=memory,
+            memory_n=memory_n,
+            on_progress=update,
+        )
     if as_json:
         click.echo(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
     else:

@@ -35,7 +35,7 @@ import click
 
 from persistri.impl.cli.errors import error_line, fail
 
-__all__ = ["PLOT_FORMATS", "check_backend", "check_input", "Outputs", "Staging"]
+__all__ = ["PLOT_FORMATS", "check_backend", "check_input", "check_output_dir", "Outputs", "Staging"]
 
 PLOT_FORMATS: Final = (".png", ".pdf", ".svg")
 """The formats ``--plot`` writes (matplotlib chooses by extension)."""
@@ -79,6 +79,21 @@ def check_backend(name: str) -> None:
         backend(name)
     except UnknownBackendError as exc:
         fail(f"--backend {name}: {error_line(exc)}")
+
+
+def check_output_dir(path: Path) -> None:
+    """Fail unless ``path`` can be an output directory (``--out``): writable, or missing with an existing parent.
+
+    The caller creates it when it writes (a missing parent is a typo, not a wish).
+    """
+    if path.exists() and not path.is_dir():
+        fail(f"{path}: not a directory")
+    if path.is_dir():
+        _probe(path, path)
+    elif not path.parent.is_dir():
+        fail(f"{path}: directory {path.parent} does not exist")
+    else:
+        _probe(path.parent, path)
 
 
 def _probe(directory: Path, target: Path) -> None:
@@ -138,18 +153,6 @@ class Outputs:
         if _check_directory(path.parent, path):
             self._make.add(path.parent)
         self._targets.add(key)
-        return path
-
-    def directory(self, path: Path) -> Path:
-        """``path`` checked as an output directory (``--out``): writable, or missing with an existing parent."""
-        if path.exists() and not path.is_dir():
-            fail(f"{path}: not a directory")
-        if path.is_dir():
-            _probe(path, path)
-        elif not path.parent.is_dir():
-            fail(f"{path}: directory {path.parent} does not exist")
-        else:
-            _probe(path.parent, path)
         return path
 
     @contextmanager

@@ -21,6 +21,8 @@ from typing import Any, NoReturn
 
 import click
 
+from persistri.impl.cli.errors import fail
+
 __all__ = ["conformance", "maps", "complex_", "load_target", "TargetError"]
 
 
@@ -29,8 +31,7 @@ class TargetError(Exception):
 
 
 def _fail(ctx: click.Context, message: str) -> NoReturn:
-    click.echo(f"persistri: {message}", err=True)
-    ctx.exit(2)
+    fail(message)  # one line on stderr, exit status 2 (persistri.impl.cli.errors)
 
 
 def load_target(target: str) -> object:

@@ -17,8 +17,10 @@ from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, T
 from rich.table import Table
 from rich.text import Text
 
+from persistri.impl.cli.checks import check_output_dir
 from persistri.impl.cli.console import stderr_console, stdout_console
-from persistri.impl.experiments.dems import DEMS, DemUnavailableError
+from persistri.impl.cli.errors import about, fail
+from persistri.impl.experiments.dems import DEMS
 from persistri.impl.experiments.fig8 import BACKENDS as FIG8_BACKENDS
 from persistri.impl.experiments.fig11 import DEFAULT_DEMS, OPTIONAL_DEMS
 from persistri.impl.experiments.output import Progress as ProgressCallback
@@ -88,7 +90,13 @@ def _bars(console: Console) -> Iterator[Progress]:
 
 @click.command("experiments")
 @click.argument("which", nargs=-1, required=True, type=click.Choice([*FIGURES, "all"]))
-@click.option("--out", "out", required=True, type=click.Path(file_okay=False, path_type=Path), help="Directory for figN.csv, figN.png, figN.md and summary.md.")
+@click.option(
+    "--out",
+    "out",
+    required=True,
+    type=click.Path(path_type=Path),
+    help="Directory for figN.csv, figN.png, figN.md and summary.md (created if missing; its parent must exist).",
+)
 @click.option("--quick", is_flag=True, help="Small sizes: every figure in seconds (what the test suite runs).")
 @click.option(
     "--sizes",
@@ -138,10 +146,11 @@ def experiments(
     """
     names = list(FIGURES) if "all" in which else [f for f in FIGURES if f in which]
     if replot_only:
-        try:
+        if not out.is_dir():
+            fail(f"{out}: no such directory (--replot redraws the files of an earlier run there)")
+        check_output_dir(out)
+        with about(out):
             pages = replot(names, out)
-        except (ValueError, DemUnavailableError) as exc:
-            raise click.ClickException(str(exc)) from None
         for page in pages:
             click.echo(f"rewrote {page} and {page.with_suffix('.png').name}")
         return
@@ -158,33 +167,29 @@ def experiments(
             sizes_for(n, quick=quick, override=sizes)
     except ValueError as exc:
         raise click.BadParameter(str(exc), param_hint="--sizes") from None
+    check_output_dir(out)
     err = stderr_console()
-    try:
-        with _bars(err) as bars:
+    with _bars(err) as bars:
 
-            def progress_for(name: str) -> ProgressCallback:
-                task = bars.add_task(name, total=None)
+        def progress_for(name: str) -> ProgressCallback:
+            task = bars.add_task(name, total=None)
 
-                def update(done: int, total: int, what: str) -> None:
-                    bars.update(task, completed=done, total=total, description=f"{name}: {what} ({_UNITS[name]})")
+            def update(done: int, total: int, what: str) -> None:
+                bars.update(task, completed=done, total=total, description=f"{name}: {what} ({_UNITS[name]})")
 
-                return update
+            return update
 
-            summary = run_experiments(
-                names,
-                out,
-                quick=quick,
-                sizes=sizes,
-                seeds=seed_list,
-                backends=backend_list,
-                repeat=repeat,
-                dems=dem_list,
-                progress=progress_for,
-            )
-    except DemUnavailableError as exc:
-        raise click.ClickException(str(exc)) from None
-    except ValueError as exc:
-        raise click.ClickException(str(exc)) from None
+        summary = run_experiments(
+            names,
+            out,
+            quick=quick,
+            sizes=sizes,
+            seeds=seed_list,
+            backends=backend_list,
+            repeat=repeat,
+            dems=dem_list,
+            progress=progress_for,
+        )
     table = Table(title=Text(f"persistri experiments → {out}"))
     columns: tuple[tuple[str, JustifyMethod], ...] = (
         ("figure", "left"),
