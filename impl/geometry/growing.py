@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Final
+from typing import TYPE_CHECKING, Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -72,6 +72,15 @@ ERRBOUND_DOT: Final[float] = ERRBOUND_ORIENT2D
 
 _NAN: Final[tuple[float, float]] = (math.nan, math.nan)
 
+if TYPE_CHECKING:
+
+    def _abs(x: T, /) -> T:
+        """``abs``, typed so that it keeps the argument's type."""
+        ...
+
+else:
+    _abs = abs
+
 
 def dot_terms(ax: T, ay: T, bx: T, by: T, px: T, py: T) -> tuple[T, T]:
     """``(det, permanent)`` of the dot product ``(a − p) · (b − p)`` in floating point. O(1).
@@ -87,7 +96,7 @@ def dot_terms(ax: T, ay: T, bx: T, by: T, px: T, py: T) -> tuple[T, T]:
     left = apx * bpx
     right = apy * bpy
     det = left + right
-    permanent = abs(left) + abs(right)
+    permanent = _abs(left) + _abs(right)
     return det, permanent
 
 

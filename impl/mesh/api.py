@@ -28,6 +28,7 @@ points from is append-only, so a point index means one point in every future).
 from __future__ import annotations
 
 import gc
+import importlib
 import math
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
@@ -307,7 +308,8 @@ def _refine_run(
 def _check(mesh: QualityMesh) -> None:
     """``check=True``: the independent exact checker, when it is installed with the package."""
     try:
-        from persistri.impl.mesh.verify import verify_mesh
+        # Imported by name: the checker is a separate, independent module of the package.
+        verify_mesh: Callable[..., Any] = getattr(importlib.import_module("persistri.impl.mesh.verify"), "verify_mesh")
     except ImportError:  # pragma: no cover - the checker ships with the package
         return
     report = verify_mesh(

@@ -195,8 +195,8 @@ class _Builder:
                 r = z
                 right.append(z)
         constraints: dict[tuple[int, int], int] = {}
-        for _, d in crossed:
-            for lo, hi, sg in d[2]:
+        for _, cdat in crossed:
+            for lo, hi, sg in cdat[2]:
                 constraints[(lo, hi)] = sg
         constraints[edge_key(a, b)] = s
         new: list[Tri] = []
