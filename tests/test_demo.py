@@ -23,7 +23,7 @@ PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
 def test_demo_writes_the_hull_and_the_map_benchmark(tmp_path: Path) -> None:
-    out = tmp_path / "results" / "nested"  # created if missing
+    out = tmp_path / "results"  # created if missing
     result = CliRunner().invoke(
         main,
         ["demo", "--out", str(out), "--bench-sizes", "60,90", "--repeat", "1", "--hull-points", "300",
