@@ -41,6 +41,7 @@ __all__ = [
     "read_npy",
     "write_mesh",
     "compact_mesh",
+    "unit_normals",
 ]
 
 TEXT_FORMATS = (".csv", ".xyz", ".txt")
@@ -346,5 +347,33 @@ def write_mesh(
     tri = renumbered.astype(np.int64)
     if tri.size == 0 or int(tri.max()) < 2**31:
         tri = tri.astype(np.int32)  # PLY has no 64-bit integers: meshio would warn and cast anyway
-    meshio.write(p, meshio.Mesh(used_points, [("triangle", tri)]))
+    cell_data = {"facet_normals": [unit_normals(used_points, tri)]} if suffix == ".stl" else None
+    meshio.write(p, meshio.Mesh(used_points, [("triangle", tri)], cell_data=cell_data))
     return p
+
+
+def unit_normals(points: NDArray[np.float64], triangles: NDArray[Any]) -> NDArray[np.float64]:
+    """The unit normal of each triangle (right-hand rule), for every finite input. O(m).
+
+    Each triangle is first scaled by a power of two (exact) so that its largest
+    coordinate is about 1, and its edge vectors again so that the longer is: the
+    cross product then neither overflows (coordinates near ±1e308) nor underflows
+    (subnormal ones), where meshio's own formula would warn and write NaN.  A
+    triangle whose cross product still rounds to zero gets the zero vector.
+    """
+    corners = np.asarray(points, dtype=np.float64)[np.asarray(triangles, dtype=np.intp).reshape(-1, 3)]
+    if corners.size == 0:
+        return np.zeros((0, 3))
+
+    def normalised(v: NDArray[np.float64]) -> NDArray[np.float64]:
+        largest = np.max(np.abs(v.reshape(v.shape[0], -1)), axis=1)
+        exponent = np.frexp(largest)[1]
+        scaled: NDArray[np.float64] = np.ldexp(v, -exponent.reshape((-1,) + (1,) * (v.ndim - 1)))
+        return scaled
+
+    a, b, c = np.moveaxis(normalised(corners), 1, 0)
+    edges = normalised(np.stack([b - a, c - a], axis=1))
+    n = np.cross(edges[:, 0], edges[:, 1])
+    length = np.sqrt(np.einsum("ij,ij->i", n, n))
+    out: NDArray[np.float64] = np.divide(n, length[:, None], out=np.zeros_like(n), where=length[:, None] > 0)
+    return out

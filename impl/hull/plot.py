@@ -30,6 +30,10 @@ def plot_hull(
 
     pts = np.asarray(points, dtype=np.float64)
     tri = np.asarray(simplices, dtype=np.intp)
+    # Scale by a power of two to |coordinates| < 1 first (exact): the extent of points near ±1e308
+    # would overflow, and that of subnormal ones would lose its digits.
+    if pts.size:
+        pts = np.ldexp(pts, -int(np.frexp(np.max(np.abs(pts)))[1]))
     centre = (pts.max(axis=0) + pts.min(axis=0)) / 2
     span = float(np.max(pts.max(axis=0) - pts.min(axis=0))) or 1.0
     p = (pts - centre) / span  # drawn in a unit box: huge offsets and tiny scales render alike

@@ -53,9 +53,9 @@ def _maybe_collinear(pts: NDArray[np.float64], tri: NDArray[np.intp]) -> NDArray
     settles it.  Overflow or NaN leaves the answer to exact arithmetic.
     """
     a, b, c = pts[tri[:, 0]], pts[tri[:, 1]], pts[tri[:, 2]]
-    u, v = b - a, c - a
     maybe = np.ones(tri.shape[0], dtype=bool)
-    with np.errstate(all="ignore"):
+    with np.errstate(all="ignore"):  # coordinates near ±1e308: the differences overflow, the filter then abstains
+        u, v = b - a, c - a
         for i, j in ((0, 1), (1, 2), (2, 0)):
             left, right = u[:, i] * v[:, j], u[:, j] * v[:, i]
             det = left - right

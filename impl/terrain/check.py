@@ -51,6 +51,7 @@ __all__ = [
     "verify_triangulation",
     "verify_tin",
     "mesh_errors",
+    "root_mean_square",
     "exact_hull",
 ]
 
@@ -223,6 +224,22 @@ def _same_cycle(a: list[int], b: list[int]) -> bool:
     return b[k:] + b[:k] == a
 
 
+def root_mean_square(errors: FloatArray, count: int) -> float:
+    """``sqrt(sum(errors²) / count)`` without overflow or underflow: the errors are scaled by the largest first.
+
+    (Squaring overflows for errors beyond about 1e154 and flushes subnormal ones
+    to zero; the scaled form holds for every finite error.)  ``count`` may exceed
+    ``errors.size`` (samples with no error).  O(size).
+    """
+    if errors.size == 0 or count <= 0:
+        return 0.0
+    largest = float(np.max(np.abs(errors)))
+    if largest == 0.0 or not np.isfinite(largest):
+        return largest
+    scaled = errors / largest
+    return largest * float(np.sqrt(np.sum(scaled * scaled) / count))
+
+
 def mesh_errors(heights: ArrayLike, vertices: ArrayLike, triangles: ArrayLike) -> tuple[FloatArray, IntArray]:
     """Per grid sample: the vertical error of the mesh there, and how many (closed) triangles cover it.
 
@@ -348,7 +365,7 @@ def verify_tin(tin: Tin, heights: ArrayLike, *, report: CheckReport | None = Non
     else:
         scale = max(1.0, float(h.max() - h.min()))
         worst = float(err.max())
-        rms = float(np.sqrt(np.mean(err * err)))
+        rms = root_mean_square(err, err.size)
         if abs(worst - tin.max_error) > ERROR_RTOL * scale:
             rep.fail(f"maximum error recomputed as {worst!r}, reported {tin.max_error!r}")
         if abs(rms - tin.rms_error) > ERROR_RTOL * scale:

@@ -77,6 +77,7 @@ from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.maps import backend as map_backend
 from persistri.impl.progress import progress_callback
 from persistri.impl.stats import Stats
+from persistri.impl.terrain.check import root_mean_square
 from persistri.impl.terrain.delaunay import Insertion, TriDatum, Triangulator, canonical_triangles
 from persistri.impl.terrain.crs import Crs
 from persistri.impl.terrain.grids import GridTransform, as_heights, as_transform
@@ -341,7 +342,7 @@ def _tin(
         samples = np.concatenate(lists)
         err = plane_errors(xy[:, 0], xy[:, 1], z, apex_first(tri, rank), counts, samples)
         max_error = float(err.max())
-        rms = float(np.sqrt(np.sum(err * err) / n_total))
+        rms = root_mean_square(err, n_total)
     else:
         max_error = rms = 0.0
     vertices = np.column_stack([xy[inserted], z[inserted]])

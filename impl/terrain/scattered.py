@@ -81,11 +81,14 @@ def hilbert_keys(points: NDArray[np.float64], bits: int = 16) -> NDArray[np.int6
     n = points.shape[0]
     if n == 0:
         return np.zeros(0, dtype=np.int64)
-    lo = points.min(axis=0)
-    span = points.max(axis=0) - lo
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    # Halve an axis whose extent overflows (coordinates near ±1e308): only the order matters here.
+    with np.errstate(over="ignore"):
+        half = np.where(np.isfinite(hi - lo), 1.0, 0.5)
+    lo, span = lo * half, hi * half - lo * half
     side = (1 << bits) - 1
     with np.errstate(invalid="ignore", divide="ignore"):
-        q = np.where(span > 0, (points - lo) / np.where(span > 0, span, 1.0), 0.0)
+        q = np.where(span > 0, (points * half - lo) / np.where(span > 0, span, 1.0), 0.0)
     x = np.minimum((q[:, 0] * side).astype(np.int64), side)
     y = np.minimum((q[:, 1] * side).astype(np.int64), side)
     d = np.zeros(n, dtype=np.int64)
