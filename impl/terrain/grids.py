@@ -370,7 +370,7 @@ def read_grid(source: str | Path) -> HeightGrid:
         grid = read_geotiff(path)
     else:
         raise ValueError(f"{path}: unknown grid format {suffix or '(no extension)'}; use one of {', '.join(GRID_FORMATS)} or jacksboro")
-    _check_grid(grid.heights, path)
+    _check_grid(grid, path)
     return grid
 
 
@@ -393,15 +393,23 @@ def _read_npz(path: Path) -> HeightGrid:
         raise ValueError(f"{path}: a damaged .npz archive ({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})") from None
 
 
-def _check_grid(heights: NDArray[np.float64], path: Path) -> None:
-    """Fail unless ``heights`` (as read from ``path``) can be a terrain whatever the no-data rule: :func:`as_heights`'s checks.
+def _check_grid(grid: HeightGrid, path: Path) -> None:
+    """Fail unless ``grid`` (as read from ``path``) can be a terrain whatever the no-data rule: :func:`as_heights`'s checks,
+    and world coordinates within float64's range for every cell.
 
     The NaN cells are left to the caller's rule; a grid of nothing but NaN is refused here.
     """
     try:
-        as_heights(heights, nodata=0.0, what=str(path))
+        as_heights(grid.heights, nodata=0.0, what=str(path))
     except (TypeError, ValueError) as exc:
         raise ValueError(str(exc).splitlines()[0]) from None
+    if grid.transform is not None:
+        rows, cols = grid.heights.shape
+        corners = np.array([[0.0, 0.0], [cols - 1.0, 0.0], [0.0, rows - 1.0], [cols - 1.0, rows - 1.0]])
+        with np.errstate(over="ignore", invalid="ignore"):  # the overflow is what is looked for
+            world = grid.transform.apply(corners)
+        if not bool(np.isfinite(world).all()):
+            raise ValueError(f"{path}: its georeferencing puts cells beyond float64's range (origin and cell size too large)")
 
 
 def write_asc(path: str | Path, heights: ArrayLike, *, x0: float = 0.0, y0: float = 0.0, cellsize: float = 1.0,
