@@ -262,7 +262,8 @@ class Refiner:
                 best, beside = rank, side
         (x0, x1, apex), bdat = beside
         tu, tw = param_on_segment(P, geo, s, lo), param_on_segment(P, geo, s, hi)
-        if tu > tw:
+        t_lo_first = tu < tw
+        if not t_lo_first:
             tu, tw = tw, tu
         a, b = geo.ends[s]
         # Concentric shells (Ruppert, Shewchuk; Triangle's rule): around an end where the triangle beside the
@@ -289,7 +290,7 @@ class Refiner:
                 shell = (o, k)
         u, w = lo, hi
         try:
-            t, x, y = split_parameter(P, a, b, tu, tw, wanted)
+            t, x, y = split_parameter(P, a, b, *((lo, hi) if t_lo_first else (hi, lo)), tu, tw, wanted)
         except PrecisionLimitError as exc:
             raise PrecisionLimitError(f"splitting segment {s} between vertices {u} and {w}: {exc}") from None
         p = P.append(x, y)

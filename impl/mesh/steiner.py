@@ -6,14 +6,14 @@ points it actually holds.  Two kinds of new points:
 
 **Split points** must lie *exactly* on their input segment ``AB``, or the
 segment would no longer be a union of mesh edges.  Every vertex on ``AB`` is
-``A + t (B − A)`` for a dyadic rational ``t`` (the endpoints have ``t = 0, 1``
-and every split chooses a dyadic ``t``); :func:`split_parameter` looks for a
-dyadic ``t`` near the wanted one, inside the middle half of the subsegment,
-whose point has *both* coordinates exactly representable as doubles (tested
-exactly, in rationals), from the finest candidates to the coarser ones.  Near
-the limit of double precision no such ``t`` may exist (the doubles on a line
-of general slope are sparse: for endpoints with full 53-bit significands of one
-binade, ``t (B − A)`` must land on the grid of the binade in both coordinates);
+``A + t (B − A)`` for a rational ``t`` (the endpoints have ``t = 0, 1``);
+:func:`split_parameter` finds the point of two doubles on the subsegment
+nearest the wanted one: the doubles of one binade form a grid, and the grid
+points of a segment whose ends are on the grid are evenly spaced, ``gcd``
+of the coordinate differences of them (a linear Diophantine equation), so the
+nearest one is a division away.  Near the limit of double precision no such
+point may exist (the doubles on a line of general slope are sparse: for
+endpoints with full 53-bit significands in one binade the gcd is often 1);
 :class:`PrecisionLimitError` then says which subsegment could not be split.
 
 **Circumcentres and off-centres** are computed exactly (rationals from the
@@ -117,23 +117,83 @@ def point_at(P: GrowingPredicates2, a: int, b: int, t: Fraction) -> tuple[Fracti
 
 
 def split_parameter(
+    P: GrowingPredicates2, a: int, b: int, u: int, w: int, t_u: Fraction, t_w: Fraction, wanted: Fraction
+) -> tuple[Fraction, float, float]:
+    """A point of two doubles exactly on the subsegment ``uw`` of segment ``ab``, strictly inside it, near ``wanted``.
+
+    ``u = a + t_u (b − a)`` and ``w = a + t_w (b − a)`` (``t_u < t_w``); ``wanted`` is
+    a parameter in ``(t_u, t_w)``.  Returns ``(t, x, y)`` with ``(x, y) = a + t (b − a)``
+    exactly.
+
+    **The lattice.**  Per axis, let ``g = 2^(e − 53)`` where ``2^e`` bounds that
+    coordinate of ``u`` and ``w`` in magnitude (hence along the whole subsegment):
+    every multiple of ``g`` below ``2^e`` is a double.  In integer units fine
+    enough for ``u``, ``w`` and both grids, the integer points of the subsegment
+    are ``u + k (w − u) / G``, ``k = 0 … G``, ``G`` the gcd of the coordinates of
+    ``w − u`` (a linear Diophantine equation); those on the grid satisfy one
+    congruence on ``k`` per axis modulo a power of two, which combine into
+    one: ``k ≡ r (mod M)``.  The solution nearest ``wanted`` with ``0 < k < G`` is
+    returned.  ``G <= 1`` means no double of that grid lies
+    strictly inside.  **Otherwise** (a coordinate of ``u`` or ``w`` finer than the
+    grid), dyadic parameters near ``wanted`` are tried, finest first, for points
+    whose two coordinates are doubles (tested exactly).
+    :class:`PrecisionLimitError` if neither finds a point.  O(1) integer operations,
+    or O(_LEVELS) rational ones for the fallback.
+    """
+    if not t_u < t_w:
+        raise ValueError(f"empty parameter interval ({t_u}, {t_w})")
+    (pu, pw), ex = P.integers(u, w)
+    (ux, uy), (wx, wy) = P.xy(u), P.xy(w)
+    # Per axis, the grid 2^(top - 53) of the binade bounding both ends; units 2^m fine enough for both grids.
+    grids = (max(math.frexp(ux)[1], math.frexp(wx)[1]) - 53, max(math.frexp(uy)[1], math.frexp(wy)[1]) - 53)
+    m = min(ex, *grids)
+    xu, yu, xw, yw = (v << (ex - m) for v in (pu[0], pu[1], pw[0], pw[1]))
+    dx, dy = xw - xu, yw - yu
+    G = math.gcd(dx, dy)
+    if G >= 2:
+        # The integer points of the subsegment are u + k (d / G), k = 0 … G; the grid asks, per axis,
+        # coordinate ≡ 0 (mod 2^(grid − m)): a congruence on k modulo a power of two.
+        step_x, step_y = dx // G, dy // G
+        solved = _congruence(xu, step_x, grids[0] - m)
+        other = _congruence(yu, step_y, grids[1] - m)
+        if solved is not None and other is not None:
+            (r1, m1), (r2, m2) = sorted((solved, other), key=lambda rm: rm[1])
+            if (r2 - r1) % m1 == 0:  # compatible: k ≡ r2 (mod m2), m1 dividing m2
+                s_star = (wanted - t_u) / (t_w - t_u) * G
+                k = r2 + m2 * round((s_star - r2) / m2)
+                for cand in (k, k - m2, k + m2):
+                    if 0 < cand < G:
+                        gx, gy = xu + cand * step_x, yu + cand * step_y
+                        x, y = math.ldexp(gx, m), math.ldexp(gy, m)
+                        if Fraction(x) == gx * _pow2(m) and Fraction(y) == gy * _pow2(m):
+                            return t_u + Fraction(cand, G) * (t_w - t_u), x, y
+    return _dyadic_split(P, a, b, t_u, t_w, wanted)
+
+
+def _congruence(c: int, d: int, bits: int) -> tuple[int, int] | None:
+    """``(r, M)`` with ``c + k d ≡ 0 (mod 2^bits)`` exactly when ``k ≡ r (mod M)`` (``M`` a power of two), or None."""
+    if bits <= 0:
+        return 0, 1
+    mod = 1 << bits
+    if d % mod == 0:
+        return (0, 1) if c % mod == 0 else None
+    tz = (d & -d).bit_length() - 1
+    if c % (1 << tz):
+        return None
+    sub = mod >> tz
+    r = (-(c >> tz) * pow(d >> tz, -1, sub)) % sub
+    return r, sub
+
+
+def _dyadic_split(
     P: GrowingPredicates2, a: int, b: int, t_lo: Fraction, t_hi: Fraction, wanted: Fraction
 ) -> tuple[Fraction, float, float]:
-    """A dyadic ``t`` in the middle half of ``(t_lo, t_hi)``, near ``wanted``, whose point on segment ``ab`` is two doubles.
-
-    Returns ``(t, x, y)`` with ``(x, y) = a + t (b − a)`` exactly.  Candidates: the
-    multiples of ``2^-k`` nearest to ``wanted`` (clamped to the middle half), from
-    the finest level (``wanted``'s own, at most :data:`_LEVELS` below the coarsest
-    that fits) to the coarsest.  :class:`PrecisionLimitError` if none is
-    representable.  O(_LEVELS) rational operations.
-    """
+    """:func:`split_parameter`'s fallback: dyadic ``t`` in the middle half of ``(t_lo, t_hi)`` near ``wanted``."""
     delta = t_hi - t_lo
-    if delta <= 0:
-        raise ValueError(f"empty parameter interval ({t_lo}, {t_hi})")
     lo_ok, hi_ok = t_lo + delta / 4, t_hi - delta / 4
     target = min(max(wanted, lo_ok), hi_ok)
     # The coarsest level whose spacing 2^-k is at most delta / 8 (so a candidate lands in the middle half).
-    k0 = max(0, math.ceil(math.log2(8 / delta)) if delta < 8 else 0)
+    k0 = 0
     while Fraction(1, 1 << k0) > delta / 8:
         k0 += 1
     fine = min(k0 + _LEVELS, max(k0, target.denominator.bit_length() - 1))
