@@ -638,7 +638,7 @@ def domain_of(pslg: PSLG, *, scale: IntegerScale | None = None, pred: Predicates
     lonely = np.ones(n, dtype=bool)
     lonely[seg.reshape(-1)] = False
     for v in np.flatnonzero(lonely).tolist():
-        f = faces.locate(float(verts[v, 0]), float(verts[v, 1])).face
+        f = faces.locate(float(verts[v, 0]), float(verts[v, 1]), on_graph=False).face
         inside[v] = f != UNBOUNDED and bool(kept[f])
     area2 = sum(a for a, k in zip(faces.face_area2, kept.tolist()) if k)
     area = Fraction(area2, 2) * Fraction(2) ** (2 * faces.scale.exponent)

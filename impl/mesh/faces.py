@@ -143,19 +143,23 @@ class PlanarFaces:
 
     # -- point location ------------------------------------------------------------------
 
-    def locate(self, x: float | Fraction, y: float | Fraction) -> Location:
+    def locate(self, x: float | Fraction, y: float | Fraction, *, on_graph: bool = True) -> Location:
         """The face holding the real point ``(x, y)``, or the vertex or segment it lies on. Exact.
 
-        ``x`` and ``y`` are any rationals (floats are exact rationals).  Cost: a
-        vectorised pass over the half-edges and exact tests on those near the point.
+        ``x`` and ``y`` are any rationals (floats are exact rationals).  With
+        ``on_graph=False`` the point is known to lie on no segment (an isolated
+        vertex, say) and only its face is sought.  Cost: a vectorised pass over
+        the half-edges and exact tests on those near the point.
         """
         fx, fy = Fraction(x), Fraction(y)
         e = self.scale.exponent
         sx, sy = fx / Fraction(2) ** e, fy / Fraction(2) ** e
         den = sx.denominator * sy.denominator // _gcd(sx.denominator, sy.denominator)
-        return self.locate_scaled(int(sx * den), int(sy * den), den, float(fx), float(fy))
+        return self.locate_scaled(int(sx * den), int(sy * den), den, float(fx), float(fy), on_graph=on_graph)
 
-    def locate_scaled(self, nx: int, ny: int, d: int, approx_x: float, approx_y: float) -> Location:
+    def locate_scaled(
+        self, nx: int, ny: int, d: int, approx_x: float, approx_y: float, *, on_graph: bool = True
+    ) -> Location:
         """:meth:`locate` for the point ``(nx / d, ny / d)`` in scaled integer units (``d > 0``).
 
         ``approx_x, approx_y`` are the point's real coordinates to within a
@@ -164,13 +168,23 @@ class PlanarFaces:
         pts = self.vertices
         tol = 1e-9 * (abs(approx_x) + abs(approx_y)) + 1e-300
         xs, ys = self._x, self._y
+        if on_graph:
+            where = self._on_graph(nx, ny, d, approx_x, approx_y, tol)
+            if where is not None:
+                return where
+        return Location(self._face_around(nx, ny, d, approx_x, approx_y, tol))
+
+    def _on_graph(self, nx: int, ny: int, d: int, approx_x: float, approx_y: float, tol: float) -> Location | None:
+        """The vertex or segment the point lies on, or None."""
+        pts = self.vertices
+        xs, ys = self._x, self._y
         near = np.flatnonzero((np.abs(pts[:, 0] - approx_x) <= tol) & (np.abs(pts[:, 1] - approx_y) <= tol))
         for v in near.tolist():
             if xs[v] * d == nx and ys[v] * d == ny:
                 return Location(UNBOUNDED, vertex=v)
         seg = self.segments
         if seg.shape[0] == 0:
-            return Location(UNBOUNDED)
+            return None
         ax, ay = pts[seg[:, 0], 0], pts[seg[:, 0], 1]
         bx, by = pts[seg[:, 1], 0], pts[seg[:, 1], 1]
         in_box = (
@@ -185,6 +199,12 @@ class PlanarFaces:
                 xs[u], ys[u], xs[v], ys[v], nx, ny, d
             ):
                 return Location(UNBOUNDED, segment=s)
+        return None
+
+    def _face_around(self, nx: int, ny: int, d: int, approx_x: float, approx_y: float, tol: float) -> int:
+        """The face of a point on no segment: the least-area ccw walk winding around it."""
+        pts = self.vertices
+        xs, ys = self._x, self._y
         # Winding numbers (Sunday's crossing rule) of every walk with a half-edge crossing the
         # horizontal line through the point to its right; only those half-edges are tested exactly.
         he = self.half_edges
@@ -210,7 +230,7 @@ class PlanarFaces:
             a = self.walk_area2[w]
             if wn != 0 and a > 0 and (best == UNBOUNDED or a < best_area):
                 best, best_area = w, a
-        return Location(UNBOUNDED if best == UNBOUNDED else int(self.face_of_walk[best]))
+        return UNBOUNDED if best == UNBOUNDED else int(self.face_of_walk[best])
 
 
 def _gcd(a: int, b: int) -> int:
