@@ -1,0 +1,96 @@
+"""What the ``ORD_MAP`` suite runs against: the structure (checked to have every operation) and its knobs.
+
+:func:`missing_operations` and :func:`as_structure` say whether an object is an
+``ORD_MAP`` structure at all; :class:`SuiteConfig` is the structure with the
+knobs that say how hard the suite tries.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+__all__ = ["ORD_MAP_OPERATIONS", "NotAnOrdMap", "SuiteConfig", "as_structure", "missing_operations"]
+
+ORD_MAP_OPERATIONS: tuple[str, ...] = (
+    "Key",
+    "empty",
+    "isEmpty",
+    "singleton",
+    "insert",
+    "insertWith",
+    "find",
+    "lookup",
+    "inDomain",
+    "remove",
+    "numItems",
+    "listItemsi",
+    "listKeys",
+    "foldli",
+)
+"""The values of ``signature ORD_MAP``, in the signature's order (``Key`` is a structure with ``compare``)."""
+
+
+def missing_operations(obj: object) -> list[str]:
+    """The ``ORD_MAP`` operations the structure ``obj`` lacks or has as non-callables, in signature order.
+
+    ``Key`` is reported as ``Key.compare`` when ``Key`` exists but has no
+    callable ``compare``.  ``obj`` is the structure itself (an instance, not its
+    class).  An empty list means every operation is there (not that they are right).
+    """
+    missing: list[str] = []
+    for name in ORD_MAP_OPERATIONS:
+        try:
+            attr = getattr(obj, name)
+        except Exception:  # a missing attribute, or a property that raises: either way unusable
+            missing.append(name)
+            continue
+        if name == "Key":
+            if not callable(getattr(attr, "compare", None)):
+                missing.append("Key.compare")
+        elif not callable(attr):
+            missing.append(name)
+    return missing
+
+
+class NotAnOrdMap(TypeError):
+    """The object given as a structure is not an ``ORD_MAP`` structure (it lacks operations)."""
+
+
+def as_structure(obj: object, name: str | None = None) -> Any:
+    """``obj`` as a structure: a class is instantiated with no arguments; raises :class:`NotAnOrdMap`
+    naming the missing operations (``name`` is how messages call ``obj``)."""
+    label = name if name is not None else repr(obj)
+    if isinstance(obj, type):
+        try:
+            obj = obj()
+        except Exception as exc:
+            raise NotAnOrdMap(f"{label} is a class that cannot be instantiated with no arguments: {exc}") from None
+    missing = missing_operations(obj)
+    if missing:
+        raise NotAnOrdMap(f"{label} is not an ORD_MAP structure: missing {', '.join(missing)}")
+    return obj
+
+
+@dataclass(frozen=True)
+class SuiteConfig:
+    """What the suite runs against and how hard.
+
+    ``structure`` — the structure under test; ``hashing`` — also use keys whose
+    hashes collide; ``workload_size`` — keys in each workload (0 skips them);
+    ``check`` — call the structure's ``_check(m)`` after each step when it has
+    one; ``stateful_steps`` — steps per stateful example.
+    """
+
+    structure: Any
+    hashing: bool = True
+    workload_size: int = 100_000
+    check: bool = True
+    stateful_steps: int = 25
+
+    def __post_init__(self) -> None:
+        for knob in ("workload_size", "stateful_steps"):
+            value = getattr(self, knob)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+                raise ValueError(f"{knob} must be a non-negative int, got {value!r}")
+
