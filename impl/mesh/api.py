@@ -28,7 +28,6 @@ points from is append-only, so a point index means one point in every future).
 from __future__ import annotations
 
 import gc
-import importlib
 import math
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
@@ -307,11 +306,8 @@ def _refine_run(
 
 def _check(mesh: QualityMesh) -> None:
     """``check=True``: the independent exact checker, when it is installed with the package."""
-    try:
-        # Imported by name: the checker is a separate, independent module of the package.
-        verify_mesh: Callable[..., Any] = getattr(importlib.import_module("persistri.impl.mesh.verify"), "verify_mesh")
-    except ImportError:  # pragma: no cover - the checker ships with the package
-        return
+    from persistri.impl.mesh.verify import verify_mesh  # the independent checker: imported only when asked for
+
     report = verify_mesh(
         mesh.domain,
         mesh.vertices,
@@ -321,7 +317,8 @@ def _check(mesh: QualityMesh) -> None:
         exact_segments=True,
     )
     if not report.ok:
-        raise AssertionError(f"check=True: the mesh fails the exact checker: {report}")
+        first = report.problems[0]
+        raise AssertionError(f"check=True: the mesh fails the exact checker ({len(report.problems)} problems; first: {first})")
 
 
 def triangulate(

@@ -1,0 +1,107 @@
+"""triangulate / refine (impl/mesh/api.py): every step a version, two futures of one CDT, errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mesh_helpers import check_mesh, check_quality, l_shape, square_with_hole
+from persistri.impl.mesh.api import QualityMesh, refine, triangulate
+from persistri.impl.mesh.domain import PSLG
+
+
+def _snapshot(m: QualityMesh) -> list[tuple[bytes, bytes, bytes]]:
+    out = []
+    for k in range(len(m.history)):
+        a = m.history.mesh(k)
+        out.append((a.vertices.tobytes(), np.sort(np.sort(a.triangles, axis=1), axis=0).tobytes(), a.segments.tobytes()))
+    return out
+
+
+def _check_all_versions(d: PSLG, m: QualityMesh) -> None:
+    for k in range(len(m.history)):
+        a = m.history.mesh(k)
+        check_mesh(d, a.vertices, a.triangles, a.segments, a.segment_of)
+
+
+def test_history_has_every_version_and_each_is_a_cdt() -> None:
+    d = square_with_hole()
+    m = triangulate(d, min_angle=30, max_area=0.5)
+    assert len(m.history) == m.insertions + 1 == len(m.history.inserted) + 1
+    _check_all_versions(d, m)
+    sizes = [m.history.mesh(k).vertices.shape[0] for k in range(len(m.history))]
+    assert sizes == list(range(8, 8 + len(m.history)))  # one vertex per insertion
+    last = m.history.mesh(len(m.history) - 1)
+    assert np.array_equal(last.triangles, m.triangles) and np.array_equal(last.vertices, m.vertices)
+
+
+def test_two_futures_of_one_cdt_both_stay_valid() -> None:
+    d = l_shape()
+    cdt = triangulate(d)
+    before = _snapshot(cdt)
+    fine = refine(cdt, min_angle=30, max_area=0.1)
+    snap_fine = _snapshot(fine)
+    coarse_small = refine(cdt, min_angle=20, max_area=0.01)
+    # Both futures start at the CDT's version; the runs share the complex's structure and point set.
+    assert fine.history[0] is cdt.complex and coarse_small.history[0] is cdt.complex
+    assert fine.min_angle_reached and coarse_small.min_angle_reached and coarse_small.max_area_reached
+    # Every version of both, rechecked after both runs: unchanged and valid.
+    assert _snapshot(cdt) == before and _snapshot(fine) == snap_fine
+    _check_all_versions(d, fine)
+    _check_all_versions(d, coarse_small)
+    check_quality(fine.vertices, fine.triangles, 30, 0.1, exempt=fine.exempt)
+    check_quality(coarse_small.vertices, coarse_small.triangles, 20, 0.01, exempt=coarse_small.exempt)
+    # The second future's Steiner points come after the first's in the shared, append-only point set.
+    assert min(coarse_small.history.inserted) > max(fine.history.inserted)
+
+
+def test_refine_continues_a_refined_mesh() -> None:
+    d = square_with_hole()
+    m20 = triangulate(d, min_angle=20)
+    m33 = refine(m20, min_angle=33, max_area=0.2)
+    assert m33.history[0] is m20.complex and m33.triangles.shape[0] > m20.triangles.shape[0]
+    check_quality(m33.vertices, m33.triangles, 33, 0.2, exempt=m33.exempt)
+
+
+def test_versions_share_structure() -> None:
+    m = triangulate(l_shape(), min_angle=30, max_area=0.01)
+
+    def tree_nodes(tree):  # type: ignore[no-untyped-def]
+        stack = [tree]
+        while stack:
+            node = stack.pop()
+            if node is not None:
+                yield node
+                stack += [node[1], node[4]]
+
+    per_version = [list(tree_nodes(v.rep[1])) for v in m.history]
+    distinct = {id(node) for nodes in per_version for node in nodes}
+    assert len(distinct) < sum(map(len, per_version)) / 5
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, match",
+    [
+        ({"min_angle": -1}, ValueError, "min_angle"),
+        ({"min_angle": 60}, ValueError, "min_angle"),
+        ({"min_angle": "30"}, TypeError, "min_angle"),
+        ({"max_area": 0.0}, ValueError, "max_area"),
+        ({"max_area": float("nan")}, ValueError, "max_area"),
+        ({"backend": "nope"}, Exception, "backend"),
+    ],
+)
+def test_bad_arguments_are_one_line_errors(kwargs: dict[str, object], error: type[Exception], match: str) -> None:
+    with pytest.raises(error, match=match) as info:
+        triangulate(square_with_hole(), **kwargs)  # type: ignore[arg-type]
+    assert "\n" not in str(info.value)
+
+
+def test_refine_takes_a_mesh() -> None:
+    with pytest.raises(TypeError, match="QualityMesh"):
+        refine(square_with_hole(), min_angle=20)  # type: ignore[arg-type]
+
+
+def test_unvalidated_pslg_is_validated() -> None:
+    raw = PSLG(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]), np.array([[0, 1], [1, 3], [3, 0]]))
+    m = triangulate(raw)
+    assert m.triangles.shape == (1, 3)

@@ -1,0 +1,132 @@
+"""Ruppert's refinement with undo by persistence (impl/mesh/ruppert.py): bounds reached exactly, undos, Triangle's counts."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+import triangle as tr
+
+from mesh_helpers import check_mesh, check_quality, check_verified, circle, hole_square_area2, l_shape, polygon_area2, ring, square_with_hole, star
+from persistri.impl.mesh.api import QualityMesh, triangulate
+from persistri.impl.mesh.domain import PSLG, as_pslg
+from persistri.impl.geometry.growing import GrowingPredicates2
+from persistri.impl.mesh.steiner import PrecisionLimitError, split_parameter
+
+DOMAINS = {
+    "square-hole": (square_with_hole, 0.05),
+    "L": (l_shape, 0.01),
+    "star": (star, None),
+    "circle": (circle, None),
+}
+
+
+def _checked(d: PSLG, m: QualityMesh) -> None:
+    check_mesh(d, m.vertices, m.triangles, m.segments, m.segment_of)
+    check_quality(m.vertices, m.triangles, m.min_angle, m.max_area, exempt=m.exempt)
+    check_verified(d, m)
+
+
+@pytest.mark.parametrize("name", sorted(DOMAINS))
+@pytest.mark.parametrize("angle", [20.0, 30.0, 33.0])
+def test_bound_reached_exactly(name: str, angle: float) -> None:
+    make, area = DOMAINS[name]
+    d = make()
+    m = triangulate(d, min_angle=angle, max_area=area)
+    assert m.min_angle_reached and m.max_area_reached
+    _checked(d, m)
+    assert m.insertions == m.segment_splits + m.circumcenters + m.offcenters == len(m.history) - 1
+
+
+def test_square_with_hole_area_is_kept() -> None:
+    d = square_with_hole()
+    m = triangulate(d, min_angle=30, max_area=0.1)
+    check_mesh(d, m.vertices, m.triangles, m.segments, m.segment_of, area2=hole_square_area2(d))
+
+
+def test_l_shape_area_is_kept() -> None:
+    d = l_shape()
+    m = triangulate(d, min_angle=33, max_area=0.02)
+    check_mesh(d, m.vertices, m.triangles, m.segments, m.segment_of, area2=polygon_area2(d.vertices, list(range(6))))
+
+
+def test_circumcentres_near_the_boundary_are_undone() -> None:
+    # The L's reflex corner and its long edges make circumcentres fall near segments: the undo path is taken.
+    m = triangulate(l_shape(), min_angle=30, max_area=0.01)
+    assert m.undos > 0
+    # Undone points are in the point set but in no version of the history.
+    used = {int(v) for c in m.history for t, _ in m.history.structure.items(c) for v in t}
+    undone = set(range(len(m._run.T.pred))) - used - set(range(m.domain.vertices.shape[0]))
+    assert len(undone) >= m.undos
+
+
+def test_without_undo_a_thin_domain_needs_none() -> None:
+    # A square refined by area alone, far from its boundary after the first splits: a control for the count.
+    m = triangulate(as_pslg([[0, 0], [1, 0], [1, 1], [0, 1]], ring(4)), min_angle=0.0, max_area=0.3)
+    assert m.max_area_reached and m.triangles.shape[0] >= 4
+
+
+def test_small_input_angles_are_exempt_and_terminate() -> None:
+    d = star()
+    m = triangulate(d, min_angle=33)
+    assert m.exempt > 0 and m.min_angle_reached
+    _checked(d, m)
+    # The exempt triangles sit at the tips: their small angle is the input angle there, nothing smaller.
+    assert m.smallest_angle() >= 15.9
+
+
+def test_offcentres_are_optional() -> None:
+    d = circle()
+    with_off = triangulate(d, min_angle=30)
+    without = triangulate(d, min_angle=30, offcenters=False)
+    assert with_off.offcenters > 0 and without.offcenters == 0
+    _checked(d, without)
+
+
+def test_max_steiner_stops_early() -> None:
+    m = triangulate(l_shape(), min_angle=33, max_area=0.001, max_steiner=10)
+    assert m.insertions == 10 and not m.max_area_reached
+
+
+def test_region_area_bounds() -> None:
+    # Two squares side by side, the right one with its own area bound.
+    d = as_pslg(
+        [[0, 0], [1, 0], [2, 0], [2, 1], [1, 1], [0, 1]],
+        ring(6) + [[1, 4]],
+        regions=[[1.5, 0.5, 7.0, 0.01]],
+    )
+    m = triangulate(d, min_angle=20)
+    right = m.regions == 1
+    e1 = m.vertices[m.triangles[:, 1]] - m.vertices[m.triangles[:, 0]]
+    e2 = m.vertices[m.triangles[:, 2]] - m.vertices[m.triangles[:, 0]]
+    areas = (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) / 2
+    assert right.any() and areas[right].max() <= 0.01 and areas[~right].max() > 0.01
+
+
+def test_full_precision_segment_is_a_clear_error() -> None:
+    # Ends in one binade using all 53 bits, differences (in ulps) coprime: no double lies strictly between.
+    u = 2.0**-53
+    P = GrowingPredicates2([[0.5 + 3 * u, 0.75], [0.875 - 5 * u, 0.5 + 7 * u]])
+    with pytest.raises(PrecisionLimitError, match="limit of double precision"):
+        split_parameter(P, 0, 1, 0, 1, Fraction(0), Fraction(1), Fraction(1, 2))
+
+
+def test_split_points_lie_exactly_on_oblique_segments() -> None:
+    # Vertices on a 2^-20 grid: the lattice of doubles on each segment is dense, every split exact.
+    pts = np.round(np.array([[0.0, 0.0], [1.0, 0.3], [0.7, 1.1], [-0.2, 0.6]]) * 2**20) / 2**20
+    d = as_pslg(pts, ring(4))
+    m = triangulate(d, min_angle=30, max_area=0.005)
+    _checked(d, m)
+    assert m.segment_splits > 10
+
+
+@pytest.mark.parametrize("name", sorted(DOMAINS))
+@pytest.mark.parametrize("angle", [20, 30, 33])
+def test_triangle_counts_within_ten_percent(name: str, angle: int) -> None:
+    make, area = DOMAINS[name]
+    d = make()
+    opts = f"pq{angle}" + (f"a{area}" if area else "")
+    ref = tr.triangulate(d.to_dict(), opts)
+    m = triangulate(d, min_angle=angle, max_area=area)
+    assert m.triangles.shape[0] <= 1.1 * ref["triangles"].shape[0]
