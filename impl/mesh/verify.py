@@ -42,8 +42,8 @@ The checks (each failure is a :class:`MeshProblem` of the kind named):
    incircle determinant; cocircular is fine);
 7. ``angle`` and ``area-bound`` — quality: each triangle's smallest angle is at least
    ``min_angle`` (exact, :mod:`~persistri.impl.mesh.angles`), except the triangles
-   Ruppert's algorithm must leave (below), and its area is at most ``max_area`` and
-   the bound of its region (exact rationals).
+   Ruppert's algorithm must leave (below), and its area is at most ``max_area`` and,
+   with ``region_areas``, the bound of its region (exact rationals).
 
 **Why 1 and 4 make a triangulation of exactly the domain.**  For a point ``x`` on
 no edge, the number of triangles containing ``x`` is the winding number around
@@ -203,12 +203,14 @@ def verify_mesh(
     max_area: float | None = None,
     exact_segments: bool = True,
     rounding_ulps: float = 2.0,
+    region_areas: bool = False,
     max_problems: int = 10,
 ) -> MeshReport:
     """Check exactly that ``triangles`` (t × 3 rows of ``vertices``) are a constrained Delaunay mesh of ``domain``.
 
     ``min_angle`` (degrees, in ``[0, 60]``) and ``max_area`` add the quality checks;
-    the regions' area bounds of ``domain`` always apply.  ``exact_segments=False``
+    ``region_areas=True`` adds the area bounds of ``domain``'s regions (Triangle's ``-a``
+    without a number).  ``exact_segments=False``
     accepts split vertices off their segments by up to ``rounding_ulps`` ulps
     (Triangle's; module docstring).  Returns a
     :class:`MeshReport`; ``report.raise_if_failed()`` raises with every problem
@@ -253,7 +255,7 @@ def verify_mesh(
         return rep
     rep.domain_area = dom.area
     _Mesh(check, dom, pts, tri, scale.to_ints(pts[:, 0]), scale.to_ints(pts[:, 1]), rounding_ulps).run(
-        min_angle, max_area, exact_segments
+        min_angle, max_area, exact_segments, region_areas
     )
     return rep
 
@@ -299,7 +301,7 @@ class _Mesh:
         self.yl: list[int] = ys.tolist()
         self.n = pts.shape[0]
 
-    def run(self, min_angle: float | None, max_area: float | None, exact_segments: bool) -> None:
+    def run(self, min_angle: float | None, max_area: float | None, exact_segments: bool, region_areas: bool) -> None:
         rep, tri = self.check.rep, self.tri
         used = np.unique(tri)
         rep.vertices = int(used.size)
@@ -313,7 +315,7 @@ class _Mesh:
         self._pairing()
         self._faces_and_areas()
         self._delaunay()
-        self._quality(min_angle, max_area)
+        self._quality(min_angle, max_area, region_areas)
 
     # 1. Orientation.
     def _orientation(self) -> NDArray[np.object_]:
@@ -589,7 +591,7 @@ class _Mesh:
             )
 
     # 7. Quality.
-    def _quality(self, min_angle: float | None, max_area: float | None) -> None:
+    def _quality(self, min_angle: float | None, max_area: float | None, region_areas: bool) -> None:
         rep, tri, pts = self.check.rep, self.tri, self.pts
         t = tri.shape[0]
         P = pts[tri]  # (t, 3, 2)
@@ -618,7 +620,7 @@ class _Mesh:
         rep.exempt = int(exempt.sum())
         rest = small[~exempt]
         rep.min_angle_unexempt = float(rest.min()) if rest.size else None
-        self._areas(max_area)
+        self._areas(max_area, region_areas)
 
     def _smallest_corner(self, k: int) -> int:
         """The corner opposite the shortest edge (exact squared lengths): the smallest angle's."""
@@ -680,11 +682,11 @@ class _Mesh:
                         return True
         return False
 
-    def _areas(self, max_area: float | None) -> None:
+    def _areas(self, max_area: float | None, region_areas: bool) -> None:
         dom, tri = self.dom, self.tri
         bounds: dict[int, Fraction] = {}
         for r, f in zip(dom.pslg.regions.tolist(), dom.region_face.tolist()):
-            if r[3] > 0:
+            if region_areas and r[3] > 0:
                 bounds[f] = min(bounds.get(f, Fraction(r[3])), Fraction(r[3]))
         if max_area is None and not bounds:
             return
