@@ -131,12 +131,15 @@ def maps_text(bench: MapBench, width: int | None = None) -> str:
 def save_maps_chart(bench: MapBench, path: Path) -> None:
     """A PNG bar chart of µs/op (log scale): a panel per key count, a group per operation, a bar per map.
 
-    Only measured figures are drawn.  matplotlib's Agg canvas is used directly
-    (no pyplot: no global state, no display needed).
+    Only measured figures are drawn; the slot of a map measured at another size
+    but not at this one says why (``skipped``, ``error``) instead of leaving a
+    silent gap.  matplotlib's Agg canvas is used directly (no pyplot: no global
+    state, no display needed).
     """
     from matplotlib.artist import Artist
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
+    from matplotlib.transforms import blended_transform_factory
 
     names = bench.measured()
     kinds = {r.map: r.kind for r in bench.records}
@@ -146,12 +149,17 @@ def save_maps_chart(bench: MapBench, path: Path) -> None:
     axes = fig.subplots(1, len(bench.sizes), squeeze=False, sharey=True)[0]
     width = 0.8 / max(len(names), 1)
     for ax, n in zip(axes, bench.sizes, strict=True):
-        by_name = {r.map: r for r in bench.records if r.n == n and r.status == "ok"}
+        by_name = {r.map: r for r in bench.records if r.n == n}
         for i, name in enumerate(names):
             rec = by_name.get(name)
-            if rec is None:
-                continue
             xs = [k + (i - (len(names) - 1) / 2) * width for k in range(len(OPERATIONS))]
+            if rec is None or rec.status != "ok":
+                status = "not run" if rec is None else rec.status
+                below = blended_transform_factory(ax.transData, ax.transAxes)  # x in data, y in the panel
+                for x in xs:
+                    ax.text(x, 0.02, status, transform=below, rotation=90, ha="center", va="bottom",
+                            fontsize="x-small", color=colours[name])
+                continue
             ys = [rec.us(op) or 0.0 for op in OPERATIONS]
             ax.bar(xs, ys, width=width, color=colours[name], label=f"{name} ({kinds[name]})")
         ax.set_yscale("log")
