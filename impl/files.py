@@ -7,8 +7,8 @@ Point inputs (:func:`read_points`):
 * ``.csv`` / ``.xyz`` / ``.txt`` — text, one point per line, read by
   :func:`numpy.loadtxt`: numbers separated by commas, semicolons, tabs or
   spaces (the delimiter is the first of ``,`` ``;`` tab found on the first data
-  line, else whitespace), any number of leading header lines (a line none of
-  whose fields is a number, e.g. ``x,y,z``), ``#`` comments (whole lines or
+  line, else whitespace), any number of leading header lines (lines whose
+  first field is not a number, e.g. ``x,y,z``), ``#`` comments (whole lines or
   after the numbers), blank lines, Windows line ends and a UTF-8 byte-order mark;
 * ``.ply`` — the vertices of a PLY file, through meshio.
 
@@ -109,9 +109,14 @@ def _loadtxt(lines: Sequence[str], delimiter: str | None) -> NDArray[np.float64]
 
 
 def _is_header(line: str) -> bool:
-    """A header line: none of its fields is a number (``x,y,z``; ``lon lat height``)."""
-    fields = np.genfromtxt([line], delimiter=_delimiter(line), comments="#", dtype=np.float64, ndmin=1)
-    return bool(np.isnan(fields).all())
+    """A header line: its first field is not a number (``x,y,z``; ``survey 2024``), as numpy's type detection sees it.
+
+    A line that starts with a number is data, to be reported if it is bad
+    (``1,2,x`` is not silently skipped as a header; ``nan,0,0`` is data too).
+    """
+    fields = np.genfromtxt([line], delimiter=_delimiter(line), comments="#", dtype=None, encoding="utf-8")
+    first = fields.dtype[0] if fields.dtype.names else fields.dtype
+    return first.kind in "US"
 
 
 def _what_is_wrong(line: str, delimiter: str | None, width: int) -> str:

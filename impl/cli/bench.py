@@ -9,6 +9,7 @@ stderr and print results on stdout.
 from __future__ import annotations
 
 import json
+import zipfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -23,7 +24,7 @@ from persistri.impl.bench.maps import DEFAULT_REPEAT, DEFAULT_SEED, DEFAULT_SIZE
 from persistri.impl.bench.maps_report import print_maps
 from persistri.impl.cli.checks import check_backend, check_input
 from persistri.impl.cli.console import stderr_console, stdout_console
-from persistri.impl.cli.errors import about
+from persistri.impl.cli.errors import about, error_line, fail
 
 __all__ = ["bench", "parse_sizes", "progress_bar", "stdout_console", "TRACE_FORMATS"]
 
@@ -214,7 +215,7 @@ def complex_(
     the final sphere across every edge.  Prints CPU seconds, µs per operation
     and the ratio to the baseline.  Exit status 1 if a complex failed.
     """
-    from persistri.impl.complex.trace import load_trace
+    from persistri.impl.complex.trace import TraceError, load_trace
 
     only_names = None if only is None else [name.strip() for name in only.split(",") if name.strip()]
     known = [s.name for s in bench_complex.SUBJECTS]
@@ -224,8 +225,14 @@ def complex_(
     trace = None
     if trace_path is not None:
         check_input(trace_path, TRACE_FORMATS, kind="trace")
-        with about(trace_path):
+        if trace_path.suffix.lower() == ".npz" and not zipfile.is_zipfile(trace_path):
+            # numpy would try to unpickle it and say so: say what it is not.
+            fail(f"{trace_path}: not a .npz archive (not a zip file, or a truncated one)")
+        try:
             trace = load_trace(trace_path)
+        except TraceError as exc:
+            message = error_line(exc).removeprefix("load_trace: ")
+            fail(message if str(trace_path) in message else f"{trace_path}: {message}")
     err = stderr_console()
     with about(trace_path), progress_bar(err, "bench complex") as update:
         result = bench_complex.run_complex_bench(

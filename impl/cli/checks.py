@@ -90,6 +90,8 @@ def check_output_dir(path: Path) -> None:
         fail(f"{path}: not a directory")
     if path.is_dir():
         _probe(path, path)
+    elif path.parent.exists() and not path.parent.is_dir():
+        fail(f"{path}: {path.parent} is not a directory")
     elif not path.parent.is_dir():
         fail(f"{path}: directory {path.parent} does not exist")
     else:

@@ -20,6 +20,7 @@ when a measured structure fails.
 from __future__ import annotations
 
 import os
+import zipfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -78,6 +79,7 @@ def _data_errors() -> tuple[type[BaseException], ...]:
         TypeError,
         OSError,
         EOFError,  # click would print "Aborted!" for it
+        zipfile.BadZipFile,  # a damaged .npz
         DemUnavailableError,
         BulldozerCheckError,
         HullVerificationError,
@@ -101,7 +103,7 @@ def about(name: str | Path | None) -> Iterator[None]:
 
     For the computation on an input (``no 3D convex hull: all points are
     coplanar`` becomes ``points.csv: no 3D convex hull: …``); a message that
-    already starts with the name is kept as it is.  ``None`` (a generated input)
+    already names the file is kept as it is.  ``None`` (a generated input)
     adds nothing.
     """
     try:
@@ -112,7 +114,7 @@ def about(name: str | Path | None) -> Iterator[None]:
         if os.environ.get(_DEBUG_VARIABLE):
             raise
         message = _as_cli_error(exc).message
-        if name is not None and not message.startswith(f"{name}:") and not message.startswith("internal error"):
+        if name is not None and str(name) not in message and not message.startswith("internal error"):
             message = f"{name}: {message}"
         raise CliError(message) from None
 
