@@ -271,6 +271,7 @@ def _refine_run(
     max_steiner: int | None,
     progress: bool | Callable[[int], Any],
     check: bool,
+    encroachment: str,
 ) -> QualityMesh:
     bound = AngleBound.of(min_angle)
     area = _area(max_area)
@@ -278,7 +279,17 @@ def _refine_run(
     region_area = {r + 1: Fraction(float(regs[r, 3])) for r in range(regs.shape[0]) if regs[r, 3] > 0}
     if max_steiner is not None and (isinstance(max_steiner, bool) or not isinstance(max_steiner, int) or max_steiner < 0):
         raise ValueError(f"max_steiner must be a nonnegative integer or None, got {max_steiner!r}")
-    refiner = Refiner(run.T, run.geo, bound, area, region_area, offcenter_constant(bound.degrees) if offcenters else 0.0)
+    if encroachment not in ("lens", "circle"):
+        raise ValueError(f"encroachment must be 'lens' (Chew's, Triangle's default) or 'circle' (Ruppert's), not {encroachment!r}")
+    refiner = Refiner(
+        run.T,
+        run.geo,
+        bound,
+        area,
+        region_area,
+        offcenter_constant(bound.degrees) if offcenters else 0.0,
+        lens=encroachment == "lens",
+    )
     bar = progress_callback(progress, "refining", None, batch=64)
     collector = gc.isenabled()
     gc.disable()  # persistent nodes form no cycles: the cyclic collector only costs time
@@ -331,6 +342,7 @@ def triangulate(
     progress: bool | Callable[[int], Any] = False,
     offcenters: bool = True,
     max_steiner: int | None = None,
+    encroachment: str = "lens",
 ) -> QualityMesh:
     """A quality mesh of ``domain`` (a :class:`PSLG`, or ``triangle.triangulate``'s dictionary): module docstring.
 
@@ -342,7 +354,9 @@ def triangulate(
     * ``check`` — run the independent exact checker on the result (:mod:`~persistri.impl.mesh.verify`);
     * ``progress`` — a progress bar (or a callable taking step counts);
     * ``offcenters`` — Üngör's off-centres (fewer triangles) or circumcentres only;
-    * ``max_steiner`` — stop after this many Steiner points (Triangle's ``-S``).
+    * ``max_steiner`` — stop after this many Steiner points (Triangle's ``-S``);
+    * ``encroachment`` — ``"lens"`` (Chew's diametral lenses, Triangle's default: fewer
+      triangles) or ``"circle"`` (Ruppert's diametral circles, Triangle's ``-D``).
 
     With ``min_angle=0`` and no area bound the result is the constrained
     Delaunay triangulation (history of one version).  Errors, one line each:
@@ -371,7 +385,15 @@ def triangulate(
             _check(mesh)
         return mesh
     return _refine_run(
-        run, cdt, bound.degrees, max_area, offcenters=offcenters, max_steiner=max_steiner, progress=progress, check=check
+        run,
+        cdt,
+        bound.degrees,
+        max_area,
+        offcenters=offcenters,
+        max_steiner=max_steiner,
+        progress=progress,
+        check=check,
+        encroachment=encroachment,
     )
 
 
@@ -384,6 +406,7 @@ def refine(
     max_steiner: int | None = None,
     progress: bool | Callable[[int], Any] = False,
     check: bool = False,
+    encroachment: str = "lens",
 ) -> QualityMesh:
     """Refine ``mesh`` further, from its last version, as a new future (module docstring); ``mesh`` is unchanged.
 
@@ -401,4 +424,5 @@ def refine(
         max_steiner=max_steiner,
         progress=progress,
         check=check,
+        encroachment=encroachment,
     )

@@ -27,9 +27,9 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from persistri.impl.geometry.growing import GrowingPredicates2
-from persistri.impl.mesh.angles import angle_at_least
+from persistri.impl.mesh.angles import EXACT_COS2, angle_at_least
 
-__all__ = ["AngleBound", "Shape", "shape", "area_exceeds", "twice_area"]
+__all__ = ["AngleBound", "Shape", "shape", "area_exceeds", "twice_area", "inside_lens"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -112,3 +112,31 @@ def area_exceeds(P: GrowingPredicates2, a: int, b: int, c: int, max_area: Fracti
     lhs_num, lhs_den = (det << (2 * e), 1) if e >= 0 else (det, 1 << (-2 * e))
     bound = 2 * max_area
     return lhs_num * bound.denominator > bound.numerator * lhs_den
+
+
+def inside_lens(P: GrowingPredicates2, u: int, w: int, x: int, min_angle: float) -> bool:
+    """Whether ``x`` lies in the diametral *lens* of the segment ``uw`` for the bound ``min_angle`` (Chew; Triangle's default).
+
+    The lens is the part of the diametral circle where the angle ``u x w`` is at
+    least ``180° − 2θ``: the region from which ``x`` would make, with ``uw``, a
+    triangle whose two base angles are below ``θ``.  For ``θ >= 45°`` or ``θ = 0`` it
+    is the diametral circle itself (strictly inside: ``(u − x)·(w − x) < 0``).
+    Exactly: with ``a = u − x``, ``b = w − x`` and ``a·b < 0``, the supplementary
+    angle ``B = 180° − ∠uxw`` has ``cos B = −a·b / (|a| |b|) > 0``, and ``∠uxw >=
+    180° − 2θ`` iff ``B <= 2θ`` — the negation of ``B > 2θ``, decided by
+    :func:`~persistri.impl.mesh.angles.angle_at_least` (and exact equality when
+    ``cos² 2θ`` is rational).  O(1).
+    """
+    if P.dot_sign(u, w, x) >= 0:
+        return False
+    if min_angle == 0.0 or min_angle >= 45.0:
+        return True
+    (pu, pw, px), _ = P.integers(u, w, x)
+    ax, ay, bx, by = pu[0] - px[0], pu[1] - px[1], pw[0] - px[0], pw[1] - px[1]
+    dot_b = -(ax * bx + ay * by)
+    na, nb = ax * ax + ay * ay, bx * bx + by * by
+    phi = 2.0 * min_angle
+    if not angle_at_least(dot_b, na, nb, phi):
+        return True  # B < 2θ
+    exact = EXACT_COS2.get(phi)
+    return exact is not None and dot_b * dot_b * exact.denominator == exact.numerator * na * nb  # B == 2θ

@@ -15,8 +15,14 @@ of a PSLG (:mod:`persistri.impl.mesh.cdt`):
    apex of a domain triangle beside it lies strictly inside its diametral
    circle — exactly, ``(u − x) · (w − x) < 0``
    (:meth:`~persistri.impl.geometry.growing.GrowingPredicates2.dot_sign`;
-   Thales' theorem, ``proofs/proof_mesh.py``).  Encroached subsegments are
-   split first, before any triangle (Ruppert's priority).
+   Thales' theorem, ``proofs/proof_mesh.py``) — Ruppert's definition
+   (``lens=False``); or, by default as in Triangle, inside its diametral
+   *lens*, the part of that circle where the apex angle is at least
+   ``180° − 2θ`` (Chew's; :func:`~persistri.impl.mesh.quality.inside_lens`):
+   a vertex there would make a triangle with two angles below ``θ`` on the
+   subsegment, and one only in the circle would not, so the lens splits fewer
+   subsegments and gives fewer triangles.  Encroached subsegments are split
+   first, before any triangle (Ruppert's priority).
 2. A domain triangle is **bad** when its smallest angle is below ``min_angle``
    or its area above ``max_area`` (or its region's bound), decided exactly
    (:mod:`~persistri.impl.mesh.quality`).  Bad triangles are taken shortest
@@ -80,7 +86,7 @@ from typing import Any
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
-from persistri.impl.mesh.quality import AngleBound, area_exceeds, shape
+from persistri.impl.mesh.quality import AngleBound, area_exceeds, inside_lens, shape
 from persistri.impl.mesh.steiner import PrecisionLimitError, split_parameter, steiner_point
 from persistri.impl.mesh.triangulation import (
     EXTERIOR,
@@ -141,7 +147,8 @@ class Refiner:
       other runs from the same CDT: both are append-only);
     * ``bound`` — the minimum angle; ``max_area`` — a global area bound or None;
       ``region_area`` — area bounds by region code (Triangle's regional ``-a``);
-    * ``offconstant`` — the off-centre constant (0: circumcentres only).
+    * ``offconstant`` — the off-centre constant (0: circumcentres only);
+    * ``lens`` — encroachment by diametral lenses (Chew, Triangle's default) or circles (Ruppert).
     """
 
     def __init__(
@@ -152,6 +159,7 @@ class Refiner:
         max_area: Fraction | None,
         region_area: dict[int, Fraction],
         offconstant: float,
+        lens: bool = True,
     ) -> None:
         self.T = T
         self.P = T.pred
@@ -161,6 +169,7 @@ class Refiner:
         self.max_area = max_area
         self.region_area = region_area
         self.offconstant = offconstant
+        self.lens = lens
         self.counts = Counts()
         self._bad: list[tuple[int, int, Tri, MeshDatum]] = []
         self._seq = 0
@@ -213,6 +222,12 @@ class Refiner:
         self._seq += 1
         heapq.heappush(self._bad, (bucket, self._seq, t, d))
 
+    def _encroaches(self, u: int, w: int, x: int) -> bool:
+        """Whether point ``x`` encroaches the subsegment ``uw``: inside its diametral lens, or circle (exact)."""
+        if self.lens:
+            return inside_lens(self.P, u, w, x, self.bound.degrees)
+        return self.P.dot_sign(u, w, x) < 0
+
     def _encroached(self, c: Complex[MeshDatum], u: Any, w: Any) -> bool:
         """Whether the subsegment ``{u, w}`` of version ``c`` has a domain triangle whose apex is strictly inside its diametral circle."""
         for x, y in ((u, w), (w, u)):
@@ -220,7 +235,7 @@ class Refiner:
             if found is None:
                 continue
             t, d = found
-            if d[1] != EXTERIOR and t[2] >= 0 and self.P.dot_sign(x, y, t[2]) < 0:
+            if d[1] != EXTERIOR and t[2] >= 0 and self._encroaches(x, y, t[2]):
                 return True
         return False
 
@@ -234,7 +249,7 @@ class Refiner:
                 self._push_bad(t, d)
             for lo, hi, s in d[2]:
                 k = [v for v in t if v != lo and v != hi][0]
-                if P.dot_sign(lo, hi, k) < 0:
+                if self._encroaches(lo, hi, k):
                     self._segs.append((lo, hi, s))
 
     # -- steps -----------------------------------------------------------------------------
@@ -257,7 +272,7 @@ class Refiner:
         for side in sides:
             if side is None or side[0][2] < 0 or side[1][1] == EXTERIOR:
                 continue
-            rank = 1 if P.dot_sign(side[0][0], side[0][1], side[0][2]) < 0 else 0
+            rank = 1 if self._encroaches(side[0][0], side[0][1], side[0][2]) else 0
             if rank > best:
                 best, beside = rank, side
         (x0, x1, apex), bdat = beside
@@ -337,7 +352,7 @@ class Refiner:
                 return None
         ins = T.insert(c, p, (ft, fd))
         encroached = [
-            (lo, hi, s) for tri, dat in ins.created for lo, hi, s in dat[2] if P.dot_sign(lo, hi, p) < 0
+            (lo, hi, s) for tri, dat in ins.created for lo, hi, s in dat[2] if self._encroaches(lo, hi, p)
         ]
         if encroached:
             # The paper's undo: drop the new version and go on from c, which persistence kept.
