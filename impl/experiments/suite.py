@@ -166,8 +166,11 @@ def _write_summary(summary: Summary, *, quick: bool, seeds: Sequence[int]) -> Pa
             "",
             markdown_table(("figure", "sizes", "wall-clock", "CPU"), rows, "llrr"),
             "",
-            "Fig. 7 reuses the counted runs Fig. 6 made at the same size, so its time is what remained to do.",
-            "",
+            *(
+                ("Fig. 7 reuses the counted runs Fig. 6 made at the same size, so its time is what remained to do.", "")
+                if {"fig6", "fig7"} <= {r.name for r in summary.runs}
+                else ()
+            ),
             *(line for note in summary.notes for line in (f"Note — {note}", "")),
         ]
     )
