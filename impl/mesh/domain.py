@@ -621,12 +621,12 @@ def domain_of(pslg: PSLG, *, scale: IntegerScale | None = None, pred: Predicates
             "to mesh the convex hull)"
         )
     if not kept.any():
-        k = 0
         f = int(hole_face[0])
-        ring = "–".join(str(v) for v in faces.face_vertices(f)[:6])
+        ring = faces.face_vertices(f)
+        only = "the only region the segments enclose" if faces.n_faces == 1 else "and the other holes eat the rest"
         raise DomainError(
-            f"the domain is empty: hole {k} at {_pt(pslg.holes[k])} eats the region bounded by vertices "
-            f"{ring}{'…' if len(faces.face_vertices(f)) > 6 else ''} (is the boundary around the hole closed?)"
+            f"the domain is empty: hole 0 at {_pt(pslg.holes[0])} eats the region bounded by vertices "
+            f"{'–'.join(map(str, ring[:6]))}{'…' if len(ring) > 6 else ''}, {only} (is every boundary closed?)"
         )
 
     inside = np.zeros(n, dtype=bool)

@@ -1,0 +1,286 @@
+"""Domains: as_pslg's validation and repairs, the dict form, the exact faces and point location."""
+
+from __future__ import annotations
+
+import itertools
+from fractions import Fraction
+
+import numpy as np
+import pytest
+import triangle
+from hypothesis import given
+from hypothesis import strategies as st
+
+from persistri.impl.mesh.domain import PSLG, DomainError, as_pslg, domain_of
+from persistri.impl.mesh.faces import UNBOUNDED, planar_faces
+
+OUTER = [[0, 0], [4, 0], [4, 4], [0, 4]]
+INNER = [[1, 1], [2, 1], [2, 2], [1, 2]]
+RING4 = [[0, 1], [1, 2], [2, 3], [3, 0]]
+RING8 = RING4 + [[4, 5], [5, 6], [6, 7], [7, 4]]
+
+
+def refused(match: str, *args: object, **kwargs: object) -> str:
+    with pytest.raises(DomainError, match=match) as info:
+        as_pslg(*args, **kwargs)  # type: ignore[arg-type]
+    message = str(info.value)
+    assert "\n" not in message
+    return message
+
+
+# -- refused -----------------------------------------------------------------------------------
+
+
+def test_bad_arrays_are_one_line_errors() -> None:
+    refused("row 2 is not finite", [[0, 0], [1, 0], [np.nan, 1]])
+    refused("row 1 is not finite", [[0, 0], [np.inf, 0], [0, 1]])
+    refused(r"must be an \(n, 2\) array", [[0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    refused(r"segments must be a \(k, 2\) array", OUTER, [0, 1, 2])
+    refused("segments must be integers", OUTER, [[0, 1.5]])
+    refused(r"segment 1 \(1, 4\): a vertex index is outside 0..3", OUTER, [[0, 1], [1, 4]])
+    refused(r"segment 0 \(-1, 2\)", OUTER, [[-1, 2]])
+    refused("segment 2 joins vertex 3 to itself", OUTER, [[0, 1], [1, 2], [3, 3]])
+    refused(r"holes: row 0 is not finite", OUTER, RING4, [[np.nan, 1]])
+    refused(r"regions must be an \(r, 4\) array", OUTER, RING4, regions=[[1, 1, 0]])
+    refused("vertex_markers has 2 entries for 4 vertices", OUTER, RING4, vertex_markers=[1, 2])
+    refused("collinear", [[0, 0], [1, 1], [2, 2], [3, 3]], [[0, 3]])
+    refused("collinear", [[0, 0], [1, 1], [0, 0]])
+
+
+def test_crossing_segments_are_refused_naming_both() -> None:
+    msg = refused(r"segment 4 \(0–2\) and segment 5 \(1–3\) cross at about \(2, 2\)", OUTER, RING4 + [[0, 2], [1, 3]])
+    assert "without a shared vertex" in msg
+
+
+def test_holes_and_regions_must_be_in_the_domain() -> None:
+    refused(r"hole 0 at \(5.0, 5.0\) lies outside the domain \(outside the convex hull", OUTER, RING4, [[5, 5]])
+    refused(r"hole 0 at \(2.0, 0.0\) lies on the segment \(0–1\)", OUTER, RING4, [[2, 0]])
+    refused(r"hole 0 at \(4.0, 4.0\) is on vertex 2", OUTER, RING4, [[4, 4]])
+    refused(r"region 0 at \(1.5, 1.5\) lies in a hole", OUTER + INNER, RING8, [[1.5, 1.5]], [[1.5, 1.5, 1, 0]])
+    refused(r"region 0 at \(9.0, 1.0\) lies outside", OUTER, RING4, regions=[[9, 1, 1, 0]])
+
+
+def test_an_unclosed_boundary_around_a_hole_is_named() -> None:
+    # Both boundaries open: the hole's flood fill reaches the outside of the hull.
+    refused("is not enclosed by segments: its flood fill reaches the outside of the convex hull", OUTER + INNER, RING8[:3] + RING8[4:7], [[1.5, 1.5]])
+    # The hole's own boundary open: the hole point is in the outer face, which it eats whole.
+    refused(r"the domain is empty: hole 0 .* eats the region bounded by vertices 0–1–2–3, the only region .*closed", OUTER + INNER, RING8[:7], [[1.5, 1.5]])
+    # The outer boundary open: the hole eats the inner square, and nothing else is enclosed.
+    refused(r"the domain is empty: hole 0 .* eats the region bounded by vertices 4–5–6–7, the only region", OUTER + INNER, RING8[:3] + RING8[4:], [[1.5, 1.5]])
+
+
+def test_an_empty_domain_is_refused() -> None:
+    refused("the segments enclose no region", OUTER, [[0, 1], [1, 2]])
+    refused("the segments enclose no region", OUTER)
+
+
+# -- repaired (or refused with repair=False) ------------------------------------------------------
+
+
+def test_duplicate_vertices_are_merged_and_reported() -> None:
+    p = as_pslg(OUTER + [[4, 4]], RING4 + [[1, 4]])
+    assert p.vertices.shape == (4, 2) and p.vertex_map is not None and p.vertex_map.tolist() == [0, 1, 2, 3, 2]
+    assert p.segments.shape == (4, 2)  # (1, 4) became (1, 2), a repeat of segment 1
+    assert any("vertices 2 and 4 are the same point (4.0, 4.0)" in n for n in p.notes)
+    refused("vertices 2 and 4 are the same point", OUTER + [[4, 4]], RING4, repair=False)
+    refused(r"segment 4 \(2–4\) has both ends at the same point", OUTER + [[4, 4]], RING4 + [[2, 4]])
+
+
+def test_repeated_segments_merge() -> None:
+    p = as_pslg(OUTER, RING4 + [[1, 0], [0, 1]])
+    assert p.segments.tolist() == RING4
+    assert any("repeats segment 0" in n for n in p.notes)
+
+
+def test_a_vertex_on_a_segment_splits_it() -> None:
+    p = as_pslg(OUTER + [[2, 0]], RING4)
+    assert sorted(map(sorted, p.segments.tolist())) == [[0, 3], [0, 4], [1, 2], [1, 4], [2, 3]]
+    assert p.notes == ("vertex 4 at (2.0, 0.0) lies on the interior of segment 0 (0–1): split there",)
+    refused(r"vertex 4 at \(2.0, 0.0\) lies on the interior of segment 0 \(0–1\)", OUTER + [[2, 0]], RING4, repair=False)
+
+
+def test_overlapping_collinear_segments_become_their_pieces() -> None:
+    pts = [[0, 0], [4, 0], [4, 4], [0, 4], [1, 0], [3, 0]]
+    p = as_pslg(pts, [[0, 5], [4, 1], [1, 2], [2, 3], [3, 0]])  # 0–5 and 4–1 overlap on [1, 3]
+    pieces = sorted(map(sorted, p.segments.tolist()))
+    assert [0, 4] in pieces and [4, 5] in pieces and [1, 5] in pieces and len(pieces) == 6
+    assert domain_of(p).area == 16
+    refused("lies on the interior of segment 0", pts, [[0, 5], [4, 1], [1, 2], [2, 3], [3, 0]], repair=False)
+
+
+def test_vertices_outside_the_domain_are_noted() -> None:
+    p = as_pslg(OUTER + [[9, 9]], RING4)
+    assert p.notes == ("vertex 4 at (9.0, 9.0) lies outside the domain: it cannot be a mesh vertex",)
+    assert domain_of(p).vertex_inside.tolist() == [True] * 4 + [False]
+
+
+def test_convex_meshes_the_hull() -> None:
+    p = as_pslg([[0, 0], [2, 0], [1, 0], [0, 2], [0.5, 0.5]], convex=True)
+    assert domain_of(p).area == 2
+    assert sorted(map(sorted, p.segments.tolist())) == [[0, 2], [0, 3], [1, 2], [1, 3]]  # split at (1, 0)
+
+
+# -- exactness at UTM offsets ---------------------------------------------------------------------
+
+
+def test_utm_offsets_decide_exactly() -> None:
+    x0, y0 = 500_000.0, 4_000_000.0
+    pts = np.array([[x0, y0], [x0 + 10, y0 + 10], [x0 + 10, y0], [x0, y0 + 10]])
+    on = np.vstack([pts, [[x0 + 5, y0 + 5]]])  # exactly on the diagonal 0–1
+    p = as_pslg(on, [[0, 2], [2, 1], [1, 3], [3, 0], [0, 1]])
+    assert any("lies on the interior of segment 4" in n for n in p.notes)
+    off = np.vstack([pts, [[x0 + 5, np.nextafter(y0 + 5, np.inf)]]])  # one ulp above it
+    q = as_pslg(off, [[0, 2], [2, 1], [1, 3], [3, 0], [0, 1]])
+    assert not any("split" in n for n in q.notes)
+    # Two segments that miss each other by one ulp do not cross; one more ulp and they do.
+    a = np.array([[x0, y0], [x0 + 2, y0 + 2], [x0 + 2, y0], [x0, y0 + 2]])
+    base = [[0, 2], [2, 1], [1, 3], [3, 0]]
+    touching = np.vstack([a, [[x0 + 1, y0 + 1], [x0 + 1, y0 + 1.5]]])
+    refused("lies on the interior", touching, base + [[0, 1], [4, 5]], repair=False)
+    below = np.vstack([a, [[x0 + 1, np.nextafter(y0 + 1, np.inf)], [x0 + 1, y0 + 1.5]]])
+    as_pslg(below, base + [[0, 1], [4, 5]])
+    across = np.vstack([a, [[x0 + 1, np.nextafter(y0 + 1, -np.inf)], [x0 + 1, y0 + 1.5]]])
+    refused("cross", across, base + [[0, 1], [4, 5]])
+
+
+# -- the dict form ---------------------------------------------------------------------------------
+
+
+def test_dict_round_trip_and_triangle_accepts_it() -> None:
+    d = {
+        "vertices": np.array(OUTER + INNER, dtype=float),
+        "segments": np.array(RING8, dtype=np.int32),
+        "holes": np.array([[1.5, 1.5]]),
+        "regions": np.array([[3, 3, 7, 0.5]]),
+        "vertex_markers": np.arange(8).reshape(-1, 1),
+        "segment_markers": np.arange(8).reshape(-1, 1),
+    }
+    p = PSLG.from_dict(d)
+    back = p.to_dict()
+    for key, value in d.items():
+        assert np.array_equal(back[key], value), key
+    assert back["segments"].dtype == np.intc
+    out = triangle.triangulate(back, "pq")
+    assert out["triangles"].shape[0] > 0
+
+
+def test_dict_errors() -> None:
+    with pytest.raises(DomainError, match="unknown PSLG key 'triangles'"):
+        PSLG.from_dict({"vertices": OUTER, "triangles": [[0, 1, 2]]})
+    with pytest.raises(DomainError, match="needs 'vertices'"):
+        PSLG.from_dict({"segments": RING4})
+    assert "holes" not in as_pslg(OUTER, RING4).to_dict()
+
+
+def test_triangle_example_domains_validate() -> None:
+    for name in ("A", "face", "double_hex", "la", "square_circle_hole"):
+        data = triangle.get_data(name)
+        p = PSLG.from_dict({k: data[k] for k in ("vertices", "segments", "holes", "regions") if k in data})
+        assert domain_of(p).area > 0
+
+
+# -- faces -----------------------------------------------------------------------------------------
+
+
+def test_faces_of_nested_components_cracks_and_holes() -> None:
+    v = np.array(OUTER + INNER + [[3, 3], [3.5, 3.5], [6, 0], [7, 0], [7, 1]], dtype=float)
+    s = np.array(RING8 + [[8, 9], [10, 11], [11, 12], [12, 10]])
+    f = planar_faces(v, s)
+    assert f.n_faces == 3
+    areas = sorted(f.face_area(k) for k in range(3))
+    assert areas == [Fraction(1, 2), 1, 15]
+    assert f.locate(0.5, 0.5).face == f.locate(3.9, 0.1).face
+    assert f.locate(1.5, 1.5).face != f.locate(0.5, 0.5).face
+    assert f.locate(5, 5).face == UNBOUNDED and not f.locate(5, 5).on_graph
+    assert f.locate(3.25, 3.25).segment == 8  # on the crack
+    assert f.locate(Fraction(1, 3), 0).segment == 0 and f.locate(4, 4).vertex == 2
+    assert f.locate(Fraction(7, 3), Fraction(7, 3)).face == f.locate(0.5, 0.5).face
+
+
+@st.composite
+def star_polygons(draw: st.DrawFn) -> tuple[np.ndarray, np.ndarray]:
+    n = draw(st.integers(3, 12))
+    angles = sorted(set(draw(st.lists(st.integers(0, 359), min_size=n, max_size=n))))
+    if len(angles) < 3:
+        angles = [0, 120, 240]
+    radii = [draw(st.integers(1, 20)) for _ in angles]
+    offset = draw(st.sampled_from([0.0, 5e5, 4e6]))
+    pts = np.array([[offset + r * np.cos(np.radians(a)), offset + r * np.sin(np.radians(a))] for a, r in zip(angles, radii)])
+    return pts, np.array([[k, (k + 1) % len(angles)] for k in range(len(angles))])
+
+
+@given(star_polygons())
+def test_the_area_of_a_star_polygon_is_its_exact_shoelace(poly: tuple[np.ndarray, np.ndarray]) -> None:
+    pts, seg = poly
+    try:
+        p = as_pslg(pts, seg)
+    except DomainError as exc:
+        assert "collinear" in str(exc) or "cross" in str(exc)
+        return
+    exact = [(Fraction(x), Fraction(y)) for x, y in p.vertices]
+    ring = [int(a) for a, _ in p.segments]
+    if len(set(ring)) == len(ring) and len(ring) == len(exact):
+        shoelace = sum(exact[a][0] * exact[b][1] - exact[b][0] * exact[a][1] for a, b in p.segments.tolist()) / 2
+        assert domain_of(p).area == abs(shoelace)
+
+
+def _brute_crossing(pts: list[tuple[Fraction, Fraction]], segs: list[tuple[int, int]]) -> bool:
+    def orient(a: tuple[Fraction, Fraction], b: tuple[Fraction, Fraction], c: tuple[Fraction, Fraction]) -> int:
+        d = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+        return (d > 0) - (d < 0)
+
+    for (a, b), (c, d) in itertools.combinations(segs, 2):
+        if len({a, b, c, d}) < 4:
+            continue
+        if orient(pts[a], pts[b], pts[c]) * orient(pts[a], pts[b], pts[d]) < 0 and (
+            orient(pts[c], pts[d], pts[a]) * orient(pts[c], pts[d], pts[b]) < 0
+        ):
+            return True
+    return False
+
+
+def _pieces(pts: list[tuple[Fraction, Fraction]], segs: list[tuple[int, int]]) -> list[tuple[int, int]]:
+    """Reference: each segment split at the vertices exactly on its interior."""
+    out = []
+    for a, b in segs:
+        (ax, ay), (bx, by) = pts[a], pts[b]
+        on = [
+            v
+            for v, (x, y) in enumerate(pts)
+            if v not in (a, b)
+            and (bx - ax) * (y - ay) == (by - ay) * (x - ax)
+            and min(ax, bx) <= x <= max(ax, bx)
+            and min(ay, by) <= y <= max(ay, by)
+        ]
+        chain = [a] + sorted(on, key=lambda v: (pts[v][0] - ax) * (bx - ax) + (pts[v][1] - ay) * (by - ay)) + [b]
+        out += list(zip(chain[:-1], chain[1:]))
+    return out
+
+
+@given(
+    st.lists(st.tuples(st.integers(0, 6), st.integers(0, 6)), min_size=4, max_size=9, unique=True),
+    st.lists(st.tuples(st.integers(0, 8), st.integers(0, 8)), min_size=1, max_size=8),
+)
+def test_crossings_are_found_exactly_as_by_brute_force(vertices: list[tuple[int, int]], pairs: list[tuple[int, int]]) -> None:
+    box = [(0, 0), (7, 0), (7, 7), (0, 7)]
+    pts = box + [v for v in vertices if v not in box]
+    segs = [(a % len(pts), b % len(pts)) for a, b in pairs]
+    segs = [(a, b) for a, b in segs if a != b] + [(0, 1), (1, 2), (2, 3), (3, 0)]
+    exact = [(Fraction(x), Fraction(y)) for x, y in pts]
+    crossing = _brute_crossing(exact, _pieces(exact, segs))
+    try:
+        p = as_pslg(np.array(pts, dtype=float), np.array(segs))
+    except DomainError as exc:
+        assert "cross" in str(exc) and crossing
+        return
+    assert not crossing
+    kept = [(int(a), int(b)) for a, b in p.segments]
+    assert sorted(tuple(sorted(q)) for q in kept) == sorted({tuple(sorted(q)) for q in _pieces(exact, segs)})
+
+
+def test_a_large_polygon_validates() -> None:
+    n = 20_000
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    pts = np.stack([np.cos(t) * (1 + 0.1 * np.cos(7 * t)), np.sin(t) * (1 + 0.1 * np.cos(7 * t))], axis=1)
+    p = as_pslg(pts, np.stack([np.arange(n), (np.arange(n) + 1) % n], axis=1))
+    assert p.segments.shape == (n, 2) and not p.notes
