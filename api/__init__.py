@@ -4,7 +4,7 @@ The public names, in the shape of :mod:`scipy.spatial`::
 
     import persistri
     hull = persistri.ConvexHull(points, history=True)     # exact 3D hull, every version kept
-    bigger = hull.add_points(more)                         # a NEW hull; ``hull`` is unchanged
+    bigger = hull.add_points(more)                         # a NEW hull; hull is unchanged
     tri = persistri.Delaunay(xy)                           # exact 2D Delaunay triangulation
     tri.find_simplex(queries)                              # exact point location, -1 outside
 
