@@ -128,3 +128,10 @@ def test_docstring_examples(module: str) -> None:
     assert result.failed == 0
     if module != "persistri":
         assert result.attempted > 0
+
+
+def test_the_typed_consumer_runs() -> None:
+    """``tests/typing/consumer.py`` (type-checked by ``make typecheck``) also runs: its asserts hold, it prints nothing."""
+    consumer = Path(__file__).resolve().parent / "typing" / "consumer.py"
+    out = subprocess.run([sys.executable, str(consumer)], capture_output=True, text=True, env=os.environ.copy())
+    assert (out.returncode, out.stdout, out.stderr) == (0, "", "")
