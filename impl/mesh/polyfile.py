@@ -146,15 +146,23 @@ class _Records:
         return number, values
 
     def block(
-        self, count: int, what: str, required: tuple[str, ...], optional: int, integer: tuple[int, ...], *, repeat_last: bool = False
+        self,
+        count: int,
+        what: str,
+        required: tuple[str, ...],
+        optional: tuple[str, ...],
+        integer: tuple[int, ...],
+        *,
+        repeat_last: bool = False,
     ) -> tuple[NDArray[np.float64], list[int]]:
-        """``count`` records of ``len(required) + optional`` numbers (missing optional ones are 0).
+        """``count`` records of the ``required`` and ``optional`` numbers (missing optional ones are 0).
 
         ``repeat_last``: a missing first optional number repeats the last required one
         (Triangle's regions).  Columns in ``integer`` must hold integers.  Returns the
         numbers and the line number of each record.
         """
-        width = len(required) + optional
+        width = len(required) + len(optional)
+        names = required + optional
         if self.pos + count > len(self.lines):
             have = len(self.lines) - self.pos
             raise PolyFileError(f"{self.path}:{self.last}: the file ends after {have} of the {count} {what} lines")
@@ -194,7 +202,7 @@ class _Records:
             wrong = np.flatnonzero((column != np.round(column)) | (np.abs(column) > 2**31))
             if wrong.size:
                 k = int(wrong[0])
-                field = required[col] if col < len(required) else f"field {col + 1}"
+                field = names[col]
                 raise self.error(lines[k], f"{field} {text[k].split()[col]!r} is not an integer (in a {what} line)")
         return data, lines
 
@@ -225,7 +233,8 @@ def _read_vertices(rec: _Records, *, allow_zero: bool) -> NodeData | None:
     if n < 3:
         raise rec.error(line, f"a mesh needs at least 3 vertices, the file lists {n}")
     required = ("vertex number", "x", "y")
-    data, lines = rec.block(n, "vertex", required, nattr + nmark, (0,) + ((3 + nattr,) if nmark else ()))
+    optional = ("attribute",) * nattr + ("marker",) * nmark
+    data, lines = rec.block(n, "vertex", required, optional, (0,) + ((3 + nattr,) if nmark else ()))
     numbers = data[:, 0].astype(np.int64)
     first = int(numbers[0])
     if first not in (0, 1):
@@ -292,16 +301,18 @@ def read_poly(path: PathLike, *, validate: bool = True, convex: bool = False) ->
         node = read_node(beside)
     n, first = node.vertices.shape[0], node.first_number
     _, (m, smark) = rec.header("segment count", ("the number of segments", "the number of boundary markers"), (0,))
-    data, lines = rec.block(m, "segment", ("segment number", "endpoint", "endpoint"), 1 if smark else 0, (0, 1, 2) + ((3,) if smark else ()))
+    data, lines = rec.block(
+        m, "segment", ("segment number", "endpoint", "endpoint"), ("marker",) * smark, (0, 1, 2) + ((3,) if smark else ())
+    )
     segments = _indices(rec, data, lines, (1, 2), first, n, "a segment")
     seg_markers = data[:, 3].astype(np.intp) if smark else None
     _, (h,) = rec.header("hole count", ("the number of holes",), ())
-    hdata, _ = rec.block(h, "hole", ("hole number", "x", "y"), 0, (0,))
+    hdata, _ = rec.block(h, "hole", ("hole number", "x", "y"), (), (0,))
     holes = np.ascontiguousarray(hdata[:, 1:3])
     regions = np.zeros((0, 4), dtype=np.float64)
     if rec.more():
         _, (r,) = rec.header("region count", ("the number of regions",), ())
-        rdata, _ = rec.block(r, "region", ("region number", "x", "y", "attribute"), 1, (0,), repeat_last=True)
+        rdata, _ = rec.block(r, "region", ("region number", "x", "y", "attribute"), ("maximum area",), (0,), repeat_last=True)
         regions = np.ascontiguousarray(rdata[:, 1:5])
     rec.finish("regions" if regions.size else "holes")
     if not validate:
@@ -343,7 +354,8 @@ def read_ele(path: PathLike, *, first_number: int | None = None, n_vertices: int
     if nodes < 3:
         raise rec.error(line, f"a triangle has at least 3 nodes, the file says {nodes}")
     required = ("triangle number", "node", "node", "node")
-    data, lines = rec.block(t, "triangle", required, nodes - 3 + nattr, tuple(range(1 + nodes)))
+    optional = ("node",) * (nodes - 3) + ("attribute",) * nattr
+    data, lines = rec.block(t, "triangle", required, optional, tuple(range(1 + nodes)))
     rec.finish("triangles")
     corners = data[:, 1:4]
     first = first_number if first_number is not None else _first_number(p, corners)
@@ -360,7 +372,7 @@ def read_edge(path: PathLike, *, first_number: int | None = None, n_vertices: in
     _, (e, emark) = rec.header("edge count", ("the number of edges", "the number of boundary markers"), (0,))
     if emark not in (0, 1):
         raise rec.error(rec.lines[0][0], f"the number of boundary markers must be 0 or 1, found {emark}")
-    data, lines = rec.block(e, "edge", ("edge number", "endpoint", "endpoint"), emark, (0, 1, 2) + ((3,) if emark else ()))
+    data, lines = rec.block(e, "edge", ("edge number", "endpoint", "endpoint"), ("marker",) * emark, (0, 1, 2) + ((3,) if emark else ()))
     rec.finish("edges")
     ray = np.flatnonzero((data[:, 1:3] == -1).any(axis=1))
     if ray.size:
