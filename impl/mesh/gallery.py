@@ -10,7 +10,7 @@ each with a name and a one-line description (:data:`GALLERY`):
 * ``crack`` — a square with an internal crack and one from the boundary (dangling segments);
 * ``utm-tile`` — a 40 m lot at UTM offsets (x ≈ 5e5, y ≈ 4e6 m) with centimetre detail
   and a building footprint as a hole;
-* ``comb`` — a comb of twelve thin teeth (width 0.2, height 3).
+* ``comb`` — a comb of twelve thin teeth (width 0.25, height 3).
 
 Coordinates computed from trigonometry are rounded to a dyadic grid
 (multiples of 2^-40), so every machine builds the same doubles.  Every domain
@@ -117,11 +117,11 @@ def utm_tile() -> PSLG:
 
 
 def comb(teeth: int = 12) -> PSLG:
-    """A spine [0, teeth] × [0, 1] with ``teeth`` teeth of width 0.2 and height 3 along its top."""
+    """A spine [0, teeth] × [0, 1] with ``teeth`` teeth of width 0.25 and height 3 along its top."""
     top: list[list[float]] = []
     for k in range(teeth):
-        left = k + 0.4
-        top += [[left, 1.0], [left, 4.0], [left + 0.2, 4.0], [left + 0.2, 1.0]]
+        left = k + 0.375
+        top += [[left, 1.0], [left, 4.0], [left + 0.25, 4.0], [left + 0.25, 1.0]]
     pts = [[0.0, 0.0], [float(teeth), 0.0], [float(teeth), 1.0]] + top[::-1] + [[0.0, 1.0]]
     return as_pslg(pts, _ring(0, len(pts)))
 
