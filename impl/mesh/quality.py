@@ -23,6 +23,7 @@ computed once per bound and cached).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -90,11 +91,11 @@ def shape(P: GrowingPredicates2, a: int, b: int, c: int, bound: AngleBound) -> S
 
 
 def _scaled_float(v: int, e: int) -> float:
-    """``v · 2^e`` as a float (inf on overflow, for a queue key only)."""
+    """``v · 2^e`` as a float, nearly (a queue key only; inf on overflow)."""
     try:
-        return float(Fraction(v) * Fraction(2) ** e)
+        return math.ldexp(float(v), e)
     except OverflowError:
-        return float("inf")
+        return math.inf
 
 
 def twice_area(P: GrowingPredicates2, a: int, b: int, c: int) -> Fraction:
@@ -108,10 +109,11 @@ def area_exceeds(P: GrowingPredicates2, a: int, b: int, c: int, max_area: Fracti
     """Whether the area of counterclockwise ``(a, b, c)`` is strictly above ``max_area`` (exact). O(1)."""
     (pa, pb, pc), e = P.integers(a, b, c)
     det = (pa[0] - pc[0]) * (pb[1] - pc[1]) - (pa[1] - pc[1]) * (pb[0] - pc[0])
-    # area = det · 2^(2e) / 2 > max_area  ⇔  det · 2^(2e) > 2 · max_area
-    lhs_num, lhs_den = (det << (2 * e), 1) if e >= 0 else (det, 1 << (-2 * e))
-    bound = 2 * max_area
-    return lhs_num * bound.denominator > bound.numerator * lhs_den
+    # area = det · 2^(2e) / 2 > max_area = n / d  ⇔  det · 2^(2e) · d > 2 n
+    num, den = max_area.numerator, max_area.denominator
+    if e >= 0:
+        return (det << (2 * e)) * den > 2 * num
+    return det * den > (2 * num) << (-2 * e)
 
 
 def inside_lens(P: GrowingPredicates2, u: int, w: int, x: int, min_angle: float) -> bool:

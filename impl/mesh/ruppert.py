@@ -86,7 +86,7 @@ from typing import Any
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
-from persistri.impl.mesh.quality import AngleBound, area_exceeds, inside_lens, shape
+from persistri.impl.mesh.quality import AngleBound, Shape, area_exceeds, inside_lens, shape
 from persistri.impl.mesh.steiner import PrecisionLimitError, split_parameter, steiner_point
 from persistri.impl.mesh.triangulation import (
     EXTERIOR,
@@ -171,7 +171,7 @@ class Refiner:
         self.offconstant = offconstant
         self.lens = lens
         self.counts = Counts()
-        self._bad: list[tuple[int, int, Tri, MeshDatum]] = []
+        self._bad: list[tuple[int, int, Tri, MeshDatum, Shape]] = []
         self._seq = 0
         self._segs: deque[Constraint] = deque()
         self._exempt: set[int] = set()
@@ -184,17 +184,17 @@ class Refiner:
             return False
         return area_exceeds(self.P, t[0], t[1], t[2], bound)
 
-    def _is_bad(self, t: Tri, d: MeshDatum) -> bool:
-        """Whether the domain triangle ``t`` must be split; exempt triangles are recorded, not bad."""
+    def _is_bad(self, t: Tri, d: MeshDatum) -> Shape | None:
+        """The shape of the domain triangle ``t`` if it must be split, else None; exempt triangles are recorded, not bad."""
         sh = shape(self.P, t[0], t[1], t[2], self.bound)
         if self._area_bad(t, d[1]):
-            return True
+            return sh
         if sh.good_angle:
-            return False
+            return None
         if self._exempt_edge(sh.p, sh.q):
             self._exempt.add(d[0])
-            return False
-        return True
+            return None
+        return sh
 
     def _exempt_edge(self, p: int, q: int) -> bool:
         """Whether edge ``pq`` joins two split points on different segments, equidistant from their common endpoint."""
@@ -215,12 +215,11 @@ class Refiner:
                 return True
         return False
 
-    def _push_bad(self, t: Tri, d: MeshDatum, edge2: float | None = None) -> None:
-        if edge2 is None:
-            edge2 = shape(self.P, t[0], t[1], t[2], self.bound).edge2
+    def _push_bad(self, t: Tri, d: MeshDatum, sh: Shape) -> None:
+        edge2 = sh.edge2
         bucket = math.frexp(edge2)[1] if 0.0 < edge2 < math.inf else 0
         self._seq += 1
-        heapq.heappush(self._bad, (bucket, self._seq, t, d))
+        heapq.heappush(self._bad, (bucket, self._seq, t, d, sh))
 
     def _encroaches(self, u: int, w: int, x: int) -> bool:
         """Whether point ``x`` encroaches the subsegment ``uw``: inside its diametral lens, or circle (exact)."""
@@ -245,8 +244,9 @@ class Refiner:
         for t, d in created:
             if d[1] == EXTERIOR:
                 continue
-            if self._is_bad(t, d):
-                self._push_bad(t, d)
+            sh = self._is_bad(t, d)
+            if sh is not None:
+                self._push_bad(t, d, sh)
             for lo, hi, s in d[2]:
                 k = [v for v in t if v != lo and v != hi][0]
                 if self._encroaches(lo, hi, k):
@@ -318,12 +318,11 @@ class Refiner:
         return ins.version, p
 
     def _split_triangle(
-        self, c: Complex[MeshDatum], t: Tri, d: MeshDatum
+        self, c: Complex[MeshDatum], t: Tri, d: MeshDatum, sh: Shape
     ) -> tuple[Complex[MeshDatum], int] | None:
         """Try to split bad triangle ``t``: the new version and point, or None when undone or blocked (the
         subsegments to split instead are queued and ``t`` goes back to the queue)."""
         T, P = self.T, self.P
-        sh = shape(P, t[0], t[1], t[2], self.bound)
         x, y, off = steiner_point(P, sh.p, sh.q, sh.r, self.offconstant)
         p = P.append(x, y)
         where = T.walk_to(c, (t, d), p)
@@ -333,7 +332,7 @@ class Refiner:
                 raise MeshError(f"internal: the Steiner point of triangle {t} lies outside the triangulation")
             self.counts.blocked += 1
             self._segs.append((lo, hi, s))
-            self._push_bad(t, d, sh.edge2)
+            self._push_bad(t, d, sh)
             return None
         ft, fd = where[1]
         for v in ft:
@@ -348,7 +347,7 @@ class Refiner:
                 # On a subsegment: it encroaches it (strictly inside its diametral circle).
                 self.counts.blocked += 1
                 self._segs.append((*edge_key(u, w), s))
-                self._push_bad(t, d, sh.edge2)
+                self._push_bad(t, d, sh)
                 return None
         ins = T.insert(c, p, (ft, fd))
         encroached = [
@@ -358,7 +357,7 @@ class Refiner:
             # The paper's undo: drop the new version and go on from c, which persistence kept.
             self.counts.undos += 1
             self._segs.extend(encroached)
-            self._push_bad(t, d, sh.edge2)
+            self._push_bad(t, d, sh)
             return None
         if off:
             self.counts.offcenters += 1
@@ -381,8 +380,9 @@ class Refiner:
         for t, d in self.S.items(c):
             if d[1] == EXTERIOR:
                 continue
-            if self._is_bad(t, d):
-                self._push_bad(t, d)
+            sh = self._is_bad(t, d)
+            if sh is not None:
+                self._push_bad(t, d, sh)
             for lo, hi, s in d[2]:
                 if (lo, hi) not in seen and self._encroached(c, self.T.vertex(lo), self.T.vertex(hi)):
                     seen.add((lo, hi))
@@ -394,10 +394,10 @@ class Refiner:
             if self._segs:
                 step = self._split(c, self._segs.popleft())
             elif self._bad:
-                _, _, t, d = heapq.heappop(self._bad)
+                _, _, t, d, sh = heapq.heappop(self._bad)
                 if not self._alive(c, t, d):
                     continue
-                step = self._split_triangle(c, t, d)
+                step = self._split_triangle(c, t, d, sh)
             else:
                 break
             if step is not None:

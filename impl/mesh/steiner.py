@@ -86,27 +86,44 @@ def offcenter_constant(min_angle: float) -> float:
     return 0.475 / math.tan(math.radians(min_angle) / 2)
 
 
+def _to_double(num: int, den: int, e: int) -> float:
+    """``num / den · 2^e`` rounded once to the nearest double (``den > 0``)."""
+    if e >= 0:
+        return num * (1 << e) / den  # int / int: correctly rounded
+    return num / (den << -e)
+
+
 def steiner_point(
     P: GrowingPredicates2, p: int, q: int, r: int, offconstant: float
 ) -> tuple[float, float, bool]:
     """The point inserted to split the counterclockwise triangle ``(p, q, r)`` whose shortest edge is ``pq``.
 
     Returns ``(x, y, off)``: the circumcentre, or the off-centre when ``offconstant > 0``
-    and it is nearer to ``pq`` (``off`` True), each exact then rounded to the nearest
-    doubles.  O(1).
+    and it is nearer to ``pq`` (``off`` True), each exact (integers over a common
+    denominator) then rounded once to the nearest doubles.  O(1).
     """
-    cx, cy = circumcenter(P, p, q, r)
+    (pp, pq, pr), ex = P.integers(p, q, r)
+    dx, dy = pq[0] - pp[0], pq[1] - pp[1]
+    gx, gy = pr[0] - pp[0], pr[1] - pp[1]
+    den = 2 * (dx * gy - dy * gx)
+    if den <= 0:
+        raise ValueError(f"triangle {(p, q, r)} is not counterclockwise: no circumcentre to insert")
+    d2, g2 = dx * dx + dy * dy, gx * gx + gy * gy
+    # The circumcentre c = (cx, cy) / den, in units 2^ex.
+    cx = pp[0] * den + gy * d2 - dy * g2
+    cy = pp[1] * den + dx * g2 - gx * d2
     if offconstant > 0.0:
-        (pp, pq), ex = P.integers(p, q)
-        s = _pow2(ex)
-        k = Fraction(offconstant)
-        mx, my = Fraction(pp[0] + pq[0], 2) * s, Fraction(pp[1] + pq[1], 2) * s
-        # Left of p → q, towards r: the perpendicular (−(q − p)_y, (q − p)_x), scaled by k.
-        ox = mx - k * (pq[1] - pp[1]) * s
-        oy = my + k * (pq[0] - pp[0]) * s
-        if (ox - mx) ** 2 + (oy - my) ** 2 < (cx - mx) ** 2 + (cy - my) ** 2:
-            return float(ox), float(oy), True
-    return float(cx), float(cy), False
+        kn, kd = offconstant.as_integer_ratio()
+        # Twice the midpoint m, in units 2^ex; the off-centre o = m + k (−dy, dx) as (ox, oy) / (2 kd).
+        sx, sy = pp[0] + pq[0], pp[1] + pq[1]
+        # |o − m|² = k² |pq|² against |c − m|² = |2c − 2m|² / 4, everything over (2 den kd)².
+        lhs = 4 * kn * kn * d2 * den * den
+        rhs = kd * kd * ((2 * cx - sx * den) ** 2 + (2 * cy - sy * den) ** 2)
+        if lhs < rhs:
+            ox = sx * kd - 2 * kn * dy
+            oy = sy * kd + 2 * kn * dx
+            return _to_double(ox, 2 * kd, ex), _to_double(oy, 2 * kd, ex), True
+    return _to_double(cx, den, ex), _to_double(cy, den, ex), False
 
 
 def point_at(P: GrowingPredicates2, a: int, b: int, t: Fraction) -> tuple[Fraction, Fraction]:
