@@ -182,3 +182,16 @@ def test_gallery_counts_within_ten_percent_of_triangle(name: str, angle: int) ->
     ref = tr.triangulate(d.to_dict(), f"pq{angle}")
     m = triangulate(d, min_angle=angle)
     assert m.triangles.shape[0] <= 1.1 * ref["triangles"].shape[0]
+
+
+@pytest.mark.parametrize("angle", [30, 33])
+def test_rounded_splits_when_asked(angle: int) -> None:
+    # exact_segments=False: where no double lies on a subsegment, the split point is rounded (Triangle's way).
+    from persistri.impl.mesh.gallery import gallery_domain
+    from persistri.impl.mesh.verify import verify_mesh
+
+    d = gallery_domain("utm-tile").pslg
+    m = triangulate(d, min_angle=angle, exact_segments=False, check=True)
+    assert m.rounded_splits > 0 and m.min_angle_reached
+    report = verify_mesh(d, m.vertices, m.triangles, min_angle=angle, exact_segments=False)
+    assert report.ok and report.rounded_split_vertices > 0

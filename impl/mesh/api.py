@@ -154,7 +154,8 @@ class QualityMesh:
       refinement inserted; ``undos`` — circumcentres inserted and then dropped
       by returning to the previous version (they encroached a subsegment);
       ``blocked`` — ones not inserted (a segment lay between); ``exempt`` —
-      triangles left below the angle bound at small input angles;
+      triangles left below the angle bound at small input angles; ``rounded_splits`` —
+      split points rounded off their segment (only with ``exact_segments=False``);
     * ``min_angle`` / ``max_area`` — the bounds asked; ``min_angle_reached`` /
       ``max_area_reached`` — whether every domain triangle meets them (exempt
       ones excepted for the angle), decided exactly;
@@ -179,6 +180,8 @@ class QualityMesh:
     undos: int
     blocked: int
     exempt: int
+    rounded_splits: int
+    exact_segments: bool
     _run: _Run
 
     @property
@@ -235,6 +238,7 @@ def _finish(
     min_angle: float,
     max_area: float | None,
     area_reached: bool,
+    exact_segments: bool = True,
 ) -> QualityMesh:
     history = MeshHistory(run, versions, inserted)
     arr = _arrays(run, versions[-1])
@@ -257,6 +261,8 @@ def _finish(
         undos=counts.undos,
         blocked=counts.blocked,
         exempt=counts.exempt,
+        rounded_splits=counts.rounded_splits,
+        exact_segments=exact_segments,
         _run=run,
     )
 
@@ -272,6 +278,7 @@ def _refine_run(
     progress: bool | Callable[[int], Any],
     check: bool,
     encroachment: str,
+    exact_segments: bool,
 ) -> QualityMesh:
     bound = AngleBound.of(min_angle)
     area = _area(max_area)
@@ -289,6 +296,7 @@ def _refine_run(
         region_area,
         offcenter_constant(bound.degrees) if offcenters else 0.0,
         lens=encroachment == "lens",
+        exact_segments=bool(exact_segments),
     )
     bar = progress_callback(progress, "refining", None, batch=64)
     collector = gc.isenabled()
@@ -309,6 +317,7 @@ def _refine_run(
         bound.degrees,
         max_area,
         result.area_reached,
+        exact_segments,
     )
     if check:
         _check(mesh)
@@ -325,7 +334,7 @@ def _check(mesh: QualityMesh) -> None:
         mesh.triangles,
         min_angle=mesh.min_angle or None,
         max_area=mesh.max_area,
-        exact_segments=True,
+        exact_segments=mesh.exact_segments,
     )
     if not report.ok:
         first = report.problems[0]
@@ -343,6 +352,7 @@ def triangulate(
     offcenters: bool = True,
     max_steiner: int | None = None,
     encroachment: str = "lens",
+    exact_segments: bool = True,
 ) -> QualityMesh:
     """A quality mesh of ``domain`` (a :class:`PSLG`, or ``triangle.triangulate``'s dictionary): module docstring.
 
@@ -356,7 +366,12 @@ def triangulate(
     * ``offcenters`` — Üngör's off-centres (fewer triangles) or circumcentres only;
     * ``max_steiner`` — stop after this many Steiner points (Triangle's ``-S``);
     * ``encroachment`` — ``"lens"`` (Chew's diametral lenses, Triangle's default: fewer
-      triangles) or ``"circle"`` (Ruppert's diametral circles, Triangle's ``-D``).
+      triangles) or ``"circle"`` (Ruppert's diametral circles, Triangle's ``-D``);
+    * ``exact_segments`` — True (the default): every split point lies exactly on its
+      segment, and a subsegment on which no double lies is a
+      :class:`~persistri.impl.mesh.steiner.PrecisionLimitError`; False: there only, the
+      split point is rounded to the nearest doubles (as Triangle's are; counted in
+      ``rounded_splits``; check such meshes with ``verify_mesh(..., exact_segments=False)``).
 
     With ``min_angle=0`` and no area bound the result is the constrained
     Delaunay triangulation (history of one version).  Errors, one line each:
@@ -394,6 +409,7 @@ def triangulate(
         progress=progress,
         check=check,
         encroachment=encroachment,
+        exact_segments=exact_segments,
     )
 
 
@@ -407,6 +423,7 @@ def refine(
     progress: bool | Callable[[int], Any] = False,
     check: bool = False,
     encroachment: str = "lens",
+    exact_segments: bool = True,
 ) -> QualityMesh:
     """Refine ``mesh`` further, from its last version, as a new future (module docstring); ``mesh`` is unchanged.
 
@@ -425,4 +442,5 @@ def refine(
         progress=progress,
         check=check,
         encroachment=encroachment,
+        exact_segments=exact_segments,
     )

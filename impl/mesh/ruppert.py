@@ -87,7 +87,7 @@ from typing import Any
 from persistri.impl.complex.structure import Complex
 from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
 from persistri.impl.mesh.quality import AngleBound, Shape, area_exceeds, inside_lens, shape
-from persistri.impl.mesh.steiner import PrecisionLimitError, split_parameter, steiner_point
+from persistri.impl.mesh.steiner import PrecisionLimitError, point_at, split_parameter, steiner_point
 from persistri.impl.mesh.triangulation import (
     EXTERIOR,
     Constraint,
@@ -112,7 +112,9 @@ class Counts:
       encroached a subsegment (the paper's undo by persistence);
     * ``blocked`` — circumcentres or off-centres not inserted because a segment
       stood between them and their triangle (the segment was split instead);
-    * ``exempt`` — bad-angle triangles left alone at small input angles.
+    * ``exempt`` — bad-angle triangles left alone at small input angles;
+    * ``rounded_splits`` — split points rounded off their segment (``exact_segments=False``
+      only, where no double lies exactly on the subsegment).
     """
 
     insertions: int = 0
@@ -122,6 +124,7 @@ class Counts:
     undos: int = 0
     blocked: int = 0
     exempt: int = 0
+    rounded_splits: int = 0
 
 
 @dataclass
@@ -148,7 +151,9 @@ class Refiner:
     * ``bound`` — the minimum angle; ``max_area`` — a global area bound or None;
       ``region_area`` — area bounds by region code (Triangle's regional ``-a``);
     * ``offconstant`` — the off-centre constant (0: circumcentres only);
-    * ``lens`` — encroachment by diametral lenses (Chew, Triangle's default) or circles (Ruppert).
+    * ``lens`` — encroachment by diametral lenses (Chew, Triangle's default) or circles (Ruppert);
+    * ``exact_segments`` — split points exactly on their segments, or a clear error where no double
+      lies on one (True); or, there, the nearest doubles (False, as Triangle).
     """
 
     def __init__(
@@ -160,6 +165,7 @@ class Refiner:
         region_area: dict[int, Fraction],
         offconstant: float,
         lens: bool = True,
+        exact_segments: bool = True,
     ) -> None:
         self.T = T
         self.P = T.pred
@@ -170,6 +176,7 @@ class Refiner:
         self.region_area = region_area
         self.offconstant = offconstant
         self.lens = lens
+        self.exact_segments = exact_segments
         self.counts = Counts()
         self._bad: list[tuple[int, int, Tri, MeshDatum, Shape]] = []
         self._seq = 0
@@ -307,7 +314,13 @@ class Refiner:
         try:
             t, x, y = split_parameter(P, a, b, *((lo, hi) if t_lo_first else (hi, lo)), tu, tw, wanted)
         except PrecisionLimitError as exc:
-            raise PrecisionLimitError(f"splitting segment {s} between vertices {u} and {w}: {exc}") from None
+            if self.exact_segments:
+                raise PrecisionLimitError(
+                    f"splitting segment {s} between vertices {u} and {w}: {exc}; "
+                    "exact_segments=False rounds split points to the nearest doubles instead, as Triangle does"
+                ) from None
+            t, x, y = self._rounded_split(a, b, u, w, tu, tw, wanted)
+            self.counts.rounded_splits += 1
         p = P.append(x, y)
         geo.on_segment[p] = (s, t)
         if shell is not None:
@@ -316,6 +329,25 @@ class Refiner:
         self.counts.segment_splits += 1
         self._examine(ins.version, ins.created)
         return ins.version, p
+
+    def _rounded_split(
+        self, a: int, b: int, u: int, w: int, tu: Fraction, tw: Fraction, wanted: Fraction
+    ) -> tuple[Fraction, float, float]:
+        """``exact_segments=False``: the point of segment ``ab`` at parameter ``wanted`` (clamped to the middle half of
+        ``(tu, tw)``), rounded to the nearest doubles — off the segment by at most half an ulp per coordinate (Triangle's
+        split points); :class:`PrecisionLimitError` if it rounds onto an end."""
+        P = self.P
+        delta = tw - tu
+        t = min(max(wanted, tu + delta / 4), tw - delta / 4)
+        ex, ey = point_at(P, a, b, t)
+        x, y = float(ex), float(ey)
+        for v in (u, w):
+            if (x, y) == P.xy(v):
+                raise PrecisionLimitError(
+                    f"the split point of the subsegment between vertices {u} and {w} rounds onto vertex {v}: "
+                    "the mesh is at the limit of double precision here"
+                )
+        return t, x, y
 
     def _split_triangle(
         self, c: Complex[MeshDatum], t: Tri, d: MeshDatum, sh: Shape
