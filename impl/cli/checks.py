@@ -68,7 +68,7 @@ def check_input(path: Path, formats: Sequence[str], *, kind: str, words: Sequenc
     except PermissionError:
         fail(f"{path}: cannot read it (permission denied)")
     except OSError as exc:
-        fail(f"{path}: cannot read it ({error_line(exc)})")
+        fail(f"{path}: cannot read it ({exc.strerror or error_line(exc)})")
 
 
 def check_backend(name: str) -> None:
