@@ -4,6 +4,23 @@ The paper's motivating application (§1): Ruppert's Delaunay refinement, in whic
 circumcenter whose insertion would encroach a boundary segment is *undone* by
 returning to the previous persistent version, not repaired.
 
+The domain and the check:
+
 * :mod:`~persistri.impl.mesh.domain` — planar straight-line graphs (:class:`PSLG`): vertices,
-  segments, holes, regions; validation;
+  segments, holes, regions; validation (:func:`as_pslg`), the dict form, the domain's faces;
+* :mod:`~persistri.impl.mesh.faces` — the faces of a PSLG's segments, traced exactly, and
+  exact point location;
+* :mod:`~persistri.impl.mesh.polyfile` — Triangle's ``.node``, ``.poly``, ``.ele``, ``.edge`` files;
+* :mod:`~persistri.impl.mesh.verify` — :func:`verify_mesh`, the exact, independent mesh checker;
+* :mod:`~persistri.impl.mesh.angles` — angles against a bound in degrees, exactly;
+* :mod:`~persistri.impl.mesh.gallery` — the bench's deterministic domains.
+
+The mesher:
+
+* :mod:`~persistri.impl.mesh.triangulation` — the triangulation as a persistent 2-complex;
+* :mod:`~persistri.impl.mesh.cdt` — the constrained Delaunay triangulation of a PSLG;
+* :mod:`~persistri.impl.mesh.steiner` — Steiner points as doubles: split points, circumcentres;
+* :mod:`~persistri.impl.mesh.quality` — triangle quality against the bounds, exactly;
+* :mod:`~persistri.impl.mesh.ruppert` — Ruppert's refinement with undo by persistence;
+* :mod:`~persistri.impl.mesh.api` — :func:`triangulate` and :func:`refine`, every step a version.
 """
