@@ -190,6 +190,17 @@ def _strings(kind: str, d: Path) -> Path:
     return p
 
 
+def _third_format(kind: str, d: Path) -> Path:
+    """The reader's format that goes through a library of its own: a PLY for points, a GeoTIFF for grids."""
+    if kind == "points":
+        p = d / "mesh.ply"
+        p.write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n1 0\n")
+    else:
+        p = d / "dem.tif"
+        p.write_bytes(b"II*\x00\x08\x00\x00\x00")  # a TIFF header whose first page is missing
+    return p
+
+
 def _npz_keys(kind: str, d: Path) -> Path:
     p = d / "keys.npz"
     np.savez(p, first=np.zeros((3, 3)), second=np.ones((3, 3)))
@@ -219,6 +230,7 @@ CASES: dict[str, Case] = {
         Case("pickled", _pickled, r"Python objects"),
         Case("truncated", _truncated, r"truncated"),
         Case("strings", _strings, r"not real numbers|not numbers"),
+        Case("damaged ply or tiff", _third_format, r"cannot read PLY|holds no image|cannot read TIFF|needs tifffile"),
         Case("npz keys", _npz_keys, r"cannot tell which array holds the heights \(its 2D arrays are first, second\)"),
     )
 }
@@ -229,8 +241,8 @@ _ALL_FILES = [
 ]
 _ARRAYS = ["empty array", "wrong shape", "nan", "inf", "pickled", "truncated", "strings"]
 KIND_CASES: dict[str, list[str]] = {
-    "points": [*_ALL_FILES, *_ARRAYS, "wrong columns", "not utf-8"],
-    "grid": [*_ALL_FILES, *_ARRAYS, "wrong columns", "npz keys"],
+    "points": [*_ALL_FILES, *_ARRAYS, "wrong columns", "not utf-8", "damaged ply or tiff"],
+    "grid": [*_ALL_FILES, *_ARRAYS, "wrong columns", "npz keys", "damaged ply or tiff"],
     "trace": _ALL_FILES,
 }
 

@@ -34,6 +34,7 @@ No-data cells (the file's no-data value, NaN) become NaN in :attr:`HeightGrid.he
 
 from __future__ import annotations
 
+import logging
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -367,7 +368,12 @@ def read_grid(source: str | Path) -> HeightGrid:
     elif suffix in (".tif", ".tiff"):
         from persistri.impl.terrain.geotiff import read_geotiff  # grids is imported by geotiff: import late
 
-        grid = read_geotiff(path)
+        tifffile_log = logging.getLogger("tifffile")
+        quiet, tifffile_log.disabled = tifffile_log.disabled, True  # it logs to stderr what it then raises or skips
+        try:
+            grid = read_geotiff(path)
+        finally:
+            tifffile_log.disabled = quiet
     else:
         raise ValueError(f"{path}: unknown grid format {suffix or '(no extension)'}; use one of {', '.join(GRID_FORMATS)} or jacksboro")
     _check_grid(grid, path)
