@@ -105,3 +105,8 @@ def test_unvalidated_pslg_is_validated() -> None:
     raw = PSLG(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]), np.array([[0, 1], [1, 3], [3, 0]]))
     m = triangulate(raw)
     assert m.triangles.shape == (1, 3)
+
+
+def test_check_runs_the_exact_checker() -> None:
+    m = triangulate(square_with_hole(), min_angle=33, max_area=0.2, check=True)
+    assert m.min_angle_reached and m.max_area_reached

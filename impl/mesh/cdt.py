@@ -129,7 +129,9 @@ class _Builder:
         inf = T.infinite
         for u, w in ((a, b), (b, c), (c, a)):
             cx = T.S.add(cx, (V(w), V(u), inf), T.new_datum(EXTERIOR))
-        hint: tuple[Tri, MeshDatum] = (tri, T.S.data(cx, tri)[0])  # type: ignore[index]
+        found = T.S.data(cx, tri)
+        assert found is not None, "the first triangle was just added"
+        hint: tuple[Tri, MeshDatum] = (tri, found[0])
         done = {a, b, c}
         for q in order:
             if q in done:
@@ -137,7 +139,8 @@ class _Builder:
             start = T.locate(cx, q, hint)
             ins = T.insert(cx, q, start)
             cx = ins.version
-            hint = next((t, d) for t, d in ins.created if inf not in t) if any(inf not in t for t, _ in ins.created) else ins.created[0]
+            # The next point is near this one (Hilbert order): walk from a finite triangle of its fan.
+            hint = next((t, d) for t, d in ins.created if inf not in t)
         return cx
 
     # -- segments --------------------------------------------------------------------------
