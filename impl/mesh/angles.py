@@ -14,7 +14,9 @@ The bracket is rigorous: π from Machin's formula ``π = 16 atan(1/5) - 4
 atan(1/239)`` and ``cos`` from its Taylor series, both alternating series whose
 terms shrink, so each partial sum is within the first omitted term of the
 limit.  ``proofs``-style cross-checks against sympy live in the tests.  Used by
-the mesh checker (:mod:`~persistri.impl.mesh.verify`) for Ruppert's angle bound.
+the mesh checker (:mod:`~persistri.impl.mesh.verify`) for Ruppert's angle bound, with
+:func:`below_bound` (every triangle at once: a float filter, exact where it cannot
+tell) and :func:`subtends_small_input_angle` (Ruppert's exemption).
 """
 
 from __future__ import annotations
@@ -23,7 +25,15 @@ import functools
 import math
 from fractions import Fraction
 
-__all__ = ["cos2_bounds", "angle_at_least", "EXACT_COS2"]
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["cos2_bounds", "angle_at_least", "EXACT_COS2", "smallest_corner", "below_bound", "subtends_small_input_angle"]
+
+COS_MARGIN = 1e-9
+"""The float filter's margin on a cosine: computed from rounded differences, products and a
+square root, its error is below 1e-14 for coordinates whose squares neither overflow nor
+underflow (the filter checks that), so a cosine farther than this from ``cos θ`` is decided."""
 
 EXACT_COS2: dict[float, Fraction] = {
     0.0: Fraction(1),
@@ -111,6 +121,71 @@ def angle_at_least(dot: int, norm_u: int, norm_v: int, theta: float) -> bool:
         bits *= 2
 
 
-def cos_bound(theta: float) -> float:
-    """``cos θ`` in float for the checker's filter (error far below its 1e-9 margin)."""
-    return math.cos(math.radians(theta))
+def smallest_corner(xs: list[int], ys: list[int], triangle: NDArray[np.intp]) -> int:
+    """The corner (0, 1 or 2) opposite the shortest edge — the smallest angle's — from exact squared lengths. O(1)."""
+    a, b, c = (int(v) for v in triangle)
+
+    def length2(p: int, q: int) -> int:
+        return (xs[p] - xs[q]) ** 2 + (ys[p] - ys[q]) ** 2
+
+    lengths = [length2(b, c), length2(c, a), length2(a, b)]
+    return lengths.index(min(lengths))
+
+
+def below_bound(pts: NDArray[np.float64], tri: NDArray[np.intp], xs: list[int], ys: list[int], theta: float) -> list[int]:
+    """The triangles whose smallest angle is below ``θ`` degrees, exactly.
+
+    A vectorised float filter decides every triangle whose smallest angle's cosine
+    is farther than :data:`COS_MARGIN` from ``cos θ``; :func:`angle_at_least` on the
+    exact integer coordinates ``xs``, ``ys`` decides the rest. O(t).
+    """
+    P = pts[tri]
+    with np.errstate(all="ignore"):
+        e = np.stack([P[:, 2] - P[:, 1], P[:, 0] - P[:, 2], P[:, 1] - P[:, 0]], axis=1)  # edge opposite corner i
+        l2 = np.einsum("ijk,ijk->ij", e, e)
+        corner = np.argmin(l2, axis=1)
+        rows = np.arange(tri.shape[0])
+        u = -e[rows, (corner + 2) % 3]  # from the corner to the next vertex
+        v = e[rows, (corner + 1) % 3]  # from the corner to the previous vertex
+        nu, nv = np.einsum("ij,ij->i", u, u), np.einsum("ij,ij->i", v, v)
+        cos = np.einsum("ij,ij->i", u, v) / np.sqrt(nu * nv)
+        c = math.cos(math.radians(theta))
+        sure = np.isfinite(cos) & (nu > 1e-280) & (nv > 1e-280) & np.isfinite(nu * nv)
+        fine = sure & (cos < c - COS_MARGIN)
+        below = sure & (cos > c + COS_MARGIN)
+    out = np.flatnonzero(below).tolist()
+    for k in np.flatnonzero(~fine & ~below).tolist():
+        i = smallest_corner(xs, ys, tri[k])
+        o, p, q = (int(tri[k, (i + j) % 3]) for j in range(3))
+        ux, uy, vx, vy = xs[p] - xs[o], ys[p] - ys[o], xs[q] - xs[o], ys[q] - ys[o]
+        if not angle_at_least(ux * vx + uy * vy, ux * ux + uy * uy, vx * vx + vy * vy, theta):
+            out.append(k)
+    return sorted(out)
+
+
+def subtends_small_input_angle(
+    p: int, q: int, on_segments: dict[int, list[int]], ends: list[tuple[int, int]], xs: list[int], ys: list[int]
+) -> bool:
+    """Ruppert's exemption: whether the edge ``p–q`` joins two distinct segments meeting below 60°.
+
+    ``on_segments[w]``: the segments mesh vertex ``w`` lies on; ``ends[s]``: segment
+    ``s``'s end vertices (mesh indices).  True when ``p`` is on a segment and ``q`` on
+    another that share an end ``o`` (neither ``p`` nor ``q``) where they meet at an
+    angle below 60°: ``u · v > 0`` and ``4 (u · v)² > |u|² |v|²`` (cos² > 1/4), exact.
+    The rule of Miller, Pav and Walkington as Triangle applies it, without Triangle's
+    equal-distance (concentric shell) condition. O(segments at p × segments at q).
+    """
+    for s1 in on_segments.get(p, []):
+        for s2 in on_segments.get(q, []):
+            if s1 == s2:
+                continue
+            ends1, ends2 = set(ends[s1]), set(ends[s2])
+            for o in ends1 & ends2:
+                if o in (p, q):
+                    continue
+                (f1,), (f2,) = ends1 - {o}, ends2 - {o}
+                ux, uy, vx, vy = xs[f1] - xs[o], ys[f1] - ys[o], xs[f2] - xs[o], ys[f2] - ys[o]
+                dot = ux * vx + uy * vy
+                if dot > 0 and 4 * dot * dot > (ux * ux + uy * uy) * (vx * vx + vy * vy):
+                    return True
+    return False

@@ -33,19 +33,13 @@ from numpy.typing import ArrayLike, NDArray
 from persistri.impl.geometry.exact import IntegerScale
 from persistri.impl.geometry.points import as_points, unique_rows
 from persistri.impl.geometry.predicates import Predicates2
+from persistri.impl.mesh.errors import DomainError
 from persistri.impl.mesh.faces import UNBOUNDED, PlanarFaces, common_scale, planar_faces
+from persistri.impl.mesh.segments import convex_hull, dedupe, point_text, refuse_crossings, split_at_vertices
 
 __all__ = ["PSLG", "DomainError", "Domain", "as_pslg", "domain_of"]
 
 _KEYS = ("vertices", "segments", "holes", "regions", "vertex_markers", "segment_markers", "vertex_attributes")
-
-_PAIR_BUDGET = 1 << 22
-"""Candidate segment pairs examined per block of the crossing sweep (bounds its memory)."""
-
-
-class DomainError(ValueError):
-    """A PSLG is not a valid domain; the one-line message names the offending element."""
-
 
 def _no_pairs() -> NDArray[np.intp]:
     return np.zeros((0, 2), dtype=np.intp)
@@ -180,14 +174,6 @@ def _real_rows(values: ArrayLike, what: str, width: int) -> NDArray[np.float64]:
         raise DomainError(str(exc)) from None
 
 
-def _fmt(x: float) -> str:
-    return repr(float(x))
-
-
-def _pt(p: NDArray[np.float64]) -> str:
-    return f"({_fmt(p[0])}, {_fmt(p[1])})"
-
-
 # -- validation -------------------------------------------------------------------------------
 
 
@@ -274,7 +260,7 @@ def as_pslg(
         dup = np.flatnonzero(uniq.first[uniq.inverse] != np.arange(n_in))
         for i in dup.tolist():
             j = int(uniq.first[uniq.inverse[i]])
-            msg = f"vertices {j} and {i} are the same point {_pt(pts[i])}"
+            msg = f"vertices {j} and {i} are the same point {point_text(pts[i])}"
             if not repair:
                 raise DomainError(msg)
             notes.append(msg + f": vertex {i} merged into {j}")
@@ -286,7 +272,7 @@ def as_pslg(
         if same.size:
             k = int(same[0])
             a, b = (int(v) for v in segments_in_rows(segments)[k])
-            raise DomainError(f"segment {k} ({a}–{b}) has both ends at the same point {_pt(pts[a])}")
+            raise DomainError(f"segment {k} ({a}–{b}) has both ends at the same point {point_text(pts[a])}")
     if vmark is not None:
         vmark = vmark[uniq.first]
     if vattr is not None:
@@ -300,17 +286,17 @@ def as_pslg(
     origin = np.arange(seg.shape[0], dtype=np.intp)  # the input segment each current one comes from (-1: hull)
     marks = smark.copy() if smark is not None else None
     if convex:
-        hull = _convex_hull(verts, pred)
+        hull = convex_hull(verts, pred)
         extra = np.array([[hull[k], hull[(k + 1) % len(hull)]] for k in range(len(hull))], dtype=np.intp)
         seg = np.concatenate([seg, extra])
         origin = np.concatenate([origin, np.full(extra.shape[0], -1, dtype=np.intp)])
         if marks is not None:
             marks = np.concatenate([marks, np.zeros(extra.shape[0], dtype=np.intp)])
 
-    seg, origin, marks = _dedupe(seg, origin, marks, notes, name)
-    seg, origin, marks = _split_at_vertices(verts, seg, origin, marks, pred, notes, name, repair)
-    seg, origin, marks = _dedupe(seg, origin, marks, notes, name)
-    _refuse_crossings(verts, seg, pred, _Labels(seg, origin, name))
+    seg, origin, marks = dedupe(seg, origin, marks, notes, name)
+    seg, origin, marks = split_at_vertices(verts, seg, origin, marks, pred, notes, name, repair)
+    seg, origin, marks = dedupe(seg, origin, marks, notes, name)
+    refuse_crossings(verts, seg, origin, name, pred)
 
     result = PSLG(
         vertices=verts,
@@ -325,7 +311,7 @@ def as_pslg(
     )
     dom = domain_of(result, pred=pred)
     for v in np.flatnonzero(~dom.vertex_inside).tolist():
-        notes.append(f"vertex {int(name[v])} at {_pt(verts[v])} lies outside the domain: it cannot be a mesh vertex")
+        notes.append(f"vertex {int(name[v])} at {point_text(verts[v])} lies outside the domain: it cannot be a mesh vertex")
     return PSLG(
         vertices=result.vertices,
         segments=result.segments,
@@ -354,175 +340,6 @@ def _regions(regions: ArrayLike) -> NDArray[np.float64]:
         return as_points(raw, 4, what="regions")
     except (TypeError, ValueError) as exc:
         raise DomainError(str(exc)) from None
-
-
-def _convex_hull(verts: NDArray[np.float64], pred: Predicates2) -> list[int]:
-    """The convex hull's extreme vertices, counterclockwise (Andrew's monotone chain, exact turns). O(n log n)."""
-    order = np.lexsort((verts[:, 1], verts[:, 0])).tolist()
-
-    def chain(seq: list[int]) -> list[int]:
-        out: list[int] = []
-        for p in seq:
-            while len(out) >= 2 and pred.orient2d_sign(out[-2], out[-1], p) <= 0:
-                out.pop()
-            out.append(p)
-        return out
-
-    lower, upper = chain(order), chain(order[::-1])
-    return lower[:-1] + upper[:-1]
-
-
-@dataclass(frozen=True)
-class _Labels:
-    """Names segments in messages by their input row and input vertex rows."""
-
-    seg: NDArray[np.intp]
-    origin: NDArray[np.intp]
-    name: NDArray[np.intp]
-
-    def __call__(self, k: int) -> str:
-        a, b = (int(self.name[v]) for v in self.seg[k])
-        o = int(self.origin[k])
-        return f"segment {o} ({a}–{b})" if o >= 0 else f"convex hull edge ({a}–{b})"
-
-
-def _dedupe(
-    seg: NDArray[np.intp],
-    origin: NDArray[np.intp],
-    marks: NDArray[np.intp] | None,
-    notes: list[str],
-    name: NDArray[np.intp],
-) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp] | None]:
-    """Merge repeated segments (either orientation) into the first; a note for each input one dropped."""
-    label = _Labels(seg, origin, name)
-    if seg.shape[0] < 2:
-        return seg, origin, marks
-    key = np.sort(seg, axis=1)
-    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    if first.size == seg.shape[0]:
-        return seg, origin, marks
-    keep = np.sort(first)
-    for k in np.flatnonzero(first[inverse] != np.arange(seg.shape[0])).tolist():
-        j = int(first[inverse[k]])
-        if origin[k] >= 0 and origin[k] != origin[j]:
-            notes.append(f"{label(k)} repeats {label(j)}: merged")
-    return seg[keep], origin[keep], None if marks is None else marks[keep]
-
-
-def _split_at_vertices(
-    verts: NDArray[np.float64],
-    seg: NDArray[np.intp],
-    origin: NDArray[np.intp],
-    marks: NDArray[np.intp] | None,
-    pred: Predicates2,
-    notes: list[str],
-    name: NDArray[np.intp],
-    repair: bool,
-) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp] | None]:
-    """Split every segment at the vertices on its interior (exact collinearity), or refuse.
-
-    Candidates come from the vertices sorted by x: those in the segment's
-    closed bounding box; exact ``orient2d_sign == 0`` decides (collinear and in
-    the box means on the closed segment).
-    """
-    m = seg.shape[0]
-    if m == 0:
-        return seg, origin, marks
-    label = _Labels(seg, origin, name)
-    by_x = np.argsort(verts[:, 0], kind="stable")
-    xs_sorted = verts[by_x, 0]
-    ys = verts[:, 1]
-    new_seg: list[list[int]] = []
-    new_origin: list[int] = []
-    new_marks: list[int] = []
-    split_any = False
-    for k in range(m):
-        a, b = int(seg[k, 0]), int(seg[k, 1])
-        ax, ay = float(verts[a, 0]), float(verts[a, 1])
-        bx, by = float(verts[b, 0]), float(verts[b, 1])
-        lo = int(np.searchsorted(xs_sorted, min(ax, bx), side="left"))
-        hi = int(np.searchsorted(xs_sorted, max(ax, bx), side="right"))
-        cand = by_x[lo:hi]
-        cand = cand[(ys[cand] >= min(ay, by)) & (ys[cand] <= max(ay, by)) & (cand != a) & (cand != b)]
-        on: list[int] = []
-        if cand.size:
-            signs = pred.orient2d_sign_batch(a, b, cand)
-            on = cand[signs == 0].tolist()
-        if on and origin[k] >= 0:
-            first = on[0] if len(on) == 1 else min(on, key=lambda v: (abs(verts[v, 0] - ax), abs(verts[v, 1] - ay)))
-            msg = f"vertex {int(name[first])} at {_pt(verts[first])} lies on the interior of {label(k)}"
-            if not repair:
-                raise DomainError(msg)
-            rest = f" (and {len(on) - 1} more)" if len(on) > 1 else ""
-            notes.append(msg + rest + ": split there")
-        chain = [a] + sorted(on, key=lambda v: (float(verts[v, 0]), float(verts[v, 1])), reverse=(ax, ay) > (bx, by)) + [b]
-        split_any = split_any or bool(on)
-        for u, v in zip(chain[:-1], chain[1:]):
-            new_seg.append([u, v])
-            new_origin.append(int(origin[k]))
-            if marks is not None:
-                new_marks.append(int(marks[k]))
-    if not split_any:
-        return seg, origin, marks
-    return (
-        np.array(new_seg, dtype=np.intp).reshape(-1, 2),
-        np.array(new_origin, dtype=np.intp),
-        None if marks is None else np.array(new_marks, dtype=np.intp),
-    )
-
-
-def _refuse_crossings(verts: NDArray[np.float64], seg: NDArray[np.intp], pred: Predicates2, label: _Labels) -> None:
-    """Raise for the first pair of segments (in sweep order) that cross; exact.
-
-    After splitting, two segments meet only at a shared endpoint or by crossing
-    properly: each straddles the other's line (both orientation products < 0).
-    Candidate pairs come from a sweep in x over the segments' bounding boxes.
-    """
-    m = seg.shape[0]
-    if m < 2:
-        return
-    a, b = seg[:, 0], seg[:, 1]
-    lo_x = np.minimum(verts[a, 0], verts[b, 0])
-    hi_x = np.maximum(verts[a, 0], verts[b, 0])
-    lo_y = np.minimum(verts[a, 1], verts[b, 1])
-    hi_y = np.maximum(verts[a, 1], verts[b, 1])
-    order = np.argsort(lo_x, kind="stable")
-    sorted_lo = lo_x[order]
-    end = np.searchsorted(sorted_lo, hi_x[order], side="right")
-    count = np.maximum(end - np.arange(m) - 1, 0)
-    start = 0
-    while start < m:
-        stop = start + 1
-        budget = int(count[start])
-        while stop < m and budget + int(count[stop]) <= _PAIR_BUDGET:
-            budget += int(count[stop])
-            stop += 1
-        rows = np.arange(start, stop)
-        reps = count[rows]
-        first_pos = np.repeat(rows, reps)
-        offsets = np.arange(int(reps.sum())) - np.repeat(np.cumsum(reps) - reps, reps)
-        i, j = order[first_pos], order[first_pos + 1 + offsets]
-        keep = (lo_y[i] <= hi_y[j]) & (lo_y[j] <= hi_y[i])
-        keep &= (a[i] != a[j]) & (a[i] != b[j]) & (b[i] != a[j]) & (b[i] != b[j])
-        for s, t in zip(i[keep].tolist(), j[keep].tolist()):
-            p, q, r, u = int(a[s]), int(b[s]), int(a[t]), int(b[t])
-            if pred.orient2d_sign(p, q, r) * pred.orient2d_sign(p, q, u) < 0 and (
-                pred.orient2d_sign(r, u, p) * pred.orient2d_sign(r, u, q) < 0
-            ):
-                s, t = min(s, t), max(s, t)
-                x, y = _crossing_point(verts, seg[s], seg[t])
-                raise DomainError(f"{label(s)} and {label(t)} cross at about ({x:.17g}, {y:.17g}) without a shared vertex")
-        start = stop
-
-
-def _crossing_point(verts: NDArray[np.float64], s: NDArray[np.intp], t: NDArray[np.intp]) -> tuple[float, float]:
-    p, r = verts[s[0]], verts[t[0]]
-    d, e = verts[s[1]] - p, verts[t[1]] - r
-    with np.errstate(all="ignore"):
-        denom = d[0] * e[1] - d[1] * e[0]
-        lam = ((r[0] - p[0]) * e[1] - (r[1] - p[1]) * e[0]) / denom
-        return float(p[0] + lam * d[0]), float(p[1] + lam * d[1])
 
 
 # -- the domain's faces --------------------------------------------------------------------------
@@ -586,22 +403,22 @@ def domain_of(pslg: PSLG, *, scale: IntegerScale | None = None, pred: Predicates
         nonlocal hull, pred
         where = faces.locate(float(p[0]), float(p[1]))
         if where.vertex is not None:
-            raise DomainError(f"{what} {k} at {_pt(p)} is on vertex {where.vertex}")
+            raise DomainError(f"{what} {k} at {point_text(p)} is on vertex {where.vertex}")
         if where.segment is not None:
             a, b = (int(v) for v in seg[where.segment])
-            raise DomainError(f"{what} {k} at {_pt(p)} lies on the segment ({a}–{b})")
+            raise DomainError(f"{what} {k} at {point_text(p)} lies on the segment ({a}–{b})")
         if where.face == UNBOUNDED:
             if pred is None:
                 pred = Predicates2(np.concatenate([verts, pslg.holes, pslg.regions[:, :2]]))
             if hull is None:
-                hull = _convex_hull(verts, pred)
+                hull = convex_hull(verts, pred)
             inside = all(pred.orient2d_sign(hull[i], hull[(i + 1) % len(hull)], row) > 0 for i in range(len(hull)))
             if inside:
                 raise DomainError(
-                    f"{what} {k} at {_pt(p)} is not enclosed by segments: its flood fill reaches the outside "
+                    f"{what} {k} at {point_text(p)} is not enclosed by segments: its flood fill reaches the outside "
                     "of the convex hull and would eat everything (close the boundary around it)"
                 )
-            raise DomainError(f"{what} {k} at {_pt(p)} lies outside the domain (outside the convex hull of the vertices)")
+            raise DomainError(f"{what} {k} at {point_text(p)} lies outside the domain (outside the convex hull of the vertices)")
         return where.face
 
     hole_face = np.array(
@@ -614,7 +431,7 @@ def domain_of(pslg: PSLG, *, scale: IntegerScale | None = None, pred: Predicates
     ).reshape(-1)
     for k, f in enumerate(region_face.tolist()):
         if not kept[f]:
-            raise DomainError(f"region {k} at {_pt(pslg.regions[k, :2])} lies in a hole (the face of a hole point)")
+            raise DomainError(f"region {k} at {point_text(pslg.regions[k, :2])} lies in a hole (the face of a hole point)")
     if faces.n_faces == 0:
         raise DomainError(
             "the segments enclose no region: the domain is empty (close the boundary, or pass convex=True "
@@ -625,7 +442,7 @@ def domain_of(pslg: PSLG, *, scale: IntegerScale | None = None, pred: Predicates
         ring = faces.face_vertices(f)
         only = "the only region the segments enclose" if faces.n_faces == 1 else "and the other holes eat the rest"
         raise DomainError(
-            f"the domain is empty: hole 0 at {_pt(pslg.holes[0])} eats the region bounded by vertices "
+            f"the domain is empty: hole 0 at {point_text(pslg.holes[0])} eats the region bounded by vertices "
             f"{'–'.join(map(str, ring[:6]))}{'…' if len(ring) > 6 else ''}, {only} (is every boundary closed?)"
         )
 

@@ -95,7 +95,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from persistri.impl.geometry.exact import incircle_det, orient2d_det
 from persistri.impl.geometry.points import as_points, unique_rows
-from persistri.impl.mesh.angles import angle_at_least, cos_bound
+from persistri.impl.mesh.angles import below_bound, smallest_corner, subtends_small_input_angle
+from persistri.impl.mesh.chains import segment_chains
 from persistri.impl.mesh.domain import PSLG, Domain, DomainError, as_pslg, domain_of
 from persistri.impl.mesh.faces import UNBOUNDED, common_scale
 
@@ -120,8 +121,6 @@ PROBLEM_KINDS = (
 """The kinds of :class:`MeshProblem`, in the order the checks run (module docstring)."""
 
 _TILING = ("input", "domain", "orientation", "missing-vertex", "coincident", "segment", "edge", "boundary", "outside")
-_COS_MARGIN = 1e-9
-"""The float filter's margin on a cosine; its rounding error is below 1e-14 (module docstring of angles)."""
 
 
 class MeshVerificationError(AssertionError):
@@ -380,83 +379,25 @@ class _Mesh:
 
     # 3. Segment chains.
     def _chains(self, exact_segments: bool) -> None:
-        dom, xl, yl = self.dom, self.xl, self.yl
-        seg = dom.pslg.segments
-        self.chain: list[list[int] | None] = []
-        self.on_segments: dict[int, list[int]] = {}
-        rep = self.check.rep
-        rounded_seen: set[int] = set()
-        exact_seen: set[int] = set()
-        for s in range(seg.shape[0]):
-            u, v = (int(self.mesh_of[w]) for w in seg[s])
-            if u < 0 or v < 0:
-                self.chain.append(None)
-                continue
-            dx, dy = xl[v] - xl[u], yl[v] - yl[u]
-            length2 = dx * dx + dy * dy
-            path = [u]
-            cur, rounded = u, []
-            ok = True
-            while cur != v:
-                best, best_t, best_rounded = -1, 0, False
-                cur_t = (xl[cur] - xl[u]) * dx + (yl[cur] - yl[u]) * dy
-                for w in self.nbr[self.nbr_ptr[cur] : self.nbr_ptr[cur + 1]].tolist():
-                    t = (xl[w] - xl[u]) * dx + (yl[w] - yl[u]) * dy
-                    if t <= cur_t or t > length2:
-                        continue
-                    off = dx * (yl[w] - yl[u]) - dy * (xl[w] - xl[u])
-                    near = off == 0 or w == v
-                    if not near and not self._in_tolerance_box(w, u, v):
-                        continue
-                    if best < 0 or t < best_t:
-                        best, best_t, best_rounded = w, t, not near
-                if best < 0:
-                    ok = False
-                    where = tuple(self.pts[cur].tolist())
-                    self.check.problem(
-                        "segment",
-                        f"segment {s} ({int(seg[s, 0])}–{int(seg[s, 1])}) is not a union of mesh edges: "
-                        f"the chain along it stops at mesh vertex {cur} {where} after {len(path) - 1} edges",
-                    )
-                    break
-                if best_rounded:
-                    rounded.append(best)
-                path.append(best)
-                cur = best
-            if not ok:
-                self.chain.append(None)
-                continue
-            self.chain.append(path)
-            for w in path:
-                self.on_segments.setdefault(w, []).append(s)
-            interior = path[1:-1]
-            exact_seen.update(w for w in interior if w not in rounded)
-            rounded_seen.update(rounded)
-            if rounded and exact_segments:
+        seg = self.dom.pslg.segments
+        found = segment_chains(self.pts, self.xl, self.yl, self.nbr, self.nbr_ptr, seg, self.mesh_of, self.rounding_ulps)
+        self.chain, self.on_segments = found.paths, found.on_segments
+        for s, cur, edges in found.stuck:
+            self.check.problem(
+                "segment",
+                f"segment {s} ({int(seg[s, 0])}–{int(seg[s, 1])}) is not a union of mesh edges: "
+                f"the chain along it stops at mesh vertex {cur} {tuple(self.pts[cur].tolist())} after {edges} edges",
+            )
+        if exact_segments:
+            for s, rounded in found.rounded:
                 w = rounded[0]
                 self.check.problem(
                     "segment-rounding",
                     f"segment {s}: {len(rounded)} split vertices lie off it within their tolerance boxes "
                     f"(first: mesh vertex {w} {tuple(self.pts[w].tolist())}); exact_segments=False accepts them",
                 )
-        rep.split_vertices = len(exact_seen)
-        rep.rounded_split_vertices = len(rounded_seen)
-
-    def _in_tolerance_box(self, w: int, u: int, v: int) -> bool:
-        """Whether the closed segment u–v meets vertex w's tolerance box (module docstring). Exact."""
-        lower, upper = Fraction(0), Fraction(1)
-        pu, pv, pw = self.pts[u], self.pts[v], self.pts[w]
-        for axis in (0, 1):
-            a, b = float(pu[axis]), float(pv[axis])
-            lo, hi = _tolerance_interval(float(pw[axis]), max(abs(a), abs(b)), self.rounding_ulps)
-            fa, d = Fraction(a), Fraction(b) - Fraction(a)
-            if d == 0:
-                if not lo <= fa <= hi:
-                    return False
-                continue
-            t1, t2 = (lo - fa) / d, (hi - fa) / d
-            lower, upper = max(lower, min(t1, t2)), min(upper, max(t1, t2))
-        return lower <= upper
+        self.check.rep.split_vertices = found.split_vertices
+        self.check.rep.rounded_split_vertices = found.rounded_split_vertices
 
     # 4. Pairing and the boundary chain.
     def _pairing(self) -> None:
@@ -607,12 +548,13 @@ class _Mesh:
         rep.max_area = float(max(self.det.tolist()) * unit) if t else None
         exempt = np.zeros(t, dtype=bool)
         if min_angle is not None and min_angle > 0:
-            bad = self._below(min_angle)
-            for k in bad:
-                if self._exempt(k):
+            ends = [(int(self.mesh_of[u]), int(self.mesh_of[v])) for u, v in self.dom.pslg.segments.tolist()]
+            for k in below_bound(pts, tri, self.xl, self.yl, min_angle):
+                corner = smallest_corner(self.xl, self.yl, tri[k])
+                p, q = int(tri[k, (corner + 1) % 3]), int(tri[k, (corner + 2) % 3])
+                if subtends_small_input_angle(p, q, self.on_segments, ends, self.xl, self.yl):
                     exempt[k] = True
                     continue
-                corner = self._smallest_corner(k)
                 self.check.problem(
                     "angle",
                     f"triangle {k} {tri[k].tolist()} has a {small[k]:.6g}° angle at vertex {int(tri[k, corner])}, below {min_angle:g}°",
@@ -621,66 +563,6 @@ class _Mesh:
         rest = small[~exempt]
         rep.min_angle_unexempt = float(rest.min()) if rest.size else None
         self._areas(max_area, region_areas)
-
-    def _smallest_corner(self, k: int) -> int:
-        """The corner opposite the shortest edge (exact squared lengths): the smallest angle's."""
-        a, b, c = (int(v) for v in self.tri[k])
-        xl, yl = self.xl, self.yl
-
-        def l2(p: int, q: int) -> int:
-            return (xl[p] - xl[q]) ** 2 + (yl[p] - yl[q]) ** 2
-
-        lengths = [l2(b, c), l2(c, a), l2(a, b)]
-        return lengths.index(min(lengths))
-
-    def _below(self, theta: float) -> list[int]:
-        """The triangles whose smallest angle is below θ: a float filter, exact where it cannot tell."""
-        tri, pts = self.tri, self.pts
-        P = pts[tri]
-        with np.errstate(all="ignore"):
-            e = np.stack([P[:, 2] - P[:, 1], P[:, 0] - P[:, 2], P[:, 1] - P[:, 0]], axis=1)
-            l2 = np.einsum("ijk,ijk->ij", e, e)
-            corner = np.argmin(l2, axis=1)
-            rows = np.arange(tri.shape[0])
-            u = -e[rows, (corner + 2) % 3]  # from the corner to the next vertex
-            v = e[rows, (corner + 1) % 3]  # from the corner to the previous vertex
-            nu, nv = np.einsum("ij,ij->i", u, u), np.einsum("ij,ij->i", v, v)
-            cos = np.einsum("ij,ij->i", u, v) / np.sqrt(nu * nv)
-            c = cos_bound(theta)
-            sure = np.isfinite(cos) & (nu > 1e-280) & (nv > 1e-280) & np.isfinite(nu * nv)
-            fine = sure & (cos < c - _COS_MARGIN)
-            below = sure & (cos > c + _COS_MARGIN)
-        out = np.flatnonzero(below).tolist()
-        xl, yl = self.xl, self.yl
-        for k in np.flatnonzero(~fine & ~below).tolist():
-            i = self._smallest_corner(k)
-            o, p, q = (int(tri[k, (i + j) % 3]) for j in range(3))
-            ux, uy, vx, vy = xl[p] - xl[o], yl[p] - yl[o], xl[q] - xl[o], yl[q] - yl[o]
-            if not angle_at_least(ux * vx + uy * vy, ux * ux + uy * uy, vx * vx + vy * vy, theta):
-                out.append(k)
-        return sorted(out)
-
-    def _exempt(self, k: int) -> bool:
-        """Ruppert's exemption (module docstring): the shortest edge subtends a small input angle."""
-        i = self._smallest_corner(k)
-        p, q = int(self.tri[k, (i + 1) % 3]), int(self.tri[k, (i + 2) % 3])
-        seg = self.dom.pslg.segments
-        xl, yl = self.xl, self.yl
-        for s1 in self.on_segments.get(p, []):
-            for s2 in self.on_segments.get(q, []):
-                if s1 == s2:
-                    continue
-                ends1 = {int(self.mesh_of[w]) for w in seg[s1]}
-                ends2 = {int(self.mesh_of[w]) for w in seg[s2]}
-                for o in ends1 & ends2:
-                    if o in (p, q):
-                        continue
-                    (f1,), (f2,) = ends1 - {o}, ends2 - {o}
-                    ux, uy, vx, vy = xl[f1] - xl[o], yl[f1] - yl[o], xl[f2] - xl[o], yl[f2] - yl[o]
-                    dot = ux * vx + uy * vy
-                    if dot > 0 and 4 * dot * dot > (ux * ux + uy * uy) * (vx * vx + vy * vy):
-                        return True
-        return False
 
     def _areas(self, max_area: float | None, region_areas: bool) -> None:
         dom, tri = self.dom, self.tri
@@ -702,10 +584,3 @@ class _Mesh:
                 limit = min(limit, glob)
             if dets[k] * unit > limit:
                 self.check.problem("area-bound", f"triangle {k} {tri[k].tolist()} has area {float(dets[k] * unit):.6g}, above the bound {float(limit):g}")
-
-
-def _tolerance_interval(c: float, scale: float, ulps: float) -> tuple[Fraction, Fraction]:
-    """The closed interval ``[c − h, c + h]`` with ``h = ulps · ulp(max(|c|, scale))``: the split vertex's tolerance. Exact."""
-    h = Fraction(ulps) * Fraction(math.ulp(max(abs(c), scale)))
-    x = Fraction(c)
-    return x - h, x + h
