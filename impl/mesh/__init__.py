@@ -8,11 +8,15 @@ The domain and the check:
 
 * :mod:`~persistri.impl.mesh.domain` — planar straight-line graphs (:class:`PSLG`): vertices,
   segments, holes, regions; validation (:func:`as_pslg`), the dict form, the domain's faces;
+* :mod:`~persistri.impl.mesh.segments` — segment sets made clean: repeats merged, splits at
+  vertices, crossings refused (exact);
+* :mod:`~persistri.impl.mesh.errors` — :class:`DomainError`;
 * :mod:`~persistri.impl.mesh.faces` — the faces of a PSLG's segments, traced exactly, and
   exact point location;
 * :mod:`~persistri.impl.mesh.polyfile` — Triangle's ``.node``, ``.poly``, ``.ele``, ``.edge`` files;
 * :mod:`~persistri.impl.mesh.verify` — :func:`verify_mesh`, the exact, independent mesh checker;
-* :mod:`~persistri.impl.mesh.angles` — angles against a bound in degrees, exactly;
+* :mod:`~persistri.impl.mesh.chains` — input segments as chains of mesh edges, exactly or within rounding;
+* :mod:`~persistri.impl.mesh.angles` — angles against a bound in degrees, exactly; Ruppert's exemption;
 * :mod:`~persistri.impl.mesh.gallery` — the bench's deterministic domains.
 
 The mesher:
