@@ -283,3 +283,22 @@ def test_angle_at_least_agrees_with_high_precision(ux: int, uy: int, vx: int, vy
     diff = (angle - bound).evalf(60)
     if diff != 0:
         assert got == (diff > 0)
+
+
+# -- the tolerance box ------------------------------------------------------------------------------
+
+
+def test_the_tolerance_box_is_exact_and_closed() -> None:
+    from persistri.impl.mesh.chains import in_tolerance_box
+
+    a, b = np.array([0.0, 0.0]), np.array([1.0, 3.0])
+    # The midpoint of a segment between doubles is often a tie between two doubles: both count.
+    mid = np.array([0.5, 1.5])
+    assert in_tolerance_box(mid, a, b, 0.0)
+    u = 2.0**-53  # the y tolerance is measured in ulps of 3 (4u), the x tolerance in ulps of 1 (2u)
+    assert in_tolerance_box(np.array([0.5, 1.5 + 2 * u]), a, b, 0.5)  # half an ulp of 3 above the line: on the box edge
+    assert not in_tolerance_box(np.array([0.5, 1.5 + 8 * u]), a, b, 0.5)
+    assert in_tolerance_box(np.array([0.5, 1.5 + 8 * u]), a, b, 2.0)
+    assert not in_tolerance_box(np.array([0.5, 1.5 + 64 * u]), a, b, 2.0)
+    # Beyond the segment's end it does not count, however close to its line.
+    assert not in_tolerance_box(np.array([1.0 + 2 * u, 3.0 + 6 * u]), a, b, 0.5)
