@@ -456,6 +456,7 @@ class _Mesh:
                 parent[ra] = rb
         roots = np.array([find(i) for i in range(t)])
         groups, group_of = np.unique(roots, return_inverse=True)
+        sizes = np.bincount(group_of.reshape(-1), minlength=groups.size)
         group_face = np.full(groups.size, UNBOUNDED, dtype=np.intp)
         tri, xl, yl = self.tri, self.xl, self.yl
         for g, r in enumerate(groups.tolist()):
@@ -463,7 +464,7 @@ class _Mesh:
             nx, ny = xl[a] + xl[b] + xl[c], yl[a] + yl[b] + yl[c]
             cx, cy = (float(self.pts[[a, b, c], 0].sum()) / 3, float(self.pts[[a, b, c], 1].sum()) / 3)
             where = faces.locate_scaled(nx, ny, 3, cx, cy)
-            size = int(np.count_nonzero(group_of == g))
+            size = int(sizes[g])
             if where.on_graph:
                 self.check.problem("outside", f"triangle {r}'s centroid lies on the domain's segments or vertices (with {size - 1} triangles joined to it)")
                 continue
