@@ -20,6 +20,8 @@ from fractions import Fraction
 from typing import Any
 
 import numpy as np
+import triangle as tr
+from hypothesis import strategies as st
 from numpy.typing import NDArray
 
 from persistri.impl.geometry.predicates import Predicates2
@@ -181,3 +183,20 @@ def circle(n: int = 32) -> PSLG:
     """A regular ``n``-gon inscribed in the unit circle, vertices on a 1/4096 grid."""
     ang = np.arange(n) * 2 * np.pi / n
     return as_pslg(np.round(np.c_[np.cos(ang), np.sin(ang)] * 4096) / 4096, ring(n))
+
+
+@st.composite
+def pslgs(draw: st.DrawFn) -> tuple[np.ndarray, np.ndarray]:
+    """Integer points (cocircular and collinear sets common) and a random subset of their Delaunay edges
+    (which never cross) plus the hull: a valid PSLG."""
+    n = draw(st.integers(4, 24))
+    pts = draw(
+        st.lists(st.tuples(st.integers(0, 12), st.integers(0, 12)), min_size=n, max_size=n, unique=True)
+    )
+    arr = np.array(pts, dtype=np.float64)
+    if abs(np.linalg.matrix_rank(arr[1:] - arr[0])) < 2:
+        arr = np.vstack([arr, [[13.0, 13.0], [0.0, 13.0]]])
+    t = tr.triangulate({"vertices": arr}, "c")
+    edges = {tuple(sorted(e)) for tri in t["triangles"].tolist() for e in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0]))}
+    chosen = sorted(e for e in edges if draw(st.booleans()))
+    return t["vertices"], np.array(chosen, dtype=np.intp).reshape(-1, 2)

@@ -8,9 +8,8 @@ import numpy as np
 import pytest
 import triangle as tr
 from hypothesis import given, settings
-from hypothesis import strategies as st
 
-from mesh_helpers import check_mesh, hole_square_area2, ring, square_with_hole, twice_area
+from mesh_helpers import check_mesh, hole_square_area2, pslgs, ring, square_with_hole, twice_area
 from persistri.impl.mesh.api import triangulate
 from persistri.impl.mesh.domain import as_pslg
 from persistri.impl.mesh.triangulation import EXTERIOR
@@ -80,23 +79,6 @@ def test_utm_offsets_are_exact(offset: tuple[float, float]) -> None:
 def test_dictionary_input_as_triangle_takes_it() -> None:
     m = triangulate({"vertices": [[0, 0], [2, 0], [2, 2], [0, 2]], "segments": ring(4)})
     assert m.triangles.shape == (2, 3)
-
-
-@st.composite
-def pslgs(draw: st.DrawFn) -> tuple[np.ndarray, np.ndarray]:
-    """Integer points (cocircular and collinear sets common) and a random subset of their Delaunay edges
-    (which never cross) plus the hull: a valid PSLG."""
-    n = draw(st.integers(4, 24))
-    pts = draw(
-        st.lists(st.tuples(st.integers(0, 12), st.integers(0, 12)), min_size=n, max_size=n, unique=True)
-    )
-    arr = np.array(pts, dtype=np.float64)
-    if abs(np.linalg.matrix_rank(arr[1:] - arr[0])) < 2:
-        arr = np.vstack([arr, [[13.0, 13.0], [0.0, 13.0]]])
-    t = tr.triangulate({"vertices": arr}, "c")
-    edges = {tuple(sorted(e)) for tri in t["triangles"].tolist() for e in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0]))}
-    chosen = sorted(e for e in edges if draw(st.booleans()))
-    return t["vertices"], np.array(chosen, dtype=np.intp).reshape(-1, 2)
 
 
 @settings(max_examples=40)

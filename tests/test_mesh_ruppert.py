@@ -8,11 +8,25 @@ from fractions import Fraction
 import numpy as np
 import pytest
 import triangle as tr
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from mesh_helpers import check_mesh, check_quality, check_verified, circle, hole_square_area2, l_shape, polygon_area2, ring, square_with_hole, star
+from mesh_helpers import (
+    check_mesh,
+    check_quality,
+    check_verified,
+    circle,
+    hole_square_area2,
+    l_shape,
+    polygon_area2,
+    pslgs,
+    ring,
+    square_with_hole,
+    star,
+)
+from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.api import QualityMesh, triangulate
 from persistri.impl.mesh.domain import PSLG, as_pslg
-from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.steiner import PrecisionLimitError, split_parameter
 
 DOMAINS = {
@@ -195,3 +209,14 @@ def test_rounded_splits_when_asked(angle: int) -> None:
     assert m.rounded_splits > 0 and m.min_angle_reached
     report = verify_mesh(d, m.vertices, m.triangles, min_angle=angle, exact_segments=False)
     assert report.ok and report.rounded_split_vertices > 0
+
+
+@settings(max_examples=15)
+@given(pslgs(), st.sampled_from([20.0, 30.0]), st.sampled_from([4.0, 1.0, 0.5]))
+def test_random_pslgs_refine_to_verified_meshes(data: tuple[np.ndarray, np.ndarray], angle: float, area: float) -> None:
+    # Random segments among integer points: small input angles everywhere; shells and exemptions must terminate it.
+    verts, segs = data
+    d = as_pslg(verts, segs, convex=True)
+    m = triangulate(d, min_angle=angle, max_area=area)
+    assert m.min_angle_reached and m.max_area_reached
+    _checked(d, m)

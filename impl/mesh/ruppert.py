@@ -42,11 +42,15 @@ of a PSLG (:mod:`persistri.impl.mesh.cdt`):
    subsegment is split without inserting ``c`` (:attr:`Counts.blocked`).
 
 **Splitting a subsegment** puts a point exactly on it (:func:`~persistri.impl.mesh.steiner.split_parameter`):
-at its midpoint, or — when exactly one end is an input vertex where segments
-meet — on the *concentric shell* around that vertex, at the power of two
-``2^k`` nearest to half the length (``1.5 · 2^k <= length < 3 · 2^k``; Ruppert's
-and Shewchuk's fix for small input angles: the splits on two segments meeting
-at a small angle land at the same distances from their common vertex).
+at its midpoint, or — when an end is an input vertex where segments meet — on
+the *concentric shell* around that vertex, at the power of two ``2^k`` nearest
+to half the length (``1.5 · 2^k <= length < 3 · 2^k``; Ruppert's and Shewchuk's
+fix for small input angles: the splits on two segments meeting at a small angle
+land at the same distances from their common vertex).  When both ends of a
+whole input segment are such vertices, the shell is centred, as Triangle
+does, at the end where the triangle beside the segment has a second
+segment as an edge (the corner of a small angle), and at the midpoint if
+neither.
 
 **Termination.**  With no input angle below 60° (Shewchuk 1997, Theorem 8 and
 after; Ruppert's original argument with bound ``arcsin(1/(2√2)) ≈ 20.7°``), every
@@ -57,8 +61,8 @@ angles** (below 60°) break the argument: splitting one segment near the angle
 encroaches the other, forever.  Concentric shells make the splits on both
 segments land at equal distances from the apex, and, following Miller, Pav and
 Walkington (as Triangle does), a bad triangle whose shortest edge joins two
-Steiner vertices on *different* segments that share an endpoint ``o``, at equal
-distance from ``o`` — both placed on the same shell around ``o``, or with squared
+Steiner vertices on *different* segments that share an endpoint ``o`` and meet
+there at an angle below 60°, at equal distance from ``o`` — both placed on the same shell around ``o``, or with squared
 distances to ``o`` within a factor 1.001 of each other (Triangle's rule; the
 comparison is exact, on integers: the factor is a tolerance of the rule, which
 splits at midpoints when both ends of a segment are shared vertices, not of any
@@ -86,6 +90,7 @@ from typing import Any
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
+from persistri.impl.mesh.angles import angle_at_least
 from persistri.impl.mesh.quality import AngleBound, Shape, area_exceeds, inside_lens, shape
 from persistri.impl.mesh.steiner import PrecisionLimitError, point_at, split_parameter, steiner_point
 from persistri.impl.mesh.triangulation import (
@@ -211,6 +216,12 @@ class Refiner:
             return False
         ends_p, ends_q = self.geo.ends[sp[0]], self.geo.ends[sq[0]]
         for o in set(ends_p) & set(ends_q):
+            # Only at a small input angle (below 60°): elsewhere Ruppert's argument needs no exemption.
+            far_p, far_q = ends_p[1] if ends_p[0] == o else ends_p[0], ends_q[1] if ends_q[0] == o else ends_q[0]
+            (io, ip, iq), _ = self.P.integers(o, far_p, far_q)
+            d1, d2 = (ip[0] - io[0], ip[1] - io[1]), (iq[0] - io[0], iq[1] - io[1])
+            if angle_at_least(d1[0] * d2[0] + d1[1] * d2[1], d1[0] ** 2 + d1[1] ** 2, d2[0] ** 2 + d2[1] ** 2, 60.0):
+                continue
             shp, shq = self.geo.shell.get(p), self.geo.shell.get(q)
             if shp is not None and shp == shq and shp[0] == o:
                 return True
@@ -288,10 +299,16 @@ class Refiner:
         if not t_lo_first:
             tu, tw = tw, tu
         a, b = geo.ends[s]
-        # Concentric shells (Ruppert, Shewchuk; Triangle's rule): around an end where the triangle beside the
+        # Concentric shells (Ruppert, Shewchuk): around an end that is an input vertex shared with another segment.
+        # When both ends are (a whole input segment), Triangle's choice: the end where the triangle beside the
         # subsegment has a second constrained edge, i.e. where two segments meet at that triangle's corner.
-        acute_0 = constraint_of(bdat, apex, x0) >= 0 if bdat[2] else False
-        acute_1 = constraint_of(bdat, x1, apex) >= 0 if bdat[2] else False
+        shared_0 = int(x0) < geo.n_input and geo.incident[int(x0)] > 1
+        shared_1 = int(x1) < geo.n_input and geo.incident[int(x1)] > 1
+        if shared_0 and shared_1:
+            acute_1 = constraint_of(bdat, x1, apex) >= 0 if bdat[2] else False
+            acute_0 = not acute_1 and (constraint_of(bdat, apex, x0) >= 0 if bdat[2] else False)
+        else:
+            acute_0, acute_1 = shared_0, shared_1
         wanted = (tu + tw) / 2
         shell: tuple[int, int] | None = None
         if acute_0 or acute_1:
