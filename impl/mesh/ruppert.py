@@ -42,15 +42,14 @@ of a PSLG (:mod:`persistri.impl.mesh.cdt`):
    subsegment is split without inserting ``c`` (:attr:`Counts.blocked`).
 
 **Splitting a subsegment** puts a point exactly on it (:func:`~persistri.impl.mesh.steiner.split_parameter`):
-at its midpoint, or — when an end is an input vertex where segments meet — on
-the *concentric shell* around that vertex, at the power of two ``2^k`` nearest
-to half the length (``1.5 · 2^k <= length < 3 · 2^k``; Ruppert's and Shewchuk's
-fix for small input angles: the splits on two segments meeting at a small angle
-land at the same distances from their common vertex).  When both ends of a
-whole input segment are such vertices, the shell is centred, as Triangle
-does, at the end where the triangle beside the segment has a second
-segment as an edge (the corner of a small angle), and at the midpoint if
-neither.
+at its midpoint, or on the *concentric shell* around an end, at the power of
+two ``2^k`` nearest to half the length (``1.5 · 2^k <= length < 3 · 2^k``;
+Ruppert's and Shewchuk's fix for small input angles: the splits on two
+segments meeting at a small angle land at the same distances from their common
+vertex).  The shell's centre: the end that is an input vertex where another
+segment meets this one at less than 60° (exact); when neither end or both are,
+Triangle's choice — the end where the triangle beside the subsegment has a
+second segment as an edge, else the midpoint.
 
 **Termination.**  With no input angle below 60° (Shewchuk 1997, Theorem 8 and
 after; Ruppert's original argument with bound ``arcsin(1/(2√2)) ≈ 20.7°``), every
@@ -187,6 +186,7 @@ class Refiner:
         self._seq = 0
         self._segs: deque[Constraint] = deque()
         self._exempt: set[int] = set()
+        self._small: dict[tuple[int, int], bool] = {}
 
     # -- tests -----------------------------------------------------------------------------
 
@@ -299,16 +299,16 @@ class Refiner:
         if not t_lo_first:
             tu, tw = tw, tu
         a, b = geo.ends[s]
-        # Concentric shells (Ruppert, Shewchuk): around an end that is an input vertex shared with another segment.
-        # When both ends are (a whole input segment), Triangle's choice: the end where the triangle beside the
-        # subsegment has a second constrained edge, i.e. where two segments meet at that triangle's corner.
-        shared_0 = int(x0) < geo.n_input and geo.incident[int(x0)] > 1
-        shared_1 = int(x1) < geo.n_input and geo.incident[int(x1)] > 1
-        if shared_0 and shared_1:
+        # Concentric shells (Ruppert, Shewchuk): around an end that is an input vertex where another segment meets
+        # this one at an angle below 60°, where they keep the splits of both segments at equal distances.  Otherwise
+        # (neither end, or both) Triangle's choice: the end where the triangle beside the subsegment has a second
+        # constrained edge (two segments meet at that triangle's corner), else the midpoint.
+        small_0, small_1 = self._small_angle_at(int(x0), s), self._small_angle_at(int(x1), s)
+        if small_0 != small_1:
+            acute_0, acute_1 = small_0, small_1
+        else:
             acute_1 = constraint_of(bdat, x1, apex) >= 0 if bdat[2] else False
             acute_0 = not acute_1 and (constraint_of(bdat, apex, x0) >= 0 if bdat[2] else False)
-        else:
-            acute_0, acute_1 = shared_0, shared_1
         wanted = (tu + tw) / 2
         shell: tuple[int, int] | None = None
         if acute_0 or acute_1:
@@ -346,6 +346,30 @@ class Refiner:
         self.counts.segment_splits += 1
         self._examine(ins.version, ins.created)
         return ins.version, p
+
+    def _small_angle_at(self, o: int, s: int) -> bool:
+        """Whether input vertex ``o`` is an end of segment ``s`` where another segment meets it at an angle below 60°
+        (exact; memoised): where concentric shells are needed."""
+        geo = self.geo
+        if o >= geo.n_input or geo.incident[o] < 2:
+            return False
+        key = (o, s)
+        found = self._small.get(key)
+        if found is None:
+            a, b = geo.ends[s]
+            far = b if a == o else a
+            found = False
+            for t, (c, d) in enumerate(geo.ends):
+                if t == s or o not in (c, d) or c == d:
+                    continue
+                other = d if c == o else c
+                (io, ip, iq), _ = self.P.integers(o, far, other)
+                d1, d2 = (ip[0] - io[0], ip[1] - io[1]), (iq[0] - io[0], iq[1] - io[1])
+                if not angle_at_least(d1[0] * d2[0] + d1[1] * d2[1], d1[0] ** 2 + d1[1] ** 2, d2[0] ** 2 + d2[1] ** 2, 60.0):
+                    found = True
+                    break
+            self._small[key] = found
+        return found
 
     def _rounded_split(
         self, a: int, b: int, u: int, w: int, tu: Fraction, tw: Fraction, wanted: Fraction
