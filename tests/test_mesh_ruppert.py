@@ -220,3 +220,28 @@ def test_random_pslgs_refine_to_verified_meshes(data: tuple[np.ndarray, np.ndarr
     m = triangulate(d, min_angle=angle, max_area=area)
     assert m.min_angle_reached and m.max_area_reached
     _checked(d, m)
+
+
+@settings(max_examples=200)
+@given(
+    st.tuples(*[st.integers(-(2**60), 2**60)] * 4),
+    st.sampled_from([20.0, 30.0, 33.0, 20.7, 45.0]),
+)
+def test_filtered_angle_test_equals_the_exact_one(v: tuple[int, int, int, int], theta: float) -> None:
+    from persistri.impl.mesh.angles import angle_at_least
+    from persistri.impl.mesh.quality import at_least
+
+    ux, uy, wx, wy = v
+    nu, nw = ux * ux + uy * uy, wx * wx + wy * wy
+    if nu == 0 or nw == 0:
+        return
+    dot = ux * wx + uy * wy
+    assert at_least(dot, nu, nw, theta) == angle_at_least(dot, nu, nw, theta)
+
+
+def test_filtered_angle_test_at_the_bound() -> None:
+    # A 30-60-90 triangle has exactly 30 degrees: cos² = 3/4 exactly, inside the float stage's margin.
+    from persistri.impl.mesh.quality import at_least
+
+    dot, nu, nw = 3, 3, 4  # (u·w)² = 9 = 3/4 · |u|² |w|²: cos² of exactly 30°
+    assert at_least(dot, nu, nw, 30.0) and not at_least(dot, nu, nw, 30.000001)
