@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from persistri.impl.geometry.growing import GrowingPredicates2
-from persistri.impl.mesh.angles import EXACT_COS2, angle_at_least
+from persistri.impl.mesh.angles import EXACT_COS2, angle_at_least, cos2_bounds
 
 __all__ = ["AngleBound", "Shape", "shape", "area_exceeds", "twice_area", "inside_lens", "at_least"]
 
@@ -38,8 +38,10 @@ _MARGIN = 1e-9
 
 
 @functools.lru_cache(maxsize=64)
-def _cos2(theta: float) -> float:
-    return math.cos(math.radians(theta)) ** 2
+def _cos2(theta: float) -> tuple[float, float]:
+    """Floats ``lo <= cos²θ <= hi``: the rational enclosure of :func:`~persistri.impl.mesh.angles.cos2_bounds`, rounded outward."""
+    lo, hi = cos2_bounds(theta)
+    return math.nextafter(float(lo), -math.inf), math.nextafter(float(hi), math.inf)
 
 
 def at_least(dot: int, norm_u: int, norm_v: int, theta: float) -> bool:
@@ -48,9 +50,9 @@ def at_least(dot: int, norm_u: int, norm_v: int, theta: float) -> bool:
     For ``dot > 0`` the float quotient ``q = fl(dot² / (|u|² |v|²))`` has relative
     error below ``2^-49`` (three conversions of exact integers and three
     operations, each within ``2^-53``; no overflow or underflow, checked), and
-    ``fl(cos²θ)`` from the C library is within a few ulps of ``cos²θ`` for
-    ``0 < θ <= 90``; the margin ``1e-9`` dwarfs both, so ``q`` below ``cos²θ · (1 − 1e-9)``
-    proves the angle above ``θ`` and ``q`` above ``cos²θ · (1 + 1e-9)`` proves it below.
+    ``cos²θ`` lies between two floats from its rational enclosure rounded outward;
+    the margin ``1e-9`` dwarfs the quotient's error, so ``q`` below ``lo · (1 − 1e-9)``
+    proves the angle above ``θ`` and ``q`` above ``hi · (1 + 1e-9)`` proves it below.
     Between them, the exact test decides.  O(1).
     """
     if theta <= 0.0 or dot <= 0:
@@ -60,10 +62,10 @@ def at_least(dot: int, norm_u: int, norm_v: int, theta: float) -> bool:
     except (OverflowError, ZeroDivisionError):
         return angle_at_least(dot, norm_u, norm_v, theta)
     if 1e-300 < q < 1e300:
-        c = _cos2(theta)
-        if q < c * (1.0 - _MARGIN):
+        lo, hi = _cos2(theta)
+        if q < lo * (1.0 - _MARGIN):
             return True
-        if q > c * (1.0 + _MARGIN):
+        if q > hi * (1.0 + _MARGIN):
             return False
     return angle_at_least(dot, norm_u, norm_v, theta)
 
