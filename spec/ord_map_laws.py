@@ -89,6 +89,11 @@ ORD_MAP_LAWS: dict[str, str] = {
     "isEmpty": "isEmpty(m) exactly when numItems(m) = 0",
     "persistence": "every earlier version is unchanged by any later operation",
     "invariants": "the structure's _check(m) accepts every map its operations produce",
+    "determinism": "answers depend only on the versions and arguments given: the same operations replayed later, "
+    "on the same or another instance, give the same answers, whatever was made or freed in between "
+    "(no cache keyed by object identity, no hidden state)",
+    "isolation": "instances share no mutable state: operations on one instance of the structure never change "
+    "what the versions of another answer",
 }
 """Every ``ORD_MAP`` law: name → one-line statement (for docs and reports)."""
 

@@ -93,6 +93,11 @@ SIMPCOMP_LAWS: dict[str, str] = {
     "bad_input": "a call with bad input raises a ValueError or TypeError and leaves the complex as it was",
     "invariants": "the structure's own representation check (check(c) or _check(c), when it has one) "
     "accepts every complex its operations make",
+    "determinism": "answers depend only on the versions and arguments given: the same operations replayed later, "
+    "on the same or another instance, give the same answers, whatever was made or freed in between "
+    "(no cache keyed by object identity, no hidden state)",
+    "isolation": "instances share no mutable state: operations on one instance of the structure never change "
+    "what the versions of another answer",
 }
 """Every ``SIMPCOMP`` law: name → statement."""
 

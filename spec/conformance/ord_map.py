@@ -36,18 +36,22 @@ Keys are Python integers and, with ``hashing``, :class:`CollidingKey` s (see
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable, Iterable
 from typing import Any, ClassVar
 
 from hypothesis import settings
 
+from persistri.spec.conformance.hidden_state import fresh_for
 from persistri.spec.conformance.ord_map_config import (
     ORD_MAP_OPERATIONS,
     NotAnOrdMap,
     SuiteConfig,
     as_structure,
     missing_operations,
+    second_config,
 )
+from persistri.spec.conformance.ord_map_determinism import t_determinism, t_isolation
 from persistri.spec.conformance.ord_map_edges import (
     t_edge_colliding_hashes,
     t_edge_empty_map,
@@ -56,6 +60,7 @@ from persistri.spec.conformance.ord_map_edges import (
     t_edge_remove_absent,
     t_edge_remove_last_key,
 )
+from persistri.spec.conformance.ord_map_growth import t_growth
 from persistri.spec.conformance.ord_map_history import combine
 from persistri.spec.conformance.ord_map_law_tests import (
     case_test,
@@ -74,9 +79,11 @@ from persistri.spec.conformance.runner import (
     ConformanceSkip,
     ConformanceTest,
     explicit_settings,
+    run_body,
     run_tests,
 )
 from persistri.spec.ord_map_laws import (
+    LawViolation,
     law_find_insert,
     law_find_insert_other,
     law_foldli,
@@ -100,8 +107,10 @@ __all__ = [
     "run_conformance",
 ]
 
-def _test(name: str, laws: tuple[str, ...], doc: str, body: Callable[[SuiteConfig, settings], None]) -> ConformanceTest[SuiteConfig]:
-    return ConformanceTest(name, laws, doc, body)
+def _test(
+    name: str, laws: tuple[str, ...], doc: str, body: Callable[[SuiteConfig, settings], None], *, confirm: bool = True
+) -> ConformanceTest[SuiteConfig]:
+    return ConformanceTest(name, laws, doc, body, confirm)
 
 
 ORD_MAP_TESTS: tuple[ConformanceTest[SuiteConfig], ...] = (
@@ -182,10 +191,35 @@ ORD_MAP_TESTS: tuple[ConformanceTest[SuiteConfig], ...] = (
         "workload_size random keys: insert, find, remove all (another order)",
         t_workload_random,
     ),
+    _test(
+        "growth",
+        ("persistence", "find_insert", "insertWith", "remove", "remove_absent", "invariants", "determinism"),
+        "grow to workload_size keys, branch from kept versions, recheck every kept version",
+        t_growth,
+        confirm=False,  # its replays pin each failure to its operation and confirm it
+    ),
+    _test(
+        "determinism",
+        ("determinism",),
+        "one session replayed: versions kept, versions freed (ids reused), on a second instance",
+        t_determinism,
+        confirm=False,
+    ),
+    _test(
+        "isolation",
+        ("isolation",),
+        "two instances: operations on one never change the other's versions",
+        t_isolation,
+        confirm=False,
+    ),
 )
 """Every test of the suite, in the order they run; :class:`OrdMapConformance` has one ``test_<name>`` per entry."""
 
 _TESTS_BY_NAME = {t.name: t for t in ORD_MAP_TESTS}
+
+
+_FRESH: weakref.WeakKeyDictionary[type, Callable[[], Any] | None] = weakref.WeakKeyDictionary()
+"""Per test class, how second instances of its structure are made (:func:`~.hidden_state.fresh_for`)."""
 
 
 class OrdMapConformance:
@@ -217,14 +251,17 @@ class OrdMapConformance:
         if cls.structure is None:
             raise TypeError(f"{cls.__name__}: set `structure = <your ORD_MAP structure>` in the class body")
         s = as_structure(cls.structure, f"{cls.__name__}.structure")
-        return SuiteConfig(s, bool(cls.hashing), cls.workload_size, bool(cls.check), cls.stateful_steps)
+        if cls not in _FRESH:  # one snapshot per test class, taken before its first test runs
+            _FRESH[cls] = fresh_for(cls.structure, s)
+        fresh = _FRESH[cls]
+        return SuiteConfig(s, bool(cls.hashing), cls.workload_size, bool(cls.check), cls.stateful_steps, fresh)
 
     def run_conformance_test(self, name: str) -> None:
         """Run the suite's test ``name`` under the active hypothesis profile (a skip becomes a pytest skip)."""
         test = _TESTS_BY_NAME[name]
         cfg = self.conformance_config()
         try:
-            test.body(cfg, settings(deadline=None))
+            run_body(test, cfg, settings(deadline=None), LawViolation, second_config)
         except ConformanceSkip as skip:
             import pytest  # only here: run_conformance works without pytest
 
@@ -334,6 +371,18 @@ class OrdMapConformance:
         """workload_size random keys: insert all, find all, remove all in another order."""
         self.run_conformance_test("workload_random")
 
+    def test_growth(self) -> None:
+        """Grow to workload_size keys keeping versions, branch from old ones, recheck every kept version."""
+        self.run_conformance_test("growth")
+
+    def test_determinism(self) -> None:
+        """One session replayed (versions kept, versions freed, a second instance) gives equal answers."""
+        self.run_conformance_test("determinism")
+
+    def test_isolation(self) -> None:
+        """Operations on one instance never change what another instance's versions show."""
+        self.run_conformance_test("isolation")
+
 
 def run_conformance(
     structure: object,
@@ -372,11 +421,15 @@ def run_conformance(
         selected = tuple(t for t in ORD_MAP_TESTS if t.name in wanted)
     label = name if name is not None else repr(structure)
     s = as_structure(structure, label)
-    cfg = SuiteConfig(s, hashing, workload_size, check, stateful_steps)
+    fresh = fresh_for(structure, s)
+    cfg = SuiteConfig(s, hashing, workload_size, check, stateful_steps, fresh)
     options: list[tuple[str, object]] = [
         ("max_examples", max_examples),
         ("workload_size", workload_size),
         ("hashing", hashing),
         ("check", check),
     ]
-    return run_tests(selected, cfg, explicit_settings(max_examples, derandomize=derandomize), structure=label, signature="ORD_MAP", options=options)
+    hs = explicit_settings(max_examples, derandomize=derandomize)
+    return run_tests(
+        selected, cfg, hs, structure=label, signature="ORD_MAP", violation=LawViolation, second=second_config, options=options
+    )

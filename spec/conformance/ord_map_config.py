@@ -7,10 +7,14 @@ knobs that say how hard the suite tries.
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["ORD_MAP_OPERATIONS", "NotAnOrdMap", "SuiteConfig", "as_structure", "missing_operations"]
+from persistri.spec.conformance.hidden_state import second_instance
+
+__all__ = ["ORD_MAP_OPERATIONS", "NotAnOrdMap", "SuiteConfig", "as_structure", "missing_operations", "second_config"]
 
 ORD_MAP_OPERATIONS: tuple[str, ...] = (
     "Key",
@@ -77,9 +81,13 @@ class SuiteConfig:
     """What the suite runs against and how hard.
 
     ``structure`` — the structure under test; ``hashing`` — also use keys whose
-    hashes collide; ``workload_size`` — keys in each workload (0 skips them);
-    ``check`` — call the structure's ``_check(m)`` after each step when it has
-    one; ``stateful_steps`` — steps per stateful example.
+    hashes collide; ``workload_size`` — keys in each workload and in the growth
+    workload (0 skips them); ``check`` — call the structure's ``_check(m)`` after
+    each step when it has one; ``stateful_steps`` — steps per stateful example;
+    ``fresh`` — how to make a second instance of the structure (the class the
+    user gave, or :func:`~.hidden_state.snapshots` of the instance; ``None``:
+    none can be made), for the ``isolation`` test and the replays that confirm
+    a failure.
     """
 
     structure: Any
@@ -87,6 +95,7 @@ class SuiteConfig:
     workload_size: int = 100_000
     check: bool = True
     stateful_steps: int = 25
+    fresh: Callable[[], Any] | None = None
 
     def __post_init__(self) -> None:
         for knob in ("workload_size", "stateful_steps"):
@@ -94,3 +103,9 @@ class SuiteConfig:
             if isinstance(value, bool) or not isinstance(value, int) or value < 0:
                 raise ValueError(f"{knob} must be a non-negative int, got {value!r}")
 
+
+def second_config(cfg: SuiteConfig, wrap: Callable[[Any], Any] = lambda s: s) -> tuple[SuiteConfig | None, str]:
+    """``cfg`` with ``wrap`` of a second instance of its structure (:func:`~.hidden_state.second_instance`),
+    and how it was made; ``(None, why not)`` when none can be made."""
+    other, how = second_instance(cfg.structure, cfg.fresh)
+    return (None if other is None else dataclasses.replace(cfg, structure=wrap(other))), how

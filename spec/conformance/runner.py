@@ -10,18 +10,35 @@ and raise on failure.  The same bodies back two front ends:
   failure and returns a :class:`ConformanceReport`: for each failing test the
   law it broke (from the :class:`~persistri.spec.law.LawViolation`), the law's
   statement, what was observed, and hypothesis's minimal failing example.
+
+Both front ends run a body through :func:`run_body`, which names what a
+failure means.  Hypothesis's :class:`~hypothesis.errors.Flaky` — a failing
+example that passed when hypothesis ran it again — becomes a violation of the
+law ``determinism`` (:func:`flaky_violation`): the structure answered the same
+calls differently, so its answers depend on state outside the versions and
+arguments it was given.  Any other law a test (marked ``confirm``) finds
+broken is checked once more: the test reruns on a second instance of the
+structure that keeps every version it makes alive (:mod:`.hidden_state`),
+replaying hypothesis's failing example first (the run keeps its examples in
+memory).  When the rerun passes, the failure came from the structure's hidden
+state — a cache keyed by ``id``, say — and is reported under ``determinism``;
+when it fails again, the first failure is reported as it was.  Either way the
+report says which law the first run broke.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Generic, Literal, TypeVar
+from typing import Any, Generic, Literal, TypeVar
 
 from hypothesis import HealthCheck, Phase, settings
+from hypothesis.database import InMemoryExampleDatabase
+from hypothesis.errors import Flaky
 from hypothesis.reporting import with_reporter
 
-from persistri.spec.law import LawViolation
+from persistri.spec.conformance.hidden_state import Ballast, Holding
+from persistri.spec.law import LawViolation, SignatureLawViolation
 
 __all__ = [
     "ConformanceSkip",
@@ -30,6 +47,8 @@ __all__ = [
     "Outcome",
     "ConformanceReport",
     "explicit_settings",
+    "flaky_violation",
+    "run_body",
     "run_tests",
 ]
 
@@ -45,13 +64,15 @@ class ConformanceTest(Generic[C]):
     """One conformance test: ``body(config, settings)`` returns on success and raises on failure.
 
     ``laws`` names the laws the test exercises (for reports and docs); ``doc``
-    says in one line what it does.
+    says in one line what it does; ``confirm`` says whether :func:`run_body`
+    confirms its failures by a rerun (off for the tests that confirm their own).
     """
 
     name: str
     laws: tuple[str, ...]
     doc: str
     body: Callable[[C, settings], None]
+    confirm: bool = True
 
 
 @dataclass(frozen=True)
@@ -131,20 +152,127 @@ class ConformanceReport:
 
 def explicit_settings(max_examples: int, *, derandomize: bool = False) -> settings:
     """Settings independent of any loaded profile: hypothesis's defaults, ``max_examples``, no deadline
-    (the suite checks results, not speed), no example database (nothing is saved between runs),
-    one reported bug per test, and no *explain* phase (it traces coverage: slow, and the report
-    already names the law).  ``derandomize`` makes every run generate the same examples."""
+    (the suite checks results, not speed), an example database in memory (a failing example is
+    replayed when its failure is confirmed; nothing is saved between runs), one reported bug per
+    test, and no *explain* phase (it traces coverage: slow, and the report already names the law).
+    ``derandomize`` makes every run generate the same examples."""
     return settings(
         settings.get_profile("default"),
         max_examples=max_examples,
         derandomize=derandomize,
         deadline=None,
-        database=None,
+        database=None if derandomize else InMemoryExampleDatabase(),  # derandomized: the same examples anyway
         report_multiple_bugs=False,
         print_blob=False,
         suppress_health_check=[HealthCheck.too_slow],
         phases=[p for p in Phase if p is not Phase.explain],
     )
+
+
+def _first_violation(exc: BaseException) -> BaseException | None:
+    """The first exception inside ``exc`` (a group's members, then causes) that is not hypothesis's own."""
+    seen: set[int] = set()
+    todo: list[BaseException] = [exc]
+    while todo:
+        e = todo.pop(0)
+        if id(e) in seen:
+            continue
+        seen.add(id(e))
+        if not isinstance(e, Flaky):
+            return e
+        if isinstance(e, BaseExceptionGroup):
+            todo.extend(e.exceptions)
+        for linked in (e.__cause__, e.__context__):
+            if linked is not None:
+                todo.append(linked)
+    return None
+
+
+def flaky_violation(exc: Flaky, violation: type[SignatureLawViolation]) -> SignatureLawViolation:
+    """Hypothesis's ``Flaky`` as a violation of the law ``determinism`` of the suite's signature (``violation``).
+
+    The detail says what the first run saw (the law it broke, or the
+    exception) and keeps hypothesis's notes (the example) on the new exception.
+    """
+    first = _first_violation(exc)
+    if isinstance(first, LawViolation):
+        what = f"law {first.law}: {first.detail or first.statement}"
+    elif first is not None:
+        what = f"{type(first).__name__}: {first}"
+    else:
+        what = str(exc).splitlines()[0]
+    detail = "\n".join(
+        [
+            f"determinism: hypothesis found a failing example, ran it again, and it passed ({type(exc).__name__}): "
+            "the same calls answered differently the second time",
+            f"the first run: {what}",
+            "the answers depend on state outside the versions and arguments given (a cache keyed by id, "
+            "a cache that is not invalidated, state shared between calls or instances)",
+        ]
+    )
+    out = violation("determinism", detail)
+    notes = [str(n) for n in getattr(exc, "__notes__", ())]
+    if first is not None and not notes:
+        notes = [str(n) for n in getattr(first, "__notes__", ())]
+    for note in notes:
+        out.add_note(note)
+    return out
+
+
+Second = Callable[[C, Callable[[Any], Any]], tuple[C | None, str]]
+"""``second(config, wrap)``: the configuration with ``wrap`` of a second instance of its structure, and how
+that instance was made (``(None, why not)`` when none can be made)."""
+
+
+def _confirmed(
+    test: ConformanceTest[C], config: C, hs: settings, exc: LawViolation, violation: type[SignatureLawViolation], second: Second[C]
+) -> LawViolation:
+    """``exc`` when ``test`` fails again on a second instance that holds its versions, else ``determinism``."""
+    other, how = second(config, Holding)
+    if other is None:
+        return exc
+    ballast = Ballast()
+    for _ in range(256):  # the rerun's objects take fresh memory, not the first run's ids
+        ballast.drop()
+    try:
+        test.body(other, hs)
+    except Flaky:
+        seen = "it failed and then passed the same example (hypothesis's Flaky)"
+    except Exception:
+        return exc  # it fails again, the same way or another: the failure is the structure's own
+    else:
+        seen = "it passed"
+    detail = "\n".join(
+        [
+            f"determinism: law {exc.law} failed, but not when the test ran again (hypothesis's failing example "
+            f"first) on {how}, with every version it made kept alive",
+            f"the first run: {exc.detail}",
+            f"the rerun: {seen}",
+            "the answers depend on state outside the versions and arguments given (a cache keyed by id, "
+            "a cache that is not invalidated, state shared between calls or instances)",
+        ]
+    )
+    out = violation("determinism", detail)
+    for note in getattr(exc, "__notes__", ()):
+        out.add_note(str(note))
+    return out
+
+
+def run_body(test: ConformanceTest[C], config: C, hs: settings, violation: type[SignatureLawViolation], second: Second[C]) -> None:
+    """Run ``test``'s body; on failure raise the violation it means (module docstring): a ``Flaky`` as
+    ``determinism``, and a failure of a ``confirm`` test as found or, when a second run differs, as
+    ``determinism``.  :class:`ConformanceSkip` and other exceptions pass through."""
+    try:
+        test.body(config, hs)
+    except Flaky as exc:
+        raise flaky_violation(exc, violation) from exc
+    except LawViolation as exc:
+        if not test.confirm:
+            raise
+        out = _confirmed(test, config, hs, exc, violation, second)
+        if out is exc:
+            raise
+        raise out from exc
 
 
 def _failure(test: ConformanceTest[C], exc: BaseException, reported: list[str]) -> Failure:
@@ -163,19 +291,23 @@ def run_tests(
     *,
     structure: str,
     signature: str,
+    violation: type[SignatureLawViolation],
+    second: Second[C],
     options: Sequence[tuple[str, object]] = (),
 ) -> ConformanceReport:
     """Run every test of ``tests`` on ``config`` with settings ``hs``; never raises for a failing test.
 
     Hypothesis's own output is captured (and used as the counterexample when an
-    exception carries no notes), so nothing is printed.
+    exception carries no notes), so nothing is printed.  ``violation`` is the
+    signature's :class:`~persistri.spec.law.SignatureLawViolation` and
+    ``second`` makes a second instance: both for :func:`run_body`.
     """
     outcomes: list[Outcome] = []
     for test in tests:
         reported: list[str] = []
         try:
             with with_reporter(lambda line: reported.append(str(line))):
-                test.body(config, hs)
+                run_body(test, config, hs, violation, second)
         except ConformanceSkip as skip:
             outcomes.append(Outcome(test.name, "skipped", reason=str(skip)))
         except Exception as exc:

@@ -44,16 +44,19 @@ profile (deadline off; ``max_examples`` overrides its example count);
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable, Iterable, Sequence
 from typing import Any, ClassVar
 
 from hypothesis import settings
 
+from persistri.spec.conformance.hidden_state import fresh_for
 from persistri.spec.conformance.runner import (
     ConformanceReport,
     ConformanceSkip,
     ConformanceTest,
     explicit_settings,
+    run_body,
     run_tests,
 )
 from persistri.spec.conformance.simpcomp_cases import case_test
@@ -63,6 +66,7 @@ from persistri.spec.conformance.simpcomp_config import (
     SimpCompSuiteConfig,
     as_simpcomp,
     missing_simpcomp_operations,
+    second_config,
     vertices_from_state,
 )
 from persistri.spec.conformance.simpcomp_law_tests import (
@@ -83,6 +87,7 @@ from persistri.spec.conformance.simpcomp_law_tests import (
 )
 from persistri.spec.conformance.simpcomp_stateful import t_persistence, t_stateful
 from persistri.spec.conformance.simpcomp_workloads import t_neighbour, t_workload
+from persistri.spec.simpcomp_laws import LawViolation
 
 __all__ = [
     "SIMPCOMP_OPERATIONS",
@@ -97,8 +102,10 @@ __all__ = [
 ]
 
 
-def _test(name: str, laws: tuple[str, ...], doc: str, body: Callable[[SimpCompSuiteConfig, settings], None]) -> ConformanceTest[SimpCompSuiteConfig]:
-    return ConformanceTest(name, laws, doc, body)
+def _test(
+    name: str, laws: tuple[str, ...], doc: str, body: Callable[[SimpCompSuiteConfig, settings], None], *, confirm: bool = True
+) -> ConformanceTest[SimpCompSuiteConfig]:
+    return ConformanceTest(name, laws, doc, body, confirm)
 
 
 SIMPCOMP_TESTS: tuple[ConformanceTest[SimpCompSuiteConfig], ...] = (
@@ -134,6 +141,10 @@ SIMPCOMP_TESTS: tuple[ConformanceTest[SimpCompSuiteConfig], ...] = (
 """Every test of the suite, in the order they run; :class:`SimpCompConformance` has one ``test_<name>`` per entry."""
 
 _TESTS_BY_NAME = {t.name: t for t in SIMPCOMP_TESTS}
+
+
+_FRESH: weakref.WeakKeyDictionary[type, Callable[[], Any] | None] = weakref.WeakKeyDictionary()
+"""Per test class, how second instances of its structure are made (:func:`~.hidden_state.fresh_for`)."""
 
 
 class SimpCompConformance:
@@ -185,7 +196,12 @@ class SimpCompConformance:
         else:
             vertices = self.make_vertices  # raises, saying what to set
             vertices(0)
-        return SimpCompSuiteConfig(s, vertices, cls.state, tuple(cls.dims), bool(cls.check), cls.stateful_steps, cls.workload_size)
+        if cls not in _FRESH:  # one snapshot per test class, taken before its first test runs
+            _FRESH[cls] = fresh_for(cls.structure, s)
+        fresh = _FRESH[cls]
+        return SimpCompSuiteConfig(
+            s, vertices, cls.state, tuple(cls.dims), bool(cls.check), cls.stateful_steps, cls.workload_size, fresh
+        )
 
     def run_conformance_test(self, name: str) -> None:
         """Run the suite's test ``name`` under the active hypothesis profile (a skip becomes a pytest skip)."""
@@ -193,7 +209,7 @@ class SimpCompConformance:
         cfg = self.conformance_config()
         hs = settings(deadline=None) if self.max_examples is None else settings(deadline=None, max_examples=self.max_examples)
         try:
-            test.body(cfg, hs)
+            run_body(test, cfg, hs, LawViolation, second_config)
         except ConformanceSkip as skip:
             import pytest  # only here: run_simpcomp_conformance works without pytest
 
@@ -314,7 +330,8 @@ def run_simpcomp_conformance(
         if state is None:
             raise TypeError("run_simpcomp_conformance: give state= (a vertex state) or vertices= (k -> k vertices)")
         vertices = vertices_from_state(s, state)
-    cfg = SimpCompSuiteConfig(s, vertices, state, tuple(dims), check, stateful_steps, workload_size)
+    fresh = fresh_for(structure, s)
+    cfg = SimpCompSuiteConfig(s, vertices, state, tuple(dims), check, stateful_steps, workload_size, fresh)
     options: list[tuple[str, object]] = [
         ("dims", ",".join(map(str, cfg.dims))),
         ("max_examples", max_examples),
@@ -327,5 +344,7 @@ def run_simpcomp_conformance(
         explicit_settings(max_examples, derandomize=derandomize),
         structure=label,
         signature="SIMPCOMP",
+        violation=LawViolation,
+        second=second_config,
         options=options,
     )

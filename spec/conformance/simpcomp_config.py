@@ -3,11 +3,13 @@ vertices, and the knobs that say how hard the suite tries."""
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from itertools import combinations
 from typing import Any
 
+from persistri.spec.conformance.hidden_state import second_instance
 from persistri.spec.order import Order
 
 __all__ = [
@@ -18,6 +20,7 @@ __all__ = [
     "missing_simpcomp_operations",
     "vertex_pool",
     "pool_size",
+    "second_config",
     "vertices_from_state",
 ]
 
@@ -111,7 +114,12 @@ class SimpCompSuiteConfig:
     returning one) for the ``VERTEX`` laws of ``new`` (None skips them);
     ``dims`` — the dimensions n of the complexes tested; ``check`` — call the
     structure's ``check(c)`` or ``_check(c)`` on every version; ``stateful_steps``
-    — steps per stateful example; ``workload_size`` — subdivisions in the workload (0 skips it).
+    — steps per stateful example; ``workload_size`` — subdivisions in the workload,
+    and a tenth of the n-simplices the growth workload grows to (0 skips both);
+    ``fresh`` — how to make a second instance of the structure (the class the
+    user gave, or :func:`~.hidden_state.snapshots` of the instance; ``None``:
+    none can be made), for the ``isolation`` test and the replays that confirm
+    a failure.
     """
 
     structure: Any
@@ -121,6 +129,7 @@ class SimpCompSuiteConfig:
     check: bool = True
     stateful_steps: int = 25
     workload_size: int = 300
+    fresh: Callable[[], Any] | None = None
 
     def __post_init__(self) -> None:
         if not self.dims or any(isinstance(n, bool) or not isinstance(n, int) or n < 1 for n in self.dims):
@@ -165,3 +174,10 @@ def vertex_pool(cfg: SimpCompSuiteConfig, k: int) -> list[Any]:
     if not distinct or any(cmp(a, b) is Order.EQUAL for a, b in combinations(vs, 2)):
         raise ValueError(f"make_vertices({k}) returned vertices that are not distinct: {vs!r}")
     return vs
+
+
+def second_config(cfg: SimpCompSuiteConfig, wrap: Callable[[Any], Any] = lambda s: s) -> tuple[SimpCompSuiteConfig | None, str]:
+    """``cfg`` with ``wrap`` of a second instance of its structure (:func:`~.hidden_state.second_instance`),
+    and how it was made; ``(None, why not)`` when none can be made.  Vertices are made as before."""
+    other, how = second_instance(cfg.structure, cfg.fresh)
+    return (None if other is None else dataclasses.replace(cfg, structure=wrap(other))), how
