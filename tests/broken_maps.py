@@ -12,6 +12,9 @@ naming the wrong law (or none) is a defect of the suite:
   small, but once a map holds 40 (or 2,000) items ``insert`` and ``insertWith``
   write the new tree into the map they were given (persistence: only the growth
   workload makes maps that big);
+* :data:`ancestor_mutating` — leaves its operand alone, but once maps hold
+  1,000 items an insert also rewrites the version its operand was made from
+  (persistence, pinned by replays to the insert that did it);
 * :data:`stale_find_cache` — ``find`` memoised by ``(id(m), k)`` and never
   invalidated: once a version is freed, a new version with its id answers with
   the old one's bindings (determinism);
@@ -43,6 +46,7 @@ __all__ = [
     "bad_check",
     "grows_mutating",
     "grows_mutating_late",
+    "ancestor_mutating",
     "stale_find_cache",
     "shared_table",
     "BROKEN",
@@ -50,6 +54,7 @@ __all__ = [
     "MutatingMap",
     "GrowsMutatingMap",
     "GrowsMutatingLateMap",
+    "AncestorMutatingMap",
     "StaleFindCacheMap",
     "SharedTableMap",
 ]
@@ -232,12 +237,16 @@ class BadCheckMap(_Delegating):
 
 
 class _Cell:
-    """A mutable cell holding a red-black map: the map value of :class:`GrowsMutatingMap`."""
+    """A mutable cell holding a red-black map: the map value of :class:`GrowsMutatingMap`.
 
-    __slots__ = ("tree",)
+    ``parent`` refers weakly to the version it was made from (only :class:`AncestorMutatingMap` reads it).
+    """
 
-    def __init__(self, tree: Any) -> None:
+    __slots__ = ("tree", "parent", "__weakref__")
+
+    def __init__(self, tree: Any, parent: _Cell | None = None) -> None:
         self.tree = tree
+        self.parent = None if parent is None else weakref.ref(parent)
 
 
 class GrowsMutatingMap:
@@ -304,6 +313,20 @@ class GrowsMutatingLateMap(GrowsMutatingMap):
     """:class:`GrowsMutatingMap` persistent up to 2,000 items: thousands, not dozens."""
 
     threshold = 2_000
+
+
+class AncestorMutatingMap(GrowsMutatingMap):
+    """Leaves the map it is given alone, but once maps hold 1,000 items an insert into one also "compacts" the
+    version that one was made from, giving it the new tree: an older version changes, not the operand."""
+
+    threshold = 1_000
+
+    def _result(self, m: _Cell, tree: Any) -> _Cell:
+        if red_black.numItems(m.tree) >= self.threshold and m.parent is not None:
+            older = m.parent()
+            if older is not None:
+                older.tree = tree  # the broken promise, one version back
+        return _Cell(tree, m)
 
 
 class _RedBlack:
@@ -463,6 +486,7 @@ miscounting = MiscountingMap()
 bad_check = BadCheckMap()
 grows_mutating = GrowsMutatingMap()
 grows_mutating_late = GrowsMutatingLateMap()
+ancestor_mutating = AncestorMutatingMap()
 stale_find_cache = StaleFindCacheMap()
 shared_table = SharedTableMap()
 
@@ -477,6 +501,7 @@ BROKEN: dict[str, tuple[Any, str]] = {
 AT_SCALE: dict[str, tuple[Any, str, str]] = {
     "grows_mutating": (grows_mutating, "persistence", "growth"),
     "grows_mutating_late": (grows_mutating_late, "persistence", "growth"),
+    "ancestor_mutating": (ancestor_mutating, "persistence", "growth"),
     "stale_find_cache": (stale_find_cache, "determinism", "determinism"),
     "shared_table": (shared_table, "isolation", "isolation"),
 }

@@ -42,8 +42,8 @@ from typing import Any, Literal, NamedTuple
 
 from hypothesis import settings
 
-from persistri.spec.conformance.growth import GrowthFailure, checkpoints, counted, first_change
-from persistri.spec.conformance.hidden_state import Ballast, second_instance
+from persistri.spec.conformance.growth import Growth, GrowthFailure, checkpoints, counted
+from persistri.spec.conformance.hidden_state import Ballast
 from persistri.spec.conformance.ord_map_config import SuiteConfig
 from persistri.spec.conformance.ord_map_history import combine
 from persistri.spec.conformance.runner import ConformanceSkip
@@ -207,10 +207,6 @@ def _same(a: tuple[Any] | None, b: object) -> bool:
     return isinstance(b, tuple) and len(b) == 1 and (b[0] is a[0] or b[0] == a[0])
 
 
-class _Unreplayable(Exception):
-    """A replay failed before reaching the operation it was for (so it cannot confirm or pin anything)."""
-
-
 class _Run:
     """One run of a plan on one structure instance: the live versions, and the checks of each operation.
 
@@ -322,6 +318,18 @@ class _Run:
                 return f"find(version {v}, {k!r}) = {_show(got)}, but it was {_show(want_o)}"
         return None
 
+    def operand_problem(self, i: int) -> str | None:
+        """What is wrong with operation ``i``'s operand: its binding of the key, or its count."""
+        op = self.plan.ops[i]
+        return self.holds(op.operand, op.key, op.old, op.size)
+
+    def verb(self, i: int) -> str:
+        op = self.plan.ops[i]
+        return "remove of an absent key" if op.kind == "remove_absent" else op.kind
+
+    def law(self, i: int) -> str:
+        return _LAW[self.plan.ops[i].kind]
+
     def glance(self, v: int) -> str | None:
         """The cheap recheck of a kept version: its count and its sample keys."""
         model = self.plan.kept[v]
@@ -337,7 +345,7 @@ class _Run:
         op = plan.ops[i]
         # The operand made by the operation just before was checked a moment ago, as its result.
         if checked and (i == 0 or plan.ops[i - 1].result != op.operand):
-            problem = self.holds(op.operand, op.key, op.old, op.size)
+            problem = self.operand_problem(i)
             if problem:
                 return GrowthFailure("persistence", i, f"before:{op.operand}", problem)
         m = self.versions[op.operand]
@@ -405,170 +413,17 @@ def _bound(op: MapOp) -> tuple[Any] | None:
     return (combine(op.old[0], op.value),)
 
 
-def _verb(op: MapOp) -> str:
-    return "remove of an absent key" if op.kind == "remove_absent" else op.kind
-
-
-@dataclass
-class _Growth:
-    """The checked run of a plan, and the replays that pin a failure down and confirm it (:mod:`.growth`)."""
-
-    cfg: SuiteConfig
-    plan: MapPlan
-    check: Callable[[Any], object] | None
-    replays: int = 0
-
-    def replay(self, upto: int, keep: frozenset[int] = frozenset()) -> tuple[_Run, str]:
-        """Operations 0 … ``upto`` − 1, unchecked, on a second instance (else the same one) with ballast."""
-        self.replays += 1
-        other, how = second_instance(self.cfg.structure, self.cfg.fresh)
-        if other is None:
-            other, how = self.cfg.structure, "the same instance"
-        run = _Run(self.plan, other, self.check, Ballast(), keep)
-        for j in range(upto):
-            f = run.step(j, False)
-            if f is not None:
-                raise _Unreplayable(f"the replay on {how} failed earlier, at {run.call(j)}: {f.detail}")
-        return run, how
-
-    def rerun(self, n: int) -> str:
-        return f"to rerun: run_conformance(structure, tests=['growth'], workload_size={n}) (the same operations every run)"
-
-    def report(self, f: GrowthFailure, first: _Run) -> list[str]:
-        """The headline and detail lines of a failure of operation ``f.at``."""
-        op = self.plan.ops[f.at]
-        if f.key.startswith("after:"):
-            head = f"persistence: {first.version(op.operand)} changed after {_verb(op)} on version {op.operand}"
-        elif f.key == "invariants":
-            head = f"invariants: _check rejected {first.version(op.result)}, made by {_verb(op)} on version {op.operand}"
-        else:
-            head = f"{f.law}: {_verb(op)} on {first.version(op.operand)} answered wrongly"
-        return [
-            head,
-            f"the operation: {first.made(f.at)} (operation {f.at:,} of the workload)",
-            f"seen: {f.detail}",
-            f"how version {op.operand} was made: {first.history(op.operand)}",
-        ]
-
-    def confirm(self, f: GrowthFailure, first: _Run) -> LawViolation:
-        """The violation to report for ``f``: as found when a replay fails the same way, else ``determinism``."""
-        lines = self.report(f, first)
-        try:
-            run, how = self.replay(f.at)
-            again = run.step(f.at, True)
-        except _Unreplayable as exc:
-            return LawViolation("determinism", "\n".join([f"determinism: {lines[0]}, but a replay did not get there", *lines[1:], str(exc)]))
-        if again is not None and again.key == f.key and again.detail == f.detail:
-            return LawViolation(f.law, "\n".join([*lines, self.rerun(self.plan.n)]))
-        seen = "it passed" if again is None else f"it failed differently: {again.detail}"
-        return LawViolation(
-            "determinism",
-            "\n".join(
-                [
-                    f"determinism: {lines[0]}, but not when the same operations were replayed on {how}",
-                    *lines[1:],
-                    f"the replay (other objects kept alive in between, so ids were reused differently): {seen}",
-                    self.rerun(self.plan.n),
-                ]
-            ),
-        )
-
-    def pin(self, v: int, hi: int, first: _Run, seen: str, changed: Callable[[int], bool], where: str) -> LawViolation:
-        """Version ``v`` was found changed after operation ``hi`` (``seen`` says how): replay to find the operation
-        after which it first differs, and report that operation (``changed(t)``: whether it differs after ``t``)."""
-        made = self.plan.made_by.get(v, -1)
-        try:
-            if not changed(hi):
-                _, how = second_instance(self.cfg.structure, self.cfg.fresh)
-                return LawViolation(
-                    "determinism",
-                    "\n".join(
-                        [
-                            f"determinism: {first.version(v)} was found changed {where}, but not when the same "
-                            f"operations were replayed on {how}",
-                            f"seen: {seen}",
-                            f"how version {v} was made: {first.history(v)}",
-                            self.rerun(self.plan.n),
-                        ]
-                    ),
-                )
-            if made >= 0 and changed(made):
-                op = self.plan.ops[made]
-                law = _LAW[op.kind]
-                return LawViolation(
-                    law,
-                    "\n".join(
-                        [
-                            f"{law}: {_verb(op)} on {first.version(op.operand)} made a version that is wrong",
-                            f"the operation: {first.made(made)}",
-                            f"seen: {seen}",
-                            f"how version {op.operand} was made: {first.history(op.operand)}",
-                            self.rerun(self.plan.n),
-                        ]
-                    ),
-                )
-            t = first_change(made, hi, changed)
-        except _Unreplayable as exc:
-            lines = [f"persistence: {first.version(v)} was found changed {where}", f"seen: {seen}",
-                     f"how version {v} was made: {first.history(v)}", f"not pinned to one operation: {exc}"]
-            return LawViolation("persistence", "\n".join(lines))
-        op = self.plan.ops[t]
-        lines = [
-            f"persistence: {first.version(v)} changed after {_verb(op)} on version {op.operand}",
-            f"the operation: {first.made(t)} (operation {t:,} of the workload)",
-            f"seen {where}: {seen}",
-            f"how version {v} was made: {first.history(v)}",
-        ]
-        if op.operand != v:
-            lines.append(f"how version {op.operand} was made: {first.history(op.operand)}")
-        lines += [f"pinned to the operation by {self.replays} replays", self.rerun(self.plan.n)]
-        return LawViolation("persistence", "\n".join(lines))
-
-    def settle(self, f: GrowthFailure, first: _Run) -> LawViolation:
-        """The violation for a spot check that failed: pinned when the operand had changed before, else confirmed."""
-        if not f.key.startswith("before:"):
-            return self.confirm(f, first)
-        op = self.plan.ops[f.at]
-        v = op.operand
-
-        def changed(t: int) -> bool:
-            run, _ = self.replay(t + 1, frozenset({v}))
-            return run.holds(v, op.key, op.old, op.size) is not None
-
-        return self.pin(v, f.at - 1, first, f.detail, changed, f"before {first.call(f.at)}")
-
-    def changed_kept(self, v: int) -> Callable[[int], bool]:
-        """``changed(t)`` for a kept version: whether it disagrees with its model after operation ``t`` (a replay)."""
-
-        def changed(t: int) -> bool:
-            run, _ = self.replay(t + 1, frozenset({v}))
-            return run.agrees(v) is not None
-
-        return changed
-
-
 def t_growth(cfg: SuiteConfig, hs: settings) -> None:
     """The growth workload (module docstring) on ``cfg.structure``; raises the :class:`LawViolation` of the first
-    failure, pinned to its operation and confirmed by a replay."""
+    failure, pinned to its operation and confirmed by a replay (:class:`~.growth.Growth`)."""
     n = cfg.workload_size
     if n == 0:
         raise ConformanceSkip("workload_size = 0")
     plan = growth_plan(n)
     check = getattr(cfg.structure, "_check", None) if cfg.check else None
-    g = _Growth(cfg, plan, check)
-    run = _Run(plan, cfg.structure, check)
-    for i in range(len(plan.ops)):
-        f = run.step(i, True)
-        if f is not None:
-            raise g.settle(f, run)
-        if i in plan.checkpoints:
-            for v in plan.kept:
-                if v in run.versions:
-                    problem = run.glance(v)
-                    if problem:
-                        raise g.pin(v, i, run, problem, g.changed_kept(v), f"at the recheck after operation {i:,}")
-    last = len(plan.ops) - 1
-    for v in sorted(plan.kept):
-        problem = run.agrees(v)
-        if problem:
-            raise g.pin(v, last, run, problem, g.changed_kept(v), "at the final recheck")
+
+    def make_run(s: Any, ballast: Ballast | None, keep: frozenset[int]) -> _Run:
+        return _Run(plan, s, check, ballast, keep)
+
+    rerun = f"to rerun: run_conformance(structure, tests=['growth'], workload_size={n}) (the same operations every run)"
+    Growth(plan, make_run, cfg.structure, cfg.fresh, LawViolation, rerun).run()

@@ -69,6 +69,8 @@ from persistri.spec.conformance.simpcomp_config import (
     second_config,
     vertices_from_state,
 )
+from persistri.spec.conformance.simpcomp_determinism import t_determinism, t_isolation
+from persistri.spec.conformance.simpcomp_growth import t_growth
 from persistri.spec.conformance.simpcomp_law_tests import (
     c_add,
     c_add_present,
@@ -137,6 +139,27 @@ SIMPCOMP_TESTS: tuple[ConformanceTest[SimpCompSuiteConfig], ...] = (
         t_stateful,
     ),
     _test("workload", ("add", "rem", "agrees", "neighbour", "persistence", "invariants"), "workload_size subdivisions of a closed complex", t_workload),
+    _test(
+        "growth",
+        ("persistence", "add", "rem", "update", "rem_absent", "add_present", "agrees", "neighbour", "invariants", "determinism"),
+        "grow to 10 × workload_size n-simplices, branch from kept versions, recheck every kept version",
+        t_growth,
+        confirm=False,  # its replays pin each failure to its operation and confirm it
+    ),
+    _test(
+        "determinism",
+        ("determinism",),
+        "one session replayed: versions kept, versions freed (ids reused), on a second instance",
+        t_determinism,
+        confirm=False,
+    ),
+    _test(
+        "isolation",
+        ("isolation",),
+        "two instances: operations on one never change the other's versions",
+        t_isolation,
+        confirm=False,
+    ),
 )
 """Every test of the suite, in the order they run; :class:`SimpCompConformance` has one ``test_<name>`` per entry."""
 
@@ -286,6 +309,18 @@ class SimpCompConformance:
     def test_workload(self) -> None:
         """workload_size subdivisions of a closed complex."""
         self.run_conformance_test("workload")
+
+    def test_growth(self) -> None:
+        """Grow to 10 × workload_size n-simplices keeping versions, branch from old ones, recheck every kept version."""
+        self.run_conformance_test("growth")
+
+    def test_determinism(self) -> None:
+        """One session replayed (versions kept, versions freed, a second instance) gives equal answers."""
+        self.run_conformance_test("determinism")
+
+    def test_isolation(self) -> None:
+        """Operations on one instance never change what another instance's versions show."""
+        self.run_conformance_test("isolation")
 
 
 def run_simpcomp_conformance(
