@@ -9,6 +9,7 @@ from persistri.impl.cli.conformance import conformance
 from persistri.impl.cli.demo import demo
 from persistri.impl.cli.errors import PersistriGroup
 from persistri.impl.cli.hull import hull
+from persistri.impl.cli.mesh import mesh
 from persistri.impl.cli.terrain import terrain
 from persistri.impl.cli.delaunay import delaunay_command
 from persistri.impl.cli.experiments import experiments
@@ -35,3 +36,4 @@ main.add_command(hull)
 main.add_command(terrain)
 main.add_command(delaunay_command)
 main.add_command(experiments)
+main.add_command(mesh)
