@@ -155,11 +155,15 @@ class QualityMesh:
       by returning to the previous version (they encroached a subsegment);
       ``blocked`` — ones not inserted (a segment lay between); ``exempt`` —
       triangles left below the angle bound at small input angles; ``rounded_splits`` —
-      split points rounded off their segment (only with ``exact_segments=False``);
+      split points rounded to the nearest doubles because no double lies exactly on
+      their subsegment (never with ``exact_segments=True``; such a mesh passes
+      ``verify_mesh(..., exact_segments=False)``, one with none passes with ``True``);
     * ``min_angle`` / ``max_area`` — the bounds asked; ``min_angle_reached`` /
       ``max_area_reached`` — whether every domain triangle meets them (exempt
       ones excepted for the angle), decided exactly;
-    * ``history`` — every version (:class:`MeshHistory`); ``domain`` the PSLG.
+    * ``history`` — every version (:class:`MeshHistory`); ``domain`` the PSLG;
+    * ``notes`` — one line per thing a user should know about the result (rounded
+      split points: how many, on which segments).
     """
 
     vertices: NDArray[np.float64]
@@ -183,6 +187,7 @@ class QualityMesh:
     rounded_splits: int
     exact_segments: bool
     _run: _Run
+    notes: tuple[str, ...] = ()
 
     @property
     def complex(self) -> Complex[MeshDatum]:
@@ -238,10 +243,18 @@ def _finish(
     min_angle: float,
     max_area: float | None,
     area_reached: bool,
-    exact_segments: bool = True,
+    exact_segments: bool = False,
 ) -> QualityMesh:
     history = MeshHistory(run, versions, inserted)
     arr = _arrays(run, versions[-1])
+    notes: list[str] = []
+    if counts.rounded_splits:
+        segs = sorted(counts.rounded_segments)
+        notes.append(
+            f"{counts.rounded_splits} split point{'s' if counts.rounded_splits > 1 else ''} within half an ulp of "
+            f"segment{'s' if len(segs) > 1 else ''} {', '.join(map(str, segs))}, not on it: no double lies exactly "
+            "there, so they were rounded to the nearest doubles (check with verify_mesh(..., exact_segments=False))"
+        )
     return QualityMesh(
         vertices=arr.vertices,
         triangles=arr.triangles,
@@ -264,6 +277,7 @@ def _finish(
         rounded_splits=counts.rounded_splits,
         exact_segments=exact_segments,
         _run=run,
+        notes=tuple(notes),
     )
 
 
@@ -325,7 +339,7 @@ def _refine_run(
 
 
 def _check(mesh: QualityMesh) -> None:
-    """``check=True``: the independent exact checker, when it is installed with the package."""
+    """``check=True``: the independent exact checker, with exact segments unless split points were rounded."""
     from persistri.impl.mesh.verify import verify_mesh  # the independent checker: imported only when asked for
 
     report = verify_mesh(
@@ -334,7 +348,7 @@ def _check(mesh: QualityMesh) -> None:
         mesh.triangles,
         min_angle=mesh.min_angle or None,
         max_area=mesh.max_area,
-        exact_segments=mesh.exact_segments,
+        exact_segments=mesh.exact_segments or mesh.rounded_splits == 0,
     )
     if not report.ok:
         first = report.problems[0]
@@ -352,7 +366,7 @@ def triangulate(
     offcenters: bool = True,
     max_steiner: int | None = None,
     encroachment: str = "lens",
-    exact_segments: bool = True,
+    exact_segments: bool = False,
 ) -> QualityMesh:
     """A quality mesh of ``domain`` (a :class:`PSLG`, or ``triangle.triangulate``'s dictionary): module docstring.
 
@@ -367,17 +381,20 @@ def triangulate(
     * ``max_steiner`` — stop after this many Steiner points (Triangle's ``-S``);
     * ``encroachment`` — ``"lens"`` (Chew's diametral lenses, Triangle's default: fewer
       triangles) or ``"circle"`` (Ruppert's diametral circles, Triangle's ``-D``);
-    * ``exact_segments`` — True (the default): every split point lies exactly on its
-      segment, and a subsegment on which no double lies is a
-      :class:`~persistri.impl.mesh.steiner.PrecisionLimitError`; False: there only, the
-      split point is rounded to the nearest doubles (as Triangle's are; counted in
-      ``rounded_splits``; check such meshes with ``verify_mesh(..., exact_segments=False)``).
+    * ``exact_segments`` — False (the default): a split point lies exactly on its segment
+      wherever a double does; on a subsegment where none does (ends given to the
+      centimetre at UTM offsets, say) it is rounded to the nearest doubles, as Triangle's
+      are, counted in ``rounded_splits`` and said in ``notes``; such a mesh passes
+      ``verify_mesh(..., exact_segments=False)``, and one with ``rounded_splits == 0``
+      passes with ``exact_segments=True``.  True (strict): a subsegment on which no
+      double lies is a :class:`~persistri.impl.mesh.steiner.PrecisionLimitError`.
 
     With ``min_angle=0`` and no area bound the result is the constrained
     Delaunay triangulation (history of one version).  Errors, one line each:
     :class:`~persistri.impl.mesh.domain.DomainError` for a bad domain,
     :class:`ValueError` for bad bounds, :class:`~persistri.impl.mesh.steiner.PrecisionLimitError`
-    when a split would need more precision than doubles have.  Expected
+    when a new point would need more precision than doubles have (in strict mode, also
+    a split on a subsegment with no double on it).  Expected
     O(n log n) for the CDT, then O(lg n) complex work per insertion.
     """
     pslg = _as_domain(domain)
@@ -395,7 +412,7 @@ def triangulate(
             gc.enable()
     run = _Run(T, geo, pslg)
     if bound.degrees == 0.0 and max_area is None and not bool(np.any(pslg.regions[:, 3] > 0)):
-        mesh = _finish(run, [cdt], [], Counts(), True, 0.0, None, True)
+        mesh = _finish(run, [cdt], [], Counts(), True, 0.0, None, True, bool(exact_segments))
         if check:
             _check(mesh)
         return mesh
@@ -423,7 +440,7 @@ def refine(
     progress: bool | Callable[[int], Any] = False,
     check: bool = False,
     encroachment: str = "lens",
-    exact_segments: bool = True,
+    exact_segments: bool = False,
 ) -> QualityMesh:
     """Refine ``mesh`` further, from its last version, as a new future (module docstring); ``mesh`` is unchanged.
 

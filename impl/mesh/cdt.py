@@ -39,7 +39,7 @@ and O(k) complex operations; the regions O(N).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 
 import numpy as np
@@ -73,7 +73,8 @@ class SegmentGeometry:
     ``ends[s] = (A, B)`` (point indices); ``on_segment[v] = (s, t)``: Steiner
     vertex ``v`` is ``A + t (B − A)`` exactly (``t`` a dyadic rational in (0, 1));
     ``shell[v] = (o, k)``: ``v`` was placed on the concentric shell of radius
-    about ``2^k`` around input vertex ``o``.  Append-only: a point index, once
+    about ``2^k`` around input vertex ``o``; ``off_segment``: the split points that
+    are not exactly on their segment (rounded where no double lies on it).  Append-only: a point index, once
     given, keeps its meaning in every version (old and new, every future).
     """
 
@@ -83,6 +84,7 @@ class SegmentGeometry:
     n_input: int
     incident: list[int]
     """The number of segments at each input vertex."""
+    off_segment: set[int] = field(default_factory=set)
 
 
 def param_on_segment(P: GrowingPredicates2, geo: SegmentGeometry, s: int, v: int) -> Fraction:

@@ -117,8 +117,9 @@ class Counts:
     * ``blocked`` — circumcentres or off-centres not inserted because a segment
       stood between them and their triangle (the segment was split instead);
     * ``exempt`` — bad-angle triangles left alone at small input angles;
-    * ``rounded_splits`` — split points rounded off their segment (``exact_segments=False``
-      only, where no double lies exactly on the subsegment).
+    * ``rounded_splits`` — split points not exactly on their input segment (``exact_segments=False``,
+      the default): rounded to the nearest doubles where no double lies on the subsegment, or on a
+      piece of the chain that ends at such a point; ``rounded_segments`` — the input segments they split.
     """
 
     insertions: int = 0
@@ -129,6 +130,7 @@ class Counts:
     blocked: int = 0
     exempt: int = 0
     rounded_splits: int = 0
+    rounded_segments: set[int] = field(default_factory=set)
 
 
 @dataclass
@@ -156,8 +158,9 @@ class Refiner:
       ``region_area`` — area bounds by region code (Triangle's regional ``-a``);
     * ``offconstant`` — the off-centre constant (0: circumcentres only);
     * ``lens`` — encroachment by diametral lenses (Chew, Triangle's default) or circles (Ruppert);
-    * ``exact_segments`` — split points exactly on their segments, or a clear error where no double
-      lies on one (True); or, there, the nearest doubles (False, as Triangle).
+    * ``exact_segments`` — True: split points exactly on their segments, or a clear error where no
+      double lies on one; False: split points exactly on their segments wherever a double lies there,
+      and else the nearest doubles (as Triangle), counted.
     """
 
     def __init__(
@@ -169,7 +172,7 @@ class Refiner:
         region_area: dict[int, Fraction],
         offconstant: float,
         lens: bool = True,
-        exact_segments: bool = True,
+        exact_segments: bool = False,
     ) -> None:
         self.T = T
         self.P = T.pred
@@ -333,16 +336,34 @@ class Refiner:
         except PrecisionLimitError as exc:
             if self.exact_segments:
                 raise PrecisionLimitError(
-                    f"splitting segment {s} between vertices {u} and {w}: {exc}; "
-                    "exact_segments=False rounds split points to the nearest doubles instead, as Triangle does"
+                    f"splitting segment {s} between vertices {int(u)} and {int(w)}: {exc}; "
+                    "without exact_segments=True split points are rounded to the nearest doubles there, as Triangle does"
                 ) from None
             t, x, y = self._rounded_split(a, b, u, w, tu, tw, wanted)
-            self.counts.rounded_splits += 1
+            rounded = True
+        else:
+            rounded = False
         p = P.append(x, y)
         geo.on_segment[p] = (s, t)
         if shell is not None:
             geo.shell[p] = shell
         ins = T.insert(c, p, beside, split=(lo, hi, s))
+        if rounded:
+            # Off the segment by up to half an ulp, p might not see every edge of its cavity from inside (a
+            # boundary edge at a hair's angle to the segment): then no valid mesh holds it, and we say so.
+            for tri, _ in ins.created:
+                if tri[2] >= 0 and tri[0] >= 0 and tri[1] >= 0 and P.orient2d_sign(tri[0], tri[1], tri[2]) <= 0:
+                    raise PrecisionLimitError(
+                        f"the split point of segment {s} between vertices {int(u)} and {int(w)}, rounded to the nearest "
+                        "doubles, would make a flat or inverted triangle: the mesh is at the limit of double precision here"
+                    )
+        elif lo in geo.off_segment or hi in geo.off_segment:
+            # Exactly on a piece that ends at a rounded point: on the segment itself only if the line allows.
+            rounded = P.orient2d_sign(a, b, p) != 0
+        if rounded:
+            geo.off_segment.add(p)
+            self.counts.rounded_splits += 1
+            self.counts.rounded_segments.add(s)
         self.counts.segment_splits += 1
         self._examine(ins.version, ins.created)
         return ins.version, p
