@@ -7,6 +7,8 @@ The public names, in the shape of :mod:`scipy.spatial`::
     bigger = hull.add_points(more)                         # a NEW hull; hull is unchanged
     tri = persistri.Delaunay(xy)                           # exact 2D Delaunay triangulation
     tri.find_simplex(queries)                              # exact point location, -1 outside
+    mesh = persistri.triangulate(persistri.read_poly("domain.poly"), min_angle=30)   # Ruppert, exact
+    persistri.verify_mesh(mesh.domain, mesh.vertices, mesh.triangles, min_angle=30).ok
 
 ==========================  ==================================================================
 name                        what
@@ -17,9 +19,17 @@ name                        what
 ``delaunay``                the function under ``Delaunay``, returning a ``DelaunayTriangulation``
 ``verify_hull``             an exact, independent check of any hull (persistri's, Qhull's, …)
 ``greedy_insertion``        terrain meshing of a height grid, every level of detail kept (§5)
+``triangulate``             a quality mesh of a planar domain: Ruppert's refinement, every step a
+                            version, a circumcentre that encroaches undone by persistence (§1)
+``refine``                  refine a mesh further, as another future of the same version
+``PSLG``                    a planar domain (vertices, segments, holes, regions), as Triangle's
+``read_poly``               a domain from Triangle's ``.poly`` file
+``verify_mesh``             an exact, independent check of any mesh (persistri's, Triangle's, …)
 ``Hull``, ``HullHistory``,  the result types of the functions above, for annotations
 ``DelaunayTriangulation``,
-``Tin``, ``HullReport``
+``Tin``, ``HullReport``,
+``QualityMesh``,
+``MeshReport``
 ``Stats``                   operation counters (the paper's §4 measures) to pass as ``stats=``
 ``maps``                    the persistent ``ORD_MAP`` backends (:mod:`persistri.maps`)
 ``conformance``             the conformance suite for your own backends (``persistri[conformance]``)
@@ -49,6 +59,13 @@ if TYPE_CHECKING:
     from persistri.impl.hull.api import convex_hull as convex_hull
     from persistri.impl.hull.verify import HullReport as HullReport
     from persistri.impl.hull.verify import verify_hull as verify_hull
+    from persistri.impl.mesh.api import QualityMesh as QualityMesh
+    from persistri.impl.mesh.api import refine as refine
+    from persistri.impl.mesh.api import triangulate as triangulate
+    from persistri.impl.mesh.domain import PSLG as PSLG
+    from persistri.impl.mesh.polyfile import read_poly as read_poly
+    from persistri.impl.mesh.verify import MeshReport as MeshReport
+    from persistri.impl.mesh.verify import verify_mesh as verify_mesh
     from persistri.impl.stats import Stats as Stats
     from persistri.impl.terrain.greedy import Tin as Tin
     from persistri.impl.terrain.greedy import greedy_insertion as greedy_insertion
@@ -70,6 +87,13 @@ _NAMES: dict[str, str] = {
     "greedy_insertion": "persistri.impl.terrain.greedy",
     "Tin": "persistri.impl.terrain.greedy",
     "Stats": "persistri.impl.stats",
+    "triangulate": "persistri.impl.mesh.api",
+    "refine": "persistri.impl.mesh.api",
+    "QualityMesh": "persistri.impl.mesh.api",
+    "PSLG": "persistri.impl.mesh.domain",
+    "read_poly": "persistri.impl.mesh.polyfile",
+    "verify_mesh": "persistri.impl.mesh.verify",
+    "MeshReport": "persistri.impl.mesh.verify",
 }
 """Each lazy public name → the module that defines it."""
 
@@ -83,11 +107,18 @@ __all__ = [
     "delaunay",
     "verify_hull",
     "greedy_insertion",
+    "triangulate",
+    "refine",
+    "PSLG",
+    "read_poly",
+    "verify_mesh",
     "Hull",
     "HullHistory",
     "DelaunayTriangulation",
     "Tin",
     "HullReport",
+    "QualityMesh",
+    "MeshReport",
     "Stats",
     "maps",
     "conformance",

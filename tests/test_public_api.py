@@ -50,6 +50,9 @@ def test_names_load_on_first_use_and_only_what_they_need() -> None:
     assert "persistri.spec.conformance" not in got["persistri"] and "persistri.impl.maps.red_black" in got["persistri"]
     got = fresh(PROBE.format(setup="import persistri; persistri.ConvexHull", heavy=HEAVY))
     assert got["heavy"] == ["numpy"]  # the hull needs numpy, and nothing else heavy
+    got = fresh(PROBE.format(setup="import persistri; persistri.triangulate; persistri.verify_mesh; persistri.read_poly", heavy=HEAVY))
+    assert got["heavy"] == ["numpy"]  # quality meshes need numpy only: Triangle and matplotlib stay out
+    assert "persistri.impl.mesh.plot" not in got["persistri"] and "persistri.impl.cli.mesh" not in got["persistri"]
     got = fresh(PROBE.format(setup="import persistri; persistri.__version__", heavy=HEAVY))
     assert got["persistri"] == ["persistri"] and got["heavy"] == []
 
@@ -77,6 +80,27 @@ def test_all_and_dir_agree_and_every_name_resolves() -> None:
     assert persistri.convex_hull is importlib.import_module("persistri.impl.hull.api").convex_hull
     with pytest.raises(AttributeError, match="module 'persistri' has no attribute 'ConvexHul'"):
         persistri.ConvexHul  # type: ignore[attr-defined]  # noqa: B018
+
+
+def test_the_mesh_names_are_the_deep_objects_and_mesh_a_poly_file(tmp_path: Path) -> None:
+    from persistri.impl.mesh import api, domain, polyfile, verify
+
+    assert (persistri.triangulate, persistri.refine, persistri.QualityMesh) == (api.triangulate, api.refine, api.QualityMesh)
+    assert (persistri.PSLG, persistri.read_poly) == (domain.PSLG, polyfile.read_poly)
+    assert (persistri.verify_mesh, persistri.MeshReport) == (verify.verify_mesh, verify.MeshReport)
+    # A unit square with a square hole, in Triangle's .poly format (numbered from 1).
+    poly = tmp_path / "frame.poly"
+    poly.write_text(
+        "8 2 0 0\n1 0 0\n2 4 0\n3 4 4\n4 0 4\n5 1 1\n6 3 1\n7 3 3\n8 1 3\n"
+        "8 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 5 6\n6 6 7\n7 7 8\n8 8 5\n1\n1 2 2\n"
+    )
+    frame = persistri.read_poly(poly)
+    mesh = persistri.triangulate(frame, min_angle=30)
+    report = persistri.verify_mesh(frame, mesh.vertices, mesh.triangles, min_angle=30)
+    assert report.ok and report.mesh_area == 12
+    finer = persistri.refine(mesh, min_angle=30, max_area=0.5)
+    assert finer.history[0] is mesh.complex and len(finer.triangles) > len(mesh.triangles)
+    assert persistri.verify_mesh(frame, finer.vertices, finer.triangles, min_angle=30, max_area=0.5).ok
 
 
 def test_star_import_gives_exactly_the_public_names() -> None:

@@ -17,7 +17,9 @@ every backend that exists.
 from __future__ import annotations
 
 import operator
+import tempfile
 from collections.abc import Iterable
+from pathlib import Path
 from typing import Any, TypeVar, assert_never, assert_type
 
 import numpy as np
@@ -238,6 +240,31 @@ heights[2, 3] = 7.0
 tin = persistri.greedy_insertion(heights, max_points=5)
 assert_type(tin, persistri.Tin)
 assert tin.n_points == 5
+
+# Quality meshes of planar domains (Ruppert's refinement, paper §1): Triangle's dictionary in, arrays out.
+square = {"vertices": [[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]], "segments": [[0, 1], [1, 2], [2, 3], [3, 0]]}
+domain = persistri.PSLG.from_dict(square)
+assert_type(domain, persistri.PSLG)
+mesh = persistri.triangulate(domain, min_angle=30, max_area=1.0)
+assert_type(mesh, persistri.QualityMesh)
+assert_type(mesh.vertices, FloatArray)
+assert_type(mesh.triangles, "NDArray[np.intp]")
+assert_type(mesh.segments, "NDArray[np.intp]")
+assert_type(mesh.undos, int)
+assert_type(mesh.min_angle_reached, bool)
+finer = persistri.refine(mesh, min_angle=30, max_area=0.25)
+assert_type(finer, persistri.QualityMesh)
+assert finer.history[0] is mesh.complex and len(finer.triangles) > len(mesh.triangles)
+mesh_report = persistri.verify_mesh(domain, finer.vertices, finer.triangles, min_angle=30, max_area=0.25)
+assert_type(mesh_report, persistri.MeshReport)
+assert mesh_report.ok and mesh_report.mesh_area == 16
+with tempfile.TemporaryDirectory() as scratch:
+    poly_path = Path(scratch) / "square.poly"
+    poly_path.write_text("4 2 0 0\n0 0 0\n1 4 0\n2 4 4\n3 0 4\n4 0\n0 0 1\n1 1 2\n2 2 3\n3 3 0\n0\n", encoding="utf-8")
+    from_file = persistri.read_poly(poly_path)
+assert_type(from_file, persistri.PSLG)
+assert from_file.vertices.tolist() == square["vertices"]
+assert len(persistri.triangulate(from_file).triangles) == 2
 
 counts = Stats()
 persistri.ConvexHull(cube, stats=counts)
