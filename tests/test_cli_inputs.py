@@ -48,11 +48,11 @@ class Case:
 
 
 def _text_ext(kind: str) -> str:
-    return {"points": ".csv", "grid": ".asc", "trace": ".json"}[kind]
+    return {"points": ".csv", "grid": ".asc", "trace": ".json", "domain": ".poly"}[kind]
 
 
 def _binary_ext(kind: str) -> str:
-    return {"points": ".npy", "grid": ".npy", "trace": ".npz"}[kind]
+    return {"points": ".npy", "grid": ".npy", "trace": ".npz", "domain": ".node"}[kind]
 
 
 def _empty_file(kind: str, d: Path) -> Path:
@@ -90,6 +90,10 @@ def _wrong_columns(kind: str, d: Path) -> Path:
 
 
 def _nan(kind: str, d: Path) -> Path:
+    if kind == "domain":
+        p = d / "nan.node"
+        p.write_text("4 2 0 0\n1 0 0\n2 1 0\nnan 1 1\n4 0 1\n")
+        return p
     if kind == "points":
         p = d / "nan.csv"
         p.write_text("0,0,0\n1,0,0\nnan,1,0\n0,0,1\n")
@@ -100,6 +104,10 @@ def _nan(kind: str, d: Path) -> Path:
 
 
 def _inf(kind: str, d: Path) -> Path:
+    if kind == "domain":
+        p = d / "inf.poly"
+        p.write_text("4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 -inf\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n")
+        return p
     p = d / "inf.npy"
     a = POINTS.copy() if kind == "points" else np.zeros((4, 5))
     a[2, 1] = np.inf
@@ -153,6 +161,8 @@ def _header_only(kind: str, d: Path) -> Path:
     p = d / f"header{_text_ext(kind)}"
     if kind == "points":
         p.write_text("x,y,z\n")
+    elif kind == "domain":
+        p.write_text("# a square, the vertices missing\n4 2 0 0\n")
     elif kind == "grid":
         p.write_text("ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n")
     else:
@@ -164,6 +174,8 @@ def _ragged(kind: str, d: Path) -> Path:
     p = d / f"ragged{_text_ext(kind)}"
     if kind == "points":
         p.write_text("x,y,z\n0,0,0\n1,0,0\n\n# a comment\n0,1\n0,0,1\n")
+    elif kind == "domain":
+        p.write_text("4 2 0 0\n1 0 0\n2 1 0\n\n# a comment\n3 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n")
     elif kind == "grid":
         p.write_text("ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n4 5\n")
     else:
@@ -201,6 +213,47 @@ def _third_format(kind: str, d: Path) -> Path:
     return p
 
 
+# Domains (Triangle's .poly and .node files): what only a domain can get wrong.
+_SQUARE = "4 2 0 0\n1 0 0\n2 4 0\n3 4 4\n4 0 4\n"
+_FRAME = _SQUARE + "5 1 1\n6 3 1\n7 3 3\n8 1 3\n"
+
+
+def _poly(d: Path, name: str, text: str) -> Path:
+    p = d / name
+    p.write_text(text)
+    return p
+
+
+def _crossing(kind: str, d: Path) -> Path:
+    return _poly(d, "crossing.poly", _SQUARE + "2 0\n1 1 3\n2 2 4\n0\n")
+
+
+def _segment_out_of_range(kind: str, d: Path) -> Path:
+    return _poly(d, "range.poly", _SQUARE + "4 0\n1 1 2\n2 2 3\n3 3 9\n4 4 1\n0\n")
+
+
+def _self_segment(kind: str, d: Path) -> Path:
+    return _poly(d, "loop.poly", _SQUARE + "4 0\n1 1 1\n2 2 3\n3 3 4\n4 4 1\n0\n")
+
+
+def _hole_outside(kind: str, d: Path) -> Path:
+    return _poly(d, "far.poly", _SQUARE + "4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n1\n1 5 5\n")
+
+
+def _unclosed_hole(kind: str, d: Path) -> Path:
+    """The square hole's boundary lacks its last side: the hole point's flood fill eats the whole square."""
+    frame = _FRAME.replace("4 2 0 0", "8 2 0 0")
+    return _poly(d, "open.poly", frame + "7 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n5 5 6\n6 6 7\n7 7 8\n1\n1 2 2\n")
+
+
+def _node_file_missing(kind: str, d: Path) -> Path:
+    return _poly(d, "vertices-elsewhere.poly", "0 2 0 0\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n")
+
+
+def _collinear(kind: str, d: Path) -> Path:
+    return _poly(d, "line.node", "3 2 0 0\n1 0 0\n2 1 1\n3 2 2\n")
+
+
 def _npz_keys(kind: str, d: Path) -> Path:
     p = d / "keys.npz"
     np.savez(p, first=np.zeros((3, 3)), second=np.ones((3, 3)))
@@ -210,28 +263,39 @@ def _npz_keys(kind: str, d: Path) -> Path:
 CASES: dict[str, Case] = {
     c.name: c
     for c in (
-        Case("empty file", _empty_file, r"empty|no data"),
-        Case("empty text", _empty_text, r"empty|no points|not a readable|no ncols"),
+        Case("empty file", _empty_file, r"empty|no data|:0: the file ends where the vertex count line was expected"),
+        Case("empty text", _empty_text, r"empty|no points|not a readable|no ncols|:0: the file ends where the vertex count"),
         Case("empty array", _empty_array, r"no points|at least 2 rows"),
         Case("wrong shape", _wrong_shape, r"shape|2D array"),
         Case("wrong columns", _wrong_columns, r"line 1: expected 3 numbers, got 4|at least 2 rows and 2 columns"),
-        Case("nan", _nan, r"line 3: a coordinate is not finite|every cell is no-data"),
+        Case("nan", _nan, r"line 3: a coordinate is not finite|every cell is no-data|nan\.node:4: a vertex line has a value that is not finite"),
         Case("inf", _inf, r"not finite|infinite"),
-        Case("binary garbage", _garbage_binary, r"not a \.npy file|not a \.npz archive"),
-        Case("text garbage", _garbage_text, r"binary|not UTF-8|not an ESRI|not a readable"),
+        Case("binary garbage", _garbage_binary, r"not a \.npy file|not a \.npz archive|garbage\.node:1: the vertex count line: .* must be an integer"),
+        Case("text garbage", _garbage_text, r"binary|not UTF-8|not an ESRI|not a readable|garbage\.poly:1: the vertex count line: .* must be an integer"),
         Case("not utf-8", _not_utf8, r"not UTF-8|not an ESRI|not a readable"),
         Case("unreadable", _unreadable_file, r"permission denied"),
         Case("directory", _directory, r"a directory"),
         Case("dangling symlink", _dangling, r"broken symbolic link"),
         Case("missing", _missing, r"no such file"),
         Case("unknown extension", _unknown_extension, r"unknown \w+ format \.dat"),
-        Case("header only", _header_only, r"no points: a header line|holds 0 values|not a persistri trace|version"),
-        Case("ragged", _ragged, r"line 6: expected 3 numbers, got 2|2 rows × 3 columns but the file holds 5|event 0 is not"),
+        Case("header only", _header_only, r"no points: a header line|holds 0 values|not a persistri trace|version|header\.poly:2: the file ends after 0 of the 4 vertex lines"),
+        Case(
+            "ragged",
+            _ragged,
+            r"line 6: expected 3 numbers, got 2|2 rows × 3 columns but the file holds 5|event 0 is not|ragged\.poly:6: a vertex line needs 3 numbers",
+        ),
         Case("pickled", _pickled, r"Python objects"),
         Case("truncated", _truncated, r"truncated"),
         Case("strings", _strings, r"not real numbers|not numbers"),
         Case("damaged ply or tiff", _third_format, r"cannot read PLY|holds no image|cannot read TIFF|needs tifffile"),
         Case("npz keys", _npz_keys, r"cannot tell which array holds the heights \(its 2D arrays are first, second\)"),
+        Case("crossing segments", _crossing, r"segment 0 \(0–2\) and segment 1 \(1–3\) cross at about \(2, 2\) without a shared vertex"),
+        Case("segment out of range", _segment_out_of_range, r"range\.poly:9: a segment refers to vertex \[3, 9\], but the vertices are numbered 1\.\.4"),
+        Case("self segment", _self_segment, r"segment 0 joins vertex 0 to itself \(rows counted from 0; the file numbers from 1\)"),
+        Case("hole outside", _hole_outside, r"hole 0 at \(5\.0, 5\.0\) lies outside the domain"),
+        Case("unclosed hole", _unclosed_hole, r"the domain is empty: hole 0 at \(2\.0, 2\.0\) eats .*is every boundary closed\?"),
+        Case("node file missing", _node_file_missing, r"lists 0 vertices, so they must be in .*vertices-elsewhere\.node, which does not exist"),
+        Case("collinear", _collinear, r"line\.node: the 3 distinct vertices are collinear"),
     )
 }
 
@@ -244,6 +308,10 @@ KIND_CASES: dict[str, list[str]] = {
     "points": [*_ALL_FILES, *_ARRAYS, "wrong columns", "not utf-8", "damaged ply or tiff"],
     "grid": [*_ALL_FILES, *_ARRAYS, "wrong columns", "npz keys", "damaged ply or tiff"],
     "trace": _ALL_FILES,
+    "domain": [
+        *_ALL_FILES, "nan", "inf", "crossing segments", "segment out of range", "self segment", "hole outside",
+        "unclosed hole", "node file missing", "collinear",
+    ],
 }
 
 
@@ -275,6 +343,12 @@ READERS = (
         "grid",
         lambda i, o: ["terrain", str(i), "--max-points", "10", "-o", str(o / "t.ply"), "--plot", str(o / "t.png"), "--quiet"],
         ("persistri.impl.terrain.greedy:greedy_insertion",),
+    ),
+    Reader(
+        "mesh",
+        "domain",
+        lambda i, o: ["mesh", str(i), "-q", "30", "-o", str(o / "m.ele"), "--plot", str(o / "m.png"), "--check", "--quiet"],
+        ("persistri.impl.mesh.api:triangulate",),
     ),
     Reader(
         "bench terrain",

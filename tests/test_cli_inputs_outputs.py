@@ -65,6 +65,13 @@ WRITERS = (
         {"-o": ".stl", "--plot": ".png"},
         ("persistri.impl.terrain.greedy:greedy_insertion",),
     ),
+    Writer(
+        "mesh",
+        lambda i, opt, p: ["mesh", "star", "-q", "30", opt, str(p), "--check", "--quiet"],
+        ("-o", "--plot"),
+        {"-o": ".ele", "--plot": ".svg"},
+        ("persistri.impl.mesh.api:triangulate",),
+    ),
 )
 
 DIR_WRITERS = (
