@@ -127,7 +127,12 @@ class Hull:
       (:mod:`persistri.impl.hull.slivers`, counted in ``slivers_flipped``);
     * ``duplicates`` — ``(row, earlier equal row)`` for every merged duplicate;
     * ``stats`` — the counts, when a :class:`Stats` was given;
-    * ``rows`` — the input row of each vertex label of ``complex``.
+    * ``rows`` — the input row of each vertex label of ``complex``;
+    * ``tetra``, ``bulldozed``, ``bulldozed_faces``, ``labels`` — what continuing
+      the run needs (:func:`persistri.impl.hull.extend.extend_hull`): the labels
+      of the first tetrahedron (the centre is its centroid), the bulldozer's last
+      version before the sliver flips and its faces, and how the points were
+      labelled.
     """
 
     points: NDArray[np.float64]
@@ -144,6 +149,16 @@ class Hull:
     slivers_flipped: int = 0
     rows: IntArray | None = None
     """The input row of each vertex label of ``complex`` (labels are indices into the distinct points)."""
+    tetra: tuple[int, int, int, int] | None = None
+    """The labels of the first tetrahedron, in the order its centroid (the centre ``c``) was computed from."""
+    bulldozed: Complex[FaceDatum] | None = None
+    """The bulldozer's last version: ``complex`` before zero-area triangles were flipped away (the same
+    object when none was)."""
+    bulldozed_faces: IntArray | None = None
+    """The faces of ``bulldozed`` as rows ``(face id, a, b, c)`` of vertex labels, outward
+    (:meth:`~persistri.impl.hull.bulldozer.Bulldozer.face_table`)."""
+    labels: str = "spatial"
+    """How the distinct points were labelled (``convex_hull``'s ``labels``)."""
 
 
 def convex_hull(
@@ -282,7 +297,9 @@ def _convex_hull(
         if hasattr(tick, "close"):
             tick.close()
     # The last version's faces from the bulldozer's face table, which mirrors them (check=True compares the two).
-    corners = bd.triangles()
+    faces = bd.face_table()
+    faces.setflags(write=False)  # shared by every hull that continues this one
+    corners = faces[:, 1:]
     final, flips = remove_slivers(structure, bd.complex, pred, corners)
     simplices = _as_rows(corners if flips == 0 else _corners(structure, final), rows)
     hull = Hull(
@@ -299,6 +316,10 @@ def _convex_hull(
         insertions=count,
         slivers_flipped=flips,
         rows=rows,
+        tetra=tetra,
+        bulldozed=bd.complex,
+        bulldozed_faces=faces,
+        labels=labels,
     )
     if check:
         from persistri.impl.complex.checks import check_closed_surface

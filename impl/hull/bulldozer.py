@@ -164,6 +164,15 @@ def _assign(table: bytearray | array[int], view: NDArray[Any], pts: Indices, val
             table[q] = value
 
 
+def _smallest_first(a: int, b: int, d: int) -> tuple[int, int, int]:
+    """The rotation of triangle ``(a, b, d)`` that starts at its smallest vertex (same orientation)."""
+    if a < b and a < d:
+        return (int(a), int(b), int(d))
+    if b < d:
+        return (int(b), int(d), int(a))
+    return (int(d), int(a), int(b))
+
+
 def all_but(n: int, tetra: tuple[int, int, int, int]) -> IntArray:
     """``0 … n-1`` without the four points of ``tetra``, increasing. O(n)."""
     keep = np.ones(n, dtype=bool)
@@ -258,10 +267,25 @@ class _FaceTable:
 
     def add(self, fid: int, tri: Triangle) -> None:
         if fid >= len(self.live):
-            self.corners = np.concatenate([self.corners, np.zeros_like(self.corners)])
-            self.live = np.concatenate([self.live, np.zeros_like(self.live)])
+            self._grow(fid)
         self.corners[fid] = tri
         self.live[fid] = True
+
+    def add_many(self, fids: IntArray, corners: IntArray) -> None:
+        """Faces ``corners[j]`` with ids ``fids[j]``, at once (a resumed run's faces)."""
+        if fids.size:
+            self._grow(int(fids.max()))
+            self.corners[fids] = corners
+            self.live[fids] = True
+
+    def _grow(self, fid: int) -> None:
+        size = len(self.live)
+        while fid >= size:
+            size *= 2
+        if size > len(self.live):
+            extra = size - len(self.live)
+            self.corners = np.concatenate([self.corners, np.zeros((extra, 3), dtype=np.intp)])
+            self.live = np.concatenate([self.live, np.zeros(extra, dtype=bool)])
 
 
 class Bulldozer:
@@ -272,6 +296,13 @@ class Bulldozer:
     and returns the new complex version (the old one stays valid).  ``pred``
     must have its centre (``pred.with_centroid(*tetra)``); the points are
     indices ``0 … n-1`` of ``pred``.
+
+    ``resume=(version, faces)`` continues an earlier run instead (adding points
+    to a finished hull, :mod:`persistri.impl.hull.extend`): ``version`` is its
+    last version (every conflict list empty), ``faces`` its
+    :meth:`face_table`; ``pred`` must index that run's points as it did, with
+    the same centre (``tetra`` is that run's).  Every point is interior until
+    :meth:`attach` associates it with a face.
 
     Cost per insertion: O(1) expected complex operations (each O(lg n) with the
     red-black backend) and O(|moved points|) plane-side tests (Theorem 11,
@@ -293,6 +324,7 @@ class Bulldozer:
         *,
         check: bool = False,
         stepwise: bool = False,
+        resume: tuple[Complex[FaceDatum], IntArray] | None = None,
     ) -> None:
         centre = pred.centre
         if centre is None:
@@ -321,7 +353,8 @@ class Bulldozer:
         self.faces: dict[int, Entry] = {}
         self._next_fid = 0
         self._table = _FaceTable() if check else None
-        self.complex: Complex[FaceDatum] = self._start(tetra)
+        self._resumed = resume is not None
+        self.complex: Complex[FaceDatum] = self._start(tetra) if resume is None else self._resume(*resume)
 
     def _vertex(self, i: int) -> Vertex:
         """The vertex of input point ``i`` (label ``i``), made on first use."""
@@ -439,16 +472,130 @@ class Bulldozer:
                 found.setdefault(frozenset(corners), []).append(pts)
         return {key: np.sort(np.asarray(_join(parts), dtype=np.intp)) for key, parts in found.items()}
 
+    # -- continuing a run ------------------------------------------------------------
+
+    def _resume(self, cx: Complex[FaceDatum], table: IntArray) -> Complex[FaceDatum]:
+        """Take over ``cx``, the last version of an earlier run, whose faces are the rows ``(id, a, b, d)`` of ``table``.
+
+        Nothing is done per old face in Python: the face table by id (kept in
+        every resumed run: :meth:`triangles` reads it) is filled from ``table``
+        at numpy speed, and :attr:`faces` holds only the faces this run makes or
+        changes — a lit old face is read from the complex, like every
+        neighbour.  New vertices join the version's lineage; face ids continue
+        after ``table``'s.  ``check=True`` takes over every face from ``cx``
+        instead and verifies that ``table`` lists them and that their conflict
+        lists are empty (O(faces)).  O(faces) vectorised otherwise.
+        """
+        ft = self._table = _FaceTable()
+        ft.add_many(table[:, 0], table[:, 1:])
+        self._next_fid = int(table[:, 0].max()) + 1 if table.size else 0
+        if cx.lineage is not None:
+            self._lineage = cx.lineage
+        if self.check:
+            faces = self.faces
+            for tri, datum in self.S.items(cx):
+                fid, lst = datum
+                if len(lst):
+                    raise BulldozerCheckError(f"face {tri} of the version to continue has pending points")
+                faces[fid] = (tri, datum)
+            listed = {(fid, *_smallest_first(a, b, d)) for fid, a, b, d in table.tolist()}
+            if listed != {(fid, *_smallest_first(*tri)) for fid, (tri, _) in faces.items()} or len(listed) != len(table):
+                raise BulldozerCheckError("the face table to resume from does not list the version's faces")
+        return cx
+
+    def attach(self, points: IntArray, fids: IntArray) -> Complex[FaceDatum]:
+        """Associate interior-marked points with faces: ``points[j]`` lies in the cone from the centre through face ``fids[j]``.
+
+        The points beyond their face (those that see it) join its conflict
+        list and become pending; the others are inside the hull and stay
+        interior — the association of Appendix A.1, for points that arrive after
+        the hull was built.  Returns the new version (one ``replace`` of the
+        faces that gained points by themselves with their longer lists); every
+        other face, its datum and its map nodes are shared with the current
+        version, which is returned itself when no point is outside.
+        ``check=True`` verifies each point's cone (the three signs
+        ``orient3d(u, w, c, q) = -1``).  O(len(points)) plane-side tests.
+        """
+        status, assoc = self._status, self._assoc
+        faces = self.faces
+        if self.check:
+            self._check_cones(points, fids)
+        by_face = np.argsort(fids, kind="stable")
+        sorted_fids = fids[by_face]
+        cuts = np.flatnonzero(sorted_fids[1:] != sorted_fids[:-1]) + 1
+        removed: list[Triangle] = []
+        added: list[Entry] = []
+        for start, stop in zip([0, *cuts.tolist()], [*cuts.tolist(), int(fids.size)]):
+            if start == stop:
+                continue
+            fid = int(sorted_fids[start])
+            known = faces.get(fid)
+            lst: Conflict = ()
+            if known is None:  # an old face of a resumed run, with an empty list: its triangle from the table
+                assert self._table is not None
+                a, b, d = self._table.corners[fid].tolist()
+                tri: Triangle = (self._vertex(a), self._vertex(b), self._vertex(d))
+            else:
+                tri, (_, lst) = known
+            out, _ = self._partition(tri[0], tri[1], tri[2], points[by_face[start:stop]])
+            if not len(out):
+                continue
+            conflict = _freeze(_join([lst, out]) if len(lst) else out)
+            _assign(status, self.status, conflict, PENDING)
+            _assign(assoc, self.assoc, conflict, fid)
+            entry = faces[fid] = (tri, (fid, conflict))
+            removed.append(tri)
+            added.append(entry)
+        cx = self.complex
+        if added:
+            if self.stepwise:
+                for tri in removed:
+                    cx = self.S.rem(cx, tri)
+                for tri, datum in added:
+                    cx = self.S.add(cx, tri, datum)
+            else:
+                cx = self.S.replace(cx, removed, added)
+            self.complex = cx
+        return cx
+
+    def _check_cones(self, points: IntArray, fids: IntArray) -> None:
+        """Each point of ``points`` in the cone from the centre through its face of ``fids`` (all three signs)."""
+        if not points.size:
+            return
+        assert self._table is not None
+        corners = self._table.corners[fids]
+        for i, j in ((0, 1), (1, 2), (2, 0)):
+            bad = np.flatnonzero(self.pred.orient3d_many(corners[:, i], corners[:, j], self.C, points) != -1)
+            if bad.size:
+                k = int(bad[0])
+                raise BulldozerCheckError(
+                    f"point {int(points[k])} is not in the cone of face {tuple(corners[k].tolist())} it was located in"
+                )
+
     # -- one insertion ---------------------------------------------------------------
 
     def triangles(self) -> IntArray:
         """The faces of the current version, outward, as an (m, 3) array of point indices.
 
         Read from the face table the bulldozer keeps beside the complex (face id ->
-        entry, changed with every insertion), so no traversal of the complex is
-        needed.  O(m).
+        entry, changed with every insertion; in a resumed run, the face table by id),
+        so no traversal of the complex is needed.  O(m).
         """
+        if self._resumed:
+            table = self._table
+            assert table is not None
+            return table.corners[np.flatnonzero(table.live[: self._next_fid])]
         return triangle_array(tri for tri, _ in self.faces.values())
+
+    def face_table(self) -> IntArray:
+        """The faces of the current version as rows ``(id, a, b, d)``, outward: what ``resume`` takes. O(m)."""
+        if self._resumed:
+            table = self._table
+            assert table is not None
+            fids = np.flatnonzero(table.live[: self._next_fid])
+            return np.column_stack([fids, table.corners[fids]]).astype(np.intp, copy=False)
+        fids = np.fromiter(self.faces.keys(), dtype=np.intp, count=len(self.faces))
+        return np.column_stack([fids, self.triangles()]).astype(np.intp, copy=False)
 
     def pending(self) -> int:
         """How many points are still outside the hull. O(n)."""
@@ -613,7 +760,7 @@ class Bulldozer:
         # The new version: the lit faces removed, the tent added.
         lit = [work[fid].tri for fid in processed]  # as the walk met them (the rotation findi gave)
         for fid in processed:
-            del faces[fid]
+            faces.pop(fid, None)  # a resumed run's old faces are not in the dict
         if self._table is not None:
             self._table.live[processed] = False
         added: list[Entry] = []
