@@ -265,6 +265,8 @@ def mesh(
     from persistri.impl.mesh.steiner import PrecisionLimitError
 
     err = stderr_console()
+    if not Path(source).suffix and not Path(source).exists() and source.lower() not in GALLERY:
+        fail(f"{source}: no such file, nor a gallery domain ({', '.join(GALLERY)})")
     check_input(Path(source), DOMAIN_FORMATS, kind="domain", words=GALLERY)
     outputs = Outputs()
     outputs.file(output, MESH_OUTPUT_FORMATS, what="mesh")
