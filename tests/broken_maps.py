@@ -52,6 +52,7 @@ __all__ = [
     "BROKEN",
     "AT_SCALE",
     "MutatingMap",
+    "RedBlackDelegate",
     "GrowsMutatingMap",
     "GrowsMutatingLateMap",
     "AncestorMutatingMap",
@@ -329,7 +330,7 @@ class AncestorMutatingMap(GrowsMutatingMap):
         return _Cell(tree, m)
 
 
-class _RedBlack:
+class RedBlackDelegate:
     """Every operation by the red-black tree (whose map values are immutable tuples)."""
 
     @property
@@ -385,7 +386,7 @@ class _RedBlack:
 _MISS = object()
 
 
-class StaleFindCacheMap(_RedBlack):
+class StaleFindCacheMap(RedBlackDelegate):
     """The red-black tree with ``find`` (and so ``lookup``, ``inDomain``) memoised by ``(id(m), k)``.
 
     The memo keeps the last 4,096 answers and is never told that a version
@@ -419,7 +420,7 @@ class _Handle:
         return f"<version {self.serial}>"
 
 
-class SharedTableMap(_RedBlack):
+class SharedTableMap(RedBlackDelegate):
     """Versions are handles into a table of red-black maps; each instance numbers its handles from 0.
 
     The table is a class attribute — meant to be one per instance — so the

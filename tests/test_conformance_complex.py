@@ -228,7 +228,7 @@ def test_cli_a_conforming_structure_exits_0(tmp_path: Path, monkeypatch: pytest.
     r = run("my_complex_mod:structure", *STATE, *QUICK)
     assert r.exit_code == 0, r.output
     assert r.stdout.splitlines()[0] == (
-        "my_complex_mod:structure conforms to SIMPCOMP: 18 passed, 0 failed, 0 skipped "
+        "my_complex_mod:structure conforms to SIMPCOMP: 21 passed, 0 failed, 0 skipped "
         "(dims=2, max_examples=5, workload_size=30, check=True)"
     )
     assert "(dims 2)" in r.stderr  # found by new(n) for n in 1..4

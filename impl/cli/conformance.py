@@ -6,9 +6,10 @@
 ``persistri conformance complex MODULE:ATTR --state MODULE:ATTR`` runs the
 ``SIMPCOMP`` suite (:func:`persistri.spec.conformance.run_simpcomp_conformance`).
 Exit status: 0 when it conforms, 1 when some law fails (each failure is
-printed with the law, its statement and hypothesis's minimal counterexample),
-2 when ``MODULE:ATTR`` cannot be loaded or is not a structure of the signature
-(one line on stderr saying what is missing).
+printed with the law, its statement, what was seen and hypothesis's minimal
+counterexample or the operations of the workload that broke it), 2 when
+``MODULE:ATTR`` cannot be loaded or is not a structure of the signature, or a
+``--test`` name is not one of the suite's (one line on stderr).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import importlib
 import os
 import sys
 import tempfile
+from collections.abc import Sequence
 from typing import Any, NoReturn
 
 import click
@@ -63,6 +65,23 @@ def load_target(target: str) -> object:
     return obj
 
 
+_TEST_OPTION = click.option(
+    "--test",
+    "tests",
+    metavar="NAME",
+    multiple=True,
+    help="Run only this test of the suite (repeatable), e.g. --test growth; default: every test.",
+)
+
+
+def _check_tests(ctx: click.Context, tests: tuple[str, ...], known: Sequence[Any]) -> None:
+    """One line and exit 2 when a --test name is not a test of the suite."""
+    names = [t.name for t in known]
+    unknown = [t for t in tests if t not in names]
+    if unknown:
+        _fail(ctx, f"--test: no test named {', '.join(map(repr, unknown))}; the tests are: {', '.join(names)}")
+
+
 @click.group()
 def conformance() -> None:
     """Check a backend of yours against persistri's conformance suites."""
@@ -82,7 +101,8 @@ def conformance() -> None:
     type=click.IntRange(min=0),
     default=100_000,
     show_default=True,
-    help="Keys in each of the two workloads (0 skips them; lower it for an O(n)-per-operation map).",
+    help="Keys in each of the two workloads and in the growth workload (0 skips them; lower it for an "
+    "O(n)-per-operation map).",
 )
 @click.option(
     "--hashing/--no-hashing",
@@ -90,23 +110,28 @@ def conformance() -> None:
     show_default=True,
     help="Also use keys whose hashes collide (needs keys ordered by Python's <).",
 )
+@_TEST_OPTION
 @click.pass_context
-def maps(ctx: click.Context, target: str, max_examples: int, workload_size: int, hashing: bool) -> None:
+def maps(ctx: click.Context, target: str, max_examples: int, workload_size: int, hashing: bool, tests: tuple[str, ...]) -> None:
     """Run the ORD_MAP conformance suite on the structure MODULE:ATTR.
 
-    ATTR names an ORD_MAP structure, or a class instantiated with no arguments;
-    MODULE is imported with the current directory on the module path.
-    Exit status 0: it conforms; 1: some law fails (printed with its minimal
+    ATTR names an ORD_MAP structure, or a class instantiated with no arguments
+    (a class also lets the suite make a second instance for the isolation test
+    without copying the first); MODULE is imported with the current directory
+    on the module path.  Exit status 0: it conforms; 1: some law fails (printed
+    with what was seen and the operations, or hypothesis's minimal
     counterexample); 2: MODULE:ATTR is not a loadable ORD_MAP structure.
     """
     try:
-        from persistri.spec.conformance import NotAnOrdMap, as_structure, run_conformance
+        from persistri.spec.conformance import ORD_MAP_TESTS, NotAnOrdMap, as_structure, run_conformance
     except ImportError as exc:
         _fail(ctx, str(exc))
     try:
-        structure = as_structure(load_target(target), target)
+        given = load_target(target)
+        as_structure(given, target)
     except (TargetError, NotAnOrdMap) as exc:
         _fail(ctx, str(exc))
+    _check_tests(ctx, tests, ORD_MAP_TESTS)
     click.echo(f"persistri: running the ORD_MAP conformance suite on {target} …", err=True)
     from hypothesis.configuration import set_hypothesis_home_dir
 
@@ -116,7 +141,8 @@ def maps(ctx: click.Context, target: str, max_examples: int, workload_size: int,
             set_hypothesis_home_dir(home)
         try:
             report = run_conformance(
-                structure, max_examples=max_examples, workload_size=workload_size, hashing=hashing, name=target
+                given, max_examples=max_examples, workload_size=workload_size, hashing=hashing, name=target,
+                tests=tests or None,
             )
         finally:
             set_hypothesis_home_dir(None)
@@ -165,12 +191,21 @@ def _parse_dims(text: str) -> tuple[int, ...] | None:
     type=click.IntRange(min=0),
     default=300,
     show_default=True,
-    help="Subdivisions of a closed complex in the workload (0 skips it).",
+    help="Subdivisions of a closed complex in the workload; the growth workload grows to ten times as many "
+    "n-simplices (0 skips both).",
 )
 @click.option("--stateful-steps", type=click.IntRange(min=0), default=25, show_default=True, help="Steps per example of the stateful test (0 skips it).")
+@_TEST_OPTION
 @click.pass_context
 def complex_(
-    ctx: click.Context, target: str, state_target: str | None, dims: str, max_examples: int, workload_size: int, stateful_steps: int
+    ctx: click.Context,
+    target: str,
+    state_target: str | None,
+    dims: str,
+    max_examples: int,
+    workload_size: int,
+    stateful_steps: int,
+    tests: tuple[str, ...],
 ) -> None:
     """Run the SIMPCOMP conformance suite on the structure MODULE:ATTR.
 
@@ -180,14 +215,16 @@ def complex_(
     2: MODULE:ATTR is not a loadable SIMPCOMP structure (or no vertex state).
     """
     try:
-        from persistri.spec.conformance import NotASimpComp, as_simpcomp, run_simpcomp_conformance
+        from persistri.spec.conformance import SIMPCOMP_TESTS, NotASimpComp, as_simpcomp, run_simpcomp_conformance
     except ImportError as exc:
         _fail(ctx, str(exc))
     wanted = _parse_dims(dims)
     try:
-        structure = as_simpcomp(load_target(target), target)
+        given = load_target(target)
+        structure = as_simpcomp(given, target)
     except (TargetError, NotASimpComp) as exc:
         _fail(ctx, str(exc))
+    _check_tests(ctx, tests, SIMPCOMP_TESTS)
     if state_target is None:
         _fail(ctx, f"{target}: give --state MODULE:ATTR, how to make its vertices (the VERTEX signature has no initial state)")
     try:
@@ -205,13 +242,14 @@ def complex_(
             set_hypothesis_home_dir(home)
         try:
             report = run_simpcomp_conformance(
-                structure,
+                given,
                 state=state,
                 dims=chosen,
                 max_examples=max_examples,
                 workload_size=workload_size,
                 stateful_steps=stateful_steps,
                 name=target,
+                tests=tests or None,
             )
         finally:
             set_hypothesis_home_dir(None)

@@ -224,6 +224,16 @@ Second = Callable[[C, Callable[[Any], Any]], tuple[C | None, str]]
 that instance was made (``(None, why not)`` when none can be made)."""
 
 
+def _rerun_settings(hs: settings) -> settings:
+    """Settings for the rerun that confirms a failure: with an example database, replay the failing example
+    hypothesis saved there and nothing else; without one, search again without shrinking (a derandomized run
+    meets the same example again; a random one looks at four times as many)."""
+    if hs.database is not None:
+        return settings(hs, phases=[Phase.explicit, Phase.reuse])
+    more = hs.max_examples if hs.derandomize else 4 * hs.max_examples
+    return settings(hs, phases=[Phase.explicit, Phase.generate], max_examples=more)
+
+
 def _confirmed(
     test: ConformanceTest[C], config: C, hs: settings, exc: LawViolation, violation: type[SignatureLawViolation], second: Second[C]
 ) -> LawViolation:
@@ -234,8 +244,9 @@ def _confirmed(
     ballast = Ballast()
     for _ in range(256):  # the rerun's objects take fresh memory, not the first run's ids
         ballast.drop()
+    rerun = _rerun_settings(hs)
     try:
-        test.body(other, hs)
+        test.body(other, rerun)
     except Flaky:
         seen = "it failed and then passed the same example (hypothesis's Flaky)"
     except Exception:
