@@ -49,21 +49,32 @@ cone exactly when ``orient3d(u, w, c, q) = +1``.  All points walk at once, one
 round of three vectorised, exact ``orient3d`` batches
 (:meth:`~persistri.impl.geometry.predicates.Predicates3.orient3d_many`: a float
 filter, exact integers and SoS for what it leaves) per step, each crossing a
-random exit edge (the stochastic walk, which cannot cycle for ever).  Each
+random one of the edges it lies beyond (a fixed choice can cycle for ever in a
+triangulation that is not Delaunay; the random one — Devillers, Pion and
+Teillaud's stochastic walk — almost surely ends in the plane, and the round
+limit below makes the end certain here).  Each
 starts from the face whose centroid's direction from ``c`` is nearest its own
 (a k-d tree, in floating point: only a hint), so walks are a few steps long.
 A point still walking after ``4·√h + 64`` rounds is located by testing every
 face's cone (exact, never expected).
 
-Cost, for a hull of ``n`` input rows and ``h`` faces and ``k`` new rows:
-O((n + k) lg(n + k)) vectorised set-up (duplicate detection, the predicates,
-the new points array — C speed, no Python loop over points); O(h) Python work
-to take over the old version's faces; O((h + k) lg h) for the k-d tree and
-O(k · L) vectorised tests for the walks of ``L`` rounds (a few, on point sets
-of ordinary shape); then the bulldozer's own cost for the new outside points:
-O(1) complex operations of O(lg n) per face created or deleted, and their
-plane-side tests (§3).  What the old run built and the new points leave alone
-is neither copied nor traversed again.
+Cost, for a hull of ``n`` input rows and ``h`` faces and ``k`` new rows, all
+of it vectorised except the bulldozer's insertions:
+
+* O((n + k) lg(n + k)) set-up: duplicate detection, the predicates over all
+  points, the concatenated points array;
+* O(h lg h) on the old version's face array (:attr:`Hull.bulldozed_faces`):
+  the bulldozer's face table by id, the adjacency for the walk, the k-d tree;
+* O(k lg h + k · L) to locate the new points by walks of ``L`` rounds —
+  measured 6 to 19 rounds for 2,000 to 20,000 new points on hulls of 4,000 to
+  100,000 faces, where a point takes part in 1.4 to 1.7 rounds on average
+  (most start in their own cone); never a test of every face for every point;
+* the bulldozer's own cost for the outside points: O(1) complex operations of
+  O(lg n) per face created or deleted, and their plane-side tests (§3).
+
+No Python code runs per old face or per old point (``check=True`` aside, which
+also reads every face of the old version): what the old run built and the new
+points leave alone is neither copied nor traversed again.
 """
 
 from __future__ import annotations
@@ -123,6 +134,14 @@ def extend_hull(hull: Hull, new_points: ArrayLike, *, check: bool = False, progr
     Paper §3 and Appendix A.1 (the module docstring says which version is
     continued and why, and what each step costs: no step tests every face for
     every new point).
+
+    >>> import numpy as np
+    >>> from persistri.impl.hull.api import convex_hull
+    >>> cube = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=float)
+    >>> old = convex_hull(cube)
+    >>> new = extend_hull(old, [[0.5, 0.5, 2.0], [0.5, 0.5, 0.5]])  # a roof above the top face, and a point inside
+    >>> new.vertices.tolist(), len(new.simplices), len(old.simplices)
+    ([0, 1, 2, 3, 4, 5, 6, 7, 8], 14, 12)
     """
     new = as_points(new_points, 3, what="new points")
     if not isinstance(hull, Hull):
