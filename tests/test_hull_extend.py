@@ -61,6 +61,16 @@ def snapshot(hull: Hull) -> dict[str, Any]:
     return out
 
 
+def assert_unchanged(hull: Hull, before: dict[str, Any]) -> None:
+    """``snapshot(hull)`` is still ``before``, key by key."""
+    after = snapshot(hull)
+    for key, value in before.items():
+        if isinstance(value, np.ndarray):
+            assert np.array_equal(after[key], value), key
+        else:
+            assert after[key] == value, key
+
+
 def perturbed_hull(hull: Hull) -> set[tuple[int, ...]]:
     """The hull of the perturbed points of ``hull``'s labelling, built from scratch by a fresh bulldozer.
 
@@ -263,12 +273,7 @@ def test_the_old_hull_and_its_history_are_unchanged_by_chains_and_branches() -> 
     right = extend_hull(base, generate("OnSphere", 3000, seed=21) * 1.03)
     chained = extend_hull(kept[1][0], generate("InBall", 2000, seed=22) * 1.2)
     for h, snap in kept:
-        after = snapshot(h)
-        for key, value in snap.items():
-            if isinstance(value, np.ndarray):
-                assert np.array_equal(after[key], value), key
-            else:
-                assert after[key] == value, key
+        assert_unchanged(h, snap)
     for h in (left, right, chained):
         assert verify_hull(h.points, h.simplices).ok
         assert h.history is not None and base.history is not None
@@ -386,6 +391,27 @@ def test_points_on_old_faces_edges_and_vertices_and_coplanar_additions() -> None
         check_degenerate(old, B)
     new = check_degenerate(old, coplanar)
     assert set(new.vertices.tolist()) >= {8 + j for j in (0, 2, 6, 8)}  # the wider square's corners
+
+
+def test_a_hull_with_flipped_slivers_continues_from_its_bulldozer_version() -> None:
+    """A grid's perturbed hull has zero-area triangles on the cube's edges, flipped away in ``complex``; the run
+    continues from ``bulldozed`` (the perturbed hull), and its end is flipped again."""
+    old = convex_hull(grid(4), seed=1)
+    assert old.slivers_flipped > 0 and old.bulldozed is not old.complex
+    before = snapshot(old)
+    new = check_degenerate(old, grid(6) * 0.6)  # a finer grid over the same cube: more points on its edges
+    assert new.slivers_flipped > 0
+    assert_unchanged(old, before)
+
+
+def test_counts_go_on_into_the_old_hulls_stats() -> None:
+    from persistri.impl.stats import Stats
+
+    stats = Stats()
+    old = convex_hull(generate("InBall", 500, seed=1), stats=stats)
+    tests, created = stats.plane_side_tests, stats.faces_created
+    new = extend_hull(old, generate("OnSphere", 100, seed=2) * 1.2)
+    assert new.stats is stats and stats.plane_side_tests > tests and stats.faces_created > created
 
 
 @pytest.mark.parametrize("offset", [1e12, -3.5e9])
