@@ -30,7 +30,10 @@ def test_history_has_every_version_and_each_is_a_cdt() -> None:
     assert len(m.history) == m.insertions + 1 == len(m.history.inserted) + 1
     _check_all_versions(d, m)
     sizes = [m.history.mesh(k).vertices.shape[0] for k in range(len(m.history))]
-    assert sizes == list(range(8, 8 + len(m.history)))  # one vertex per insertion
+    # One vertex per step, less the free vertices Chew's rule deleted in it (before a segment split).
+    assert len(m.history.deleted) == len(m.history.inserted)
+    assert all(sizes[k + 1] == sizes[k] + 1 - len(m.history.deleted[k]) for k in range(len(sizes) - 1))
+    assert sum(map(len, m.history.deleted)) == m.deletions
     last = m.history.mesh(len(m.history) - 1)
     assert np.array_equal(last.triangles, m.triangles) and np.array_equal(last.vertices, m.vertices)
 

@@ -9,10 +9,10 @@ import pytest
 import triangle as tr
 from hypothesis import given, settings
 
-from mesh_helpers import check_mesh, hole_square_area2, pslgs, ring, square_with_hole, twice_area
-from persistri.impl.mesh.api import triangulate
+from mesh_helpers import check_mesh, circle, hole_square_area2, l_shape, pslgs, ring, square_with_hole, twice_area
+from persistri.impl.mesh.api import MeshHistory, triangulate
 from persistri.impl.mesh.domain import as_pslg
-from persistri.impl.mesh.triangulation import EXTERIOR
+from persistri.impl.mesh.triangulation import EXTERIOR, MeshError
 
 
 def _check(m, area2=None):  # type: ignore[no-untyped-def]
@@ -91,3 +91,39 @@ def test_random_pslgs_give_exact_cdts(data: tuple[np.ndarray, np.ndarray]) -> No
     ref = tr.triangulate(d.to_dict(), "p")
     _check(m, area2=twice_area(ref["vertices"], ref["triangles"]))
     assert m.triangles.shape[0] == ref["triangles"].shape[0]
+
+
+def _free_vertices(m):  # type: ignore[no-untyped-def]
+    """The circumcentres and off-centres of a refined mesh's last version: on no segment, not input."""
+    geo = m._run.geo
+    return [int(v) for v in m.history.mesh(len(m.history) - 1).points if v >= geo.n_input and v not in geo.on_segment]
+
+
+@pytest.mark.parametrize("make, angle, area", [(square_with_hole, 30.0, 0.3), (l_shape, 33.0, 0.02), (circle, 20.0, 0.05)])
+def test_removing_a_free_vertex_leaves_the_cdt_of_the_rest(make, angle, area) -> None:  # type: ignore[no-untyped-def]
+    # Chew's deletion: the star of a free vertex replaced by the Delaunay triangulation of its link, a new version.
+    d = make()
+    m = triangulate(d, min_angle=angle, max_area=area)
+    T, S, last = m._run.T, m.history.structure, m.complex
+    free = _free_vertices(m)
+    assert len(free) >= 5
+    before = m.history.mesh(len(m.history) - 1)
+    for v in free[:: max(1, len(free) // 8)]:
+        start = next((t, x) for t, x in S.items(last) if v in t)
+        step = T.remove(last, v, start)
+        after = MeshHistory(m._run, [step.version], []).mesh(0)
+        check_mesh(d, after.vertices, after.triangles, after.segments, after.segment_of, area2=twice_area(before.vertices, before.triangles))
+        assert v not in after.points.tolist() and after.points.size == before.points.size - 1
+        assert len(step.created) == len(step.removed) - 2  # a star of k triangles, a polygon of k vertices
+    # The version removed from is untouched.
+    again = m.history.mesh(len(m.history) - 1)
+    assert np.array_equal(again.triangles, before.triangles) and np.array_equal(again.vertices, before.vertices)
+
+
+def test_removing_a_segment_vertex_is_refused() -> None:
+    m = triangulate(square_with_hole(), min_angle=30, max_area=0.3)
+    T, S, last = m._run.T, m.history.structure, m.complex
+    v = next(iter(m._run.geo.on_segment))
+    start = next((t, x) for t, x in S.items(last) if v in t)
+    with pytest.raises(MeshError, match="only free vertices"):
+        T.remove(last, v, start)

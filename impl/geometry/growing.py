@@ -193,6 +193,19 @@ class GrowingPredicates2:
             self._array = arr
         return self._array
 
+    @property
+    def filter_rows(self) -> list[tuple[float, float]]:
+        """The filter's copy of the points, ``(x · 2^shift, y · 2^shift)`` exactly, or ``(nan, nan)`` for a point
+        the proved filters cannot take (module docstring).  The list itself, which :meth:`append` extends: a caller
+        that inlines a filter over it (the refinement's quality and conflict tests) must read it, never write it,
+        and must decide exactly whenever a comparison involves a NaN. O(1)."""
+        return self._rows
+
+    @property
+    def shift(self) -> int:
+        """The filter's fixed power-of-two scale: :attr:`filter_rows` are the points times ``2^shift``. O(1)."""
+        return self._shift
+
     def xy(self, i: int) -> tuple[float, float]:
         """Point ``i`` as a pair of floats. O(1)."""
         return self._xy[i]

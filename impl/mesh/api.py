@@ -108,15 +108,23 @@ class MeshHistory:
 
     ``history[0]`` is the version the run started from (the CDT, or the mesh
     :func:`refine` continued); ``inserted[k - 1]`` the point index inserted to
-    make version ``k``; :meth:`mesh` reads a version back as arrays.  The
-    versions share structure: keeping all of them costs O(lg n) map nodes per
-    changed vertex, not a copy each.
+    make version ``k``, and ``deleted[k - 1]`` the free vertices deleted in the same
+    step, before a segment split (Chew's rule; usually none); :meth:`mesh` reads a
+    version back as arrays.  The versions share structure: keeping all of them
+    costs O(lg n) map nodes per changed vertex, not a copy each.
     """
 
-    def __init__(self, run: _Run, versions: list[Complex[MeshDatum]], inserted: list[int]) -> None:
+    def __init__(
+        self,
+        run: _Run,
+        versions: list[Complex[MeshDatum]],
+        inserted: list[int],
+        deleted: list[tuple[int, ...]] | None = None,
+    ) -> None:
         self._run = run
         self.versions: tuple[Complex[MeshDatum], ...] = tuple(versions)
         self.inserted: tuple[int, ...] = tuple(inserted)
+        self.deleted: tuple[tuple[int, ...], ...] = tuple(deleted) if deleted is not None else ((),) * len(inserted)
 
     def __len__(self) -> int:
         return len(self.versions)
@@ -153,6 +161,8 @@ class QualityMesh:
     * ``insertions``, ``segment_splits``, ``circumcenters``, ``offcenters`` — what the
       refinement inserted; ``undos`` — circumcentres inserted and then dropped
       by returning to the previous version (they encroached a subsegment);
+      ``deletions`` — circumcentres deleted later, from the diametral circle of a
+      subsegment about to be split (Chew's rule, with lenses: Triangle's default);
       ``blocked`` — ones not inserted (a segment lay between); ``exempt`` —
       triangles left below the angle bound at small input angles; ``rounded_splits`` —
       split points rounded to the nearest doubles because no double lies exactly on
@@ -188,6 +198,7 @@ class QualityMesh:
     exact_segments: bool
     _run: _Run
     notes: tuple[str, ...] = ()
+    deletions: int = 0
 
     @property
     def complex(self) -> Complex[MeshDatum]:
@@ -244,8 +255,9 @@ def _finish(
     max_area: float | None,
     area_reached: bool,
     exact_segments: bool = False,
+    deleted: list[tuple[int, ...]] | None = None,
 ) -> QualityMesh:
-    history = MeshHistory(run, versions, inserted)
+    history = MeshHistory(run, versions, inserted, deleted)
     arr = _arrays(run, versions[-1])
     notes: list[str] = []
     if counts.rounded_splits:
@@ -278,6 +290,7 @@ def _finish(
         exact_segments=exact_segments,
         _run=run,
         notes=tuple(notes),
+        deletions=counts.deletions,
     )
 
 
@@ -332,6 +345,7 @@ def _refine_run(
         max_area,
         result.area_reached,
         exact_segments,
+        result.deleted,
     )
     if check:
         _check(mesh)
@@ -379,8 +393,10 @@ def triangulate(
     * ``progress`` — a progress bar (or a callable taking step counts);
     * ``offcenters`` — Üngör's off-centres (fewer triangles) or circumcentres only;
     * ``max_steiner`` — stop after this many Steiner points (Triangle's ``-S``);
-    * ``encroachment`` — ``"lens"`` (Chew's diametral lenses, Triangle's default: fewer
-      triangles) or ``"circle"`` (Ruppert's diametral circles, Triangle's ``-D``);
+    * ``encroachment`` — ``"lens"`` (Chew's algorithm, Triangle's default: diametral
+      lenses, and free vertices deleted from a subsegment's diametral circle before it
+      is split; fewer triangles) or ``"circle"`` (Ruppert's diametral circles, no
+      deletion: Triangle's ``-D``);
     * ``exact_segments`` — False (the default): a split point lies exactly on its segment
       wherever a double does; on a subsegment where none does (ends given to the
       centimetre at UTM offsets, say) it is rounded to the nearest doubles, as Triangle's

@@ -17,8 +17,17 @@ bracket until it decides — the same exact test as the mesh checker's.
 **The area.**  Twice the area is the orient2d determinant: ``area > max_area``
 is decided on integers, ``max_area`` being a double (an exact rational).
 
+**The float stage** (:class:`QualityTests`, what the refinement calls for every
+new triangle): the same tests on the predicates' filter copy of the points
+(:attr:`~persistri.impl.geometry.growing.GrowingPredicates2.filter_rows`, the
+doubles times a power of two), each with a proved error bound, and the exact test
+above whenever the float result is not clear of the bound by that margin (or a
+point has no filter copy).  The answers are the exact ones; the float stage only
+makes the common case cheap.  The arguments are in :class:`QualityTests`' docstring,
+and the tests compare both stages on random and adversarial inputs.
+
 Costs: O(1) big-integer operations per triangle (the bracket of ``cos²θ`` is
-computed once per bound and cached).
+computed once per bound and cached); O(1) float operations when the float stage decides.
 """
 
 from __future__ import annotations
@@ -28,10 +37,13 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
-from persistri.impl.geometry.growing import GrowingPredicates2
+from typing import Final
+
+from persistri.impl.geometry.filter import ERRBOUND_ORIENT2D, orient2d_terms
+from persistri.impl.geometry.growing import ERRBOUND_DOT, GrowingPredicates2
 from persistri.impl.mesh.angles import EXACT_COS2, angle_at_least, cos2_bounds
 
-__all__ = ["AngleBound", "Shape", "shape", "area_exceeds", "twice_area", "inside_lens", "at_least"]
+__all__ = ["AngleBound", "Shape", "shape", "area_exceeds", "twice_area", "inside_lens", "at_least", "QualityTests"]
 
 _MARGIN = 1e-9
 """The float stage of :func:`at_least` decides only outside ``cos²θ · (1 ± _MARGIN)``."""
@@ -179,3 +191,195 @@ def inside_lens(P: GrowingPredicates2, u: int, w: int, x: int, min_angle: float)
         return True  # B < 2θ
     exact = EXACT_COS2.get(phi)
     return exact is not None and dot_b * dot_b * exact.denominator == exact.numerator * na * nb  # B == 2θ
+
+
+_SEPARATE: Final[float] = 1.0 - 2.0**-40
+"""A float squared length below another times this is certainly the smaller (each is within 4.01u of its value)."""
+
+_SLACK: Final[float] = 2.0**-40
+"""Relative slack on the area threshold (covers the roundings of the threshold's own sum and product)."""
+
+_LENS_MARGIN: Final[float] = 1e-9
+"""Absolute margin on a cosine in the float lens test (its error is below 2e-15)."""
+
+BadShape = tuple[int, int, int, float, bool]
+"""``(p, q, r, edge2, good_angle)`` as in :class:`Shape`: the triangle rotated to its shortest edge ``pq``."""
+
+
+class QualityTests:
+    """The quality and encroachment tests of one refinement, float stage first, exact when it cannot tell.
+
+    ``QualityTests(P, bound, max_area, region_area, lens)``; :meth:`assess` judges a
+    triangle (angle and area), :meth:`encroaches` a point against a subsegment.  Every
+    answer equals the exact test's (:func:`shape`, :func:`area_exceeds`,
+    :func:`inside_lens`, ``dot_sign``); the float stage decides when its result is
+    clear of the bound by more than its proved error.  With ``u = 2^-53``, on the
+    filter copy of the points (exact multiples of the doubles by ``2^shift``, whose
+    grain and magnitude keep every product of degree at most 4 a normal number:
+    the model ``fl(x ∘ y) = (x ∘ y)(1 + δ)``, ``|δ| <= u``, holds):
+
+    * **squared lengths** ``fl(fl(dx²) + fl(dy²))`` of rounded differences are within
+      ``(1 + u)^4 − 1 < 4.01u`` of the exact value, relatively (no cancellation:
+      sums of squares).  A length below another times ``1 − 2^-40`` is therefore
+      certainly the smaller, and the triangle's shortest edge ``pq`` is known; else
+      the exact path decides;
+    * **the smallest angle** is at ``r``, opposite the strictly shortest edge, hence
+      below 60°: ``d·e >= |d||e| / 2 > 0`` with ``d = p − r``, ``e = q − r``.  The
+      computed dot product is within ``4.01u (|dx ex| + |dy ey|) <= 4.01u |d||e| <=
+      8.02u d·e`` of it (Cauchy–Schwarz), so the computed ``q = (d·e)² / (|d|²|e|²)``
+      is within about ``30u`` of the exact one, relatively — far inside
+      :func:`at_least`'s margin ``1e-9`` around the float enclosure of ``cos²θ``:
+      below it the angle is at least ``θ``, above it below ``θ``;
+    * **twice the area** is orient2d's determinant, computed by
+      :func:`~persistri.impl.geometry.filter.orient2d_terms` (the filter of the
+      predicates).  ``proofs/proof_predicates.py`` proves that its value before the
+      last rounding is within ``thr = fl(ERRBOUND_ORIENT2D · permanent)`` of the exact
+      one; the last rounding and the threshold's own are covered by the slack
+      ``2^-40``: ``det > (T + thr)(1 + 2^-40)`` proves ``det > T`` and ``det < (T −
+      thr)(1 − 2^-40)`` proves ``det < T``, ``T`` twice the bound in filter units
+      (``2 A · 4^shift``, exact);
+    * **encroachment**: ``(u − x)·(w − x)`` by the same operations as
+      :func:`~persistri.impl.geometry.growing.dot_terms`, whose constant
+      ``ERRBOUND_DOT`` is proved in ``proofs/proof_mesh.py``: outside the diametral
+      circle, or inside it, when clear of 0; for the lens, the cosine of the
+      supplementary angle ``−(u − x)·(w − x) / sqrt(|u − x|² |w − x|²)`` is within
+      ``2e-15`` of the exact one and is compared with ``cos 2θ`` (the square root of
+      its float enclosure) with the margin ``1e-9``.
+
+    A point without a filter copy makes every comparison false (NaN), which sends
+    the test to the exact path.  O(1) per test.
+    """
+
+    __slots__ = ("P", "rows", "shift", "bound", "theta", "_lo", "_hi", "_area", "_lens", "_lens_lo", "_lens_hi")
+
+    def __init__(
+        self,
+        P: GrowingPredicates2,
+        bound: AngleBound,
+        max_area: Fraction | None,
+        region_area: dict[int, Fraction],
+        lens: bool,
+    ) -> None:
+        self.P = P
+        self.rows = P.filter_rows
+        self.shift = P.shift
+        self.bound = bound
+        self.theta = bound.degrees
+        self._lo = self._hi = 0.0
+        if self.theta > 0.0:
+            lo, hi = _cos2(self.theta)
+            self._lo, self._hi = lo * (1.0 - _MARGIN), hi * (1.0 + _MARGIN)
+        self._area: dict[int, tuple[Fraction, float]] = {}
+        for region, limit in [(-2, max_area), *region_area.items()]:
+            if limit is None:
+                continue
+            try:
+                twice = math.ldexp(float(2 * limit), 2 * self.shift)
+            except OverflowError:
+                twice = math.nan
+            # Outside the normal range the float threshold is not exact: NaN sends every test to the exact path.
+            if not (2.0**-1000 < twice < 2.0**1000) or Fraction(twice) != 2 * limit * Fraction(4) ** self.shift:
+                twice = math.nan
+            self._area[region] = (limit, twice)
+        self._lens = lens and 0.0 < self.theta < 45.0
+        self._lens_lo = self._lens_hi = 0.0
+        if self._lens:
+            lo2, hi2 = _cos2(2.0 * self.theta)
+            self._lens_lo = math.sqrt(lo2) - _LENS_MARGIN
+            self._lens_hi = math.sqrt(hi2) + _LENS_MARGIN
+
+    def assess(self, a: int, b: int, c: int, region: int) -> BadShape | None:
+        """None if the counterclockwise triangle ``(a, b, c)`` of ``region`` meets the angle and area bounds, else its
+        shape ``(p, q, r, edge2, good_angle)`` (:class:`Shape`'s fields).  Exact. O(1)."""
+        rows = self.rows
+        ax, ay = rows[a]
+        bx, by = rows[b]
+        cx, cy = rows[c]
+        abx, aby = ax - bx, ay - by
+        bcx, bcy = bx - cx, by - cy
+        cax, cay = cx - ax, cy - ay
+        lab = abx * abx + aby * aby
+        lbc = bcx * bcx + bcy * bcy
+        lca = cax * cax + cay * cay
+        if lab < lbc * _SEPARATE and lab < lca * _SEPARATE:
+            p, q, r, short = a, b, c, lab
+            dot, n1, n2 = -(cax * bcx + cay * bcy), lca, lbc
+        elif lbc < lab * _SEPARATE and lbc < lca * _SEPARATE:
+            p, q, r, short = b, c, a, lbc
+            dot, n1, n2 = -(abx * cax + aby * cay), lab, lca
+        elif lca < lab * _SEPARATE and lca < lbc * _SEPARATE:
+            p, q, r, short = c, a, b, lca
+            dot, n1, n2 = -(bcx * abx + bcy * aby), lbc, lab
+        else:
+            return self._assess_exact(a, b, c, region)
+        if self.theta == 0.0:
+            good = True
+        else:
+            den = n1 * n2
+            if not (dot > 0.0 and den > 0.0):
+                return self._assess_exact(a, b, c, region)
+            ratio = dot * dot / den
+            if ratio < self._lo:
+                good = True
+            elif ratio > self._hi:
+                good = False
+            else:
+                return self._assess_exact(a, b, c, region)
+        limit = self._area.get(region) or self._area.get(-2)
+        if limit is not None:
+            twice = limit[1]
+            det, perm = orient2d_terms(ax, ay, bx, by, cx, cy)
+            thr = ERRBOUND_ORIENT2D * perm
+            if det > (twice + thr) * (1.0 + _SLACK):
+                return p, q, r, math.ldexp(short, -2 * self.shift), good
+            if not det < (twice - thr) * (1.0 - _SLACK):
+                if area_exceeds(self.P, a, b, c, limit[0]):
+                    return p, q, r, math.ldexp(short, -2 * self.shift), good
+        if good:
+            return None
+        return p, q, r, math.ldexp(short, -2 * self.shift), False
+
+    def _assess_exact(self, a: int, b: int, c: int, region: int) -> BadShape | None:
+        sh = shape(self.P, a, b, c, self.bound)
+        limit = self._area.get(region) or self._area.get(-2)
+        if sh.good_angle and (limit is None or not area_exceeds(self.P, a, b, c, limit[0])):
+            return None
+        return sh.p, sh.q, sh.r, sh.edge2, sh.good_angle
+
+    def area_bad(self, a: int, b: int, c: int, region: int) -> bool:
+        """Whether the triangle's area exceeds its region's bound (or the global one). Exact. O(1)."""
+        limit = self._area.get(region) or self._area.get(-2)
+        return limit is not None and area_exceeds(self.P, a, b, c, limit[0])
+
+    def encroaches(self, u: int, w: int, x: int) -> bool:
+        """Whether point ``x`` encroaches the subsegment ``uw``: strictly inside its diametral circle and, with
+        lenses, inside the lens of the bound (:func:`inside_lens`).  Exact. O(1)."""
+        rows = self.rows
+        ux, uy = rows[u]
+        wx, wy = rows[w]
+        px, py = rows[x]
+        # dot_terms(u, w, x), operation for operation.
+        apx = ux - px
+        bpx = wx - px
+        apy = uy - py
+        bpy = wy - py
+        left = apx * bpx
+        right = apy * bpy
+        det = left + right
+        thr = ERRBOUND_DOT * (abs(left) + abs(right))
+        if det > thr:
+            return False
+        if not det < -thr:
+            if self.P.dot_sign(u, w, x) >= 0:
+                return False
+        if not self._lens:
+            return True
+        den = math.sqrt((apx * apx + apy * apy) * (bpx * bpx + bpy * bpy))
+        if den > 0.0:
+            cos_b = -det / den
+            if cos_b >= self._lens_hi:
+                return True
+            if cos_b <= self._lens_lo:
+                return False
+        return inside_lens(self.P, u, w, x, self.theta)
+
