@@ -24,6 +24,12 @@ something the code does not do:
 * ``hull-history.png`` — four versions of one hull's history (time travel).
 * ``terrain-lod.png`` — three levels of detail of one greedy-insertion run on
   the Jacksboro DEM, read back from the run's history (paper §5).
+* ``mesh-refinement.png`` — versions of one Ruppert refinement (paper §1): the
+  constrained Delaunay triangulation, an undo (the circumcentre tried, the
+  subsegment it encroaches, its cavity) and the split after it, a later
+  version, the final mesh, and the whole history; drawn and checked by
+  ``mesh_figures.py`` beside this script (every dropped point classified as
+  undone or blocked, matching the run's own counts).
 
 ``make docs`` runs this script before ``mkdocs build --strict``, so the pictures
 are redrawn (and their checks rerun) by every ``make test``; the PNGs are also
@@ -35,6 +41,7 @@ Takes a few seconds.
 from __future__ import annotations
 
 import argparse
+import sys
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -54,6 +61,9 @@ from persistri.impl.geometry.predicates import Predicates3  # noqa: E402
 from persistri.impl.hull.api import HullHistory, convex_hull  # noqa: E402
 from persistri.impl.hull.bulldozer import initial_tetrahedron  # noqa: E402
 from persistri.impl.hull.distributions import generate  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # the sibling mesh_figures.py, also when loaded by path
+import mesh_figures  # noqa: E402
 
 __all__ = ["Insertion", "WalkingGraph", "insertion", "walking_graph", "main"]
 
@@ -432,6 +442,12 @@ def draw_terrain_lod(out: Path) -> Path:
     return _save(fig, out / "terrain-lod.png")
 
 
+def draw_mesh_refinement(out: Path) -> Path:
+    """``mesh-refinement.png``: one Ruppert refinement's versions, its undos checked (:mod:`mesh_figures`)."""
+    mesh = mesh_figures.refinement_run()
+    return mesh_figures.draw_refinement(mesh, mesh_figures.dropped_points(mesh), out)
+
+
 def _save(fig: Any, path: Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110, metadata=PNG_METADATA)
@@ -470,6 +486,7 @@ def main(argv: Sequence[str] | None = None) -> list[Path]:
         draw_walking_graph(ins, g, args.out),
         draw_hull_history(history, pts, args.out),
         draw_terrain_lod(args.out),
+        draw_mesh_refinement(args.out),
     ]
     for path in written:
         print(f"wrote {path}")
