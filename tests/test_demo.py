@@ -34,8 +34,15 @@ def test_demo_writes_the_hull_and_the_map_benchmark(tmp_path: Path) -> None:
     files = {p.name for p in out.iterdir()}
     assert files == {
         "bench_maps.json", "bench_maps.txt", "bench_maps.png", "hull.npz", "hull.ply", "hull.png",
-        "terrain_jacksboro.npz", "terrain_jacksboro.ply", "terrain_jacksboro.png",
+        "terrain_jacksboro.npz", "terrain_jacksboro.ply", "terrain_jacksboro.png", "mesh_comb.npz", "mesh_comb.png",
     }
+    with np.load(out / "mesh_comb.npz") as quality:
+        from persistri.impl.mesh.gallery import gallery_domain
+        from persistri.impl.mesh.verify import verify_mesh
+
+        assert bool(quality["min_angle_reached"]) and int(quality["undos"]) > 0
+        assert verify_mesh(gallery_domain("comb").pslg, quality["vertices"], quality["triangles"], min_angle=30).ok
+    assert (out / "mesh_comb.png").read_bytes().startswith(PNG_MAGIC)
     mesh = np.load(out / "terrain_jacksboro.npz")
     assert mesh["vertices"].shape == (40, 3) and float(mesh["max_error"]) > 0
     assert (out / "terrain_jacksboro.png").read_bytes().startswith(PNG_MAGIC)

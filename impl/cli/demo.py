@@ -17,6 +17,12 @@ Stages now:
     every insertion and verified exactly, every level of detail kept:
     ``terrain_jacksboro.npz`` (vertices, triangles, max_error), ``terrain_jacksboro.ply``
     and ``terrain_jacksboro.png`` (the mesh over the shaded relief, like Figs. 9–10);
+``mesh``
+    a quality mesh of the bench gallery's comb (twelve thin teeth) at a 30°
+    minimum angle by Ruppert's refinement, a circumcentre that would encroach a
+    segment undone by returning to the previous version (paper §1), verified
+    exactly: ``mesh_comb.npz`` (the arrays and counts of ``persistri mesh -o``)
+    and ``mesh_comb.png`` (triangles coloured by their smallest angle);
 ``maps``
     the map benchmark (:mod:`persistri.impl.bench.maps`) at 10³ and 10⁴ keys:
     ``bench_maps.json`` (the records), ``bench_maps.txt`` (the table) and
@@ -49,6 +55,12 @@ DEMO_HULL_POINTS = 4_000
 DEMO_TERRAIN_POINTS = 2_000
 """Vertices of the demo's Jacksboro mesh."""
 
+DEMO_MESH_DOMAIN = "comb"
+"""The gallery domain the demo meshes (:mod:`persistri.impl.mesh.gallery`)."""
+
+DEMO_MESH_ANGLE = 30.0
+"""The demo mesh's minimum-angle bound, degrees."""
+
 DEMO_BENCH_SIZES = (1_000, 10_000)
 """Key counts of the demo's map benchmark."""
 
@@ -70,6 +82,8 @@ class DemoSettings:
     bench_sizes: tuple[int, ...] = DEMO_BENCH_SIZES
     hull_points: int = DEMO_HULL_POINTS
     terrain_points: int = DEMO_TERRAIN_POINTS
+    mesh_domain: str = DEMO_MESH_DOMAIN
+    mesh_angle: float = DEMO_MESH_ANGLE
     repeat: int = DEMO_REPEAT
     assoc_list_max_n: int | None = DEMO_ASSOC_LIST_MAX_N
     seed: int = DEFAULT_SEED
@@ -115,6 +129,58 @@ def without_unavailable(bench: MapBench) -> tuple[MapBench, str | None]:
     shown = replace(bench, records=tuple(r for r in bench.records if r.status != "unavailable"))
     note = f"not compared, not installed: {', '.join(missing)} (pip install 'persistri[adapters]' to compare them)"
     return shown, note
+
+
+def mesh_stage(ctx: StageContext) -> StageResult:
+    """A quality mesh of a gallery domain, verified exactly; ``mesh_<domain>.npz`` and ``mesh_<domain>.png``."""
+    import time
+
+    from rich.table import Table
+
+    from persistri.impl.cli.mesh import npz_arrays
+    from persistri.impl.files import write_mesh
+    from persistri.impl.mesh.api import triangulate
+    from persistri.impl.mesh.gallery import gallery_domain
+    from persistri.impl.mesh.plot import plot_mesh
+    from persistri.impl.mesh.verify import verify_mesh
+
+    s = ctx.settings
+    domain = gallery_domain(s.mesh_domain)
+    done = [0]
+
+    def tick(k: int) -> None:
+        done[0] += k
+        ctx.progress(done[0], done[0], f"{domain.name} at {s.mesh_angle:g}°: {done[0]:,} insertions")
+
+    start = time.perf_counter()
+    mesh = triangulate(domain.pslg, min_angle=s.mesh_angle, progress=tick)
+    seconds = time.perf_counter() - start
+    report = verify_mesh(mesh.domain, mesh.vertices, mesh.triangles, min_angle=s.mesh_angle,
+                         exact_segments=mesh.exact_segments)
+    smallest = mesh.smallest_angle()
+    stem = f"mesh_{domain.name.replace('-', '_')}"
+    npz = write_mesh(s.out / f"{stem}.npz", mesh.vertices, mesh.triangles, npz_arrays=npz_arrays(mesh, smallest))
+    png = plot_mesh(
+        mesh.vertices, mesh.triangles, s.out / f"{stem}.png", segments=mesh.segments,
+        n_input=mesh.domain.vertices.shape[0], min_angle=s.mesh_angle,
+        title=f"{domain.name} ({domain.description}): {len(mesh.triangles):,} triangles, "
+        f"min angle ≥ {s.mesh_angle:g}°, {mesh.undos} undos",
+    )
+    table = Table(title=f"quality mesh ({domain.name}, Ruppert's refinement, red-black backend)", show_header=False)
+    table.add_column()
+    table.add_column(justify="right")
+    for name, value in (
+        ("triangles / vertices", f"{len(mesh.triangles):,} / {len(mesh.vertices):,}"),
+        ("min angle reached", f"{report.min_angle_unexempt:.2f}° (bound {s.mesh_angle:g}°)" if report.min_angle_unexempt is not None else "-"),
+        ("insertions (versions kept)", f"{mesh.insertions:,} ({len(mesh.history):,})"),
+        ("segment splits / circumcentres, off-centres", f"{mesh.segment_splits:,} / {mesh.circumcenters + mesh.offcenters:,}"),
+        ("undos (back to the previous version)", f"{mesh.undos:,}"),
+        ("exact verification", "ok" if report.ok else str(report)),
+        ("seconds", f"{seconds:.2f}"),
+    ):
+        table.add_row(name, value)
+    failures = [] if report.ok else [f"mesh: {report}"]
+    return StageResult([npz, png], table, failures)
 
 
 def maps_stage(ctx: StageContext) -> StageResult:
@@ -255,6 +321,7 @@ def terrain_stage(ctx: StageContext) -> StageResult:
 STAGES: tuple[DemoStage, ...] = (
     DemoStage("hull", "exact convex hull", hull_stage),
     DemoStage("terrain", "terrain mesh (Jacksboro DEM)", terrain_stage),
+    DemoStage("mesh", "quality mesh (Ruppert, undo by persistence)", mesh_stage),
     DemoStage("maps", "persistent maps vs. their peers", maps_stage),
 )
 """The demo's stages, in the order they run."""
@@ -309,7 +376,9 @@ def demo(out: Path, bench_sizes: tuple[int, ...], repeat: int, hull_points: int,
 
     Now: the exact convex hull of 4,000 BordHeavy points, checked at every
     insertion (hull.npz, .ply, .png), the Jacksboro DEM meshed by greedy insertion
-    to 2,000 points (terrain_jacksboro.npz, .ply, .png), and the map benchmark at 10^3 and 10^4 keys
+    to 2,000 points (terrain_jacksboro.npz, .ply, .png), a quality mesh of the
+    comb domain at 30° by Ruppert's refinement (mesh_comb.npz, .png), and the
+    map benchmark at 10^3 and 10^4 keys
     (bench_maps.json, .txt, .png).  Exit status 1 if a stage reports a failure.
     """
     check_output_dir(out)

@@ -76,6 +76,17 @@ def _linewidth(n_triangles: int) -> float:
     return 0.0
 
 
+def _marker_size(ax: Any, q: NDArray[np.float64], t: NDArray[np.intp]) -> float:
+    """Vertex markers (points) about a fifth of the median edge as drawn: dense meshes get dots, coarse ones discs."""
+    if t.size == 0 or q.size == 0:
+        return 3.5
+    edges = np.linalg.norm(q[t[:, 1]] - q[t[:, 0]], axis=1)
+    span = float(np.max(q.max(axis=0) - q.min(axis=0))) or 1.0
+    width_pt = ax.get_position().width * ax.figure.get_size_inches()[0] * 72
+    least = 2.0 if t.shape[0] < 2_000 else 0.6  # a graded mesh's median edge is small, but its vertices must show
+    return float(np.clip(0.2 * float(np.median(edges)) / span * width_pt, least, 3.5))
+
+
 def draw_mesh(
     ax: Any,
     vertices: ArrayLike,
@@ -115,12 +126,13 @@ def draw_mesh(
     if seg.size:
         ax.add_collection(LineCollection(list(q[seg]), colors=_SEGMENT_COLOUR, linewidths=max(1.4, 3 * lw)))
     n = v.shape[0] if n_input is None else min(int(n_input), v.shape[0])
-    small = t.shape[0] > 4_000
-    ax.plot(q[:n, 0], q[:n, 1], "o", color="black", markersize=1.5 if small else 3.5, zorder=4)
+    size = _marker_size(ax, q, t)
+    ax.plot(q[:n, 0], q[:n, 1], "o", color="black", markersize=size, zorder=4)
     on_segment = np.unique(seg)
     on_segment = on_segment[on_segment >= n]
     if on_segment.size:
-        ax.plot(q[on_segment, 0], q[on_segment, 1], "s", color=_SEGMENT_COLOUR, markersize=1.2 if small else 3.0, zorder=4)
+        ax.plot(q[on_segment, 0], q[on_segment, 1], "s", color=_SEGMENT_COLOUR, markersize=0.9 * size,
+                markeredgecolor="black", markeredgewidth=0.1 * size, zorder=4)
     if v.size:
         low, high = q.min(axis=0), q.max(axis=0)
         pad = 0.03 * float(np.max(high - low) or 1.0)
@@ -158,7 +170,9 @@ def plot_mesh(
     height = min(max(width * aspect, 3.0), 11.0) + 0.8
     fig, ax = plt.subplots(figsize=(width + 1.2, height), dpi=120)
     polys = draw_mesh(ax, v, t, segments=segments, n_input=n_input, origin=origin)
-    bar = fig.colorbar(polys, ax=ax, shrink=0.8, pad=0.02)
+    from mpl_toolkits.axes_grid1 import make_axes_locatable
+
+    bar = fig.colorbar(polys, cax=make_axes_locatable(ax).append_axes("right", size="2.5%", pad=0.12))
     bar.set_label("smallest angle of the triangle (°)")
     if min_angle:
         bar.ax.axhline(min_angle, color="white", linewidth=2)
