@@ -24,7 +24,7 @@ from persistri.spec.conformance.growth import counted
 from persistri.spec.conformance.hidden_state import second_instance
 from persistri.spec.conformance.runner import ConformanceSkip
 from persistri.spec.conformance.simpcomp_config import SimpCompSuiteConfig, vertex_pool
-from persistri.spec.conformance.simpcomp_growth import index_key, noun
+from persistri.spec.conformance.simpcomp_growth_plan import index_key, noun
 from persistri.spec.simpcomp_laws import LawViolation, oriented_key
 
 __all__ = ["t_determinism", "t_isolation"]
