@@ -21,9 +21,21 @@ Both run the same test bodies (:data:`ORD_MAP_TESTS`): a hypothesis test of
 every law of :mod:`persistri.spec.ord_map_laws`; a stateful test that keeps
 *every* version with a model snapshot and rechecks all of them after each step,
 on branching histories; edge cases (the empty map, removing an absent key,
-overwriting, removing the last key, colliding hashes, ``None`` values); and two
+overwriting, removing the last key, colliding hashes, ``None`` values); two
 workloads of ``workload_size`` keys (sequential and random: insert all, find
-all, remove all, with ``_check`` every n/10 steps and at the end).
+all, remove all, with ``_check`` every n/10 steps and at the end); the growth
+workload, which checks persistence at every size up to ``workload_size``
+(:mod:`.ord_map_growth`); and the tests of hidden state, ``determinism`` and
+``isolation`` (:mod:`.ord_map_determinism`).  A failure that hypothesis could
+not reproduce (``Flaky``), or that a rerun on a second instance does not
+reproduce, is reported under ``determinism`` (:mod:`.runner`).
+
+The suite lives in one module per concept: the configuration
+(:mod:`.ord_map_config`), the branching history with its model snapshots
+(:mod:`.ord_map_history`), the random programs and the state machine
+(:mod:`.ord_map_stateful`), the law tests (:mod:`.ord_map_law_tests`), the
+edge cases (:mod:`.ord_map_edges`), the workloads (:mod:`.ord_map_workloads`,
+:mod:`.ord_map_growth`), the hidden-state tests; this module assembles them.
 
 Hypothesis settings: under pytest the tests use your *active* profile, except
 that the deadline is off (the suite checks results, not speed) and the
@@ -231,8 +243,9 @@ class OrdMapConformance:
 
     * ``structure`` — the structure under test (a class is instantiated with no arguments);
     * ``hashing = True`` — also use keys whose hashes collide;
-    * ``workload_size = 100_000`` — keys in each workload; a backend that is
-      O(n) per operation sets it lower (say why), 0 skips the workloads;
+    * ``workload_size = 100_000`` — keys in each workload, the growth workload's
+      included; a backend that is O(n) per operation sets it lower (say why),
+      0 skips the workloads;
     * ``check = True`` — call the structure's ``_check(m)`` after each step when it has one;
     * ``stateful_steps = 25`` — steps per example of the stateful test.
 
@@ -405,9 +418,12 @@ def run_conformance(
     rerun one failure); ``derandomize`` makes the run reproducible (the
     same examples every time).  Raises :class:`NotAnOrdMap` (a :class:`TypeError`) when ``structure`` lacks
     operations and :class:`ValueError` for a bad knob; a failing law is never
-    raised, it is reported.  The time is dominated by the two workloads
-    (O(workload_size) operations each) and ``max_examples`` × the number of
-    hypothesis tests.
+    raised, it is reported.  The time is dominated by the three workloads
+    (O(workload_size) operations each: about 3 s each for the red-black tree at
+    the default 100,000) and ``max_examples`` × the number of hypothesis tests.
+    A class given as ``structure`` is instantiated, and instantiated again for
+    a second instance (``isolation``, and the reruns that confirm a failure);
+    an instance is deep-copied for that (a snapshot taken before any test runs).
     """
     if isinstance(max_examples, bool) or not isinstance(max_examples, int) or max_examples < 1:
         raise ValueError(f"max_examples must be a positive int, got {max_examples!r}")

@@ -31,9 +31,22 @@ of an absent simplex) raising and leaving the version untouched; random
 branching programs and a stateful test that keep *every* version with its
 model — a dict from each held oriented simplex to its datum, from which the
 laws derive the lower faces — and recheck all of them after every step; the
-neighbour law on closed complexes (boundaries of simplices, subdivided); and a
-workload of ``workload_size`` subdivisions.  With ``check`` the structure's
-own ``check(c)`` (or ``_check(c)``) runs on every version made.
+neighbour law on closed complexes (boundaries of simplices, subdivided); a
+workload of ``workload_size`` subdivisions; the growth workload, which checks
+persistence at every size up to ten times ``workload_size`` n-simplices
+(:mod:`.simpcomp_growth`); and the tests of hidden state, ``determinism`` and
+``isolation`` (:mod:`.simpcomp_determinism`).  With ``check`` the structure's
+own ``check(c)`` (or ``_check(c)``) runs on every version made.  Failures are
+named as in the ``ORD_MAP`` suite (:mod:`.ord_map`): hypothesis's ``Flaky``,
+and failures a rerun on a second instance does not reproduce, as ``determinism``.
+
+The suite lives in one module per concept: the configuration
+(:mod:`.simpcomp_config`), the branching history and simplex helpers
+(:mod:`.simpcomp_history`), the random complexes (:mod:`.simpcomp_cases`), the
+law tests (:mod:`.simpcomp_law_tests`), the random programs and the state
+machine (:mod:`.simpcomp_stateful`), closed complexes and their workload
+(:mod:`.simpcomp_workloads`), the growth workload (:mod:`.simpcomp_growth`,
+:mod:`.simpcomp_growth_plan`), the hidden-state tests; this module assembles them.
 
 Vertices are the structure's own; they must be hashable (the models are
 dicts) and are never looked inside.  Data are arbitrary values, ``None``
@@ -184,7 +197,8 @@ class SimpCompConformance:
     * ``dims = (2,)`` — the dimensions n of the complexes tested;
     * ``check = True`` — call the structure's ``check(c)`` (or ``_check(c)``) on every version;
     * ``stateful_steps = 25`` — steps per example of the stateful test;
-    * ``workload_size = 300`` — subdivisions in the workload (0 skips it);
+    * ``workload_size = 300`` — subdivisions in the workload; the growth workload grows to ten
+      times as many n-simplices (0 skips both);
     * ``max_examples = None`` — hypothesis examples per test (None: the active profile's).
 
     Hypothesis runs with your active settings profile (deadline off).
