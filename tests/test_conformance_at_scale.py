@@ -314,3 +314,50 @@ def test_pytest_shows_the_law_and_the_operation_in_the_assertion_message(tmp_pat
     assert HEADLINES["maps:grows_mutating_late"] in late.longreprtext
     cache = plugin.reports["TestCache::test_determinism"]
     assert cache.failed and "law 'determinism' violated" in cache.longreprtext
+
+
+class _Reversed:
+    """Integer keys ordered from the largest down (``Key.compare`` reversed)."""
+
+    @staticmethod
+    def compare(a: Any, b: Any) -> Any:
+        from persistri.spec.order import NATURAL_ORDER
+
+        return NATURAL_ORDER.compare(b, a)
+
+
+class ReversedMap(broken_maps.RedBlackDelegate):
+    """A correct map whose key order is not Python's ``<``: the red-black tree over the negated keys."""
+
+    Key = _Reversed()
+
+    def insert(self, m: Any, k: Any, v: Any) -> Any:
+        return red_black.insert(m, -k, v)
+
+    def insertWith(self, f: Any, m: Any, k: Any, v: Any) -> Any:
+        return red_black.insertWith(f, m, -k, v)
+
+    def find(self, m: Any, k: Any) -> Any:
+        return red_black.find(m, -k)
+
+    def remove(self, m: Any, k: Any) -> tuple[Any, Any]:
+        return red_black.remove(m, -k)
+
+    def singleton(self, k: Any, v: Any) -> Any:
+        return red_black.singleton(-k, v)
+
+    def listItemsi(self, m: Any) -> list[tuple[Any, Any]]:
+        return [(-k, v) for k, v in red_black.listItemsi(m)]  # increasing negated keys: decreasing keys
+
+    def listKeys(self, m: Any) -> list[Any]:
+        return [k for k, _ in self.listItemsi(m)]
+
+    def foldli(self, f: Any, init: Any, m: Any) -> Any:
+        for k, v in self.listItemsi(m):
+            init = f(k, v, init)
+        return init
+
+
+def test_the_growth_workload_orders_keys_by_the_structures_own_compare() -> None:
+    report = run_conformance(ReversedMap(), tests=["growth", "listItemsi", "persistence"], workload_size=3_000, hashing=False)
+    assert report.ok, report.format()

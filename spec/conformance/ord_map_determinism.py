@@ -130,6 +130,16 @@ def _sessions(s: Any, keep: bool) -> _Session:
     return session
 
 
+def _answer(question: str, answer: object) -> str:
+    """An answer as a message shows it: the options ``find`` returns as SOME v and NONE."""
+    if question.startswith("find("):
+        if answer is None:
+            return "NONE"
+        if isinstance(answer, tuple) and len(answer) == 1:
+            return f"SOME {answer[0]!r}"
+    return repr(answer)
+
+
 def _difference(a: _Session, b: _Session, how_a: str, how_b: str) -> LawViolation | None:
     """The violation for the first question two sessions answered differently, or None."""
     for i, (x, y) in enumerate(zip(a.answers, b.answers)):
@@ -142,7 +152,7 @@ def _difference(a: _Session, b: _Session, how_a: str, how_b: str) -> LawViolatio
             "determinism",
             "\n".join(
                 [
-                    f"determinism: {question} answered {x!r} {how_a}, and {y!r} {how_b}",
+                    f"determinism: {question} answered {_answer(question, x)} {how_a}, and {_answer(question, y)} {how_b}",
                     f"how version {v} was made: {chain}",
                     f"question {i + 1:,} of {len(a.answers):,} of a fixed session of {ROUNDS} rounds of insert, "
                     "insertWith, remove and queries over the keys 0 … 47",

@@ -49,6 +49,7 @@ from persistri.spec.conformance.ord_map_history import combine
 from persistri.spec.conformance.runner import ConformanceSkip
 from persistri.spec.ord_map import NotFound
 from persistri.spec.ord_map_laws import LawViolation
+from persistri.spec.order import Order
 
 __all__ = ["MapOp", "MapPlan", "growth_plan", "t_growth"]
 
@@ -299,13 +300,14 @@ class _Run:
         items = list(s.listItemsi(m))
         if len(items) != len(model):
             return f"listItemsi(version {v}) has {counted(len(items), 'item')}, but it had {len(model):,}"
+        compare = s.Key.compare
         prev: Any = _ABSENT
         for k, x in items:
             want = model.get(k, _ABSENT)
             if want is _ABSENT or not (want is x or want == x):
                 shown = "absent" if want is _ABSENT else f"bound to {want!r}"
                 return f"listItemsi(version {v}) lists {k!r} ↦ {x!r}, but {k!r} was {shown}"
-            if prev is not _ABSENT and not prev < k:
+            if prev is not _ABSENT and compare(prev, k) is not Order.LESS:
                 return f"listItemsi(version {v}) lists {prev!r} before {k!r}"
             prev = k
         n = s.numItems(m)

@@ -149,6 +149,16 @@ def _history(session: _Session, v: int) -> str:
     return "; ".join(reversed(steps))
 
 
+def _answer(question: str, answer: object) -> str:
+    """An answer as a message shows it: the options ``data`` returns as SOME v and NONE."""
+    if question.startswith("data("):
+        if answer is None:
+            return "NONE"
+        if isinstance(answer, tuple) and len(answer) == 1:
+            return f"SOME {answer[0]!r}"
+    return repr(answer)
+
+
 def _difference(a: _Session, b: _Session, how_a: str, how_b: str) -> LawViolation | None:
     """The violation for the first question two sessions answered differently, or None."""
     for i, (x, y) in enumerate(zip(a.answers, b.answers)):
@@ -160,7 +170,7 @@ def _difference(a: _Session, b: _Session, how_a: str, how_b: str) -> LawViolatio
             "determinism",
             "\n".join(
                 [
-                    f"determinism: {question} answered {x!r} {how_a}, and {y!r} {how_b}",
+                    f"determinism: {question} answered {_answer(question, x)} {how_a}, and {_answer(question, y)} {how_b}",
                     f"how version {v} was made: {_history(a, v)}",
                     f"question {i + 1:,} of {len(a.answers):,} of a fixed session of {ROUNDS} rounds of add, update, "
                     f"rem and queries in dimension {a.n}, over {_pool_size(a.n)} vertices",
