@@ -38,7 +38,9 @@ def test_json_records_are_the_meshers_own_counts() -> None:
         ours = triangulate(domain, min_angle=r["angle"])
         assert (t["triangles"], t["vertices"]) == (len(peer["triangles"]), len(peer["vertices"]))
         assert (p["triangles"], p["vertices"]) == (len(ours.triangles), len(ours.vertices))
-        assert (p["undos"], p["insertions"], p["segment_splits"]) == (ours.undos, ours.insertions, ours.segment_splits)
+        assert (p["undos"], p["deletions"], p["insertions"], p["segment_splits"]) == (
+            ours.undos, ours.deletions, ours.insertions, ours.segment_splits
+        )
         assert t["undos"] is None and t["status"] == p["status"] == "ok"
         assert r["count_ratio"] == pytest.approx(p["triangles"] / t["triangles"])
         assert r["time_ratio"] == pytest.approx(p["seconds"] / t["seconds"])
@@ -112,7 +114,7 @@ def test_a_failing_persistri_mesh_exits_1(monkeypatch: pytest.MonkeyPatch) -> No
 
     def broken(*args: Any, **kwargs: Any) -> Any:
         mesh = real(*args, **kwargs)
-        return type("Broken", (), {**{k: getattr(mesh, k) for k in ("vertices", "undos", "insertions", "segment_splits",
+        return type("Broken", (), {**{k: getattr(mesh, k) for k in ("vertices", "undos", "deletions", "insertions", "segment_splits",
                                                                   "rounded_splits", "exact_segments")},
                                    "triangles": mesh.triangles[1:]})()
 

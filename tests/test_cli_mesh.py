@@ -86,7 +86,7 @@ def test_gallery_domain_to_npz_is_the_apis_mesh_and_passes_the_checker(tmp_path:
     assert all(frozenset(s) in edges for s in mesh["segments"].tolist())
     assert mesh["segment_of"].shape == (len(mesh["segments"]),)
     assert set(mesh["segment_of"].tolist()) == set(range(len(domain.segments)))
-    for key in ("insertions", "segment_splits", "circumcenters", "offcenters", "undos", "blocked", "exempt"):
+    for key in ("insertions", "segment_splits", "circumcenters", "offcenters", "undos", "blocked", "deletions", "exempt"):
         assert int(mesh[key]) == getattr(api, key), key
     assert bool(mesh["min_angle_reached"]) and float(mesh["min_angle"]) == 30.0
     assert int(mesh["n_triangles"]) == len(api.triangles) and int(mesh["undos"]) > 0

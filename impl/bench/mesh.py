@@ -16,7 +16,9 @@ triangles, to compare at 10⁴–10⁵ triangles):
   (:func:`~persistri.impl.mesh.verify.verify_mesh`, run with the bounds: a mesh
   *passes* when it is a valid constrained Delaunay mesh of the domain that meets
   them; Triangle's with ``exact_segments=False``, since its split points are
-  rounded), and persistri's undos, insertions and segment splits;
+  rounded), and persistri's undos, deletions (Chew's: free vertices in a
+  subsegment's diametral circle, deleted before it is split), insertions and
+  segment splits;
 * the ratios persistri ÷ Triangle of the triangle counts and of the times.
 
 Times are CPU seconds (``time.process_time``), the cyclic collector off during
@@ -92,8 +94,8 @@ class MesherRun:
     ``min_angle`` is the smallest angle outside the exempt triangles and
     ``min_angle_all`` over all, in degrees, as :func:`verify_mesh` measures them;
     ``passes`` whether the mesh passes it with the bounds (``problem``: the first
-    problem otherwise).  ``undos``, ``insertions``, ``segment_splits`` and
-    ``rounded_splits`` are persistri's (None for Triangle).
+    problem otherwise).  ``undos``, ``deletions``, ``insertions``, ``segment_splits``
+    and ``rounded_splits`` are persistri's (None for Triangle).
     """
 
     mesher: str
@@ -107,6 +109,7 @@ class MesherRun:
     passes: bool = False
     problem: str = ""
     undos: int | None = None
+    deletions: int | None = None
     insertions: int | None = None
     segment_splits: int | None = None
     rounded_splits: int | None = None
@@ -269,7 +272,7 @@ def _bench_one(name: str, domain: Any, angle: float, max_area: float | None, rep
     else:
         p_run = MesherRun(
             "persistri", "ok", p_best,
-            undos=p_mesh.undos, insertions=p_mesh.insertions, segment_splits=p_mesh.segment_splits,
+            undos=p_mesh.undos, deletions=p_mesh.deletions, insertions=p_mesh.insertions, segment_splits=p_mesh.segment_splits,
             rounded_splits=p_mesh.rounded_splits,
             **_measure(domain, p_mesh.vertices, p_mesh.triangles, angle, max_area, p_mesh.exact_segments),
         )

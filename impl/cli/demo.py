@@ -175,6 +175,7 @@ def mesh_stage(ctx: StageContext) -> StageResult:
         ("insertions (versions kept)", f"{mesh.insertions:,} ({len(mesh.history):,})"),
         ("segment splits / circumcentres, off-centres", f"{mesh.segment_splits:,} / {mesh.circumcenters + mesh.offcenters:,}"),
         ("undos (back to the previous version)", f"{mesh.undos:,}"),
+        ("deletions (free vertices in a split subsegment's circle)", f"{mesh.deletions:,}"),
         ("exact verification", "ok" if report.ok else str(report)),
         ("seconds", f"{seconds:.2f}"),
     ):

@@ -112,6 +112,7 @@ def npz_arrays(mesh: Any, smallest: float) -> dict[str, Any]:
         "offcenters": np.int64(mesh.offcenters),
         "undos": np.int64(mesh.undos),
         "blocked": np.int64(mesh.blocked),
+        "deletions": np.int64(mesh.deletions),
         "exempt": np.int64(mesh.exempt),
         "rounded_splits": np.int64(mesh.rounded_splits),
         "exact_segments": np.bool_(mesh.exact_segments),
@@ -165,6 +166,8 @@ def _summary(source: str, mesh: Any, smallest: float, report: Any, max_steiner: 
         f"{mesh.circumcenters + mesh.offcenters:,} circumcentres/off-centres), "
         f"{mesh.undos:,} undone by returning to the previous version"
     )
+    if mesh.deletions:
+        steps += f", {mesh.deletions:,} deleted from a split subsegment's circle"
     rounded = f", {mesh.rounded_splits} split points rounded off their segment" if mesh.rounded_splits else ""
     verified = " (verified exactly)" if report is not None and report.ok else ""
     return f"{what}, {angle}; {steps}{rounded}{verified}"
@@ -188,6 +191,7 @@ def _stats_table(source: str, mesh: Any, smallest: float, report: Any) -> Table:
         ("off-centres", f"{mesh.offcenters:,}"),
         ("undos (insertion dropped, previous version kept)", f"{mesh.undos:,}"),
         ("blocked (point beyond a segment, not inserted)", f"{mesh.blocked:,}"),
+        ("deletions (free vertices in a split subsegment's circle)", f"{mesh.deletions:,}"),
         ("split points rounded off their segment", f"{mesh.rounded_splits:,}"),
         ("versions kept", f"{len(mesh.history):,}"),
     ]
