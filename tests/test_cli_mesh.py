@@ -274,3 +274,18 @@ def test_in_a_real_process_one_summary_line_and_no_warning(tmp_path: Path) -> No
     assert len(lines) == 1 and lines[0].startswith("mesh of utm-tile: ") and "(verified exactly)" in lines[0], run.stderr
     assert run.stdout == ""
     assert files_under(tmp_path) == {"u.ele", "u.node", "u.poly", "u.png"}
+
+
+def test_an_unenclosed_domain_points_to_convex(tmp_path: Path) -> None:
+    """Triangle's own box.poly: the outer box has one segment, so the hole eats everything; --convex closes it."""
+    poly = tmp_path / "box.poly"
+    poly.write_text(
+        "8 2 0 1\n1 0 0 0\n2 0 3 0\n3 3 0 0\n4 3 3 33\n5 1 1 0\n6 1 2 0\n7 2 1 0\n8 2 2 0\n"
+        "5 1\n1 1 2 5\n2 5 7 0\n3 7 8 0\n4 8 6 10\n5 6 5 0\n1\n1 1.5 1.5\n"
+    )
+    result, caught = invoke(["mesh", str(poly)])
+    assert_one_line_failure(result, caught, "box.poly", r"the domain is empty: .*; --convex meshes the convex hull, as Triangle's -c$")
+    out = tmp_path / "box.npz"
+    _ok(["mesh", str(poly), "--convex", "-q", "30", "-o", str(out), "--check", "--quiet"])
+    mesh = _npz(out)
+    assert sum(_twice_area(mesh["vertices"], mesh["triangles"])) == 2 * 8  # the 3 × 3 box less the unit hole

@@ -49,6 +49,15 @@ def _finite(ctx: click.Context, param: click.Parameter, value: float | None) -> 
     return value
 
 
+def _refiner_default(name: str) -> Any:
+    """The default of :func:`~persistri.impl.mesh.api.triangulate`'s keyword ``name`` (the option's own default)."""
+    import inspect
+
+    from persistri.impl.mesh.api import triangulate
+
+    return inspect.signature(triangulate).parameters[name].default
+
+
 def read_domain(source: str, *, convex: bool = False) -> Any:
     """The :class:`~persistri.impl.mesh.domain.PSLG` named by ``source``: a gallery name, a ``.poly`` or a ``.node`` file.
 
@@ -284,8 +293,13 @@ def mesh(
     targets += [plot] if plot is not None else []
     _protect_input(source, targets)
     check_backend(backend)
-    with about(source):
-        domain = read_domain(source, convex=convex)
+    try:
+        with about(source):
+            domain = read_domain(source, convex=convex)
+    except click.ClickException as exc:
+        if "is every boundary closed?" not in exc.message or convex:
+            raise
+        fail(f"{exc.message}; --convex meshes the convex hull, as Triangle's -c")
     options: dict[str, Any] = {} if exact_segments is None else {"exact_segments": exact_segments}
     with about(source):
         try:
@@ -301,8 +315,9 @@ def mesh(
                 **options,
             )
         except PrecisionLimitError as exc:
-            if exact_segments is False:
-                raise
+            strict = exact_segments if exact_segments is not None else _refiner_default("exact_segments")
+            if not strict:
+                raise  # rounding was on: the option would not help
             raise ValueError(f"{error_line(exc)} (on the command line: --rounded-segments)") from None
     smallest = float(result.smallest_angle())
     report = None
