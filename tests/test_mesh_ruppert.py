@@ -341,3 +341,40 @@ def test_quality_tests_at_ties() -> None:
     tight = QualityTests(P, AngleBound.of(30.0), Fraction(13.999999999999998), {}, lens=False)
     assert tight.assess(0, 1, 2, 0) is not None and tight.area_bad(0, 1, 2, 0)
     assert not tests.encroaches(0, 1, 3) and not tests.encroaches(0, 1, 4)  # on the circle: not strictly inside
+
+
+def _survey_lot(n: int, seed: int) -> PSLG:
+    """A star-shaped lot of ``n`` corners given to the centimetre near UTM (5.1e5, 4.1e6): slanted edges with no
+    double between their ends are common."""
+    rng = np.random.default_rng(seed)
+    ang = np.sort(rng.uniform(0, 2 * math.pi, n))
+    rad = rng.uniform(10, 40, n)
+    pts = np.round(np.c_[512_345.0 + rad * np.cos(ang), 4_123_456.0 + rad * np.sin(ang)], 2)
+    return as_pslg(pts, ring(n))
+
+
+@pytest.mark.parametrize("seed, area", [(57, 50.0), (2, 50.0), (26, 10.0)])
+def test_rounded_splits_on_hull_segments_keep_the_mesh_valid(seed: int, area: float) -> None:
+    # Rounded split points inside the hull (the sliver between the chain and the old hull edge joins the exterior),
+    # outside it (the hull grows by a hair), and splits of the pieces between them: every version stays valid.
+    from persistri.impl.mesh.verify import verify_mesh
+
+    d = _survey_lot(5, seed)
+    m = triangulate(d, min_angle=20, max_area=area, check=True)
+    assert m.rounded_splits > 0 and m.min_angle_reached and m.max_area_reached
+    for k in range(len(m.history)):
+        a = m.history.mesh(k)
+        assert verify_mesh(d, a.vertices, a.triangles, exact_segments=False).ok
+
+
+@settings(max_examples=20)
+@given(st.integers(5, 12), st.integers(0, 10**6), st.sampled_from([20.0, 30.0, 33.0]), st.sampled_from([None, 50.0, 10.0]))
+def test_survey_lots_mesh_by_default(n: int, seed: int, angle: float, area: float | None) -> None:
+    from persistri.impl.mesh.verify import verify_mesh
+
+    d = _survey_lot(n, seed)
+    m = triangulate(d, min_angle=angle, max_area=area)
+    assert m.min_angle_reached and m.max_area_reached
+    report = verify_mesh(d, m.vertices, m.triangles, min_angle=angle, max_area=area, exact_segments=m.rounded_splits == 0)
+    assert report.ok, report.problems[:2]
+    assert report.rounded_split_vertices == m.rounded_splits

@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Final
+from typing import Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -57,6 +57,7 @@ from persistri.impl.geometry.filter import (
     GRAIN_MIN,
     TOP_MAX,
     T,
+    _abs,
     choose_scaling,
     incircle_terms,
     orient2d_terms,
@@ -71,16 +72,6 @@ ERRBOUND_DOT: Final[float] = ERRBOUND_ORIENT2D
 """Filter constant of :func:`dot_terms`: orient2d's, proved sufficient for the sum form in ``proofs/proof_mesh.py``."""
 
 _NAN: Final[tuple[float, float]] = (math.nan, math.nan)
-
-if TYPE_CHECKING:
-
-    def _abs(x: T, /) -> T:
-        """``abs``, typed so that it keeps the argument's type."""
-        ...
-
-else:
-    _abs = abs
-
 
 def dot_terms(ax: T, ay: T, bx: T, by: T, px: T, py: T) -> tuple[T, T]:
     """``(det, permanent)`` of the dot product ``(a − p) · (b − p)`` in floating point. O(1).

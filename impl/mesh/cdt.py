@@ -4,7 +4,8 @@
 
 1. the **Delaunay triangulation of its vertices**, by the incremental
    Bowyer–Watson insertion of :mod:`~persistri.impl.mesh.triangulation` in a
-   biased randomised order (:func:`~persistri.impl.terrain.scattered.insertion_order`),
+   biased randomised order (:func:`~persistri.impl.terrain.scattered.insertion_order`;
+   domains of at most 64 vertices in their own order),
    each point located by a walk — as :func:`~persistri.impl.terrain.scattered.delaunay`
    does, exact (SoS ties);
 2. every **segment**, by removing the triangles it crosses and retriangulating
@@ -65,6 +66,9 @@ __all__ = ["SegmentGeometry", "constrained_delaunay", "param_on_segment"]
 
 IntArray = NDArray[np.intp]
 
+_SMALL = 64
+"""Domains with at most this many vertices insert them in input order (no sort)."""
+
 
 @dataclass
 class SegmentGeometry:
@@ -122,7 +126,8 @@ class _Builder:
     def vertices(self, n: int) -> Complex[MeshDatum]:
         T, P = self.T, self.P
         pts = P.points[:n]
-        order = [int(i) for i in insertion_order(np.asarray(pts), 0)]
+        # A few vertices go in their own order (the CDT does not depend on it; the sort would cost more than the walks).
+        order = list(range(n)) if n <= _SMALL else [int(i) for i in insertion_order(np.asarray(pts), 0)]
         a, b, c = _first_triangle(P, order)
         V = T.vertex
         cx = T.empty()

@@ -221,15 +221,22 @@ class QualityTests:
     * **squared lengths** ``fl(fl(dx²) + fl(dy²))`` of rounded differences are within
       ``(1 + u)^4 − 1 < 4.01u`` of the exact value, relatively (no cancellation:
       sums of squares).  A length below another times ``1 − 2^-40`` is therefore
-      certainly the smaller, and the triangle's shortest edge ``pq`` is known; else
-      the exact path decides;
-    * **the smallest angle** is at ``r``, opposite the strictly shortest edge, hence
-      below 60°: ``d·e >= |d||e| / 2 > 0`` with ``d = p − r``, ``e = q − r``.  The
-      computed dot product is within ``4.01u (|dx ex| + |dy ey|) <= 4.01u |d||e| <=
-      8.02u d·e`` of it (Cauchy–Schwarz), so the computed ``q = (d·e)² / (|d|²|e|²)``
-      is within about ``30u`` of the exact one, relatively — far inside
-      :func:`at_least`'s margin ``1e-9`` around the float enclosure of ``cos²θ``:
-      below it the angle is at least ``θ``, above it below ``θ``;
+      certainly the smaller; the *candidates* for the shortest edge are the edges
+      not certainly longer than another — the shortest is among them, and the
+      others are within a factor ``1 + 2^-39`` of it (two of them for the isosceles
+      triangles a circumcentre makes);
+    * **the smallest angle** is opposite the shortest edge, so it is at least ``θ``
+      when the angle opposite every candidate is.  Such an angle is below 60° (or
+      above it by a relative hair, for a near tie), so with ``d``, ``e`` its edge
+      vectors ``d·e >= 0.49 |d||e| > 0``.  The computed dot product is within
+      ``4.01u (|dx ex| + |dy ey|) <= 4.01u |d||e| <= 8.2u d·e`` of it
+      (Cauchy–Schwarz), so the computed ``(d·e)² / (|d|²|e|²)`` is within about
+      ``31u`` of the exact one, relatively — far inside :func:`at_least`'s margin
+      ``1e-9`` around the float enclosure of ``cos²θ``: below it the angle is at
+      least ``θ``; above it, with a unique candidate, the triangle's smallest
+      angle is below ``θ``.  Anything else (a near tie with a bad or unclear
+      angle) is decided exactly, and a bad triangle's shortest edge is always the
+      exact one (the unique candidate, or :func:`shape`'s);
     * **twice the area** is orient2d's determinant, computed by
       :func:`~persistri.impl.geometry.filter.orient2d_terms` (the filter of the
       predicates).  ``proofs/proof_predicates.py`` proves that its value before the
@@ -301,43 +308,50 @@ class QualityTests:
         lab = abx * abx + aby * aby
         lbc = bcx * bcx + bcy * bcy
         lca = cax * cax + cay * cay
-        if lab < lbc * _SEPARATE and lab < lca * _SEPARATE:
-            p, q, r, short = a, b, c, lab
-            dot, n1, n2 = -(cax * bcx + cay * bcy), lca, lbc
-        elif lbc < lab * _SEPARATE and lbc < lca * _SEPARATE:
-            p, q, r, short = b, c, a, lbc
-            dot, n1, n2 = -(abx * cax + aby * cay), lab, lca
-        elif lca < lab * _SEPARATE and lca < lbc * _SEPARATE:
-            p, q, r, short = c, a, b, lca
-            dot, n1, n2 = -(bcx * abx + bcy * aby), lbc, lab
-        else:
-            return self._assess_exact(a, b, c, region)
-        if self.theta == 0.0:
-            good = True
-        else:
-            den = n1 * n2
-            if not (dot > 0.0 and den > 0.0):
-                return self._assess_exact(a, b, c, region)
-            ratio = dot * dot / den
-            if ratio < self._lo:
-                good = True
-            elif ratio > self._hi:
-                good = False
-            else:
+        # An edge is a candidate for the shortest unless another is certainly shorter (NaN: a candidate).
+        sab, sbc, sca = lab * _SEPARATE, lbc * _SEPARATE, lca * _SEPARATE
+        on_ab = not (sab > lbc or sab > lca)
+        on_bc = not (sbc > lab or sbc > lca)
+        on_ca = not (sca > lab or sca > lbc)
+        unique = on_ab + on_bc + on_ca == 1
+        good = True
+        if self.theta != 0.0:
+            lo, hi = self._lo, self._hi
+            # The angle opposite each candidate edge (at c for ab, at a for bc, at b for ca); each is below about 60°.
+            for on, dot, n1, n2 in (
+                (on_ab, -(cax * bcx + cay * bcy), lca, lbc),
+                (on_bc, -(abx * cax + aby * cay), lab, lca),
+                (on_ca, -(bcx * abx + bcy * aby), lbc, lab),
+            ):
+                if not on:
+                    continue
+                den = n1 * n2
+                ratio = dot * dot / den if dot > 0.0 and den > 0.0 else math.nan
+                if ratio < lo:
+                    continue
+                if ratio > hi and unique:
+                    good = False
+                    continue
                 return self._assess_exact(a, b, c, region)
         limit = self._area.get(region) or self._area.get(-2)
-        if limit is not None:
+        if good:
+            if limit is None:
+                return None
             twice = limit[1]
             det, perm = orient2d_terms(ax, ay, bx, by, cx, cy)
             thr = ERRBOUND_ORIENT2D * perm
-            if det > (twice + thr) * (1.0 + _SLACK):
-                return p, q, r, math.ldexp(short, -2 * self.shift), good
-            if not det < (twice - thr) * (1.0 - _SLACK):
-                if area_exceeds(self.P, a, b, c, limit[0]):
-                    return p, q, r, math.ldexp(short, -2 * self.shift), good
-        if good:
-            return None
-        return p, q, r, math.ldexp(short, -2 * self.shift), False
+            if det < (twice - thr) * (1.0 - _SLACK):
+                return None
+            if not det > (twice + thr) * (1.0 + _SLACK) and not area_exceeds(self.P, a, b, c, limit[0]):
+                return None
+        # Bad: the shape, with the shortest edge known exactly.
+        if not unique:
+            return self._assess_exact(a, b, c, region)
+        if on_ab:
+            return a, b, c, math.ldexp(lab, -2 * self.shift), good
+        if on_bc:
+            return b, c, a, math.ldexp(lbc, -2 * self.shift), good
+        return c, a, b, math.ldexp(lca, -2 * self.shift), good
 
     def _assess_exact(self, a: int, b: int, c: int, region: int) -> BadShape | None:
         sh = shape(self.P, a, b, c, self.bound)

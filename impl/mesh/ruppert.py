@@ -328,10 +328,14 @@ class Refiner:
             geo.shell[p] = shell
         step = T.insert(c, p, start, split=(lo, hi, s))
         if rounded:
-            # Off the segment by up to half an ulp, p might not see every edge of its cavity from inside (a
-            # boundary edge at a hair's angle to the segment): then no valid mesh holds it, and we say so.
-            for tri, _ in step.created:
-                if tri[2] >= 0 and tri[0] >= 0 and tri[1] >= 0 and P.orient2d_sign(tri[0], tri[1], tri[2]) <= 0:
+            # Off the segment by less than an ulp, p might not see every edge of its cavity from inside (a boundary
+            # edge at a hair's angle to the segment), or leave the old subsegment standing: then no valid mesh holds
+            # it, and we say so.
+            for tri, dat in step.created:
+                stale = lo in tri and hi in tri and (dat[1] != EXTERIOR or constraint_of(dat, lo, hi) >= 0)
+                if stale or (
+                    tri[2] >= 0 and tri[0] >= 0 and tri[1] >= 0 and P.orient2d_sign(tri[0], tri[1], tri[2]) <= 0
+                ):
                     raise PrecisionLimitError(
                         f"the split point of segment {s} between vertices {int(lo)} and {int(hi)}, rounded to the "
                         "nearest doubles, would make a flat or inverted triangle: the mesh is at the limit of double "
@@ -423,6 +427,7 @@ class Refiner:
                     seen.add((lo, hi))
                     self._segs.append((lo, hi, s))
         dead = self._dead
+        finished = False
         while True:
             if max_steiner is not None and len(inserted) >= max_steiner:
                 break
@@ -442,6 +447,7 @@ class Refiner:
                 c, p = step
                 deleted.append(())
             else:
+                finished = True
                 break
             versions.append(c)
             inserted.append(p)
@@ -449,6 +455,19 @@ class Refiner:
                 progress(1)
         counts = self.counts
         counts.insertions = len(inserted)
+        if finished:
+            # Every triangle of c was judged when it was made (or at the start), and none is queued or bad: the
+            # bounds hold, and the exempt triangles are those judged so that are still there.
+            angle_ok = area_ok = True
+            self._exempt.difference_update(dead)
+        else:
+            angle_ok, area_ok = self._final(c)
+        counts.exempt = len(self._exempt)
+        return Refinement(versions, inserted, counts, angle_ok, area_ok, set(self._exempt), deleted)
+
+    def _final(self, c: Complex[MeshDatum]) -> tuple[bool, bool]:
+        """Whether every domain triangle of ``c`` meets the angle bound (exempt ones excepted) and the area bounds,
+        rejudging all of them (the run stopped early); the exempt ones are recorded. O(size)."""
         self._exempt.clear()
         angle_ok = area_ok = True
         tests = self.tests
@@ -465,8 +484,7 @@ class Refiner:
                     self._exempt.add(d[0])
                 else:
                     angle_ok = False
-        counts.exempt = len(self._exempt)
-        return Refinement(versions, inserted, counts, angle_ok, area_ok, set(self._exempt), deleted)
+        return angle_ok, area_ok
 
     def _encroached(self, c: Complex[MeshDatum], lo: int, hi: int, encroaches: Callable[[int, int, int], bool]) -> bool:
         """Whether the subsegment ``{lo, hi}`` of version ``c`` has a domain triangle whose apex encroaches it."""

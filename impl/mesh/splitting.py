@@ -148,20 +148,40 @@ def split_point(
     return t, x, y, shell, True
 
 
+def _neighbours(v: Fraction) -> list[float]:
+    """The doubles nearest ``v`` from below and above (one if ``v`` is a double)."""
+    f = float(v)
+    if Fraction(f) == v:
+        return [f]
+    return [f, math.nextafter(f, math.inf)] if Fraction(f) < v else [math.nextafter(f, -math.inf), f]
+
+
 def _rounded(
-    P: GrowingPredicates2, a: int, b: int, u: int, w: int, tu: Fraction, tw: Fraction, wanted: Fraction
+    P: GrowingPredicates2,
+    a: int,
+    b: int,
+    u: int,
+    w: int,
+    tu: Fraction,
+    tw: Fraction,
+    wanted: Fraction,
 ) -> tuple[Fraction, float, float]:
-    """The point of segment ``ab`` at parameter ``wanted`` (clamped to the middle half of ``(tu, tw)``), rounded to the
-    nearest doubles — off the segment by at most half an ulp per coordinate (Triangle's split points);
-    :class:`PrecisionLimitError` if it rounds onto an end."""
+    """The point of segment ``ab`` at parameter ``wanted`` (clamped to the middle half of ``(tu, tw)``), rounded to
+    the nearest pair of doubles — off the segment by at most half an ulp per coordinate, as Triangle's split points
+    are — or, if that is an end of the subsegment, the next nearest of the four around it.
+    :class:`PrecisionLimitError` if all four fall on an end."""
     delta = tw - tu
     t = min(max(wanted, tu + delta / 4), tw - delta / 4)
     ex, ey = point_at(P, a, b, t)
-    x, y = float(ex), float(ey)
-    for v in (u, w):
-        if (x, y) == P.xy(v):
-            raise PrecisionLimitError(
-                f"the split point of the subsegment between vertices {int(u)} and {int(w)} rounds onto vertex {int(v)}: "
-                "the mesh is at the limit of double precision here"
-            )
-    return t, x, y
+    ends = {P.xy(u), P.xy(w)}
+    candidates = sorted(
+        ((x, y) for x in _neighbours(ex) for y in _neighbours(ey)),
+        key=lambda q: (Fraction(q[0]) - ex) ** 2 + (Fraction(q[1]) - ey) ** 2,
+    )
+    for x, y in candidates:
+        if (x, y) not in ends:
+            return t, x, y
+    raise PrecisionLimitError(
+        f"every pair of doubles next to the split point of the subsegment between vertices {int(u)} and {int(w)} "
+        "is one of its ends: the mesh is at the limit of double precision here"
+    )

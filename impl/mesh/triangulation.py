@@ -51,6 +51,7 @@ from typing import Final, Literal
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Lineage, Vertex, VertexState
+from persistri.impl.geometry.filter import ERRBOUND_INCIRCLE, ERRBOUND_ORIENT2D, incircle_terms, orient2d_terms
 from persistri.impl.geometry.growing import GrowingPredicates2
 
 __all__ = [
@@ -173,45 +174,98 @@ class MeshTriangulation:
     ) -> Insertion:
         """Insert point ``p`` into version ``c`` from ``start``, a triangle in conflict with it (module docstring).
 
-        ``split = (u, w, segment)``: ``p`` lies exactly on the constrained edge
-        ``{u, w}`` of segment ``segment`` (``start`` beside it), which the cavity may
-        cross; the two halves ``{u, p}``, ``{p, w}`` become constrained.  Returns the
-        :class:`Insertion`; ``c`` is unchanged.
+        ``split = (u, w, segment)``: ``p`` splits the constrained edge ``{u, w}`` of
+        segment ``segment`` (``start`` beside it), which the cavity crosses; the two
+        halves ``{u, p}``, ``{p, w}`` become constrained.  ``p`` lies on the edge exactly
+        (then it conflicts with both triangles beside it), or — a split point rounded
+        where no double lies on the segment — within half an ulp of it, off its line.
+        Then the cavity starts from the triangle beside the edge on ``p``'s side; the one
+        beyond goes too when it is a domain triangle (whatever its circle says: the
+        edge must go, and a sliver left in the domain would not be Delaunay), and when
+        it is exterior (a ghost, a hole) it stays, rewritten without the constraint,
+        and the sliver between the new chain ``u–p–w`` and the old edge joins the
+        exterior (so a hull stays convex).  Returns the :class:`Insertion`; ``c`` is
+        unchanged.
         """
         vp = self.vertex(p)
         inf = self.infinite
         conflicts = self.conflicts
-        stri, sdat = start
-        if self.check and not conflicts(stri, p):
-            raise MeshError(f"internal: point {p} is not in conflict with the start triangle {stri}")
+        pred = self.pred
         crossing = edge_key(split[0], split[1]) if split is not None else None
+        off_line = 0
+        if split is not None:
+            off_line = pred.orient2d_sign(split[0], split[1], p)
+            if off_line:
+                lo, hi = self.vertex(split[0]), self.vertex(split[1])
+                found0 = self.S.neighbour(c, (lo, hi) if off_line > 0 else (hi, lo))
+                if found0 is None:
+                    raise MeshError(f"internal: no triangle beside the subsegment {crossing} on the side of point {p}")
+                start = found0
+        stri, sdat = start
+        if self.check and not off_line and not conflicts(stri, p):
+            raise MeshError(f"internal: point {p} is not in conflict with the start triangle {stri}")
         cavity: dict[int, tuple[Tri, MeshDatum]] = {sdat[0]: start}
         rejected: set[int] = set()
         # Each boundary edge (u, w) with the region inside it and its segment (-1 if none).
         boundary: list[tuple[Vertex, Vertex, int, int]] = []
+        beyond: tuple[Tri, MeshDatum] | None = None
         a, b, cc = stri
         stack = [(a, b, sdat), (b, cc, sdat), (cc, a, sdat)]
-        neighbour = self.S.neighbour
+        neighbour = self.S.neighbours(c)  # one version read many times: each vertex's list fetched once
+        # The incircle filter inlined (the predicates' own filter, the same operations), exact when it cannot tell;
+        # counted runs go through the predicates.
+        rows = pred.filter_rows if pred.stats is None else None
+        px, py = pred.filter_rows[p]
         while stack:
             u, w, dat = stack.pop()
-            seg = constraint_of(dat, u, w) if dat[2] else -1
-            if seg >= 0 and edge_key(u, w) != crossing:
-                boundary.append((u, w, dat[1], seg))
-                continue
-            found = neighbour(c, (w, u))
+            forced = False
+            if dat[2]:
+                seg = constraint_of(dat, u, w)
+                if seg >= 0:
+                    if ((u, w) if u < w else (w, u)) != crossing:
+                        boundary.append((u, w, dat[1], seg))
+                        continue
+                    forced = True  # the subsegment split: both triangles beside it go
+            else:
+                seg = -1
+            found = neighbour((w, u))
             assert found is not None, "a closed surface has a triangle beyond every edge"
             ntri, ndat = found
             nid = ndat[0]
             if nid in cavity:
                 continue
-            if nid not in rejected and conflicts(ntri, p):
-                cavity[nid] = found
-                x = ntri[2]
-                stack.append((u, x, ndat))
-                stack.append((x, w, ndat))
-                continue
+            if nid not in rejected:
+                x0, x1, x2 = ntri
+                if forced and off_line:
+                    inside = ndat[1] != EXTERIOR
+                elif rows is None or x0 < 0 or x1 < 0 or x2 < 0:
+                    inside = conflicts(ntri, p)
+                else:
+                    ax, ay = rows[x0]
+                    bx, by = rows[x1]
+                    cx, cy = rows[x2]
+                    det, perm = incircle_terms(ax, ay, bx, by, cx, cy, px, py)
+                    thr = ERRBOUND_INCIRCLE * perm
+                    if det > thr:
+                        inside = True
+                    elif det < -thr:
+                        inside = False
+                    else:
+                        inside = pred.incircle(x0, x1, x2, p) > 0
+                if inside:
+                    cavity[nid] = found
+                    x = ntri[2]
+                    stack.append((u, x, ndat))
+                    stack.append((x, w, ndat))
+                    continue
             rejected.add(nid)
-            boundary.append((u, w, dat[1], seg))
+            if forced:
+                # A rounded split point with the exterior beyond the subsegment: that triangle stays, and the sliver
+                # between the new chain u–p–w and the old edge is exterior.
+                boundary.append((u, w, EXTERIOR, -1))
+                beyond = found
+            else:
+                boundary.append((u, w, dat[1], seg))
 
         succ = {u: (w, region, seg) for u, w, region, seg in boundary}
         if len(succ) != len(boundary):
@@ -223,25 +277,31 @@ class MeshTriangulation:
             new_constraints[edge_key(p, split[1])] = split[2]
         created: list[tuple[Tri, MeshDatum]] = []
         u = first
-        pred = self.pred
+        check = self.check
+        tid = self._next_id
         while True:
             w, region, seg = succ[u]
             if w == inf:
                 break
             tri = (u, w, vp)
-            if self.check and pred.orient2d_sign(u, w, p) <= 0:
+            if check and pred.orient2d_sign(u, w, p) <= 0:
                 raise MeshError(f"internal: point {p} makes the flat or inverted triangle {tri}")
-            cons: list[Constraint] = []
-            if seg >= 0:
-                cons.append((*edge_key(u, w), seg))
-            for x, y in ((w, vp), (vp, u)):
-                s2 = new_constraints.get(edge_key(x, y), -1)
-                if s2 >= 0:
-                    cons.append((*edge_key(x, y), s2))
-            created.append((tri, self.new_datum(region, tuple(cons))))
+            if seg >= 0 or new_constraints:
+                cons: list[Constraint] = []
+                if seg >= 0:
+                    cons.append((u, w, seg) if u < w else (w, u, seg))
+                for x, y in ((w, vp), (vp, u)):
+                    s2 = new_constraints.get(edge_key(x, y), -1)
+                    if s2 >= 0:
+                        cons.append((*edge_key(x, y), s2))
+                created.append((tri, (tid, region, tuple(cons))))
+            else:
+                created.append((tri, (tid, region, ())))
+            tid += 1
             u = w
             if u == first:
                 break
+        self._next_id = tid
         if inf in succ:
             # An open fan: p is on the hull; two ghosts close it, on the new hull edges (p, u) and (first, p).
             for g, (x, y) in (((u, inf, vp), (vp, u)), ((inf, first, vp), (first, vp))):
@@ -249,6 +309,11 @@ class MeshTriangulation:
                 cons2: tuple[Constraint, ...] = ((*edge_key(x, y), s2),) if s2 >= 0 else ()
                 created.append((g, self.new_datum(EXTERIOR, cons2)))
         removed = tuple(cavity.values())
+        if beyond is not None:
+            # Its edge is no longer a subsegment: the triangle beyond is replaced by itself without the constraint.
+            gt, gd = beyond
+            removed += (beyond,)
+            created.append((gt, self.new_datum(EXTERIOR, tuple(k for k in gd[2] if (k[0], k[1]) != crossing))))
         version = self.S.replace(c, [t for t, _ in removed], created)
         return Insertion(version, removed, tuple(created))
 
@@ -386,7 +451,22 @@ class MeshTriangulation:
         circumcentre or off-centre of ``start`` lies beyond at most one of its
         edges: two would need two obtuse angles).  O(length).
         """
-        P = self.P_orient
+        pred = self.pred
+
+        def P(a: int, b: int, c: int) -> int:
+            # orient2d's filter inlined (the predicates' own, the same operations); exact or SoS when it cannot tell.
+            rows = pred.filter_rows
+            ax, ay = rows[a]
+            bx, by = rows[b]
+            cx, cy = rows[c]
+            det, perm = orient2d_terms(ax, ay, bx, by, cx, cy)
+            thr = ERRBOUND_ORIENT2D * perm
+            if det > thr and pred.stats is None:
+                return 1
+            if det < -thr and pred.stats is None:
+                return -1
+            return pred.orient2d(a, b, c)
+
         tri, dat = start
         a, b, cc = tri
         outs = [(u, w, v) for u, w, v in ((a, b, cc), (b, cc, a), (cc, a, b)) if P(u, w, p) < 0]
