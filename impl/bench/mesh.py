@@ -35,11 +35,14 @@ import platform
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
-from typing import Any, Final
+from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 
 from persistri.impl.bench.hull import cpu_seconds, persistri_build
+
+if TYPE_CHECKING:
+    from persistri.impl.mesh.domain import PSLG
 
 __all__ = [
     "DEFAULT_ANGLES",
@@ -219,7 +222,7 @@ def triangle_switches(angle: float, max_area: float | None) -> str:
 
 
 def _measure(
-    domain: Any, vertices: Any, triangles: Any, angle: float, max_area: float | None, exact_segments: bool
+    domain: PSLG, vertices: Any, triangles: Any, angle: float, max_area: float | None, exact_segments: bool
 ) -> dict[str, Any]:
     """What the exact checker says of one mesh, as :class:`MesherRun` fields."""
     from persistri.impl.mesh.verify import verify_mesh
@@ -238,7 +241,7 @@ def _measure(
     }
 
 
-def _bench_one(name: str, domain: Any, angle: float, max_area: float | None, repeat: int) -> MeshRecord:
+def _bench_one(name: str, domain: PSLG, angle: float, max_area: float | None, repeat: int) -> MeshRecord:
     import triangle
 
     from persistri.impl.mesh.api import triangulate

@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 import os
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 import numpy as np
@@ -29,6 +29,11 @@ from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.errors import about, error_line, fail
 from persistri.impl.maps import BACKENDS
 from persistri.impl.mesh.gallery import GALLERY
+
+if TYPE_CHECKING:  # the mesher's modules are imported when a command runs, not when the CLI loads
+    from persistri.impl.mesh.api import QualityMesh
+    from persistri.impl.mesh.domain import PSLG
+    from persistri.impl.mesh.verify import MeshReport
 
 __all__ = ["mesh", "DOMAIN_FORMATS", "MESH_OUTPUT_FORMATS", "read_domain", "npz_arrays"]
 
@@ -58,7 +63,7 @@ def _refiner_default(name: str) -> Any:
     return inspect.signature(triangulate).parameters[name].default
 
 
-def read_domain(source: str, *, convex: bool = False) -> Any:
+def read_domain(source: str, *, convex: bool = False) -> PSLG:
     """The :class:`~persistri.impl.mesh.domain.PSLG` named by ``source``: a gallery name, a ``.poly`` or a ``.node`` file.
 
     A ``.node`` file gives the convex hull of its points (Triangle's behaviour
@@ -100,7 +105,7 @@ def _first_number(source: str) -> int:
     return 0 if token.lstrip("+") == "0" else 1
 
 
-def npz_arrays(mesh: Any, smallest: float) -> dict[str, Any]:
+def npz_arrays(mesh: QualityMesh, smallest: float) -> dict[str, Any]:
     """What an ``.npz`` output holds: the mesh's arrays, the bounds, what was reached and the refinement's counts."""
     return {
         "vertices": mesh.vertices,
@@ -128,7 +133,7 @@ def npz_arrays(mesh: Any, smallest: float) -> dict[str, Any]:
     }
 
 
-def _write_triangle_files(path: Path, mesh: Any, first_number: int) -> None:
+def _write_triangle_files(path: Path, mesh: QualityMesh, first_number: int) -> None:
     """``path`` (.ele) with the ``.node`` and the ``.poly`` of the mesh segments beside it, as Triangle's ``-p`` writes them."""
     from persistri.impl.mesh.domain import PSLG
     from persistri.impl.mesh.polyfile import write_ele, write_poly
@@ -154,7 +159,7 @@ def _protect_input(source: str, targets: list[Path]) -> None:
             fail(f"{target}: is an input of this run; name the output otherwise (Triangle writes NAME.1.ele)")
 
 
-def _summary(source: str, mesh: Any, smallest: float, report: Any, max_steiner: int | None) -> str:
+def _summary(source: str, mesh: QualityMesh, smallest: float, report: MeshReport | None, max_steiner: int | None) -> str:
     bound = mesh.min_angle
     what = f"mesh of {source}: {len(mesh.triangles):,} triangles, {len(mesh.vertices):,} vertices"
     if report is not None and report.min_angle_unexempt is not None:
@@ -182,7 +187,7 @@ def _summary(source: str, mesh: Any, smallest: float, report: Any, max_steiner: 
     return f"{what}, {angle}; {steps}{rounded}{verified}"
 
 
-def _stats_table(source: str, mesh: Any, smallest: float, report: Any) -> Table:
+def _stats_table(source: str, mesh: QualityMesh, smallest: float, report: MeshReport | None) -> Table:
     table = Table(title=f"Ruppert's refinement of {source}, undone by persistence")
     table.add_column("count")
     table.add_column("value", justify="right")
@@ -320,7 +325,7 @@ def mesh(
                 raise  # rounding was on: the option would not help
             raise ValueError(f"{error_line(exc)} (on the command line: --rounded-segments)") from None
     smallest = float(result.smallest_angle())
-    report = None
+    report: MeshReport | None = None
     if check or show_stats:
         from persistri.impl.mesh.verify import verify_mesh
 
