@@ -25,6 +25,12 @@ these sympy identities (exact, polynomial) and exhaustive checks justify them:
 * **the off-centre** — the point at height ``k |pq|`` over the midpoint of ``pq``
   sees ``pq`` under the angle ``2 atan(1 / (2k))``: ``θ`` for ``k = cot(θ/2) / 2``,
   a little more for Triangle's ``0.475 cot(θ/2)``;
+* **the float stage of the quality tests** — the constants of
+  :class:`~persistri.impl.mesh.quality.QualityTests`' error argument, in exact
+  rationals: squared lengths within ``4.01u``; ``1 − 2^-40`` separates them; an angle
+  opposite a near-shortest edge has cosine at least ``0.49``; the squared-cosine
+  ratio within ``31u`` — far inside the ``1e-9`` margin; the area slack ``2^-40``
+  covers the last roundings;
 * **split points on the lattice** — :func:`~persistri.impl.mesh.steiner._congruence`
   solves ``c + k d ≡ 0 (mod 2^b)`` exactly (exhaustively checked against brute
   force for small moduli), and the integer points of a segment between integer
@@ -51,6 +57,7 @@ __all__ = [
     "proof_lens_boundary_is_isosceles",
     "proof_circumcenter_is_equidistant",
     "proof_offcenter_angle",
+    "proof_quality_float_stage",
     "proof_congruence_solver",
     "proof_segment_lattice_points",
 ]
@@ -145,6 +152,46 @@ def proof_offcenter_angle() -> None:
         triangle_k = sp.Rational(475, 1000) * sp.cot(value / 2)
         assert sp.N(2 * sp.atan(1 / (2 * triangle_k)) - value, 30) > 0, "Triangle's constant must give an angle above θ"
         assert math.isclose(steiner.offcenter_constant(float(degrees)), float(sp.N(triangle_k, 30)), rel_tol=1e-14)
+
+
+def proof_quality_float_stage() -> None:
+    """QualityTests' float stage: its error constants hold, in exact rationals (u = 2^-53), so its verdicts are exact."""
+    from persistri.impl.mesh import quality
+
+    u = Fraction(1, 2**53)
+    # A squared length fl(fl(dx²) + fl(dy²)) of rounded differences dx, dy: four roundings on a sum of squares.
+    e_len = (1 + u) ** 4 - 1
+    assert e_len <= Fraction(401, 100) * u, "squared lengths are within 4.01u"
+    # l' < m' · (1 − 2^-40) proves l < m: l <= l'/(1 − e) < m'(1 − 2^-40)/(1 − e) <= m (1 + e)(1 − 2^-40)/(1 − e).
+    sep = Fraction(quality._SEPARATE)
+    assert sep == 1 - Fraction(1, 2**40)
+    assert (1 + e_len) * sep * (1 + u) / (1 - e_len) < 1, "the separation decides which edge is shorter"
+    # A candidate edge is within (1 + e)/(1 − e)/sep of the shortest, squared; the angle A opposite it is acute (an
+    # obtuse one faces an edge longer than sqrt(2) times the others) with sin²A <= factor · sin²60° = factor · 3/4.
+    factor = (1 + e_len) / ((1 - e_len) * sep)
+    assert factor < 2
+    cos2_min = 1 - factor * Fraction(3, 4)
+    assert cos2_min >= Fraction(49, 100) ** 2, "an angle opposite a candidate has cosine at least 0.49"
+    # The dot product of rounded differences: within e_len (|dx ex| + |dy ey|) <= e_len |d||e| <= e_len / 0.49 · d·e.
+    e_dot = e_len / Fraction(49, 100)
+    assert e_dot <= Fraction(82, 10) * u
+    # ratio' = fl(fl(dot²) / fl(n1 · n2)) = ratio · f with n1, n2 the computed squared lengths, f in [lo, hi].
+    hi = (1 + e_dot) ** 2 * (1 + u) * (1 + u) / ((1 - e_len) ** 2 * (1 - u))
+    lo = (1 - e_dot) ** 2 * (1 - u) * (1 - u) / ((1 + e_len) ** 2 * (1 + u))
+    assert hi - 1 <= 31 * u and 1 - lo <= 31 * u, "the squared-cosine ratio is within 31u"
+    # The margin: ratio' below fl(c_lo · (1 − M)) <= cos²θ (1 − M)(1 + u) gives ratio <= ratio' / lo < cos²θ, and
+    # ratio' above fl(c_hi · (1 + M)) >= cos²θ (1 + M)(1 − u) gives ratio >= ratio' / hi > cos²θ.
+    margin = Fraction(quality._MARGIN)
+    assert (1 - margin) * (1 + u) / lo < 1 and (1 + margin) * (1 - u) / hi > 1, "the margin covers the ratio's error"
+    # The area: det > (T + thr)(1 + s) computed proves v > T + thr (v the value before the last rounding, within
+    # thr of det), since fl((T + thr)(1 + s)) >= (T + thr)(1 + s)(1 − u)^2 and v >= det_computed / (1 + u).
+    slack = Fraction(quality._SLACK)
+    assert (1 + slack) * (1 - u) ** 2 / (1 + u) > 1 and (1 - slack) * (1 + u) ** 2 / (1 - u) < 1, "the area slack"
+    # The lens: cos B = −dot / sqrt(fl(n1 n2)): the dot within e_len |a||b| (Cauchy–Schwarz), the root within
+    # e_len + u of |a||b| (half the product's error, plus its own rounding), the quotient rounded once.
+    e_root = e_len + u
+    e_cos = (e_len + e_root + u) / (1 - e_root)
+    assert e_cos < Fraction(2, 10**15) < Fraction(quality._LENS_MARGIN), "the lens test's margin"
 
 
 def proof_congruence_solver() -> None:
