@@ -51,8 +51,9 @@ _MARGIN = 1e-9
 
 @functools.lru_cache(maxsize=64)
 def _cos2(theta: float) -> tuple[float, float]:
-    """Floats ``lo <= cos²θ <= hi``: the rational enclosure of :func:`~persistri.impl.mesh.angles.cos2_bounds`, rounded outward."""
-    lo, hi = cos2_bounds(theta)
+    """Floats ``lo <= cos²θ <= hi``: a rational enclosure of :func:`~persistri.impl.mesh.angles.cos2_bounds`, rounded
+    outward.  56 bits: the floats need no more, and it costs a millisecond where the 128 of the exact test cost 20."""
+    lo, hi = cos2_bounds(theta, 56)
     return math.nextafter(float(lo), -math.inf), math.nextafter(float(hi), math.inf)
 
 
