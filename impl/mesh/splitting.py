@@ -142,7 +142,7 @@ def split_point(
         if exact_segments:
             raise PrecisionLimitError(
                 f"splitting segment {s} between vertices {int(lo)} and {int(hi)}: {exc}; "
-                "without exact_segments=True split points are rounded to the nearest doubles there, as Triangle does"
+                "the default, exact_segments=False, rounds split points to the nearest doubles there, as Triangle does"
             ) from None
     t, x, y = _rounded(P, a, b, lo, hi, t_first, t_second, wanted)
     return t, x, y, shell, True
