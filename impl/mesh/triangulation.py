@@ -39,8 +39,13 @@ chord lemma of :mod:`proofs.proof_terrain`), so that edge's inner triangle would
 not be in conflict; a point *on* a boundary edge is a split, and the split
 edge is not on the boundary.
 
+**Deletion** (:meth:`MeshTriangulation.remove`, for Chew's rule in the
+refinement) replaces a free vertex's star by the Delaunay triangulation of its
+link — again one ``replace``, one new version.
+
 Costs: an insertion whose cavity has ``k`` triangles costs ``O(k)`` complex
-operations (O(lg n) each) and ``O(k)`` exact predicates; a walk ``O(length)``.
+operations (O(lg n) each) and ``O(k)`` exact predicates (float-filtered); a
+deletion of a vertex of degree ``k`` ``O(k²)`` predicates; a walk ``O(length)``.
 """
 
 from __future__ import annotations
@@ -489,7 +494,3 @@ class MeshTriangulation:
                 l = z  # the line leaves through (r, z)
             else:
                 r = z  # through (z, l)
-
-    def P_orient(self, a: int, b: int, c: int) -> int:
-        """SoS orient2d (1 for ``∞`` is never asked: walks stop at ghosts)."""
-        return self.pred.orient2d(a, b, c)
