@@ -224,39 +224,60 @@ Second = Callable[[C, Callable[[Any], Any]], tuple[C | None, str]]
 that instance was made (``(None, why not)`` when none can be made)."""
 
 
-def _rerun_settings(hs: settings) -> settings:
-    """Settings for the rerun that confirms a failure: with an example database, replay the failing example
-    hypothesis saved there and nothing else; without one, search again without shrinking (a derandomized run
-    meets the same example again; a random one looks at four times as many)."""
+def _rerun_settings(hs: settings) -> tuple[settings, bool]:
+    """Settings for the rerun that confirms a failure, and whether that rerun meets the *same* example.
+
+    With an example database the rerun replays the failing example hypothesis
+    saved there, and nothing else; a derandomized run searches and shrinks
+    again along the same path to the same example; otherwise (random, no
+    database) it searches four times as many examples, without shrinking, and
+    may meet another one.
+    """
     if hs.database is not None:
-        return settings(hs, phases=[Phase.explicit, Phase.reuse])
-    more = hs.max_examples if hs.derandomize else 4 * hs.max_examples
-    return settings(hs, phases=[Phase.explicit, Phase.generate], max_examples=more)
+        return settings(hs, phases=[Phase.explicit, Phase.reuse]), True
+    if hs.derandomize:
+        return hs, True
+    return settings(hs, phases=[Phase.explicit, Phase.generate], max_examples=4 * hs.max_examples), False
 
 
 def _confirmed(
     test: ConformanceTest[C], config: C, hs: settings, exc: LawViolation, violation: type[SignatureLawViolation], second: Second[C]
 ) -> LawViolation:
-    """``exc`` when ``test`` fails again on a second instance that holds its versions, else ``determinism``."""
-    other, how = second(config, Holding)
-    if other is None:
-        return exc
-    ballast = Ballast()
-    for _ in range(256):  # the rerun's objects take fresh memory, not the first run's ids
-        ballast.drop()
-    rerun = _rerun_settings(hs)
-    try:
-        test.body(other, rerun)
-    except Flaky:
-        seen = "it failed and then passed the same example (hypothesis's Flaky)"
-    except Exception:
-        return exc  # it fails again, the same way or another: the failure is the structure's own
+    """``exc`` when ``test`` fails the same way on a second instance that keeps its versions alive, else
+    ``determinism``.  "The same way": the same law and, when the rerun meets the same example (or the test has
+    no examples), the same observation; a structure that is simply wrong repeats itself exactly."""
+    rerun, same_example = _rerun_settings(hs)
+    # A replay of the saved example is cheap: two of them, with different ballast, must both repeat the failure
+    # (an id-keyed cache copied with its stale entries can repeat one by the accident of the allocator).
+    for drops in (256, 4_096) if hs.database is not None else (256,):
+        other, how = second(config, Holding)
+        if other is None:
+            return exc
+        ballast = Ballast()
+        for _ in range(drops):  # the rerun's objects take fresh memory, not the first run's ids
+            ballast.drop()
+        try:
+            test.body(other, rerun)
+        except Flaky:
+            seen = "it failed and then passed the same example (hypothesis's Flaky)"
+            break
+        except LawViolation as again:
+            if again.law == exc.law and (again.detail == exc.detail or not same_example):
+                continue
+            seen = f"it failed differently: law {again.law}: {again.detail}"
+            break
+        except Exception as again:
+            seen = f"it raised {type(again).__name__}: {again}"
+            break
+        else:
+            seen = "it passed"
+            break
     else:
-        seen = "it passed"
+        return exc
     detail = "\n".join(
         [
-            f"determinism: law {exc.law} failed, but not when the test ran again (hypothesis's failing example "
-            f"first) on {how}, with every version it made kept alive",
+            f"determinism: law {exc.law} failed, but not the same way when the test ran again (hypothesis's "
+            f"failing example first) on {how}, with every version it made kept alive",
             f"the first run: {exc.detail}",
             f"the rerun: {seen}",
             "the answers depend on state outside the versions and arguments given (a cache keyed by id, "
