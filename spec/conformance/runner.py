@@ -19,11 +19,11 @@ calls differently, so its answers depend on state outside the versions and
 arguments it was given.  Any other law a test (marked ``confirm``) finds
 broken is checked once more: the test reruns on a second instance of the
 structure that keeps every version it makes alive (:mod:`.hidden_state`),
-replaying hypothesis's failing example first (the run keeps its examples in
-memory).  When the rerun passes, the failure came from the structure's hidden
-state — a cache keyed by ``id``, say — and is reported under ``determinism``;
-when it fails again, the first failure is reported as it was.  Either way the
-report says which law the first run broke.
+replaying hypothesis's failing example (the run keeps its examples in memory).
+When the rerun does not repeat the failure exactly, the failure came from the
+structure's hidden state — a cache keyed by ``id``, say — and is reported
+under ``determinism``; when it does, the first failure is reported as it was.
+Either way the report says which law the first run broke.
 """
 
 from __future__ import annotations
