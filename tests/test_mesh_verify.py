@@ -302,3 +302,13 @@ def test_the_tolerance_box_is_exact_and_closed() -> None:
     assert not in_tolerance_box(np.array([0.5, 1.5 + 64 * u]), a, b, 2.0)
     # Beyond the segment's end it does not count, however close to its line.
     assert not in_tolerance_box(np.array([1.0 + 2 * u, 3.0 + 6 * u]), a, b, 0.5)
+
+
+def test_the_domain_may_be_triangles_dictionary(good: tuple[NDArray[np.float64], NDArray[np.intp]]) -> None:
+    """``verify_mesh`` takes the dictionary ``triangulate`` takes, with the same verdicts as the PSLG."""
+    v, t = good
+    as_dict = SQUARE_HOLE.to_dict()
+    assert verify_mesh(as_dict, v, t, min_angle=30).ok
+    assert verify_mesh(as_dict, v, t[1:]).kinds() == verify_mesh(SQUARE_HOLE, v, t[1:]).kinds() != set()
+    flat = verify_mesh({"vertices": [[0, 0], [1, 0]]}, v, t)
+    assert flat.kinds() == {"domain"} and "collinear" in flat.problems[0].message

@@ -86,6 +86,7 @@ and the domain's faces (:func:`~persistri.impl.mesh.domain.domain_of`).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any, NamedTuple
@@ -194,7 +195,7 @@ class MeshReport:
 
 
 def verify_mesh(
-    domain: PSLG,
+    domain: PSLG | Mapping[str, Any],
     vertices: ArrayLike,
     triangles: ArrayLike,
     *,
@@ -206,6 +207,9 @@ def verify_mesh(
     max_problems: int = 10,
 ) -> MeshReport:
     """Check exactly that ``triangles`` (t × 3 rows of ``vertices``) are a constrained Delaunay mesh of ``domain``.
+
+    ``domain`` is a :class:`PSLG` or ``triangle.triangulate``'s dictionary (as
+    :func:`~persistri.impl.mesh.api.triangulate` takes it).
 
     ``min_angle`` (degrees, in ``[0, 60]``) and ``max_area`` add the quality checks;
     ``region_areas=True`` adds the area bounds of ``domain``'s regions (Triangle's ``-a``
@@ -246,6 +250,8 @@ def verify_mesh(
     if rep.problems:
         return rep
     try:
+        if isinstance(domain, Mapping):
+            domain = PSLG.from_dict(domain, repair=False)
         clean = as_pslg(domain.vertices, domain.segments, domain.holes, domain.regions, repair=False)
         scale = common_scale(pts, clean.vertices, clean.holes, clean.regions[:, :2])
         dom = domain_of(clean, scale=scale)
