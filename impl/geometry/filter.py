@@ -73,6 +73,8 @@ __all__ = [
     "GRAIN_MIN",
     "TOP_MAX",
     "orient2d_terms",
+    "orient2d_box_threshold",
+    "incircle_box_threshold",
     "orient3d_terms",
     "incircle_terms",
     "plane_terms",
@@ -368,6 +370,36 @@ def plane_side_box_threshold(dx: float, dy: float, dz: float) -> float:
     py = dz * dx + dx * dz
     pz = dx * dy + dy * dx
     return ERRBOUND_PLANE_SIDE * (dx * px + dy * py + dz * pz)
+
+
+def orient2d_box_threshold(dx: float, dy: float) -> float:
+    """A threshold at least the filter threshold of :func:`orient2d_terms` for any three points of a box.
+
+    As :func:`orient3d_box_threshold`: ``dx, dy`` are the box's sides as
+    computed, each computed difference is bounded by its side (rounding is
+    monotone), so ``|detleft|`` and ``|detright|`` by ``fl(dx · dy)``, the
+    permanent by their sum, and the threshold by ``fl(ERRBOUND_ORIENT2D ·
+    permanent)`` of those bounds.  O(1).
+    """
+    dxdy = dx * dy
+    return ERRBOUND_ORIENT2D * (dxdy + dxdy)
+
+
+def incircle_box_threshold(dx: float, dy: float) -> float:
+    """A threshold at least the filter threshold of :func:`incircle_terms` for any four points of a box.
+
+    As :func:`orient3d_box_threshold`: each product of two differences is bounded
+    by ``fl(dx · dy)`` (or, for the lifts, ``fl(dx · dx)`` and ``fl(dy · dy)``),
+    so each pair sum by ``fl(dxdy + dxdy)``, each lift by ``fl(dx·dx + dy·dy)``,
+    and the permanent — evaluated in the same order as :func:`incircle_terms`'
+    — by the same expression on those bounds; every operation is monotone in
+    nonnegative operands.  O(1).
+    """
+    dxdy = dx * dy
+    sum2 = dxdy + dxdy
+    lift = dx * dx + dy * dy
+    permanent = sum2 * lift + sum2 * lift + sum2 * lift
+    return ERRBOUND_INCIRCLE * permanent
 
 
 def orient3d_plane_terms(

@@ -83,6 +83,7 @@ from persistri.impl.geometry.filter import (
     orient3d_terms,
 )
 from persistri.impl.geometry.kernel import Indices, Orient3dKernel
+from persistri.impl.geometry.kernel2d import Delaunay2Kernel
 from persistri.impl.geometry.points import as_points
 from persistri.impl.geometry.sos import sort_with_parity, sos_orient2d, sos_orient3d
 from persistri.impl.stats import Stats
@@ -746,10 +747,20 @@ class Predicates2(_IndexedPoints):
 
     def __init__(self, points: ArrayLike, *, stats: Stats | None = None) -> None:
         pts = as_points(points, 2)
-        self._setup(pts, exact_rows=pts.shape[0], extra=0, stats=stats)
+        # Lazy rows: a height grid has millions of points and only its vertices are ever tested one by one.
+        self._setup(pts, exact_rows=pts.shape[0], extra=0, stats=stats, lazy_rows=True)
 
     def __repr__(self) -> str:
         return f"Predicates2(n={self._n})"
+
+    def kernel(self) -> Delaunay2Kernel:
+        """The trusted fast path of :meth:`orient2d`, :meth:`orient2d_sign` and :meth:`incircle`: no validation.
+
+        For the incremental Delaunay triangulation's loops; see
+        :class:`~persistri.impl.geometry.kernel2d.Delaunay2Kernel`.  O(n) once (the
+        point set's extents); make it once per run.
+        """
+        return Delaunay2Kernel(self)
 
     # -- orient2d ------------------------------------------------------------------------
 
@@ -768,6 +779,8 @@ class Predicates2(_IndexedPoints):
             cx, cy = rows[c]
         except (IndexError, TypeError):
             raise self._bad_index((a, b, c)) from None
+        except ValueError:  # a lazy row not made yet
+            (ax, ay), (bx, by), (cx, cy) = self._row(a), self._row(b), self._row(c)
         det, perm = orient2d_terms(ax, ay, bx, by, cx, cy)
         st = self.stats
         if st is not None:
@@ -787,10 +800,10 @@ class Predicates2(_IndexedPoints):
         """The true sign of the orient2d determinant: -1, 0 or +1. O(1)."""
         self._fixed(a, b, c)
         if self._uniform or self._grain_ok(a, b, c):
-            rows = self._rows
-            ax, ay = rows[a]
-            bx, by = rows[b]
-            cx, cy = rows[c]
+            row = self._row
+            ax, ay = row(a)
+            bx, by = row(b)
+            cx, cy = row(c)
             det, perm = orient2d_terms(ax, ay, bx, by, cx, cy)
             thr = ERRBOUND_ORIENT2D * perm
             if det > thr or det < -thr:
@@ -857,6 +870,8 @@ class Predicates2(_IndexedPoints):
             dx, dy = rows[d]
         except (IndexError, TypeError):
             raise self._bad_index((a, b, c, d)) from None
+        except ValueError:  # a lazy row not made yet
+            (ax, ay), (bx, by), (cx, cy), (dx, dy) = self._row(a), self._row(b), self._row(c), self._row(d)
         det, perm = incircle_terms(ax, ay, bx, by, cx, cy, dx, dy)
         st = self.stats
         if st is not None:
@@ -876,11 +891,11 @@ class Predicates2(_IndexedPoints):
         """The true sign of the incircle determinant: -1, 0 (cocircular) or +1. O(1)."""
         self._fixed(a, b, c, d)
         if self._uniform or self._grain_ok(a, b, c, d):
-            rows = self._rows
-            ax, ay = rows[a]
-            bx, by = rows[b]
-            cx, cy = rows[c]
-            dx, dy = rows[d]
+            row = self._row
+            ax, ay = row(a)
+            bx, by = row(b)
+            cx, cy = row(c)
+            dx, dy = row(d)
             det, perm = incircle_terms(ax, ay, bx, by, cx, cy, dx, dy)
             thr = ERRBOUND_INCIRCLE * perm
             if det > thr or det < -thr:

@@ -187,6 +187,7 @@ class Triangulator:
         self._xy: NDArray[np.float64] = pred.points
         self.small_integers = small_integer_points(pred.points)
         self._columns = (np.ascontiguousarray(pred.points[:, 0]), np.ascontiguousarray(pred.points[:, 1]))
+        self.kernel = pred.kernel()
 
     # -- construction ------------------------------------------------------------------
 
@@ -245,7 +246,7 @@ class Triangulator:
 
     def ghost_conflict(self, u: int, w: int, p: int) -> bool:
         """Whether ``p`` is in conflict with the ghost ``(u, w, ∞)``: strictly outside the hull edge, or on its open segment."""
-        s = self.pred.orient2d_sign(u, w, p)
+        s = self.kernel.orient2d_sign(u, w, p)
         if s:
             return s > 0
         return self._between(u, w, p)
@@ -260,7 +261,7 @@ class Triangulator:
             return self.ghost_conflict(b, c, p)
         if b == inf:
             return self.ghost_conflict(c, a, p)
-        return self.pred.incircle(a, b, c, p) > 0
+        return self.kernel.incircle(a, b, c, p) > 0
 
     # -- one insertion -------------------------------------------------------------------
 
@@ -279,27 +280,31 @@ class Triangulator:
         """
         S = self.S
         cx = self.complex
-        findi = S.findi
+        # The walk reads one version only: its neighbour function reads each vertex's list from the map once.
+        neighbour = S.neighbours(cx)
         conflicts = self.conflicts
         vp = self.vertex(p)
         tri0 = self.tri_of[start]
-        if self.check and not conflicts(tri0, p):
+        check = self.check
+        if check and not conflicts(tri0, p):
             raise TriangulationCheckError(f"insert: point {p} is not in conflict with the start triangle {tri0}")
-        found = S.data(cx, tri0)
-        if found is None:
+        a, b, c = tri0
+        found = neighbour((a, b))  # the triangle holding the directed edge (a, b): tri0 itself
+        if found is None or found[0][2] != c:
             raise TriangulationCheckError(f"insert: start triangle {tri0} is not in the current version")
-        cavity: dict[int, tuple[Triangle, IntArray]] = {start: (tri0, found[0][1])}
+        cavity: dict[int, tuple[Triangle, IntArray]] = {start: (tri0, found[1][1])}
         rejected: set[int] = set()
         boundary: list[tuple[Vertex, Vertex]] = []
         inf = self.infinite
-        incircle = self.pred.incircle
-        a, b, c = tri0
+        incircle = self.kernel.incircle
         # Each entry: an edge (u, w) of a cavity triangle whose far side is still to be decided.
         # A triangle entered across (w, u) is found as (w, u, x): only its other two edges are queued.
         edges = [(a, b), (b, c), (c, a)]
         while edges:
             u, w = edges.pop()
-            ((ntri, (nid, nsamples)),) = findi(cx, (w, u))
+            nb = neighbour((w, u))
+            assert nb is not None, "a closed surface: every oriented edge has its reverse"
+            ntri, (nid, nsamples) = nb
             if nid in cavity:
                 continue
             if nid in rejected:
@@ -355,7 +360,6 @@ class Triangulator:
         created: list[tuple[int, Triangle]] = []
         fan: list[tuple[Triangle, TriDatum]] = []
         start_at = 0
-        check = self.check
         if closed:
             ring.append(first)
         tid = self._next_id
@@ -432,8 +436,8 @@ class Triangulator:
         a linear number of steps, every live triangle is tested (O(n), never
         needed on inputs in general position).
         """
-        S, P = self.S, self.pred
-        cx = self.complex
+        orient2d = self.kernel.orient2d
+        neighbour = self.S.neighbours(self.complex)
         inf = self.infinite
         tri = self.tri_of[hint]
         tid = hint
@@ -453,8 +457,10 @@ class Triangulator:
                 u, w = edges[(turn + j) % 3]
                 if came is not None and came == (u, w):
                     continue
-                if P.orient2d(u, w, p) < 0:
-                    ((tri, (tid, _)),) = S.findi(cx, (w, u))
+                if orient2d(u, w, p) < 0:
+                    nb = neighbour((w, u))
+                    assert nb is not None, "a closed surface: every oriented edge has its reverse"
+                    tri, (tid, _) = nb
                     came = (w, u)
                     moved = True
                     break

@@ -587,6 +587,10 @@ def greedy_insertion(
         tin = _tin(run.structure, T.complex, inserted_arr, run.xy, z, shape, tf, kept, int(T.infinite), stats)
     finally:
         if collector:
+            # Promote what the run made to the oldest generation (freeze, unfreeze: two list splices):
+            # the next young collection would otherwise traverse every node of every version.
+            gc.freeze()
+            gc.unfreeze()
             gc.enable()
     if check:
         from persistri.impl.terrain.check import verify_tin

@@ -214,6 +214,10 @@ def delaunay(
                 succ[int(w)] = int(u)
     finally:
         if collector:
+            # Promote what the run made to the oldest generation (freeze, unfreeze: two list splices):
+            # the next young collection would otherwise traverse every node of every version.
+            gc.freeze()
+            gc.unfreeze()
             gc.enable()
     start = min(succ)
     cycle = [start]

@@ -1,0 +1,272 @@
+"""The trusted fast path of ``orient2d`` and ``incircle`` for the incremental Delaunay triangulation (paper §5).
+
+:meth:`Predicates2.kernel <persistri.impl.geometry.predicates.Predicates2.kernel>`
+makes a :class:`Delaunay2Kernel`.  It answers the same signs as the checked
+:class:`~persistri.impl.geometry.predicates.Predicates2` — the same Simulation of
+Simplicity for exact zeros — without the checked API's validation, and it is a
+module of its own because it is the triangulator's innermost loop (every cavity
+test of :mod:`persistri.impl.terrain.delaunay`): the compiled twin
+(docs/performance.md) compiles it with mypyc.
+
+Two ways to decide a sign, chosen once per point set:
+
+* **Exact floats** (:attr:`Delaunay2Kernel.exact_floats`).  When every coordinate
+  is an integer multiple of one power of two ``2^g`` — the point set's least
+  grain (:func:`~persistri.impl.geometry.exact.grain_span`) — and the points
+  span at most :data:`INCIRCLE_EXACT_SPAN` ``= 2^12`` grains along each axis,
+  every operation of :func:`~persistri.impl.geometry.filter.incircle_terms`'
+  determinant is exact in float64: in units of the grain, coordinate
+  differences are integers of magnitude at most ``S = 2^12``, their products at
+  most ``S²``, the differences of products and the lifts at most ``2S²``, the
+  three terms at most ``4S⁴`` each and their sum at most ``12 S⁴ = 3 · 2^50``:
+  all integers below ``2^53``, so nothing rounds (the filter's copy is the input
+  times a power of two, which changes no significand; ``choose_scaling`` keeps
+  every product a normal number).  The computed determinant *is* the exact one:
+  its sign decides, and an exact zero goes straight to Simulation of Simplicity.
+  The same argument with ``2S² <= 2^53`` makes orient2d exact up to
+  :data:`ORIENT2D_EXACT_SPAN` ``= 2^26`` grains.  Every height grid (``x`` =
+  column, ``y`` = row, fewer than 4,097 samples a side) is such a set, and on it
+  cocircular quadruples are common (every grid square): the checked predicates
+  would prove each of those zeros with Python integers first.
+* **Semi-static filter** otherwise: each determinant is compared with one
+  threshold for the whole point set, from its bounding box
+  (:func:`~persistri.impl.geometry.filter.incircle_box_threshold`), at least every
+  test's own; then with the test's own threshold; then exact integers and SoS,
+  exactly as the checked predicates do.
+
+For the SoS of an incircle zero the first term of the Λ4 sequence
+(:data:`~persistri.impl.geometry.sos.ORIENT3D_SOS`, rows sorted by index) is the
+orient2d determinant of the three points of largest index; it is computed
+here (exactly, on the exact-float path) and the full sequence runs only when it
+is zero too.
+
+Counting: while the predicates' ``stats`` is set, every call goes through the
+checked method, so counted runs count exactly what the checked predicates count.
+Indices are not validated: out of range or repeated indices are the caller's
+error (a repeated index reaches SoS, which raises :class:`ValueError`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Final
+
+from persistri.impl.geometry.filter import (
+    ERRBOUND_INCIRCLE,
+    ERRBOUND_ORIENT2D,
+    incircle_box_threshold,
+    orient2d_box_threshold,
+)
+
+if TYPE_CHECKING:
+    from persistri.impl.geometry.predicates import Predicates2
+
+__all__ = ["Delaunay2Kernel", "INCIRCLE_EXACT_SPAN", "ORIENT2D_EXACT_SPAN", "exact_float_spans"]
+
+INCIRCLE_EXACT_SPAN: Final[int] = 2**12
+"""Largest extent, in grains along each axis, for which the incircle determinant is exact in float64."""
+
+ORIENT2D_EXACT_SPAN: Final[int] = 2**26
+"""Largest extent, in grains along each axis, for which the orient2d determinant is exact in float64."""
+
+
+def exact_float_spans(pred: Predicates2) -> tuple[bool, bool]:
+    """``(orient2d exact, incircle exact)``: whether the float determinants of ``pred``'s points are exact.
+
+    The points must span at most :data:`ORIENT2D_EXACT_SPAN` (resp.
+    :data:`INCIRCLE_EXACT_SPAN`) multiples of their least grain along each axis
+    (module docstring); the extents ``hi − lo`` must be strictly below
+    ``span · 2^grain``, decided soundly in floats (rounding is monotone and the
+    bound is a double).  O(n) once.
+    """
+    span = pred._span
+    if not pred._uniform:
+        return False, False
+    if span is None:  # every coordinate is 0: one point, no test to make
+        return True, True
+    grain = span[0]
+    pts = pred.points
+    if pts.shape[0] == 0:
+        return True, True
+    extents = [float(pts[:, j].max()) - float(pts[:, j].min()) for j in range(2)]
+    # Rounding is monotone and the bounds are doubles, so fl(hi - lo) < bound implies hi - lo < bound.
+    fits_o = all(e < math.ldexp(float(ORIENT2D_EXACT_SPAN), grain) for e in extents)
+    fits_i = fits_o and all(e < math.ldexp(float(INCIRCLE_EXACT_SPAN), grain) for e in extents)
+    return fits_o, fits_i
+
+
+class Delaunay2Kernel:
+    """``orient2d``, ``orient2d_sign`` and ``incircle`` without validation, for the triangulator's loops.
+
+    Made by :meth:`~persistri.impl.geometry.predicates.Predicates2.kernel`; the same
+    signs as the checked methods of the same names (module docstring):
+
+    * :attr:`orient2d` ``(a, b, c) -> ±1`` — SoS for exact zeros;
+    * :attr:`orient2d_sign` ``(a, b, c) -> -1, 0, +1`` — the true sign;
+    * :attr:`incircle` ``(a, b, c, d) -> ±1`` — +1 when ``d`` is inside the circle
+      through ``a, b, c`` (counterclockwise); SoS for cocircular points.
+
+    Each is O(1): about half a microsecond interpreted.  A point set that needs
+    per-test grain checks (``filter_scale[1]`` False) gets the checked methods.
+    """
+
+    __slots__ = ("orient2d", "orient2d_sign", "incircle", "exact_floats", "exact_orient2d")
+
+    orient2d: Callable[[int, int, int], int]
+    orient2d_sign: Callable[[int, int, int], int]
+    incircle: Callable[[int, int, int, int], int]
+    exact_floats: bool
+    exact_orient2d: bool
+
+    def __init__(self, pred: Predicates2) -> None:
+        exact_o, exact_i = exact_float_spans(pred)
+        self.exact_floats = exact_i
+        self.exact_orient2d = exact_o
+        if not pred._uniform:
+            self.orient2d = pred.orient2d
+            self.orient2d_sign = pred.orient2d_sign
+            self.incircle = pred.incircle
+            return
+        rows = pred._rows
+        row = pred._row  # makes a lazy row: rows[i] unpacks to ValueError until then
+        checked_o, checked_sign, checked_i = pred.orient2d, pred.orient2d_sign, pred.incircle
+        exact_incircle = pred._incircle_exact
+        exact_orient = pred._orient2d_exact
+        sos_incircle = pred._sos_incircle
+        sos2 = pred._sos2
+        xs, ys = pred._cols
+        finite = [(float(c.min()), float(c.max())) for c in (xs, ys)] if xs.size else [(0.0, 0.0), (0.0, 0.0)]
+        xspan, yspan = finite[0][1] - finite[0][0], finite[1][1] - finite[1][0]
+        o2_static = orient2d_box_threshold(xspan, yspan)
+        ic_static = incircle_box_threshold(xspan, yspan)
+        o2_errbound = ERRBOUND_ORIENT2D
+        ic_errbound = ERRBOUND_INCIRCLE
+        # The filter expressions of :mod:`.filter` are written out in place (a call per test costs a
+        # sixth of the test); they are the same statements in the same order, so they round alike
+        # (tests/test_terrain_kernel.py compares them with the functions' bodies).
+
+        def incircle_zero(a: int, b: int, c: int, d: int) -> int:
+            """SoS of an exact-float zero: the first term of Λ4 (orient2d of the three largest indices), then the rest."""
+            i0, i1, i2, i3 = sorted((a, b, c, d))
+            inversions = (a > b) + (a > c) + (a > d) + (b > c) + (b > d) + (c > d)
+            try:
+                px, py = rows[i1]
+                qx, qy = rows[i2]
+                rx, ry = rows[i3]
+            except ValueError:
+                (px, py), (qx, qy), (rx, ry) = row(i1), row(i2), row(i3)
+            first = (px - rx) * (qy - ry) - (py - ry) * (qx - rx)  # exact: orient2d on the exact-float path
+            if first == 0.0:
+                return sos_incircle(a, b, c, d)
+            return (1 if first > 0.0 else -1) * (-1 if inversions & 1 else 1)
+
+        def incircle(a: int, b: int, c: int, d: int) -> int:
+            if pred.stats is not None:
+                return checked_i(a, b, c, d)
+            try:
+                ax, ay = rows[a]
+                bx, by = rows[b]
+                cx, cy = rows[c]
+                dx, dy = rows[d]
+            except ValueError:
+                (ax, ay), (bx, by), (cx, cy), (dx, dy) = row(a), row(b), row(c), row(d)
+            # filter.incircle_terms:
+            adx = ax - dx
+            bdx = bx - dx
+            cdx = cx - dx
+            ady = ay - dy
+            bdy = by - dy
+            cdy = cy - dy
+            bdxcdy = bdx * cdy
+            cdxbdy = cdx * bdy
+            alift = adx * adx + ady * ady
+            cdxady = cdx * ady
+            adxcdy = adx * cdy
+            blift = bdx * bdx + bdy * bdy
+            adxbdy = adx * bdy
+            bdxady = bdx * ady
+            clift = cdx * cdx + cdy * cdy
+            det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady)
+            if exact_i:
+                if det > 0.0:
+                    return 1
+                if det < 0.0:
+                    return -1
+                return incircle_zero(a, b, c, d)
+            if det > ic_static:
+                return 1
+            if det < -ic_static:
+                return -1
+            permanent = (
+                (abs(bdxcdy) + abs(cdxbdy)) * alift
+                + (abs(cdxady) + abs(adxcdy)) * blift
+                + (abs(adxbdy) + abs(bdxady)) * clift
+            )
+            # end of filter.incircle_terms
+            thr = ic_errbound * permanent
+            if det > thr:
+                return 1
+            if det < -thr:
+                return -1
+            return exact_incircle(a, b, c, d, True)
+
+        def orient_det(a: int, b: int, c: int) -> tuple[float, float, float]:
+            try:
+                ax, ay = rows[a]
+                bx, by = rows[b]
+                cx, cy = rows[c]
+            except ValueError:
+                (ax, ay), (bx, by), (cx, cy) = row(a), row(b), row(c)
+            # filter.orient2d_terms:
+            acx = ax - cx
+            bcx = bx - cx
+            acy = ay - cy
+            bcy = by - cy
+            detleft = acx * bcy
+            detright = acy * bcx
+            det = detleft - detright
+            # end of filter.orient2d_terms (the permanent is computed by the caller when needed)
+            return det, detleft, detright
+
+        def orient2d(a: int, b: int, c: int) -> int:
+            if pred.stats is not None:
+                return checked_o(a, b, c)
+            det, detleft, detright = orient_det(a, b, c)
+            if det > o2_static:
+                return 1
+            if det < -o2_static:
+                return -1
+            if exact_o:
+                if det > 0.0:
+                    return 1
+                if det < 0.0:
+                    return -1
+                return sos2(a, b, c)
+            thr = o2_errbound * (abs(detleft) + abs(detright))
+            if det > thr:
+                return 1
+            if det < -thr:
+                return -1
+            return exact_orient(a, b, c, True)
+
+        def orient2d_sign(a: int, b: int, c: int) -> int:
+            if pred.stats is not None:
+                return checked_sign(a, b, c)
+            det, detleft, detright = orient_det(a, b, c)
+            if det > o2_static:
+                return 1
+            if det < -o2_static:
+                return -1
+            if exact_o:
+                return 1 if det > 0.0 else (-1 if det < 0.0 else 0)
+            thr = o2_errbound * (abs(detleft) + abs(detright))
+            if det > thr:
+                return 1
+            if det < -thr:
+                return -1
+            return exact_orient(a, b, c, False)
+
+        self.orient2d = orient2d
+        self.orient2d_sign = orient2d_sign
+        self.incircle = incircle
