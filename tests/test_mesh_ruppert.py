@@ -9,7 +9,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 import triangle as tr
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from mesh_helpers import (
@@ -28,6 +28,7 @@ from mesh_helpers import (
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.api import QualityMesh, triangulate
 from persistri.impl.mesh.domain import PSLG, as_pslg
+from persistri.impl.mesh.errors import DomainError
 from persistri.impl.mesh.steiner import PrecisionLimitError, split_parameter
 
 DOMAINS = {
@@ -372,7 +373,10 @@ def test_rounded_splits_on_hull_segments_keep_the_mesh_valid(seed: int, area: fl
 def test_survey_lots_mesh_by_default(n: int, seed: int, angle: float, area: float | None) -> None:
     from persistri.impl.mesh.verify import verify_mesh
 
-    d = _survey_lot(n, seed)
+    try:
+        d = _survey_lot(n, seed)
+    except DomainError:  # an angular gap above 180° can make the ring cross itself: not a lot
+        assume(False)
     m = triangulate(d, min_angle=angle, max_area=area)
     assert m.min_angle_reached and m.max_area_reached
     report = verify_mesh(d, m.vertices, m.triangles, min_angle=angle, max_area=area, exact_segments=m.rounded_splits == 0)
