@@ -62,8 +62,7 @@ Points are indices into the predicates' point array; each is a
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Final
+from typing import Final, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -98,8 +97,7 @@ class TriangulationCheckError(AssertionError):
     """A ``check=True`` assertion of the incremental Delaunay triangulation failed (the message says which)."""
 
 
-@dataclass(frozen=True, slots=True)
-class Insertion:
+class Insertion(NamedTuple):
     """What one insertion did (the caller, e.g. greedy insertion, reads the new triangles from it).
 
     * ``point`` — the inserted point;
@@ -110,21 +108,25 @@ class Insertion:
     * ``samples`` — the pooled samples of the cavity, sorted by the position of
       their new triangle in ``created`` (``point`` excluded); ``counts[i]`` of them
       belong to ``created[i]``, consecutively;
+    * ``counts`` — how many samples each triangle of ``created`` holds;
     * ``hull_vertex`` — whether ``point`` is a vertex of the new convex hull (it lay on or
       beyond the old one: ghosts were in the cavity);
     * ``rays`` — the fan's boundary vertices in order, ``len(created) + 1`` of them:
       ``created[i]`` is ``(rays[i], rays[i + 1], point)`` (a closed fan repeats its first vertex at the end);
     * ``fan_index`` — for each of ``samples``, the position of its triangle in ``created`` (nondecreasing).
+
+    A named tuple (made once per insertion, read by the caller, never changed); the lists are the
+    insertion's own.
     """
 
     point: int
     version: Complex[TriDatum]
-    removed: tuple[int, ...]
-    created: tuple[tuple[int, Triangle], ...]
+    removed: list[int]
+    created: list[tuple[int, Triangle]]
     samples: IntArray
-    counts: IntArray
+    counts: list[int]
     hull_vertex: bool
-    rays: IntArray
+    rays: list[Vertex]
     fan_index: IntArray
 
 
@@ -282,126 +284,132 @@ class Triangulator:
         cx = self.complex
         # The walk reads one version only: its neighbour function reads each vertex's list from the map once.
         neighbour = S.neighbours(cx)
-        conflicts = self.conflicts
         vp = self.vertex(p)
         tri0 = self.tri_of[start]
         check = self.check
-        if check and not conflicts(tri0, p):
+        if check and not self.conflicts(tri0, p):
             raise TriangulationCheckError(f"insert: point {p} is not in conflict with the start triangle {tri0}")
         a, b, c = tri0
         found = neighbour((a, b))  # the triangle holding the directed edge (a, b): tri0 itself
         if found is None or found[0][2] != c:
             raise TriangulationCheckError(f"insert: start triangle {tri0} is not in the current version")
-        cavity: dict[int, tuple[Triangle, IntArray]] = {start: (tri0, found[1][1])}
+        removed = [start]
+        removed_tris = [tri0]
+        lists = [found[1][1]]
+        inside = {start}
         rejected: set[int] = set()
-        boundary: list[tuple[Vertex, Vertex]] = []
+        succ: dict[Vertex, Vertex] = {}  # the cavity's boundary edges (u, w), as u -> w
+        n_boundary = 0
         inf = self.infinite
         incircle = self.kernel.incircle
+        ghost_conflict = self.ghost_conflict
         # Each entry: an edge (u, w) of a cavity triangle whose far side is still to be decided.
         # A triangle entered across (w, u) is found as (w, u, x): only its other two edges are queued.
         edges = [(a, b), (b, c), (c, a)]
+        pop, push = edges.pop, edges.append
         while edges:
-            u, w = edges.pop()
+            u, w = pop()
             nb = neighbour((w, u))
             assert nb is not None, "a closed surface: every oriented edge has its reverse"
-            ntri, (nid, nsamples) = nb
-            if nid in cavity:
+            ntri, datum = nb
+            nid = datum[0]
+            if nid in inside:
                 continue
-            if nid in rejected:
-                boundary.append((u, w))
-                continue
-            x = ntri[2]
-            if (incircle(w, u, x, p) > 0) if (x != inf and w != inf and u != inf) else conflicts(ntri, p):
-                cavity[nid] = (ntri, nsamples)
-                edges.append((u, x))
-                edges.append((x, w))
-            else:
+            if nid not in rejected:
+                x = ntri[2]
+                if x is inf:
+                    hit = ghost_conflict(w, u, p)
+                elif w is inf:
+                    hit = ghost_conflict(u, x, p)
+                elif u is inf:
+                    hit = ghost_conflict(x, w, p)
+                else:
+                    hit = incircle(w, u, x, p) > 0
+                if hit:
+                    inside.add(nid)
+                    removed.append(nid)
+                    removed_tris.append(ntri)
+                    lists.append(datum[1])
+                    push((u, x))
+                    push((x, w))
+                    continue
                 rejected.add(nid)
-                boundary.append((u, w))
+            succ[u] = w
+            n_boundary += 1
 
         # The cavity boundary as one cycle; a ghost edge puts ∞ on it (the point is on or beyond the hull).
-        succ = {u: w for u, w in boundary}
-        if self.check and len(succ) != len(boundary):
+        if check and len(succ) != n_boundary:
             raise TriangulationCheckError(f"insert: the cavity of point {p} is not a disc (its boundary is not one cycle)")
-        first = succ[inf] if inf in succ else boundary[0][0]
+        closed = inf not in succ
+        first = next(iter(succ)) if closed else succ[inf]
         ring = [first]
         v = succ[first]
-        while v != first and v != inf:
+        while v is not first and v is not inf:
             ring.append(v)
             v = succ[v]
-        closed = v == first
-        if self.check and len(ring) + (0 if closed else 1) != len(boundary):
+        if check and len(ring) + (0 if closed else 1) != n_boundary:
             raise TriangulationCheckError(f"insert: the cavity boundary of point {p} is not a simple cycle")
-
-        # The fan's boundary as an array: closed, the first vertex repeated at the end.
-        nfan = len(ring) if closed else len(ring) - 1
-        rays = np.array(ring + [first] if closed else ring, dtype=np.intp)
+        if closed:
+            ring.append(first)  # the fan's boundary, closed: the first vertex repeated at the end
+        nfan = len(ring) - 1
 
         # Pool the samples of the removed finite triangles and sort them into the fan's sectors.
-        lists = [s for _, s in cavity.values() if s.size]
-        pooled = lists[0] if len(lists) == 1 else (np.concatenate(lists) if lists else EMPTY)
+        sized = [s for s in lists if s.size]
+        pooled = sized[0] if len(sized) == 1 else (np.concatenate(sized) if sized else EMPTY)
         if pooled.size:
             pooled = pooled[pooled != p]
         if pooled.size and nfan > 1:
-            order, sector = self._sectors(p, rays, closed, pooled)
+            order, sector = self._sectors(p, ring, closed, pooled)
             pooled = pooled[order]
-            counts = np.bincount(sector, minlength=nfan)
+            counts: list[int] = np.bincount(sector, minlength=nfan).tolist()
         else:
             sector = np.zeros(pooled.size, dtype=np.intp)
-            counts = np.zeros(nfan, dtype=np.intp)
-            if pooled.size:
-                counts[0] = pooled.size
+            counts = [0] * nfan
+            counts[0] = pooled.size
         _frozen(pooled)
 
         # The new version: the cavity removed, the fan added (one replace, or the paper's rem and add each).
         tri_of = self.tri_of
-        for tid in cavity:
+        for tid in removed:
             del tri_of[tid]
         created: list[tuple[int, Triangle]] = []
         fan: list[tuple[Triangle, TriDatum]] = []
         start_at = 0
-        if closed:
-            ring.append(first)
         tid = self._next_id
-        for i, cnt in enumerate(counts.tolist()):
-            u = ring[i]
+        u = ring[0]
+        for i in range(nfan):
             w = ring[i + 1]
             tri = (u, w, vp)
             if check and self.pred.orient2d_sign(u, w, p) <= 0:
                 raise TriangulationCheckError(f"insert: point {p} makes the flat or inverted triangle {tri}")
             tri_of[tid] = tri  # as _new_id, inlined: once per fan triangle
-            part = pooled[start_at : start_at + cnt] if cnt else EMPTY
-            start_at += cnt
-            fan.append((tri, (tid, part)))
+            cnt = counts[i]
+            if cnt:
+                stop = start_at + cnt
+                fan.append((tri, (tid, pooled[start_at:stop])))
+                start_at = stop
+            else:
+                fan.append((tri, (tid, EMPTY)))
             created.append((tid, tri))
             tid += 1
+            u = w
         self._next_id = tid
         if not closed:
             # The two ghosts on the new hull edges (ring[-1], p) and (p, ring[0]).
             for tri in ((ring[-1], inf, vp), (inf, ring[0], vp)):
                 fan.append((tri, (self._new_id(tri), EMPTY)))
         if self.stepwise:
-            for tri, _ in cavity.values():
+            for tri in removed_tris:
                 cx = S.rem(cx, tri)
             for tri, datum in fan:
                 cx = S.add(cx, tri, datum)
         else:
-            cx = S.replace(cx, [tri for tri, _ in cavity.values()], fan)
+            cx = S.replace(cx, removed_tris, fan)
         self.complex = cx
-        return Insertion(
-            point=p,
-            version=cx,
-            removed=tuple(cavity),
-            created=tuple(created),
-            samples=pooled,
-            counts=counts,
-            hull_vertex=not closed,
-            rays=_frozen(rays),
-            fan_index=_frozen(sector),
-        )
+        return Insertion(p, cx, removed, created, pooled, counts, not closed, ring, _frozen(sector))
 
-    def _sectors(self, p: int, rays: IntArray, closed: bool, pooled: IntArray) -> tuple[IntArray, IntArray]:
-        """The pooled samples sorted by fan triangle ``i`` (``(rays[i], rays[i+1], p)``): ``(order, i)`` (see ``fan_sectors``).
+    def _sectors(self, p: int, ring: list[Vertex], closed: bool, pooled: IntArray) -> tuple[IntArray, IntArray]:
+        """The pooled samples sorted by fan triangle ``i`` (``(ring[i], ring[i+1], p)``): ``(order, i)`` (see ``fan_sectors``).
 
         The sector test of :mod:`persistri.impl.terrain.sectors`: true orient2d
         signs against the ray to every boundary vertex (the two ends of an open chain
@@ -411,7 +419,7 @@ class Triangulator:
             return fan_sectors(
                 self.pred,
                 p,
-                rays,
+                np.fromiter(ring, dtype=np.intp, count=len(ring)),
                 pooled,
                 closed,
                 exact_floats=self.small_integers,

@@ -163,11 +163,35 @@ def fan_errors(
         gxs.append((dz1 * dy2 - dz2 * dy1) / det)
         gys.append((dx1 * dz2 - dx2 * dz1) / det)
         x1, y1, z1 = x2, y2, z2
-    plane = np.array(gxs)[fan_index]
-    plane *= x[samples] - xp
-    plane += zp
-    slope = np.array(gys)[fan_index]
-    slope *= y[samples] - yp
+    return _fan_plane_errors(x, y, z, xp, yp, zp, gxs, gys, fan_index, samples)
+
+
+def _fan_plane_errors(
+    x: FloatArray,
+    y: FloatArray,
+    z: FloatArray,
+    xp: float,
+    yp: float,
+    zp: float,
+    gxs: list[float],
+    gys: list[float],
+    fan_index: IntArray,
+    samples: IntArray,
+) -> FloatArray:
+    """The per-sample half of :func:`fan_errors`: ``|z − (zp + gx (x − xp) + gy (y − yp))|`` by fan triangle."""
+    if len(gxs) == 1:
+        # One triangle: its gradient is a scalar (no gather).
+        plane = x[samples] - xp
+        plane *= gxs[0]
+        plane += zp
+        slope = y[samples] - yp
+        slope *= gys[0]
+    else:
+        plane = np.array(gxs)[fan_index]
+        plane *= x[samples] - xp
+        plane += zp
+        slope = np.array(gys)[fan_index]
+        slope *= y[samples] - yp
     plane += slope
     err: FloatArray = np.abs(z[samples] - plane)
     return err
@@ -405,10 +429,15 @@ class _Greedy:
         self.structure: TwoComplex[TriDatum] = TwoComplex(map_backend(backend), stats)
         self.T = Triangulator(self.pred, self.structure, check=check, stepwise=stepwise)
         self.heap: list[tuple[float, int, int]] = []
+        self.cols = cols
+        self.vxyz: dict[int, tuple[float, float, float]] = {}
+        """Each vertex's ``(x, y, z)`` as Python floats (for the fans' gradients)."""
         n = rows * cols
         # Corners counterclockwise in (x, y): (0, 0), (cols-1, 0), (cols-1, rows-1), (0, rows-1).
         a, b, c, d = 0, cols - 1, n - 1, n - cols
         self.corners = (a, b, c, d)
+        for v in self.corners:
+            self.vxyz[v] = (float(v % cols), float(v // cols), z.item(v))
         inside = np.ones(n, dtype=bool)
         inside[[a, b, c, d]] = False
         samples = np.flatnonzero(inside).astype(np.intp)
@@ -429,43 +458,69 @@ class _Greedy:
             found = self.structure.data(self.T.complex, tri)
             assert found is not None
             own = found[0][1]
-            counts = np.array([own.size], dtype=np.intp)
             if own.size:
+                counts = np.array([own.size], dtype=np.intp)
                 err = plane_errors(self.x, self.y, self.z, apex_first(np.array([tri]), rank), counts, own)
-                self._queue([tid], counts, own, err)
+                self._queue([tid], [own.size], own, err)
 
-    def _queue(self, tids: list[int], counts: IntArray, samples: IntArray, err: FloatArray) -> None:
+    def _queue(self, tids: list[int], counts: list[int], samples: IntArray, err: FloatArray) -> None:
         """Queue the candidate — the first sample of largest error — of each triangle with samples and error > 0."""
         heap = self.heap
+        push = heapq.heappush
         start = 0
         if err.size <= _PYTHON_ARGMAX:
             # Few samples (most insertions): Python's max and index on a list beat a numpy call per triangle.
             errs = err.tolist()
             sample = samples.item
-            push = heapq.heappush
-            for tid, cnt in zip(tids, counts.tolist()):
+            for tid, cnt in zip(tids, counts):
                 if cnt:
-                    seg = errs[start : start + cnt]
-                    e = max(seg)
-                    if e > 0.0:
-                        push(heap, (-e, tid, sample(start + seg.index(e))))
-                    start += cnt
+                    stop = start + cnt
+                    if cnt == 1:
+                        e = errs[start]
+                        if e > 0.0:
+                            push(heap, (-e, tid, sample(start)))
+                    else:
+                        seg = errs[start:stop]
+                        e = max(seg)
+                        if e > 0.0:
+                            push(heap, (-e, tid, sample(start + seg.index(e))))
+                    start = stop
             return
-        for tid, cnt in zip(tids, counts.tolist()):
+        for tid, cnt in zip(tids, counts):
             if cnt:
                 part = err[start : start + cnt]
                 i = int(part.argmax())
                 e = float(part[i])
                 if e > 0.0:
-                    heapq.heappush(heap, (-e, tid, int(samples[start + i])))
+                    push(heap, (-e, tid, int(samples[start + i])))
                 start += cnt
 
     def _assess(self, ins: Insertion) -> None:
-        """Measure the samples of the insertion's new triangles and queue their candidates."""
+        """Measure the samples of the insertion's new triangles and queue their candidates.
+
+        :func:`fan_errors`, with the fan's gradients from the vertices' coordinates kept as Python floats
+        (:attr:`vxyz`: reading seven points from the arrays costs more than the arithmetic).
+        """
+        p = ins.point
+        vxyz = self.vxyz
+        i = p
+        xp, yp, zp = vxyz[p] = (float(i % self.cols), float(i // self.cols), self.z.item(i))
         samples = ins.samples
         if not samples.size:
             return
-        err = fan_errors(self.x, self.y, self.z, ins.point, ins.rays, ins.fan_index, samples)
+        gxs: list[float] = []
+        gys: list[float] = []
+        rays = iter(ins.rays)
+        x1, y1, z1 = vxyz[next(rays)]
+        for v in rays:
+            x2, y2, z2 = vxyz[v]
+            dx1, dy1, dz1 = x1 - xp, y1 - yp, z1 - zp
+            dx2, dy2, dz2 = x2 - xp, y2 - yp, z2 - zp
+            det = dx1 * dy2 - dx2 * dy1
+            gxs.append((dz1 * dy2 - dz2 * dy1) / det)
+            gys.append((dx1 * dz2 - dx2 * dz1) / det)
+            x1, y1, z1 = x2, y2, z2
+        err = _fan_plane_errors(self.x, self.y, self.z, xp, yp, zp, gxs, gys, ins.fan_index, samples)
         self._queue([tid for tid, _ in ins.created], ins.counts, samples, err)
 
     def current_error(self) -> float:
