@@ -8,7 +8,9 @@ results and operation counts, never wall-clock time.
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 
+import pytest
 from hypothesis import HealthCheck, settings
 
 settings.register_profile(
@@ -32,3 +34,16 @@ def pytest_report_header() -> str:
     from persistri.impl.bench.hull import persistri_build
 
     return f"persistri: {persistri_build()}"
+
+
+@pytest.fixture(autouse=True)
+def _no_columns(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """Every test starts without ``COLUMNS``, as output to a user's pipe or file does.
+
+    pytest-xdist sets ``COLUMNS`` to its terminal's width in its workers, and
+    persistri's consoles lay tables out to ``COLUMNS`` when it is set
+    (:mod:`persistri.impl.cli.console`): without this, a table would be squeezed
+    under ``-n 2`` and not in a single process.  Tests about ``COLUMNS`` set it.
+    """
+    monkeypatch.delenv("COLUMNS", raising=False)
+    yield
