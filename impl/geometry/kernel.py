@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Final
+from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -35,7 +35,7 @@ from persistri.impl.stats import Stats
 if TYPE_CHECKING:
     from persistri.impl.geometry.predicates import Predicates3
 
-__all__ = ["Orient3dKernel", "Indices", "KERNEL_BATCH"]
+__all__ = ["Orient3dKernel", "Indices", "PointArray", "KERNEL_BATCH"]
 
 KERNEL_BATCH: Final[int] = 64
 """Below this many points :attr:`Orient3dKernel.partition` loops over the points instead of
@@ -48,8 +48,12 @@ against the vectorised path's 25–35 µs for a call of up to a hundred points (
 IntArray = NDArray[np.intp]
 SignArray = NDArray[np.int8]
 
-Indices = Sequence[int] | IntArray
-"""Point indices as the kernel takes and returns them: a tuple or list of ints, or an int array."""
+PointArray = NDArray[np.integer[Any]]
+"""Point indices as an array of any integer type (the bulldozer keeps its long conflict lists in int32)."""
+
+Indices = Sequence[int] | PointArray
+"""Point indices as the kernel takes and returns them: a tuple or list of ints, or an integer array
+(``partition`` returns arrays of the type it was given)."""
 
 
 class Orient3dKernel:
@@ -140,6 +144,7 @@ class Orient3dKernel:
         plane_flops, side_flops = FLOPS_PLANE, FLOPS_PLANE_SIDE
         small = KERNEL_BATCH
         ndarray = np.ndarray
+        intp = np.dtype(np.intp)
         # The scalar paths below run the filter expressions of :mod:`.filter` written out in place
         # (orient3d_terms; plane_terms, then plane_side_terms per point): a call per test costs as much
         # as a third of its arithmetic.  They are the same statements in the same order, so they round
@@ -229,7 +234,7 @@ class Orient3dKernel:
             # tested against its own threshold, the FLOPS_PLANE_SIDE that Stats counts.
             static = side_static if st is None else nan
             if m >= small:
-                q_arr: IntArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
+                q_arr: PointArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
                 neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz), static, q_arr)
                 # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry.
                 return q_arr[neg], q_arr[pos]
@@ -282,7 +287,7 @@ class Orient3dKernel:
             at: tuple[float, float, float],
             normal: tuple[float, float, float],
             static: float,
-            q_arr: IntArray,
+            q_arr: PointArray,
         ) -> tuple[IntArray, IntArray]:
             """The positions in ``q_arr`` where orient3d(a, b, c, q) = -1 and where it is +1, increasing.
 
@@ -295,6 +300,9 @@ class Orient3dKernel:
             """
             nx, ny, nz = normal
             ax, ay, az = at
+            if q_arr.dtype != intp:
+                # numpy gathers through intp indices only: converted once here, not once per column.
+                q_arr = q_arr.astype(intp)
             qy = ys[q_arr]  # gathered copies: the filter functions compute in them
             counted = static != static
             if counted:
