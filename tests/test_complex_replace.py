@@ -17,7 +17,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from complex_helpers import STRUCTURE_IDS, STRUCTURES, Make, build, fresh, icosahedron
+from complex_helpers import STRUCTURE_IDS, STRUCTURES, Make, build, fresh, icosahedron, random_polytope
 from persistri.impl.complex import complex_structure, two_complex
 from persistri.impl.complex.errors import (
     AbsentSimplexError,
@@ -189,3 +189,65 @@ def test_bad_arguments_get_the_signature_errors(make: Make) -> None:
         with pytest.raises(ForeignComplexError):
             C.replace(foreign, [], [])
     assert items_of(C, c) == items_of(C, build(make(2), vs, ICOSA))  # refused calls changed nothing
+
+
+@pytest.mark.parametrize("backend", ["red_black", "hamt", "assoc_list"])
+def test_replace_shares_what_it_does_not_change(backend: str) -> None:
+    """Persistence by sharing, checked by identity: the lists of untouched vertices, the kept entries of the
+    touched ones, and (red-black) every subtree off the touched vertices' search paths are the old version's
+    very objects — which a compiled build that re-boxed tuples would break — and the old version is unchanged."""
+    n_verts, tris = random_polytope(300, seed=5)
+    C = two_complex(backend)
+    vs = fresh(n_verts + 1)
+    c = build(C, vs, tris)
+    m = C._m
+    old_lists = dict(m.listItemsi(c.rep))
+    snapshot = {v: list(lst) for v, lst in old_lists.items()}
+    v0, p = vs[0], vs[n_verts]
+    star = [tuple(vs[i] for i in t) for t in tris if 0 in t]
+    link = [(t[(t.index(v0) + 1) % 3], t[(t.index(v0) + 2) % 3]) for t in star]
+    c2 = C.replace(c, star, [((u, w, p), "new") for u, w in link])
+    touched = {v0, p, *(u for u, _ in link)}
+    new_lists = dict(m.listItemsi(c2.rep))
+    assert set(new_lists) == set(old_lists) - {v0} | {p}
+    for v, lst in new_lists.items():
+        if v not in touched:
+            assert lst is old_lists[v], v
+        elif v != p:
+            kept = [e for e in old_lists[v] if v0 not in e[:2]]
+            assert [e for e in lst if any(e is k for k in kept)] == kept, v  # the very entry objects, in order
+    assert {v: list(lst) for v, lst in m.listItemsi(c.rep)} == snapshot
+    assert all(old_lists[v] is lst for v, lst in m.listItemsi(c.rep))
+    if backend == "red_black":
+        # An edge flip keeps every vertex: exactly the nodes on the four vertices' search paths are new,
+        # every subtree hanging off them is the old one itself (a build that re-boxed tuples would copy
+        # the untouched children of each path node too).
+        a, b, d = star[0]
+        nb = C.neighbour(c, (b, a))
+        assert nb is not None
+        x = nb[0][2]
+        flipped = C.replace(c, [(a, b, d), (b, a, x)], [((d, a, x), 0), ((x, b, d), 1)])
+        C.check(flipped)
+        old_nodes = _tree_nodes(c.rep[1])
+        fresh_nodes = [i for i in _tree_nodes(flipped.rep[1]) if i not in old_nodes]
+        on_paths = {id(n) for k in (a, b, d, x) for n in _search_path(c.rep[1], k)}
+        assert len(fresh_nodes) == len(on_paths) < len(old_nodes) / 4, (len(fresh_nodes), len(on_paths))
+
+
+def _tree_nodes(t: Any) -> dict[int, Any]:
+    out: dict[int, Any] = {}
+    stack = [t]
+    while stack:
+        x = stack.pop()
+        if x is not None:
+            out[id(x)] = x
+            stack += [x[1], x[4]]
+    return out
+
+
+def _search_path(t: Any, k: Any) -> list[Any]:
+    path = []
+    while t is not None:
+        path.append(t)
+        t = t[1] if k < t[2] else t[4] if t[2] < k else None
+    return path
