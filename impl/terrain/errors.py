@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["DegenerateInputError"]
+__all__ = ["DegenerateInputError", "TriangulationCheckError"]
 
 
 class DegenerateInputError(ValueError):
@@ -14,3 +14,11 @@ class DegenerateInputError(ValueError):
     def __init__(self, message: str, *, distinct: int) -> None:
         super().__init__(message)
         self.distinct = distinct
+
+
+class TriangulationCheckError(AssertionError):
+    """A ``check=True`` assertion of the incremental Delaunay triangulation failed (the message says which).
+
+    Defined here, not in :mod:`persistri.impl.terrain.delaunay` (which re-exports it), because that
+    module is compiled in the compiled twin and mypyc does not compile subclasses of builtin exceptions.
+    """
