@@ -277,7 +277,7 @@ def test_bench_terrain_table_on_jacksboro_and_bad_sizes() -> None:
     result = CliRunner().invoke(main, ["bench", "terrain", "--sizes", "8"])
     assert result.exit_code == 0, result.output
     text = " ".join(result.stdout.split())
-    assert "Greedy insertion on jacksboro 344×403 (red_black backend)" in text
+    assert "Greedy insertion on jacksboro 344×403 (red_black backend; persistri " in text
     assert "recomputed over every sample" in text
     bad = CliRunner().invoke(main, ["bench", "terrain", "--sizes", "two"])
     assert bad.exit_code == 2

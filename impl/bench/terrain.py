@@ -276,7 +276,11 @@ def terrain_table(bench: TerrainBench) -> Any:
     from rich.table import Table
     from rich.text import Text
 
-    table = Table(title=f"Greedy insertion on {bench.grid} {bench.shape[0]}×{bench.shape[1]} ({bench.backend} backend)")
+    from persistri.impl.bench.delaunay import terrain_build
+
+    table = Table(
+        title=f"Greedy insertion on {bench.grid} {bench.shape[0]}×{bench.shape[1]} ({bench.backend} backend; persistri {terrain_build()})"
+    )
     for name in (
         "points",
         "pydelatin s",

@@ -1,7 +1,7 @@
 """``persistri bench``: benchmarks that measure persistri against its peers in the same run.
 
 A click group; each benchmark is a sub-command (``maps``, ``complex``, ``hull``,
-``terrain`` and ``mesh``).  The measuring code lives in
+``terrain``, ``delaunay`` and ``mesh``).  The measuring code lives in
 :mod:`persistri.impl.bench`; the commands parse options, show progress on
 stderr and print results on stdout.
 """
@@ -123,41 +123,118 @@ def maps(sizes: tuple[int, ...], repeat: int, seed: int, only: str | None, as_js
 @bench.command("terrain")
 @click.option(
     "--sizes",
-    default="1600,3200,6400,12800",
-    show_default=True,
-    callback=_sizes_option,
-    help="Vertex counts, separated by commas.",
+    default=None,
+    help="Vertex counts, separated by commas [default: 1600,3200,6400,12800 unless --max-error or --relief is given].",
 )
+@click.option("--max-error", type=click.FloatRange(min=0.0, min_open=True), default=None, help="Also refine both meshers to this maximum error (height units) and compare their times.")
+@click.option("--relief", "relief_fraction", type=click.FloatRange(min=0.0, max=1.0, min_open=True), default=None, help="As --max-error, as a fraction of the grid's relief (0.01: 1 %).")
+@click.option("--peak-memory", is_flag=True, help="With --max-error/--relief: the peak memory of each mesher, each run in a fresh process (Linux).")
 @click.option("--repeat", type=click.IntRange(min=1), default=1, show_default=True, help="Timed runs per figure; the best is kept.")
 @click.option("--backend", default="red_black", show_default=True, help="ORD_MAP backend of the complex.")
 @click.option("--memory", is_flag=True, help="Also measure the memory of keeping every level of detail (tracemalloc; slow).")
-@click.option("--grid", "grid_source", default="jacksboro", show_default=True, help="The height grid: jacksboro or a grid file.")
+@click.option("--grid", "grid_source", default="jacksboro", show_default=True, help="The height grid: jacksboro, synthetic[:SIZE[:SEED]] or a grid file.")
 @click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
-def terrain(sizes: tuple[int, ...], repeat: int, backend: str, memory: bool, grid_source: str, as_json: bool) -> None:
+def terrain(
+    sizes: str | None,
+    max_error: float | None,
+    relief_fraction: float | None,
+    peak_memory: bool,
+    repeat: int,
+    backend: str,
+    memory: bool,
+    grid_source: str,
+    as_json: bool,
+) -> None:
     """Greedy insertion on the Jacksboro DEM (or --grid) against pydelatin, in the same run (paper §5, Fig. 11).
 
     For each size: pydelatin's time and vertex count, persistri's time to the
     same vertex count, both maximum errors (recomputed over every sample), and
     persistri's key comparisons, dictionary operations, plane-side tests and
     flops.  --memory adds the memory kept with every level of detail against
-    the final mesh alone.
+    the final mesh alone.  --max-error (or --relief) refines both meshers to
+    that error and compares their times instead; --peak-memory adds their peak
+    memory.  --grid synthetic:2048 is a 2,048 × 2,048 fractal terrain
+    (persistri.impl.terrain.synthetic).
     """
     from persistri.impl.bench.terrain import run_terrain_bench, terrain_table
-    from persistri.impl.terrain.grids import GRID_FORMATS, read_grid
+    from persistri.impl.bench.terrain_target import relief, run_to_error, target_table
+    from persistri.impl.terrain.grids import GRID_FORMATS, as_heights, read_grid
+    from persistri.impl.terrain.synthetic import parse_synthetic, synthetic_dem
 
     err = stderr_console()
-    check_input(Path(grid_source), GRID_FORMATS, kind="grid", words=("jacksboro",))
+    target = max_error is not None or relief_fraction is not None
+    if max_error is not None and relief_fraction is not None:
+        fail("give --max-error or --relief, not both")
+    if peak_memory and not target:
+        fail("--peak-memory measures a run to --max-error or --relief: give one of them")
+    size_list = parse_sizes(sizes) if sizes is not None else (() if target else parse_sizes("1600,3200,6400,12800"))
+    try:
+        synthetic = parse_synthetic(grid_source)
+    except ValueError as exc:
+        fail(str(exc))
     check_backend(backend)
-    grid = read_grid(grid_source)
+    if synthetic is not None:
+        grid = synthetic_dem(synthetic[0], seed=synthetic[1])
+    else:
+        check_input(Path(grid_source), GRID_FORMATS, kind="grid", words=("jacksboro",))
+        grid = read_grid(grid_source)
+    name = grid_source.lower() if synthetic is None and grid_source.lower() == "jacksboro" else grid_source
+    out: dict[str, object] = {}
+    renderables: list[object] = []
     with about(grid_source), progress_bar(err, "bench terrain") as update:
-        result = run_terrain_bench(
-            sizes, heights=grid.heights, grid_name=grid_source, backend=backend, repeat=repeat, memory=memory,
-            on_progress=update,
-        )
+        if target:
+            h = as_heights(grid.heights, what=name)
+            e = max_error if max_error is not None else float(relief_fraction) * relief(h)  # type: ignore[arg-type]
+            update(0, 1, f"both meshers to a maximum error of {e:.4g}")
+            record = run_to_error(h, e, grid_name=name, backend=backend, repeat=repeat, peak=peak_memory)
+            out["to_error"] = [record.as_dict()]
+            renderables.append(target_table([record]))
+        if size_list:
+            result = run_terrain_bench(
+                size_list, heights=grid.heights, grid_name=name, backend=backend, repeat=repeat, memory=memory,
+                on_progress=update,
+            )
+            out.update(result.as_dict())
+            renderables.append(terrain_table(result))
+    if as_json:
+        click.echo(json.dumps(out, indent=2, ensure_ascii=False))
+    else:
+        console = stdout_console()
+        for r in renderables:
+            console.print(r)
+
+
+@bench.command("delaunay")
+@click.option(
+    "--sizes",
+    default="10000,100000",
+    show_default=True,
+    callback=_sizes_option,
+    help="Point counts, separated by commas.",
+)
+@click.option("--repeat", type=click.IntRange(min=1), default=1, show_default=True, help="Timed runs per figure; the best is kept.")
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the points and of the insertion order.")
+@click.option("--backend", default="red_black", show_default=True, help="ORD_MAP backend of the complex.")
+@click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
+def delaunay_(sizes: tuple[int, ...], repeat: int, seed: int, backend: str, as_json: bool) -> None:
+    """Exact 2D Delaunay of uniform random points against scipy.spatial.Delaunay (Qhull), in the same run.
+
+    For each size: scipy's time, persistri's time, their ratio and both
+    triangle counts; the caption names the build that ran (interpreted or the
+    compiled twin).
+    """
+    from persistri.impl.bench.delaunay import delaunay_table, run_delaunay_bench
+
+    check_backend(backend)
+    if min(sizes) < 3:
+        fail("--sizes: a triangulation needs at least 3 points")
+    err = stderr_console()
+    with progress_bar(err, "bench delaunay") as update:
+        result = run_delaunay_bench(sizes, seed=seed, backend=backend, repeat=repeat, on_progress=update)
     if as_json:
         click.echo(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
     else:
-        stdout_console().print(terrain_table(result))
+        stdout_console().print(delaunay_table(result))
 
 
 @bench.command("complex")
