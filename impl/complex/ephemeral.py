@@ -67,19 +67,8 @@ from persistri.impl.complex.errors import (
 )
 from persistri.impl.complex.simplex import Simplex
 from persistri.impl.complex.structure import Complex, Family, same_datum
-from persistri.impl.complex.two_complex import (
-    Entry,
-    Triangle,
-    TwoComplex,
-    _cat_new,
-    _drop_add,
-    _Emptied,
-    _group,
-    _Missing,
-    _Present,
-    _arguments,
-    _Unbatched,
-)
+from persistri.impl.complex.two_complex import Triangle, TwoComplex, _arguments
+from persistri.impl.complex.vertex_lists import Emptied, Entry, Missing, Present, Unbatched, cat_new, drop_add, group
 from persistri.impl.complex.vertex import Vertex
 from persistri.impl.stats import Stats
 from persistri.spec.option import Option
@@ -440,29 +429,29 @@ class EphemeralTwoComplex(TwoComplex[D]):
         try:
             fam, rep, lin = c
             if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex
-                raise _Unbatched
+                raise Unbatched
             table: _Table = rep[0]
             if table.current is not rep:
                 raise _stale("replace")
             lists = table.lists
-            changes, out_lin = _group(removed, added, lin)
+            changes, out_lin = group(removed, added, lin)
             new_lists: list[tuple[Vertex, tuple[Entry, ...] | None]] = []
             scanned = 0
             for v, change in changes.items():
                 old = lists.get(v)
                 if old is None:
                     if change[0]:
-                        raise _Unbatched
+                        raise Unbatched
                     new_lists.append((v, tuple(change[1] + change[2])))
                     continue
                 scanned += len(old)
                 try:
                     new_lists.append(
-                        (v, _drop_add(old, change) if change[0] else _cat_new(old, tuple(change[1] + change[2])))
+                        (v, drop_add(old, change) if change[0] else cat_new(old, tuple(change[1] + change[2])))
                     )
-                except _Emptied:
+                except Emptied:
                     new_lists.append((v, None))
-        except (_Unbatched, _Missing, _Present, TypeError, ValueError, AttributeError):
+        except (Unbatched, Missing, Present, TypeError, ValueError, AttributeError):
             return self._replace_on_copy(c, removed, added)
         for v, lst in new_lists:
             if lst is None:

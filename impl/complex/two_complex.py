@@ -54,6 +54,24 @@ from persistri.impl.complex.errors import (
 from persistri.impl.complex.simplex import Simplex
 from persistri.impl.complex.structure import Complex, ComplexStructure, Family, same_datum
 from persistri.impl.complex.vertex import Lineage, Vertex
+from persistri.impl.complex.vertex_lists import (
+    Changes,
+    Emptied,
+    Entry,
+    Missing,
+    Present,
+    Unbatched,
+    cat,
+    cat_first,
+    cat_new,
+    drop,
+    drop_add,
+    group,
+    neighbours_in,
+    put,
+    rebuild,
+    visited,
+)
 from persistri.impl.stats import Stats
 from persistri.spec.option import Option
 
@@ -67,181 +85,8 @@ Triangle: TypeAlias = tuple[Vertex, Vertex, Vertex]
 Edge: TypeAlias = tuple[Vertex, Vertex]
 """A 1-simplex."""
 
-Entry = tuple[Vertex, Vertex, Any]
-"""``(second vertex, third vertex, datum)`` in the list of the first vertex."""
 
 _new_complex = tuple.__new__
-
-
-class _Emptied(Exception):
-    """Raised inside ``insertWith`` when dropping an entry would leave a vertex's list empty."""
-
-
-class _Missing(Exception):
-    """Raised inside ``insertWith`` when the entry to drop or change is not in the vertex's list."""
-
-
-class _Unbatched(Exception):
-    """Raised inside ``replace`` when its batched path meets anything unusual: the fold decides instead."""
-
-
-class _Present(Exception):
-    """Raised inside ``insertWith`` when ``add`` finds its triangle already in the first vertex's list."""
-
-    def __init__(self, opposite: bool) -> None:
-        super().__init__()
-        self.opposite = opposite
-
-
-# The functions ``insertWith`` combines a vertex's old list with.  Module-level, so
-# no closure is made per operation: what they need travels in ``insertWith``'s
-# value argument (the new entry, or the (second, third) pair to find).
-
-
-def _cat(old: tuple[Entry, ...], new: tuple[Entry, ...]) -> tuple[Entry, ...]:
-    return old + new
-
-
-def _cat_first(old: tuple[Entry, ...], new: tuple[Entry, ...]) -> tuple[Entry, ...]:
-    """``old + new`` unless the triangle of ``new``'s entry (b, c) is in ``old`` in either orientation."""
-    b, c, _ = new[0]
-    for e in old:
-        e0 = e[0]
-        if e0 == b:
-            if e[1] == c:
-                raise _Present(False)
-        elif e0 == c and e[1] == b:
-            raise _Present(True)
-    return old + new
-
-
-def _drop(old: tuple[Entry, ...], pair: tuple[Vertex, Vertex]) -> tuple[Entry, ...]:
-    """``old`` without its entry ``(b, c, _)`` for ``pair = (b, c)``; _Emptied if that was the only one."""
-    b, c = pair
-    i = 0
-    for e in old:
-        if e[0] == b and e[1] == c:
-            if len(old) == 1:
-                raise _Emptied
-            return old[:i] + old[i + 1 :]
-        i += 1
-    raise _Missing
-
-
-def _put(old: tuple[Entry, ...], new: tuple[Entry, ...]) -> tuple[Entry, ...]:
-    """``old`` with its entry ``(b, c, _)`` replaced by ``new``'s entry ``(b, c, y)``."""
-    b, c, _ = new[0]
-    i = 0
-    for e in old:
-        if e[0] == b and e[1] == c:
-            return old[:i] + new + old[i + 1 :]
-        i += 1
-    raise _Missing
-
-
-def _drop_add(
-    old: tuple[Entry, ...], change: tuple[list[tuple[Vertex, Vertex]], list[Entry], list[Entry]]
-) -> tuple[Entry, ...]:
-    """``old`` without the entries ``(b, c, _)`` for the pairs of ``change[0]``, plus the entries of
-    ``change[1]`` and ``change[2]`` (``replace``).
-
-    The entries of ``change[1]`` are those of triangles whose first vertex is this
-    list's: each is looked for in the kept entries, in either orientation (one
-    vertex suffices, as for ``add``).  _Missing if a pair to drop is not there (or
-    is asked twice), _Present if a triangle to add is kept, _Emptied if nothing
-    is left.  One pass over ``old``: on a surface every vertex the change keeps
-    has exactly one checked entry (the new triangle that starts at it), and that
-    case drops and checks in the same loop.
-    """
-    drops, checked, plain = change
-    n = len(drops)
-    if len(checked) != 1:
-        return _drop_add_general(old, drops, checked, plain)
-    b0, c0, _ = checked[0]
-    kept: list[Entry] = []
-    append = kept.append
-    if n == 1:
-        ((b, c),) = drops
-        for e in old:
-            e0 = e[0]
-            e1 = e[1]
-            if e0 == b and e1 == c:
-                continue
-            if (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
-                raise _Present(False)
-            append(e)
-    else:
-        gone = set(drops)
-        for e in old:
-            e0 = e[0]
-            e1 = e[1]
-            if (e0, e1) in gone:
-                continue
-            if (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
-                raise _Present(False)
-            append(e)
-    if len(kept) + n != len(old):
-        raise _Missing
-    append(checked[0])
-    kept += plain
-    return tuple(kept)
-
-
-def _drop_add_general(
-    old: tuple[Entry, ...], drops: list[tuple[Vertex, Vertex]], checked: list[Entry], plain: list[Entry]
-) -> tuple[Entry, ...]:
-    """:func:`_drop_add` for no checked entry or several (a vertex left with nothing, or a change that is not a star's)."""
-    gone = set(drops)
-    kept = [e for e in old if (e[0], e[1]) not in gone]
-    if len(kept) + len(drops) != len(old):
-        raise _Missing
-    for b, c, _ in checked:
-        for e in kept:
-            e0 = e[0]
-            if (e0 == b and e[1] == c) or (e0 == c and e[1] == b):
-                raise _Present(False)
-    kept += checked
-    kept += plain
-    if not kept:
-        raise _Emptied
-    return tuple(kept)
-
-
-def _cat_new(old: tuple[Entry, ...], adds: tuple[Entry, ...]) -> tuple[Entry, ...]:
-    """``old + adds``; _Present if a triangle of ``adds`` is in ``old`` in either orientation (``replace``)."""
-    for e in old:
-        e0, e1 = e[0], e[1]
-        for b, c, _ in adds:
-            if (e0 == b and e1 == c) or (e0 == c and e1 == b):
-                raise _Present(False)
-    return old + adds
-
-
-def _rebuild(
-    old: tuple[Entry, ...], arg: tuple[tuple[list[tuple[Vertex, Vertex]], list[Entry], list[Entry]], Vertex, list[Vertex]]
-) -> tuple[Entry, ...]:
-    """``replace``'s combine for a batched update (``adjust_many``): ``arg = (change, v, emptied)``.
-
-    The vertex's new list as ``_cat_new`` or ``_drop_add`` make it; when nothing is
-    left, ``()`` — never a list of a valid complex — with ``v`` appended to
-    ``emptied`` so that the caller removes it.
-    """
-    change, v, emptied = arg
-    if not change[0]:
-        return _cat_new(old, tuple(change[1] + change[2]))
-    try:
-        return _drop_add(old, change)
-    except _Emptied:
-        emptied.append(v)
-        return ()
-
-
-def _visited(old: tuple[Entry, ...], b: Vertex, c: Vertex) -> int:
-    """How many entries a scan of ``old`` for ``(b, c, _)`` visits."""
-    for i, e in enumerate(old):
-        if e[0] == b and e[1] == c:
-            return i + 1
-    return len(old)
 
 
 def _sequence(xs: Any, what: str) -> list[Any]:
@@ -250,76 +95,6 @@ def _sequence(xs: Any, what: str) -> list[Any]:
         return list(xs)
     except TypeError:
         raise TypeError(f"replace: {what} must be an iterable of triangles, got {type(xs).__name__}") from None
-
-
-Changes = dict[Vertex, tuple[list[tuple[Vertex, Vertex]], list[Entry], list[Entry]]]
-"""What ``replace`` does to each vertex's list: the pairs ``(b, c)`` to drop, the entries to add of
-the triangles that start at the vertex (checked against the list), the other entries to add."""
-
-
-def _group(removed: Sequence[Any], added: Sequence[Any], lin: Lineage | None) -> tuple[Changes, Lineage | None]:
-    """The changes of ``replace`` grouped by vertex, and the lineage of the result.
-
-    Validates each triangle inline as ``add`` and ``rem`` do (a tuple of three
-    distinct vertices of the complex's lineage) and refuses a triangle added
-    twice or in both orientations; raises _Unbatched (or the TypeError /
-    ValueError / AttributeError of a malformed argument) on anything unusual,
-    and the caller lets the fold raise the precise error.  O(|removed| + |added|).
-    """
-    changes: Changes = {}
-    get = changes.get
-    for s in removed:
-        a, b, cc = s
-        la = a.lineage
-        if not (type(s) is tuple and la is lin and b.lineage is la and cc.lineage is la and a != b and b != cc and a != cc):
-            raise _Unbatched
-        ch = get(a)
-        if ch is None:
-            changes[a] = ([(b, cc)], [], [])
-        else:
-            ch[0].append((b, cc))
-        ch = get(b)
-        if ch is None:
-            changes[b] = ([(cc, a)], [], [])
-        else:
-            ch[0].append((cc, a))
-        ch = get(cc)
-        if ch is None:
-            changes[cc] = ([(a, b)], [], [])
-        else:
-            ch[0].append((a, b))
-    out_lin = lin
-    for s, x in added:
-        a, b, cc = s
-        la = a.lineage
-        if out_lin is None:
-            out_lin = la
-        if not (type(s) is tuple and la is out_lin and b.lineage is la and cc.lineage is la and a != b and b != cc and a != cc):
-            raise _Unbatched
-        ch = get(a)
-        if ch is None:
-            changes[a] = ([], [(b, cc, x)], [])
-        else:
-            # Added twice, or in both orientations: every triangle of the batch is already
-            # under each of its vertices, so one test at the first vertex finds it.
-            for e in ch[1]:
-                if (e[0] == b and e[1] == cc) or (e[0] == cc and e[1] == b):
-                    raise _Unbatched
-            for e in ch[2]:
-                if (e[0] == b and e[1] == cc) or (e[0] == cc and e[1] == b):
-                    raise _Unbatched
-            ch[1].append((b, cc, x))
-        ch = get(b)
-        if ch is None:
-            changes[b] = ([], [], [(cc, a, x)])
-        else:
-            ch[2].append((cc, a, x))
-        ch = get(cc)
-        if ch is None:
-            changes[cc] = ([], [], [(a, b, x)])
-        else:
-            ch[2].append((a, b, x))
-    return changes, out_lin
 
 
 def _arguments(removed: Any, added: Any) -> tuple[Sequence[Any], Sequence[Any]]:
@@ -338,13 +113,13 @@ def _counting(stats: Stats, f: Combine) -> Combine:
     """``f`` that also adds the list entries it visits to ``stats.key_comparisons`` (counted structures only)."""
 
     def counted(old: tuple[Entry, ...], arg: Any) -> tuple[Entry, ...]:
-        if f is _cat_first:
+        if f is cat_first:
             stats.key_comparisons += len(old)  # add scans the whole list, for either orientation
-        elif f is _drop:
-            stats.key_comparisons += _visited(old, arg[0], arg[1])
-        elif f is _put:
-            stats.key_comparisons += _visited(old, arg[0][0], arg[0][1])
-        elif f is _drop_add or f is _cat_new:
+        elif f is drop:
+            stats.key_comparisons += visited(old, arg[0], arg[1])
+        elif f is put:
+            stats.key_comparisons += visited(old, arg[0][0], arg[0][1])
+        elif f is drop_add or f is cat_new:
             stats.key_comparisons += len(old)  # replace scans the whole list once
         return f(old, arg)
 
@@ -365,12 +140,12 @@ class TwoComplex(ComplexStructure[D]):
         self.n = 2
         self._init_maps(backend, stats)
         # The combining functions, chosen once: the module's own, or counting versions.
-        self._cat_first = self._combiner(_cat_first)
-        self._cat = self._combiner(_cat)
-        self._drop = self._combiner(_drop)
-        self._put = self._combiner(_put)
-        self._drop_add = self._combiner(_drop_add)
-        self._cat_new = self._combiner(_cat_new)
+        self._cat_first = self._combiner(cat_first)
+        self._cat = self._combiner(cat)
+        self._drop = self._combiner(drop)
+        self._put = self._combiner(put)
+        self._drop_add = self._combiner(drop_add)
+        self._cat_new = self._combiner(cat_new)
         # A backend that updates several keys in one descent (red-black's adjust_many; uncounted only:
         # the counting wrapper has none, so counted runs make the per-vertex insertWith the paper counts).
         self._adjust_many: Callable[..., tuple[Any, list[Any]]] | None = getattr(self._m, "adjust_many", None)
@@ -530,31 +305,9 @@ class TwoComplex(ComplexStructure[D]):
         if self._stats is not None or type(self).neighbour is not TwoComplex.neighbour:
             return lambda s: self.neighbour(c, s)
         rep, lin = self._unpack(c, "neighbour")
-        find = self._m.find
-        slow = self.neighbour
-        lists: dict[Vertex, tuple[Entry, ...]] = {}
-
-        def neighbour_in_c(s: Simplex) -> tuple[Triangle, D] | None:
-            try:
-                u, w = s
-                lu = u.lineage
-                ok = type(s) is tuple and (lu is lin or lin is None) and w.lineage is lu and u != w
-            except (TypeError, ValueError, AttributeError):
-                ok = False
-            if not ok:
-                return slow(c, s)  # raises the precise error, or accepts what neighbour accepts
-            lst = lists.get(u)
-            if lst is None:
-                found = find(rep, u)
-                if found is None:
-                    return None
-                lst = lists[u] = found[0]
-            for e in lst:
-                if e[0] == w:
-                    return (u, w, e[1]), e[2]
-            return None
-
-        return neighbour_in_c
+        neighbour = self.neighbour
+        # The slow path raises the precise error, or accepts what neighbour accepts.
+        return neighbours_in(rep, lin, self._m.find, lambda s: neighbour(c, s))
 
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
         """``add (c, s, x)``: ``c`` with the triangle ``s`` carrying ``x``: three ``insertWith``.
@@ -638,13 +391,13 @@ class TwoComplex(ComplexStructure[D]):
         try:
             fam, rep, lin = c
             if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex
-                raise _Unbatched
-            changes, out_lin = _group(removed, added, lin)
+                raise Unbatched
+            changes, out_lin = group(removed, added, lin)
             if self._adjust_many is not None:
                 rep = self._replace_batched(rep, changes)
             else:
                 rep = self._replace_per_vertex(rep, changes)
-        except (_Unbatched, _Missing, _Present, TypeError, ValueError, AttributeError):
+        except (Unbatched, Missing, Present, TypeError, ValueError, AttributeError):
             # Something is wrong: the fold raises the precise error the signature promises.
             return self._replace_fold(c, removed, added)
         st = self._stats
@@ -655,7 +408,7 @@ class TwoComplex(ComplexStructure[D]):
 
     def _replace_per_vertex(self, rep: Any, changes: Changes) -> Any:
         """``replace``'s map changes one vertex at a time: an ``insertWith`` per vertex (``remove`` for an
-        emptied one).  Raises what the combining functions raise (_Missing, _Present; _Unbatched for a
+        emptied one).  Raises what the combining functions raise (Missing, Present; Unbatched for a
         triangle to remove at a vertex with no list)."""
         m = self._m
         drop_add, cat_new = self._drop_add, self._cat_new
@@ -667,28 +420,28 @@ class TwoComplex(ComplexStructure[D]):
                 continue
             try:
                 out = m.insertWith(drop_add, rep, v, change)
-            except _Emptied:  # v is in no triangle any more
+            except Emptied:  # v is in no triangle any more
                 rep = m.remove(rep, v)[0]
                 n -= 1
                 continue
             if m.numItems(out) != n:  # v had no list: a triangle to remove is absent
-                raise _Unbatched
+                raise Unbatched
             rep = out
         return rep
 
     def _replace_batched(self, rep: Any, changes: Changes) -> Any:
         """``replace``'s map changes through the backend's ``adjust_many``: every present vertex's list rebuilt in
         one descent (the red-black tree copies the nodes its search paths share once), then the new vertices
-        inserted and the emptied ones removed.  Raises what the per-vertex loop raises (_Missing, _Present;
-        _Unbatched for a triangle to remove at a vertex with no list)."""
+        inserted and the emptied ones removed.  Raises what the per-vertex loop raises (Missing, Present;
+        Unbatched for a triangle to remove at a vertex with no list)."""
         emptied: list[Vertex] = []
         items = [(v, (changes[v], v, emptied)) for v in sorted(changes)]
         m = self._m
         assert self._adjust_many is not None
-        rep, absent = self._adjust_many(_rebuild, rep, items)
+        rep, absent = self._adjust_many(rebuild, rep, items)
         for v, (change, _, _) in absent:
             if change[0]:  # v had no list: a triangle to remove is absent
-                raise _Unbatched
+                raise Unbatched
             rep = m.insert(rep, v, tuple(change[1] + change[2]))
         for v in emptied:  # v is in no triangle any more
             rep = m.remove(rep, v)[0]
@@ -763,7 +516,7 @@ class TwoComplex(ComplexStructure[D]):
         try:
             # The triangle, in either orientation, would be in a's list: (b, c) or (c, b).
             rep = m.insertWith(self._cat_first, rep, a, ((b, c, x),))
-        except _Present as present:
+        except Present as present:
             if present.opposite:
                 raise OppositeOrientationError(
                     f"add: triangle {s!r} is present with the opposite orientation {(a, c, b)!r}"
@@ -783,9 +536,9 @@ class TwoComplex(ComplexStructure[D]):
                 out = m.insertWith(self._drop, rep, key, (b, c))
             else:
                 out = m.insertWith(self._put, rep, key, ((b, c, y),))
-        except _Emptied:
+        except Emptied:
             return m.remove(rep, key)[0]
-        except _Missing:
+        except Missing:
             out = None
         if out is None or m.numItems(out) != n0:  # numItems grew: key had no list, insertWith made one
             raise RepresentationError(f"2-complex: entry {(b, c)!r} missing from the list of {key!r}")
@@ -810,9 +563,9 @@ class TwoComplex(ComplexStructure[D]):
         n0 = m.numItems(rep)
         try:
             out = m.insertWith(drop, rep, a, (b, c))
-        except _Emptied:
+        except Emptied:
             out = m.remove(rep, a)[0]
-        except _Missing:
+        except Missing:
             out = None
         if out is None or m.numItems(out) > n0:  # numItems grew: a had no list, insertWith made one
             raise AbsentSimplexError(f"rem: triangle {s!r} is not in the complex (in this orientation)")
@@ -820,13 +573,13 @@ class TwoComplex(ComplexStructure[D]):
         try:
             try:
                 out = m.insertWith(drop, out, b, (c, a))
-            except _Emptied:
+            except Emptied:
                 out = m.remove(out, b)[0]
             try:
                 out = m.insertWith(drop, out, c, (a, b))
-            except _Emptied:
+            except Emptied:
                 out = m.remove(out, c)[0]
-        except _Missing:
+        except Missing:
             out = None
         if out is None or m.numItems(out) > n1:  # an entry of the triangle missing under b or c
             raise RepresentationError(f"2-complex: triangle {s!r} is in the list of {a!r} but not in those of {b!r} and {c!r}")

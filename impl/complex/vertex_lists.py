@@ -1,0 +1,342 @@
+"""The per-vertex lists of the specialised 2-complex (paper §4) and the functions that rebuild them.
+
+:class:`~persistri.impl.complex.two_complex.TwoComplex` maps each vertex to an
+immutable tuple of entries ``(second vertex, third vertex, datum)``, the
+paper's association list; its docstring describes the representation and the
+costs.  This module holds what works on those lists: the functions
+``insertWith`` combines a vertex's old list with (``add``, ``rem``, ``update``,
+``replace``), the grouping of a ``replace`` by vertex, and the edge lookup of
+one version that the walks call (:func:`neighbours_in`).  They are a module of
+their own because the 2-complex spends its time here: the compiled twin
+(``make compiled``, docs/performance.md) compiles it with mypyc, and
+:mod:`~persistri.impl.complex.two_complex`, which validates the public
+arguments and raises the signature's errors, stays interpreted.
+
+Entries and lists are typed as tuples of *any* length (``tuple[Any, ...]``):
+mypyc stores a fixed-length tuple type unboxed and boxes it again on the way
+out, so an entry kept by a rebuilt list would come back as a new, equal tuple,
+no longer shared with the older versions that hold it.  Typed this way each
+stays one object (``tests/test_complex_replace.py`` checks the kept entries,
+the untouched lists and the map's subtrees by identity).  Vertices are
+``Any`` here: the structure has validated them.
+
+The exceptions are signals between these functions and the structure, never
+seen by a caller of the 2-complex: the structure turns them into the
+signature's errors (or, in ``replace``, falls back to the fold that raises
+them).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any, TypeAlias
+
+__all__ = [
+    "Entry",
+    "VertexList",
+    "Change",
+    "Changes",
+    "Emptied",
+    "Missing",
+    "Unbatched",
+    "Present",
+    "cat",
+    "cat_first",
+    "drop",
+    "put",
+    "drop_add",
+    "drop_add_general",
+    "cat_new",
+    "rebuild",
+    "visited",
+    "group",
+    "neighbours_in",
+]
+
+Entry: TypeAlias = tuple[Any, ...]
+"""``(second vertex, third vertex, datum)`` in the list of the first vertex (any length for mypyc: see above)."""
+
+VertexList: TypeAlias = tuple[Entry, ...]
+"""A vertex's list: its entries, one per triangle at the vertex."""
+
+Change: TypeAlias = tuple[list[tuple[Any, Any]], list[Entry], list[Entry]]
+"""What ``replace`` does to one vertex's list: the pairs ``(b, c)`` to drop, the entries to add of the triangles
+that start at the vertex (checked against the list), and the other entries to add."""
+
+
+class Emptied(Exception):
+    """Raised inside ``insertWith`` when dropping an entry would leave a vertex's list empty."""
+
+
+class Missing(Exception):
+    """Raised inside ``insertWith`` when the entry to drop or change is not in the vertex's list."""
+
+
+class Unbatched(Exception):
+    """Raised inside ``replace`` when its batched path meets anything unusual: the fold decides instead."""
+
+
+class Present(Exception):
+    """Raised inside ``insertWith`` when ``add`` finds its triangle already in the first vertex's list."""
+
+    def __init__(self, opposite: bool) -> None:
+        super().__init__()
+        self.opposite = opposite
+
+
+# The functions ``insertWith`` combines a vertex's old list with.  Module-level, so
+# no closure is made per operation: what they need travels in ``insertWith``'s
+# value argument (the new entry, or the (second, third) pair to find).
+
+
+def cat(old: VertexList, new: VertexList) -> VertexList:
+    return old + new
+
+
+def cat_first(old: VertexList, new: VertexList) -> VertexList:
+    """``old + new`` unless the triangle of ``new``'s entry (b, c) is in ``old`` in either orientation."""
+    b, c, _ = new[0]
+    for e in old:
+        e0 = e[0]
+        if e0 == b:
+            if e[1] == c:
+                raise Present(False)
+        elif e0 == c and e[1] == b:
+            raise Present(True)
+    return old + new
+
+
+def drop(old: VertexList, pair: tuple[Any, Any]) -> VertexList:
+    """``old`` without its entry ``(b, c, _)`` for ``pair = (b, c)``; Emptied if that was the only one."""
+    b, c = pair
+    i = 0
+    for e in old:
+        if e[0] == b and e[1] == c:
+            if len(old) == 1:
+                raise Emptied
+            return old[:i] + old[i + 1 :]
+        i += 1
+    raise Missing
+
+
+def put(old: VertexList, new: VertexList) -> VertexList:
+    """``old`` with its entry ``(b, c, _)`` replaced by ``new``'s entry ``(b, c, y)``."""
+    b, c, _ = new[0]
+    i = 0
+    for e in old:
+        if e[0] == b and e[1] == c:
+            return old[:i] + new + old[i + 1 :]
+        i += 1
+    raise Missing
+
+
+def drop_add(
+    old: VertexList, change: Change
+) -> VertexList:
+    """``old`` without the entries ``(b, c, _)`` for the pairs of ``change[0]``, plus the entries of
+    ``change[1]`` and ``change[2]`` (``replace``).
+
+    The entries of ``change[1]`` are those of triangles whose first vertex is this
+    list's: each is looked for in the kept entries, in either orientation (one
+    vertex suffices, as for ``add``).  Missing if a pair to drop is not there (or
+    is asked twice), Present if a triangle to add is kept, Emptied if nothing
+    is left.  One pass over ``old``: on a surface every vertex the change keeps
+    has exactly one checked entry (the new triangle that starts at it), and that
+    case drops and checks in the same loop.
+    """
+    drops, checked, plain = change
+    n = len(drops)
+    if len(checked) != 1:
+        return drop_add_general(old, drops, checked, plain)
+    b0, c0, _ = checked[0]
+    kept: list[Entry] = []
+    append = kept.append
+    if n == 1:
+        ((b, c),) = drops
+        for e in old:
+            e0 = e[0]
+            e1 = e[1]
+            if e0 == b and e1 == c:
+                continue
+            if (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
+                raise Present(False)
+            append(e)
+    else:
+        gone = set(drops)
+        for e in old:
+            e0 = e[0]
+            e1 = e[1]
+            if (e0, e1) in gone:
+                continue
+            if (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
+                raise Present(False)
+            append(e)
+    if len(kept) + n != len(old):
+        raise Missing
+    append(checked[0])
+    kept += plain
+    return tuple(kept)
+
+
+def drop_add_general(
+    old: VertexList, drops: list[tuple[Any, Any]], checked: list[Entry], plain: list[Entry]
+) -> VertexList:
+    """:func:`drop_add` for no checked entry or several (a vertex left with nothing, or a change that is not a star's)."""
+    gone = set(drops)
+    kept = [e for e in old if (e[0], e[1]) not in gone]
+    if len(kept) + len(drops) != len(old):
+        raise Missing
+    for b, c, _ in checked:
+        for e in kept:
+            e0 = e[0]
+            if (e0 == b and e[1] == c) or (e0 == c and e[1] == b):
+                raise Present(False)
+    kept += checked
+    kept += plain
+    if not kept:
+        raise Emptied
+    return tuple(kept)
+
+
+def cat_new(old: VertexList, adds: VertexList) -> VertexList:
+    """``old + adds``; Present if a triangle of ``adds`` is in ``old`` in either orientation (``replace``)."""
+    for e in old:
+        e0, e1 = e[0], e[1]
+        for b, c, _ in adds:
+            if (e0 == b and e1 == c) or (e0 == c and e1 == b):
+                raise Present(False)
+    return old + adds
+
+
+def rebuild(
+    old: VertexList, arg: tuple[Change, Any, list[Any]]
+) -> VertexList:
+    """``replace``'s combine for a batched update (``adjust_many``): ``arg = (change, v, emptied)``.
+
+    The vertex's new list as ``cat_new`` or ``drop_add`` make it; when nothing is
+    left, ``()`` — never a list of a valid complex — with ``v`` appended to
+    ``emptied`` so that the caller removes it.
+    """
+    change, v, emptied = arg
+    if not change[0]:
+        return cat_new(old, tuple(change[1] + change[2]))
+    try:
+        return drop_add(old, change)
+    except Emptied:
+        emptied.append(v)
+        return ()
+
+
+def visited(old: VertexList, b: Any, c: Any) -> int:
+    """How many entries a scan of ``old`` for ``(b, c, _)`` visits."""
+    for i, e in enumerate(old):
+        if e[0] == b and e[1] == c:
+            return i + 1
+    return len(old)
+
+
+Changes: TypeAlias = dict[Any, Change]
+"""What ``replace`` does to each vertex's list (:data:`Change`), by vertex."""
+
+
+def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Changes, Any]:
+    """The changes of ``replace`` grouped by vertex, and the lineage of the result.
+
+    Validates each triangle inline as ``add`` and ``rem`` do (a tuple of three
+    distinct vertices of the complex's lineage) and refuses a triangle added
+    twice or in both orientations; raises Unbatched (or the TypeError /
+    ValueError / AttributeError of a malformed argument) on anything unusual,
+    and the caller lets the fold raise the precise error.  O(|removed| + |added|).
+    """
+    changes: Changes = {}
+    get = changes.get
+    for s in removed:
+        a, b, cc = s
+        la = a.lineage
+        if not (type(s) is tuple and la is lin and b.lineage is la and cc.lineage is la and a != b and b != cc and a != cc):
+            raise Unbatched
+        ch = get(a)
+        if ch is None:
+            changes[a] = ([(b, cc)], [], [])
+        else:
+            ch[0].append((b, cc))
+        ch = get(b)
+        if ch is None:
+            changes[b] = ([(cc, a)], [], [])
+        else:
+            ch[0].append((cc, a))
+        ch = get(cc)
+        if ch is None:
+            changes[cc] = ([(a, b)], [], [])
+        else:
+            ch[0].append((a, b))
+    out_lin = lin
+    for s, x in added:
+        a, b, cc = s
+        la = a.lineage
+        if out_lin is None:
+            out_lin = la
+        if not (type(s) is tuple and la is out_lin and b.lineage is la and cc.lineage is la and a != b and b != cc and a != cc):
+            raise Unbatched
+        ch = get(a)
+        if ch is None:
+            changes[a] = ([], [(b, cc, x)], [])
+        else:
+            # Added twice, or in both orientations: every triangle of the batch is already
+            # under each of its vertices, so one test at the first vertex finds it.
+            for e in ch[1]:
+                if (e[0] == b and e[1] == cc) or (e[0] == cc and e[1] == b):
+                    raise Unbatched
+            for e in ch[2]:
+                if (e[0] == b and e[1] == cc) or (e[0] == cc and e[1] == b):
+                    raise Unbatched
+            ch[1].append((b, cc, x))
+        ch = get(b)
+        if ch is None:
+            changes[b] = ([], [], [(cc, a, x)])
+        else:
+            ch[2].append((cc, a, x))
+        ch = get(cc)
+        if ch is None:
+            changes[cc] = ([], [], [(a, b, x)])
+        else:
+            ch[2].append((a, b, x))
+    return changes, out_lin
+
+
+def neighbours_in(
+    rep: Any, lin: Any, find: Callable[[Any, Any], Any], slow: Callable[[Any], Any]
+) -> Callable[[Any], Any]:
+    """``TwoComplex.neighbours`` of one version: ``s ↦ ((u, w, x), datum)`` for the triangle holding the
+    directed edge ``s = (u, w)``, or None.
+
+    ``rep`` is the version's map and ``lin`` its lineage, ``find`` the backend's
+    ``find``; ``slow`` is called for any ``s`` that is not a valid edge of the
+    lineage (it raises the signature's error, or answers as ``neighbour``
+    does).  Each vertex's list is read from the map at most once (the version
+    never changes, so a list read stays right).  O(lg V + δ) for a vertex met
+    first, O(δ) after.
+    """
+    lists: dict[Any, VertexList] = {}
+
+    def neighbour_in_c(s: Any) -> Any:
+        try:
+            u, w = s
+            lu = u.lineage
+            ok = type(s) is tuple and (lu is lin or lin is None) and w.lineage is lu and u != w
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            return slow(s)
+        lst = lists.get(u)
+        if lst is None:
+            found = find(rep, u)
+            if found is None:
+                return None
+            lst = lists[u] = found[0]
+        for e in lst:
+            if e[0] == w:
+                return (u, w, e[1]), e[2]
+        return None
+
+    return neighbour_in_c
