@@ -57,6 +57,7 @@ __all__ = [
     "hull_table",
     "cpu_seconds",
     "persistri_build",
+    "TWIN_MODULES",
 ]
 
 DEFAULT_HULL_SIZES: Final = (16_384, 65_536, 262_144)
@@ -131,13 +132,22 @@ class HullMemory:
         return (self.history_kept - self.final_only_kept) / max(self.versions - 1, 1)
 
 
-def persistri_build() -> str:
-    """Which persistri is running: ``"interpreted"``, or ``"compiled twin (kernel, bulldozer by mypyc)"``
-    when the modules that ``tools/compiled_twin.py`` compiles were imported as extension modules."""
-    from persistri.impl.geometry import kernel
-    from persistri.impl.hull import bulldozer
+TWIN_MODULES: Final = (
+    "persistri.impl.geometry.kernel",
+    "persistri.impl.hull.bulldozer",
+    "persistri.impl.maps.red_black_tree",
+    "persistri.impl.complex.vertex_lists",
+)
+"""The modules ``tools/compiled_twin.py`` compiles that the hull runs through (its ``MODULES``, by import name)."""
 
-    compiled = [m.__name__.rsplit(".", 1)[1] for m in (kernel, bulldozer) if not str(m.__file__).endswith(".py")]
+
+def persistri_build() -> str:
+    """Which persistri is running: ``"interpreted"``, or ``"compiled twin (kernel, bulldozer, … by mypyc)"``
+    naming those of :data:`TWIN_MODULES` that were imported as extension modules."""
+    import importlib
+
+    modules = [importlib.import_module(name) for name in TWIN_MODULES]
+    compiled = [m.__name__.rsplit(".", 1)[1] for m in modules if not str(m.__file__).endswith(".py")]
     return f"compiled twin ({', '.join(compiled)} by mypyc)" if compiled else "interpreted"
 
 
