@@ -42,13 +42,31 @@ def test_json_records_per_distribution_size_and_complex() -> None:
 
 
 def test_memory_of_the_history_against_the_final_hull() -> None:
-    result = invoke("--sizes", "60", "--dists", "BordHeavy", "--memory", "--memory-n", "300", "--json")
+    args = ("--sizes", "60", "--dists", "BordHeavy", "--memory", "--memory-n", "300", "--memory-dist", "OnSphere")
+    result = invoke(*args, "--json")
     assert result.exit_code == 0, result.output
     mem = json.loads(result.output)["memory"]
-    assert mem["n"] == 300 and mem["backend"] == "red_black"
+    assert mem["n"] == 300 and mem["backend"] == "red_black" and mem["dist"] == "OnSphere"
     assert mem["versions"] == 297  # the tetrahedron, then one version per insertion: all 300 points are on the sphere
+    assert mem["insertions"] == 296
     assert mem["history_kept"] > mem["final_only_kept"] > 0
+    # The versions alone hold less than the whole run (which also keeps the points and the final arrays), and more
+    # than a run's growth per version: the first tetrahedron and the final version are in them too.
+    assert mem["history_kept"] > mem["versions_kept"] > mem["history_kept"] - mem["final_only_kept"]
     assert mem["per_version"] == pytest.approx((mem["history_kept"] - mem["final_only_kept"]) / 296)
+    assert mem["per_insertion"] == pytest.approx(mem["versions_kept"] / 296)
+    table = " ".join(invoke(*args).output.split())
+    assert "memory, OnSphere 300 points on red_black: the full history (297 versions) holds" in table
+    assert "KB per inserted point" in table
+
+
+def test_memory_defaults_to_inball_and_refuses_an_unknown_distribution() -> None:
+    result = invoke("--sizes", "40", "--dists", "InBall", "--memory", "--memory-n", "200", "--json")
+    assert result.exit_code == 0, result.output
+    mem = json.loads(result.output)["memory"]
+    assert mem["dist"] == "InBall" and 0 < mem["insertions"] < 196 and mem["versions"] == mem["insertions"] + 1
+    bad = CliRunner().invoke(main, ["bench", "hull", "--sizes", "50", "--memory", "--memory-dist", "Cube"])
+    assert bad.exit_code != 0 and "unknown distribution 'Cube'" in bad.output
 
 
 def test_table_and_errors() -> None:

@@ -20,10 +20,11 @@ points for every subject):
 * whether persistri's hull has Qhull's vertex set (it should on these inputs:
   random points in general position).
 
-With ``memory=True`` it also measures, with ``tracemalloc``, the memory kept by
-a run that keeps every intermediate hull (``history=True``: one complex version
-per insertion, sharing structure) against a run that keeps only the final hull,
-on OnSphere points (64K by default).
+With ``memory=True`` it also measures, with ``tracemalloc``, the memory of a
+run that keeps every intermediate hull (``history=True``: one complex version
+per insertion, sharing structure): what the versions alone hold, per inserted
+point, and what the whole run keeps against a run that keeps only the final
+hull (:class:`HullMemory`; InBall, 16K points by default).
 
 Times are CPU seconds of this process (``time.process_time``) with the cyclic
 garbage collector off during each timed call (``convex_hull`` pauses it itself;
@@ -49,6 +50,7 @@ __all__ = [
     "DEFAULT_HULL_SIZES",
     "DEFAULT_DISTS",
     "DEFAULT_MEMORY_N",
+    "DEFAULT_MEMORY_DIST",
     "HullRecord",
     "HullTiming",
     "HullMemory",
@@ -66,8 +68,11 @@ DEFAULT_HULL_SIZES: Final = (16_384, 65_536, 262_144)
 DEFAULT_DISTS: Final = ("OnSphere", "EqHeavy", "PolHeavy", "InBall", "BordHeavy")
 """The five distributions of the paper's §4, in its order."""
 
-DEFAULT_MEMORY_N: Final = 65_536
-"""Point count of the history-memory measurement (OnSphere)."""
+DEFAULT_MEMORY_N: Final = 16_384
+"""Point count of the history-memory measurement."""
+
+DEFAULT_MEMORY_DIST: Final = "InBall"
+"""Distribution of the history-memory measurement (the issue's: InBall, at 16K and 256K points)."""
 
 EPHEMERAL: Final = "ephemeral"
 """The backend name of the NOT persistent baseline."""
@@ -116,7 +121,16 @@ class HullRecord:
 
 @dataclass(frozen=True, slots=True)
 class HullMemory:
-    """Memory of one OnSphere run of ``n`` points, in bytes (tracemalloc): every version kept or only the final."""
+    """Memory of one run of ``n`` points of ``dist``, in bytes (tracemalloc): every version kept, or only the final.
+
+    ``versions_kept`` is what the full history alone holds: the memory still
+    reachable from the tuple of versions once the rest of the result (the
+    input points, the arrays of the final hull) is dropped — every complex
+    version with its map nodes, vertex lists, entries, face data and conflict
+    lists, each shared piece counted once.  ``history_kept`` and
+    ``final_only_kept`` are what a whole run keeps (the result object with its
+    arrays included) with and without ``history=True``.
+    """
 
     n: int
     backend: str
@@ -125,11 +139,19 @@ class HullMemory:
     history_peak: int
     final_only_kept: int
     final_only_peak: int
+    dist: str = "InBall"
+    insertions: int = 0
+    versions_kept: int = 0
 
     @property
     def per_version(self) -> float:
-        """Bytes kept per additional version: what time travel costs per insertion."""
+        """Bytes kept per additional version: what time travel adds to a run, per insertion."""
         return (self.history_kept - self.final_only_kept) / max(self.versions - 1, 1)
+
+    @property
+    def per_insertion(self) -> float:
+        """Bytes the full history holds per inserted point: ``versions_kept`` over the insertions."""
+        return self.versions_kept / max(self.insertions, 1)
 
 
 TWIN_MODULES: Final = (
@@ -192,7 +214,9 @@ class HullBench:
             ],
         }
         if self.memory is not None:
-            out["memory"] = dict(asdict(self.memory), per_version=self.memory.per_version)
+            out["memory"] = dict(
+                asdict(self.memory), per_version=self.memory.per_version, per_insertion=self.memory.per_insertion
+            )
         return out
 
 
@@ -222,13 +246,16 @@ def _qhull(points: NDArray[np.float64], repeat: int) -> tuple[float, NDArray[np.
     return seconds, np.sort(np.asarray(hull.vertices, dtype=np.intp))
 
 
-def _memory(n: int, seed: int, backend: str) -> HullMemory:
+def _memory(n: int, seed: int, backend: str, dist: str = "InBall") -> HullMemory:
     from persistri.impl.hull.api import convex_hull
     from persistri.impl.hull.distributions import generate
 
-    points = generate("OnSphere", n, seed)
+    # A small run first, so that the modules a run imports on first use are not counted as its memory.
+    convex_hull(generate(dist, 64, seed + 1), backend=backend, seed=seed, history=True)
+    points = generate(dist, n, seed)
 
-    def measure(keep: bool) -> tuple[int, int, int]:
+    def measure(keep: bool) -> tuple[int, int, int, int, int]:
+        """(kept by the run, its peak, versions, insertions, kept by the versions alone), from a base."""
         gc.collect()
         tracemalloc.start()
         try:
@@ -236,15 +263,20 @@ def _memory(n: int, seed: int, backend: str) -> HullMemory:
             hull = convex_hull(points, backend=backend, seed=seed, history=keep)
             gc.collect()
             kept, peak = tracemalloc.get_traced_memory()
+            versions = hull.history.versions if hull.history is not None else (hull.complex,)
+            insertions = hull.insertions
+            del hull
+            gc.collect()
+            alone = tracemalloc.get_traced_memory()[0]
+            count = len(versions)
+            del versions
         finally:
             tracemalloc.stop()
-        versions = len(hull.history) if hull.history is not None else 1
-        del hull
-        return kept - base, peak - base, versions
+        return kept - base, peak - base, count, insertions, alone - base
 
-    kept_all, peak_all, versions = measure(True)
-    kept_one, peak_one, _ = measure(False)
-    return HullMemory(n, backend, versions, kept_all, peak_all, kept_one, peak_one)
+    kept_all, peak_all, versions, insertions, alone = measure(True)
+    kept_one, peak_one, _, _, _ = measure(False)
+    return HullMemory(n, backend, versions, kept_all, peak_all, kept_one, peak_one, dist, insertions, alone)
 
 
 def run_hull_bench(
@@ -257,6 +289,7 @@ def run_hull_bench(
     seed: int = 0,
     memory: bool = False,
     memory_n: int = DEFAULT_MEMORY_N,
+    memory_dist: str = DEFAULT_MEMORY_DIST,
     on_progress: ProgressCallback | None = None,
 ) -> HullBench:
     """Run the benchmark described in the module docstring; ``ephemeral`` adds the baseline.
@@ -272,7 +305,7 @@ def run_hull_bench(
     sizes = tuple(sorted({int(s) for s in sizes}))
     if not sizes or sizes[0] < 4:
         raise ValueError("sizes must be point counts of at least 4")
-    unknown = [d for d in dists if d not in DISTRIBUTIONS]
+    unknown = [d for d in (*dists, *((memory_dist,) if memory else ())) if d not in DISTRIBUTIONS]
     if unknown:
         raise ValueError(f"unknown distribution {unknown[0]!r}; known: {', '.join(DISTRIBUTIONS)}")
     if not backends:
@@ -321,9 +354,9 @@ def run_hull_bench(
             first = best[subjects[0]]
             bench.records.append(HullRecord(dist, n, first[4], first[2], q_best, timings))
     if memory:
-        report(f"memory: OnSphere {memory_n:,} with every version, then the final only")
+        report(f"memory: {memory_dist} {memory_n:,} with every version, then the final only")
         done += 1
-        bench.memory = _memory(memory_n, seed, backends[0] if backends[0] != EPHEMERAL else "red_black")
+        bench.memory = _memory(memory_n, seed, backends[0] if backends[0] != EPHEMERAL else "red_black", memory_dist)
         done += 1
     report("done")
     return bench
@@ -394,9 +427,10 @@ def hull_table(bench: HullBench) -> Any:
     if m is not None:
         parts.append(
             Text(
-                f"memory, OnSphere {m.n:,} points on {m.backend}: every intermediate hull kept ({m.versions:,} versions) "
-                f"{_mb(m.history_kept)} (peak {_mb(m.history_peak)}); the final hull only {_mb(m.final_only_kept)} "
-                f"(peak {_mb(m.final_only_peak)}); {m.per_version / 1024:,.1f} KB per extra version"
+                f"memory, {m.dist} {m.n:,} points on {m.backend}: the full history ({m.versions:,} versions) holds "
+                f"{_mb(m.versions_kept)}, {m.per_insertion / 1024:,.2f} KB per inserted point; the run keeps "
+                f"{_mb(m.history_kept)} with it (peak {_mb(m.history_peak)}), {_mb(m.final_only_kept)} with the final "
+                f"hull only (peak {_mb(m.final_only_peak)}): {m.per_version / 1024:,.2f} KB per extra version"
             )
         )
     return Group(*parts)

@@ -354,10 +354,19 @@ def complex_(
 @click.option("--repeat", type=click.IntRange(min=1), default=1, show_default=True, help="Timed runs per figure; the best is kept.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the points and of the insertion order.")
 @click.option("--memory", is_flag=True, help="Also measure the memory of keeping every intermediate hull (tracemalloc; slow).")
-@click.option("--memory-n", type=click.IntRange(min=4), default=65536, show_default=True, help="OnSphere points for --memory.")
+@click.option("--memory-n", type=click.IntRange(min=4), default=16384, show_default=True, help="Points for --memory.")
+@click.option("--memory-dist", default="InBall", show_default=True, help="Distribution for --memory.")
 @click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
 def hull(
-    sizes: tuple[int, ...], dists: str, backends: str, repeat: int, seed: int, memory: bool, memory_n: int, as_json: bool
+    sizes: tuple[int, ...],
+    dists: str,
+    backends: str,
+    repeat: int,
+    seed: int,
+    memory: bool,
+    memory_n: int,
+    memory_dist: str,
+    as_json: bool,
 ) -> None:
     """The exact bulldozer hull against scipy's Qhull, per distribution and size, in the same run.
 
@@ -365,8 +374,9 @@ def hull(
     each backend and on the ephemeral (dict, NOT persistent) baseline, the
     ratios to Qhull and to the baseline, µs per insertion, and whether the
     vertex sets agree.  --memory adds the memory of keeping every intermediate
-    hull of an OnSphere run against keeping the final hull only.  The default
-    sizes take many minutes (256K points dominate).
+    hull (bytes the versions hold per inserted point, and the whole run against
+    keeping the final hull only).  The default sizes take many minutes (256K
+    points dominate).
     """
     from persistri.impl.bench.hull import hull_table, run_hull_bench
 
@@ -384,6 +394,7 @@ def hull(
             seed=seed,
             memory=memory,
             memory_n=memory_n,
+            memory_dist=memory_dist,
             on_progress=update,
         )
     if as_json:
