@@ -169,6 +169,9 @@ class QualityMesh:
       split points rounded to the nearest doubles because no double lies exactly on
       their subsegment (never with ``exact_segments=True``; such a mesh passes
       ``verify_mesh(..., exact_segments=False)``, one with none passes with ``True``);
+      ``rounding_retries`` — rounded split points whose version was not a valid mesh (a
+      flat or inverted triangle near a vertex close to the segment), dropped for the next
+      nearby double (:func:`~persistri.impl.mesh.splitting.rounded_candidates`);
     * ``min_angle`` / ``max_area`` — the bounds asked; ``min_angle_reached`` /
       ``max_area_reached`` — whether every domain triangle meets them (exempt
       ones excepted for the angle), decided exactly;
@@ -200,6 +203,7 @@ class QualityMesh:
     _run: _Run
     notes: tuple[str, ...] = ()
     deletions: int = 0
+    rounding_retries: int = 0
 
     @property
     def complex(self) -> Complex[MeshDatum]:
@@ -314,6 +318,7 @@ def _finish(
         _run=run,
         notes=tuple(notes),
         deletions=counts.deletions,
+        rounding_retries=counts.rounding_retries,
     )
 
 

@@ -4,14 +4,17 @@ A mesh conforms to a segment ``u → v`` when a path of mesh edges runs from ``u
 to ``v`` whose vertices advance along the segment and lie on it.
 :func:`segment_chains` walks it: from the current vertex, the next is the
 neighbour of least progress ``(w − u) · (v − u)`` beyond the current one (and not
-beyond ``v``) that lies on the segment — exactly (zero cross product), or within
-its *tolerance box*: the closed box of half-width ``rounding_ulps`` units in the
+beyond ``v``) that lies on the segment (depth first: a walk that gets stuck backs
+up and tries the next neighbour) — exactly (zero cross product), or within
+its *tolerance box* (split points only: an input vertex is on a segment exactly or
+not at all): the closed box of half-width ``rounding_ulps`` units in the
 last place of the largest magnitude among its and the segment's coordinates,
 axis by axis, which the closed segment must meet (:func:`in_tolerance_box`, exact
 parametric clipping in rationals).  The second kind are the split points a
 floating-point mesher such as Triangle rounds off the segment; they are counted
 apart.  Every decision is on exact integers (the checker's scaled coordinates)
-or rationals.  O(Σ degree along the chains).
+or rationals.  O(Σ degree along the chains), or more where a walk backs up (at
+most a few times the number of edges per segment).
 """
 
 from __future__ import annotations
@@ -65,6 +68,9 @@ def segment_chains(
     ``mesh_of[i]`` is the mesh vertex of input vertex ``i`` (-1 if none).
     """
     out = Chains()
+    # Only split points may be off their segment within tolerance: an input vertex off it is off it (exactly).
+    is_input = np.zeros(len(xs), dtype=bool)
+    is_input[mesh_of[mesh_of >= 0]] = True
     exact_seen: set[int] = set()
     rounded_seen: set[int] = set()
     for s in range(segments.shape[0]):
@@ -74,30 +80,47 @@ def segment_chains(
             continue
         dx, dy = xs[v] - xs[u], ys[v] - ys[u]
         length2 = dx * dx + dy * dy
-        path, rounded = [u], []
-        cur = u
-        while cur != v:
-            best, best_t, best_rounded = -1, 0, False
+
+        def steps(cur: int) -> list[tuple[int, int, bool]]:
+            """The neighbours of ``cur`` that may come next on the chain, least progress first: ``(progress, w, rounded)``."""
             cur_t = (xs[cur] - xs[u]) * dx + (ys[cur] - ys[u]) * dy
+            found: list[tuple[int, int, bool]] = []
             for w in nbr[nbr_ptr[cur] : nbr_ptr[cur + 1]].tolist():
                 t = (xs[w] - xs[u]) * dx + (ys[w] - ys[u]) * dy
                 if t <= cur_t or t > length2:
                     continue
                 exact = w == v or dx * (ys[w] - ys[u]) == dy * (xs[w] - xs[u])
-                if not exact and not in_tolerance_box(pts[w], pts[u], pts[v], rounding_ulps):
+                if not exact and (is_input[w] or not in_tolerance_box(pts[w], pts[u], pts[v], rounding_ulps)):
                     continue
-                if best < 0 or t < best_t:
-                    best, best_t, best_rounded = w, t, not exact
-            if best < 0:
-                out.stuck.append((s, cur, len(path) - 1))
-                break
-            if best_rounded:
-                rounded.append(best)
-            path.append(best)
-            cur = best
+                found.append((t, w, not exact))
+            return sorted(found)
+
+        # Depth first, least progress first: near a second segment within an ulp of this one (two segments at a
+        # tiny angle), a vertex of the other can look like the next one here; the walk then backs up.
+        path, flags = [u], [False]
+        pending = [steps(u)]
+        budget = 4 * (len(nbr) + 1)
+        cur = u
+        furthest = (0, u)  # where a failed walk got furthest: (edges, vertex)
+        while cur != v and pending and budget > 0:
+            budget -= 1
+            if not pending[-1]:
+                pending.pop()
+                path.pop()
+                flags.pop()
+                cur = path[-1] if path else u
+                continue
+            _, w, rounded_w = pending[-1].pop(0)
+            path.append(w)
+            flags.append(rounded_w)
+            pending.append(steps(w) if w != v else [])
+            cur = w
+            furthest = max(furthest, (len(path) - 1, w))
         if cur != v:
+            out.stuck.append((s, furthest[1], furthest[0]))
             out.paths.append(None)
             continue
+        rounded = [w for w, f in zip(path, flags) if f]
         out.paths.append(path)
         for w in path:
             out.on_segments.setdefault(w, []).append(s)

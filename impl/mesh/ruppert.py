@@ -94,10 +94,11 @@ from fractions import Fraction
 from typing import Any
 
 from persistri.impl.complex.structure import Complex
-from persistri.impl.mesh.cdt import SegmentGeometry
+from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
 from persistri.impl.mesh.angles import angle_at_least
+from persistri.impl.mesh.precision import crowded_apex, nearest_features, valid_split
 from persistri.impl.mesh.quality import AngleBound, QualityTests
-from persistri.impl.mesh.splitting import small_angle_at, split_point
+from persistri.impl.mesh.splitting import rounded_candidates, small_angle_at, split_point
 from persistri.impl.mesh.steiner import PrecisionLimitError, steiner_point
 from persistri.impl.mesh.triangulation import (
     EXTERIOR,
@@ -132,7 +133,9 @@ class Counts:
     * ``exempt`` — bad-angle triangles left alone at small input angles;
     * ``rounded_splits`` — split points not exactly on their input segment (``exact_segments=False``,
       the default): rounded to the nearest doubles where no double lies on the subsegment, or on a
-      piece of the chain that ends at such a point; ``rounded_segments`` — the input segments they split.
+      piece of the chain that ends at such a point; ``rounded_segments`` — the input segments they split;
+      ``rounding_retries`` — rounded split points inserted and dropped because their version was not a valid
+      mesh (a flat or inverted triangle), before a nearby double that makes one.
     """
 
     insertions: int = 0
@@ -145,6 +148,7 @@ class Counts:
     rounded_splits: int = 0
     rounded_segments: set[int] = field(default_factory=set)
     deletions: int = 0
+    rounding_retries: int = 0
 
 
 @dataclass
@@ -321,27 +325,43 @@ class Refiner:
             c, deleted = self._delete_free(c, lo, hi)
         sides = [self.S.neighbour(c, (vu, vw)), self.S.neighbour(c, (vw, vu))]
         start = next(side for side in sides if side is not None)
+        for side in sides:
+            crowded = None if side is None or side[1][1] == EXTERIOR else crowded_apex(P, geo, s, side[0][2])
+            if crowded is not None:
+                raise PrecisionLimitError(
+                    f"{crowded}: a mesh meeting the bounds would need edges shorter than the spacing of doubles there "
+                    "(move the vertex onto the segment or away from it, or mesh without an angle bound)"
+                )
         t, x, y, shell, rounded = split_point(P, geo, lo, hi, s, sides, self._small_angle, self.exact_segments)
         p = P.append(x, y)
+        step = T.insert(c, p, start, split=(lo, hi, s))
+        if rounded and not valid_split(P, step, lo, hi):
+            # Off the segment by an ulp, p may not see every edge of its cavity from inside (a vertex within an ulp
+            # of the segment), or may leave the old subsegment standing.  Persistence makes trying cheap: the
+            # invalid version is dropped like an undone one, and the next nearby double is inserted into c instead.
+            a, b = geo.ends[s]
+            tu, tw = sorted((param_on_segment(P, geo, s, lo), param_on_segment(P, geo, s, hi)))
+            for t2, x2, y2 in rounded_candidates(P, a, b, lo, hi, tu, tw, t):
+                if (x2, y2) == (x, y):
+                    continue
+                self.counts.rounding_retries += 1
+                p = P.append(x2, y2)
+                step = T.insert(c, p, start, split=(lo, hi, s))
+                if valid_split(P, step, lo, hi):
+                    if t2 != t:
+                        shell = None  # another parameter: off the shell
+                    t = t2
+                    break
+            else:
+                raise PrecisionLimitError(
+                    f"no pair of doubles near segment {s} between vertices {int(lo)} and {int(hi)} splits it into a "
+                    "valid mesh (every candidate makes a flat or inverted triangle): the mesh is at the limit of "
+                    "double precision here"
+                )
         geo.on_segment[p] = (s, t)
         if shell is not None:
             geo.shell[p] = shell
-        step = T.insert(c, p, start, split=(lo, hi, s))
-        if rounded:
-            # Off the segment by less than an ulp, p might not see every edge of its cavity from inside (a boundary
-            # edge at a hair's angle to the segment), or leave the old subsegment standing: then no valid mesh holds
-            # it, and we say so.
-            for tri, dat in step.created:
-                stale = lo in tri and hi in tri and (dat[1] != EXTERIOR or constraint_of(dat, lo, hi) >= 0)
-                if stale or (
-                    tri[2] >= 0 and tri[0] >= 0 and tri[1] >= 0 and P.orient2d_sign(tri[0], tri[1], tri[2]) <= 0
-                ):
-                    raise PrecisionLimitError(
-                        f"the split point of segment {s} between vertices {int(lo)} and {int(hi)}, rounded to the "
-                        "nearest doubles, would make a flat or inverted triangle: the mesh is at the limit of double "
-                        "precision here"
-                    )
-        elif lo in geo.off_segment or hi in geo.off_segment:
+        if not rounded and (lo in geo.off_segment or hi in geo.off_segment):
             # Exactly on a piece that ends at a rounded point: on the segment itself only if the line allows.
             a, b = geo.ends[s]
             rounded = P.orient2d_sign(a, b, p) != 0
@@ -428,31 +448,41 @@ class Refiner:
                     self._segs.append((lo, hi, s))
         dead = self._dead
         finished = False
-        while True:
-            if max_steiner is not None and len(inserted) >= max_steiner:
-                break
-            if self._segs:
-                split = self._split(c, self._segs.popleft())
-                if split is None:
-                    continue
-                c, p, gone = split
-                deleted.append(tuple(gone))
-            elif self._bad:
-                bad = heapq.heappop(self._bad)
-                if bad[3][0] in dead:
-                    continue
-                step = self._split_triangle(c, bad)
-                if step is None:
-                    continue
-                c, p = step
-                deleted.append(())
-            else:
-                finished = True
-                break
-            versions.append(c)
-            inserted.append(p)
-            if progress is not None:
-                progress(1)
+        where = -1
+        try:
+            while True:
+                if max_steiner is not None and len(inserted) >= max_steiner:
+                    break
+                if self._segs:
+                    sub = self._segs.popleft()
+                    where = sub[0]
+                    split = self._split(c, sub)
+                    if split is None:
+                        continue
+                    c, p, gone = split
+                    deleted.append(tuple(gone))
+                elif self._bad:
+                    bad = heapq.heappop(self._bad)
+                    if bad[3][0] in dead:
+                        continue
+                    where = bad[4]
+                    step = self._split_triangle(c, bad)
+                    if step is None:
+                        continue
+                    c, p = step
+                    deleted.append(())
+                else:
+                    finished = True
+                    break
+                versions.append(c)
+                inserted.append(p)
+                if progress is not None:
+                    progress(1)
+        except PrecisionLimitError as exc:
+            if where < 0 or " lies " in str(exc):
+                raise
+            x, y = self.P.xy(where)
+            raise PrecisionLimitError(f"{exc}{nearest_features(self.P, self.geo, x, y)}") from None
         counts = self.counts
         counts.insertions = len(inserted)
         if finished:

@@ -21,7 +21,11 @@ parameter on ``AB``:
   exact point is rounded to the nearest doubles instead, as Triangle's split
   points are (``exact_segments=False``, the default; reported as *rounded*), or
   :class:`~persistri.impl.mesh.steiner.PrecisionLimitError` is raised
-  (``exact_segments=True``).
+  (``exact_segments=True``).  A rounded point lies off the segment's line, and
+  near a vertex that lies itself within an ulp of the segment it can fall on the
+  wrong side of a cavity edge; :func:`rounded_candidates` lists the nearby
+  doubles (and other parameters) in order of preference, for the refiner to
+  insert in turn until the new version is valid (decided exactly).
 
 Costs: O(1) exact operations, plus O(segments) once per pair (vertex, segment)
 for the small-angle test (memoised by the caller).
@@ -30,16 +34,17 @@ for the small-angle test (memoised by the caller).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from fractions import Fraction
+from typing import Final
 
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.angles import angle_at_least
 from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
-from persistri.impl.mesh.steiner import PrecisionLimitError, point_at, split_parameter
+from persistri.impl.mesh.steiner import PrecisionLimitError, split_parameter
 from persistri.impl.mesh.triangulation import MeshDatum, Tri, constraint_of
 
-__all__ = ["SplitPoint", "split_point", "small_angle_at", "shell_exponent"]
+__all__ = ["SplitPoint", "split_point", "rounded_candidates", "near_segment", "small_angle_at", "shell_exponent"]
 
 SplitPoint = tuple[Fraction, float, float, "tuple[int, int] | None", bool]
 """``(t, x, y, shell, rounded)``: the parameter on the segment, the point, the shell ``(o, k)`` it lies on (or
@@ -144,19 +149,15 @@ def split_point(
                 f"splitting segment {s} between vertices {int(lo)} and {int(hi)}: {exc}; "
                 "the default, exact_segments=False, rounds split points to the nearest doubles there, as Triangle does"
             ) from None
-    t, x, y = _rounded(P, a, b, lo, hi, t_first, t_second, wanted)
-    return t, x, y, shell, True
+    for t, x, y in rounded_candidates(P, a, b, lo, hi, t_first, t_second, wanted):
+        return t, x, y, shell, True
+    raise PrecisionLimitError(
+        f"no pair of doubles near segment {s} lies strictly between vertices {int(lo)} and {int(hi)}: "
+        "the mesh is at the limit of double precision here"
+    )
 
 
-def _neighbours(v: Fraction) -> list[float]:
-    """The doubles nearest ``v`` from below and above (one if ``v`` is a double)."""
-    f = float(v)
-    if Fraction(f) == v:
-        return [f]
-    return [f, math.nextafter(f, math.inf)] if Fraction(f) < v else [math.nextafter(f, -math.inf), f]
-
-
-def _rounded(
+def rounded_candidates(
     P: GrowingPredicates2,
     a: int,
     b: int,
@@ -165,23 +166,82 @@ def _rounded(
     tu: Fraction,
     tw: Fraction,
     wanted: Fraction,
-) -> tuple[Fraction, float, float]:
-    """The point of segment ``ab`` at parameter ``wanted`` (clamped to the middle half of ``(tu, tw)``), rounded to
-    the nearest pair of doubles — off the segment by at most half an ulp per coordinate, as Triangle's split points
-    are — or, if that is an end of the subsegment, the next nearest of the four around it.
-    :class:`PrecisionLimitError` if all four fall on an end."""
+) -> Iterator[tuple[Fraction, float, float]]:
+    """Pairs of doubles near the subsegment ``uw`` of segment ``ab``, for a split where no double lies on it: best first.
+
+    ``(t, x, y)``: a point near ``a + t (b − a)``.  Parameters: ``wanted`` clamped to the
+    middle half of ``(tu, tw)`` first, then ``tu + k (tw − tu) / 16`` for ``k = 4 … 12``,
+    nearest it first; around each exact point, the doubles up to :data:`_WINDOW` steps
+    away on each axis, nearest first (exact squared distance), keeping those
+    *near the segment* — the closed segment ``ab`` meets the closed box of half-width one
+    unit in the last place of the largest magnitude among the point's and the segment's
+    coordinates, axis by axis (exact clipping in rationals; ``verify_mesh``'s
+    ``exact_segments=False`` accepts two) — whose projection lies strictly inside ``uw``.
+    The first is the rounding to nearest of the exact point whenever that fits.
+
+    Which of them makes a valid mesh depends on the cavity, so the caller inserts them in
+    turn and keeps the first version that is valid (:meth:`~persistri.impl.mesh.ruppert.Refiner._split`).
+    O(_WINDOW²) rational operations per parameter.
+    """
     delta = tw - tu
-    t = min(max(wanted, tu + delta / 4), tw - delta / 4)
-    ex, ey = point_at(P, a, b, t)
-    ends = {P.xy(u), P.xy(w)}
-    candidates = sorted(
-        ((x, y) for x in _neighbours(ex) for y in _neighbours(ey)),
-        key=lambda q: (Fraction(q[0]) - ex) ** 2 + (Fraction(q[1]) - ey) ** 2,
-    )
-    for x, y in candidates:
-        if (x, y) not in ends:
-            return t, x, y
-    raise PrecisionLimitError(
-        f"every pair of doubles next to the split point of the subsegment between vertices {int(u)} and {int(w)} "
-        "is one of its ends: the mesh is at the limit of double precision here"
-    )
+    first = min(max(wanted, tu + delta / 4), tw - delta / 4)
+    others = sorted((tu + delta * k / 16 for k in range(4, 13)), key=lambda t: (abs(t - first), t))
+    (ia, ib, iu, iw), ex = P.integers(a, b, u, w)
+    s = Fraction(2) ** ex
+    ax, ay = Fraction(ia[0]) * s, Fraction(ia[1]) * s
+    dx, dy = Fraction(ib[0] - ia[0]) * s, Fraction(ib[1] - ia[1]) * s
+    ux, uy = Fraction(iu[0]) * s, Fraction(iu[1]) * s
+    vx, vy = Fraction(iw[0] - iu[0]) * s, Fraction(iw[1] - iu[1]) * s
+    (fax, fay), (fbx, fby) = P.xy(a), P.xy(b)
+    seen: set[tuple[float, float]] = set()
+    for t in [first] + [t for t in others if t != first]:
+        px, py = ax + t * dx, ay + t * dy
+        near: list[tuple[Fraction, float, float]] = []
+        for x in _window(px):
+            for y in _window(py):
+                if (x, y) in seen:
+                    continue
+                seen.add((x, y))
+                fx, fy = Fraction(x), Fraction(y)
+                along = (fx - ux) * vx + (fy - uy) * vy
+                if not 0 < along < vx * vx + vy * vy:
+                    continue
+                if near_segment(fax, fay, fbx, fby, x, y):
+                    near.append(((fx - px) ** 2 + (fy - py) ** 2, x, y))
+        near.sort()
+        for _, x, y in near:
+            yield t, x, y
+
+
+_WINDOW: Final[int] = 3
+"""Doubles tried on each side of the nearest one, per axis, around a rounded split point."""
+
+
+def _window(v: Fraction) -> list[float]:
+    """The doubles nearest ``v``, then up to :data:`_WINDOW` more on each side."""
+    f = float(v)
+    below, above = [f], [f]
+    for _ in range(_WINDOW):
+        below.append(math.nextafter(below[-1], -math.inf))
+        above.append(math.nextafter(above[-1], math.inf))
+    return below[:0:-1] + above
+
+
+def near_segment(ax: float, ay: float, bx: float, by: float, x: float, y: float, ulps: float = 1.0) -> bool:
+    """Whether the closed segment ``ab`` meets the closed box of half-width ``ulps`` units in the last place of the
+    largest magnitude per axis around ``(x, y)`` (parametric clipping, exact in rationals). O(1).
+
+    The box is :func:`~persistri.impl.mesh.verify.verify_mesh`'s tolerance box (its default is two units): a split
+    point in it counts as on the segment there with ``exact_segments=False``."""
+    lower, upper = Fraction(0), Fraction(1)
+    for a, b, c in ((ax, bx, x), (ay, by, y)):
+        h = Fraction(ulps) * Fraction(math.ulp(max(abs(a), abs(b), abs(c))))
+        lo, hi = Fraction(c) - h, Fraction(c) + h
+        fa, d = Fraction(a), Fraction(b) - Fraction(a)
+        if d == 0:
+            if not lo <= fa <= hi:
+                return False
+            continue
+        t1, t2 = (lo - fa) / d, (hi - fa) / d
+        lower, upper = max(lower, min(t1, t2)), min(upper, max(t1, t2))
+    return lower <= upper

@@ -1,0 +1,109 @@
+"""Rounded split points that must keep the mesh valid, and features closer than doubles can resolve.
+
+Where no double lies on a subsegment, its split point is rounded to nearby
+doubles (``exact_segments=False``, the default).  Off the segment's line by an
+ulp, the nearest one can fall on the wrong side of an edge of its cavity when a
+vertex lies about as close to the segment: the refiner then drops that version
+and inserts the next nearby double (:func:`~persistri.impl.mesh.splitting.rounded_candidates`,
+decided exactly).  An input vertex *inside the domain* that close to a segment
+cannot be resolved by any mesh of doubles: the refiner says so, naming it.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+from mesh_helpers import ring
+from persistri.impl.geometry.growing import GrowingPredicates2
+from persistri.impl.mesh.api import triangulate
+from persistri.impl.mesh.chains import in_tolerance_box
+from persistri.impl.mesh.domain import PSLG, as_pslg
+from persistri.impl.mesh.splitting import rounded_candidates
+from persistri.impl.mesh.steiner import PrecisionLimitError
+from persistri.impl.mesh.verify import verify_mesh
+
+X0, Y0 = 512_345.0, 4_123_456.0
+A, B = (X0, Y0), (X0 + 40.01, Y0 + 10.03)  # given to the centimetre: few doubles lie on A–B
+
+
+def _exact_on(t: Fraction) -> tuple[Fraction, Fraction]:
+    return Fraction(A[0]) + t * (Fraction(B[0]) - Fraction(A[0])), Fraction(A[1]) + t * (Fraction(B[1]) - Fraction(A[1]))
+
+
+def _slot(v: tuple[float, float]) -> PSLG:
+    """A box with a slot cut in from the right: its lower side is A–B, its upper side A–v–(far right), and ``v``
+    lies within an ulp of A–B, *in the slot*: outside the domain."""
+    pts = [(X0 - 10, Y0 - 20), (X0 + 60, Y0 - 20), (X0 + 60, Y0 + 10.03), B, A, v, (X0 + 60, Y0 + 25), (X0 + 60, Y0 + 50), (X0 - 10, Y0 + 50)]
+    return as_pslg(np.array(pts), ring(len(pts)))
+
+
+def test_rounded_candidates_lie_near_the_segment_nearest_first() -> None:
+    P = GrowingPredicates2(np.array([A, B]))
+    tried = list(rounded_candidates(P, 0, 1, 0, 1, Fraction(0), Fraction(1), Fraction(1, 2)))
+    assert len(tried) > 8 and len({(x, y) for _, x, y in tried}) == len(tried)
+    ex, ey = _exact_on(Fraction(1, 2))
+    assert tried[0][1:] == (float(ex), float(ey))  # the rounding to nearest comes first
+    a, b = np.array(A), np.array(B)
+    for t, x, y in tried:
+        # Within the checker's own tolerance box of one ulp (verify_mesh allows two), strictly between the ends.
+        assert in_tolerance_box(np.array([x, y]), a, b, 1.0)
+        along = (Fraction(x) - Fraction(A[0])) * (Fraction(B[0]) - Fraction(A[0])) + (Fraction(y) - Fraction(A[1])) * (
+            Fraction(B[1]) - Fraction(A[1])
+        )
+        assert 0 < along < (Fraction(B[0]) - Fraction(A[0])) ** 2 + (Fraction(B[1]) - Fraction(A[1])) ** 2
+    first = [(x, y) for t, x, y in tried if t == Fraction(1, 2)]
+    gaps = [(Fraction(x) - ex) ** 2 + (Fraction(y) - ey) ** 2 for x, y in first]
+    assert gaps == sorted(gaps)  # nearest first around each parameter
+    assert {t for t, _, _ in tried} > {Fraction(1, 2)}  # then other parameters of the middle half
+
+
+def test_a_rounded_split_that_would_invert_a_triangle_takes_another_double() -> None:
+    # The slot's sides A–B and A–v are within an ulp of each other near v (v is an ulp from A–B's midpoint):
+    # a split point of one, rounded to the nearest doubles, can fall beyond a split point of the other and invert a
+    # triangle of the slot.  The refiner drops that version and inserts the next candidate; the mesh and every
+    # version of its history are valid.
+    v = (512365.005, 4123461.015)
+    assert in_tolerance_box(np.array(v), np.array(A), np.array(B), 1.0)
+    assert GrowingPredicates2(np.array([A, B, v])).orient2d_sign(0, 1, 2) > 0  # left of A → B: in the slot
+    d = _slot(v)
+    mesh = triangulate(d, min_angle=30, max_area=50.0)
+    assert mesh.rounding_retries > 0 and mesh.rounded_splits > 0
+    assert mesh.min_angle_reached and mesh.max_area_reached
+    report = verify_mesh(d, mesh.vertices, mesh.triangles, min_angle=30, max_area=50.0, exact_segments=False)
+    assert report.ok, report.problems[:3]
+    for k in range(len(mesh.history)):
+        arr = mesh.history.mesh(k)
+        assert verify_mesh(d, arr.vertices, arr.triangles, exact_segments=False).ok, k
+
+
+def _crowded(offset_ulps: float) -> tuple[PSLG, int]:
+    """A quadrilateral lot with one side A–B and an input vertex inside it, ``offset_ulps`` y-ulps below A–B's
+    midpoint (the nearest double there): its row."""
+    ex, ey = _exact_on(Fraction(1, 2))
+    x, y = float(ex), float(ey) - offset_ulps * math.ulp(float(ey))
+    pts = np.array([(X0, Y0 - 30), (X0 + 45, Y0 - 30), B, A, (x, y)])
+    return as_pslg(pts, ring(4)), 4
+
+
+def test_an_input_vertex_within_an_ulp_of_a_segment_is_named() -> None:
+    d, v = _crowded(1)
+    cdt = triangulate(d, check=True)  # the constrained Delaunay triangulation holds it
+    assert len(cdt.triangles) > 0
+    with pytest.raises(PrecisionLimitError) as info:
+        triangulate(d, min_angle=20)
+    message = str(info.value)
+    x, y = (float(c) for c in d.vertices[v])
+    assert message.startswith(f"input vertex {v} at ({x!r}, {y!r}) lies ") and "from segment 2," in message
+    assert "units in the last place" in message and "\n" not in message
+
+
+def test_a_vertex_a_few_ulps_further_away_is_meshed() -> None:
+    # Outside the band of two ulps the refinement resolves it (with edges of a few ulps).
+    d, _ = _crowded(64)
+    mesh = triangulate(d, min_angle=20)
+    assert mesh.min_angle_reached
+    assert verify_mesh(d, mesh.vertices, mesh.triangles, min_angle=20, exact_segments=mesh.rounded_splits == 0).ok
