@@ -16,6 +16,8 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
 from mesh_helpers import ring
 from persistri.impl.geometry.growing import GrowingPredicates2
@@ -107,3 +109,55 @@ def test_a_vertex_a_few_ulps_further_away_is_meshed() -> None:
     mesh = triangulate(d, min_angle=20)
     assert mesh.min_angle_reached
     assert verify_mesh(d, mesh.vertices, mesh.triangles, min_angle=20, exact_segments=mesh.rounded_splits == 0).ok
+
+
+# -- fuzz: survey lots at UTM offsets ------------------------------------------------------------
+
+
+@st.composite
+def utm_lots(draw: st.DrawFn) -> PSLG:
+    """A star-shaped lot of 5–9 corners given to the centimetre at a random UTM offset (slanted edges with no double
+    between their ends are common), with 0–2 holes (buildings) and maybe a slanted internal crack (a fence)."""
+    x0 = draw(st.integers(160_000, 830_000)) + draw(st.integers(0, 99)) / 100
+    y0 = draw(st.integers(0, 9_300_000)) + draw(st.integers(0, 99)) / 100
+    n = draw(st.integers(5, 9))
+    gaps = draw(st.lists(st.floats(0.5, 1.0), min_size=n, max_size=n))
+    turn = np.cumsum(gaps) / sum(gaps) * 2 * math.pi
+    # No gap above 90°: every edge then stays beyond 0.7 of the smallest radius from the centre.
+    assume(float(np.max(np.diff(np.r_[0.0, turn]))) <= math.pi / 2)
+    rmin = 20.0
+    rad = np.array(draw(st.lists(st.floats(rmin, 50.0), min_size=n, max_size=n)))
+    outer = np.c_[rad * np.cos(turn), rad * np.sin(turn)]
+    pts, segs, holes = [outer], ring(n), []
+    for k in range(draw(st.integers(0, 2))):
+        m = draw(st.integers(3, 6))
+        centre = 0.45 * rmin * np.array([math.cos(math.pi * k), math.sin(math.pi * k)])
+        ang = np.sort(np.array(draw(st.lists(st.floats(0, 2 * math.pi), min_size=m, max_size=m, unique=True))))
+        assume(float(np.max(np.diff(np.r_[ang, ang[0] + 2 * math.pi]))) < math.pi * 0.9)  # the centre inside it
+        r = np.array(draw(st.lists(st.floats(0.05 * rmin, 0.2 * rmin), min_size=m, max_size=m)))
+        base = sum(len(p) for p in pts)
+        pts.append(centre + np.c_[r * np.cos(ang), r * np.sin(ang)])
+        segs += [[base + a, base + b] for a, b in ring(m)]
+        holes.append(centre)
+    if draw(st.booleans()):
+        theta = math.pi / 2 + draw(st.floats(-0.5, 0.5))
+        base = sum(len(p) for p in pts)
+        pts.append(np.array([[0.1 * rmin * math.cos(theta), 0.1 * rmin * math.sin(theta)],
+                             [0.6 * rmin * math.cos(theta), 0.6 * rmin * math.sin(theta)]]))
+        segs.append([base, base + 1])
+    verts = np.round(np.vstack(pts) + [x0, y0], 2)
+    hole_pts = np.round(np.array(holes).reshape(-1, 2) + [x0, y0], 2)
+    return as_pslg(verts, segs, holes=hole_pts)
+
+
+@settings(max_examples=16)
+@given(utm_lots(), st.sampled_from([20.0, 30.0, 33.0]), st.sampled_from([None, 40.0, 10.0, 4.0]))
+def test_utm_lots_with_holes_refine_to_verified_meshes(domain: PSLG, angle: float, area: float | None) -> None:
+    mesh = triangulate(domain, min_angle=angle, max_area=area)
+    assert mesh.min_angle_reached and mesh.max_area_reached
+    strict = mesh.rounded_splits == 0
+    report = verify_mesh(domain, mesh.vertices, mesh.triangles, min_angle=angle, max_area=area, exact_segments=strict)
+    assert report.ok, report.problems[:3]
+    assert report.rounded_split_vertices == mesh.rounded_splits
+    middle = mesh.history.mesh(len(mesh.history) // 2)  # an older version, still valid
+    assert verify_mesh(domain, middle.vertices, middle.triangles, exact_segments=False).ok
