@@ -69,7 +69,7 @@ from persistri.impl.complex.vertex_lists import (
     group,
     neighbours_in,
     put,
-    rebuild,
+    replace_batched,
     visited,
 )
 from persistri.impl.stats import Stats
@@ -430,22 +430,11 @@ class TwoComplex(ComplexStructure[D]):
         return rep
 
     def _replace_batched(self, rep: Any, changes: Changes) -> Any:
-        """``replace``'s map changes through the backend's ``adjust_many``: every present vertex's list rebuilt in
-        one descent (the red-black tree copies the nodes its search paths share once), then the new vertices
-        inserted and the emptied ones removed.  Raises what the per-vertex loop raises (Missing, Present;
-        Unbatched for a triangle to remove at a vertex with no list)."""
-        emptied: list[Vertex] = []
-        items = [(v, (changes[v], v, emptied)) for v in sorted(changes)]
+        """``replace``'s map changes through the backend's ``adjust_many``
+        (:func:`~persistri.impl.complex.vertex_lists.replace_batched`)."""
         m = self._m
         assert self._adjust_many is not None
-        rep, absent = self._adjust_many(rebuild, rep, items)
-        for v, (change, _, _) in absent:
-            if change[0]:  # v had no list: a triangle to remove is absent
-                raise Unbatched
-            rep = m.insert(rep, v, tuple(change[1] + change[2]))
-        for v in emptied:  # v is in no triangle any more
-            rep = m.remove(rep, v)[0]
-        return rep
+        return replace_batched(rep, changes, self._adjust_many, m.insert, m.remove)
 
     def _unpack(self, c: Any, what: str) -> tuple[Any, Lineage | None]:
         if type(c) is Complex:

@@ -50,6 +50,7 @@ __all__ = [
     "rebuild",
     "visited",
     "group",
+    "replace_batched",
     "neighbours_in",
 ]
 
@@ -302,6 +303,34 @@ def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Chang
         else:
             ch[2].append((a, b, x))
     return changes, out_lin
+
+
+def replace_batched(
+    rep: Any,
+    changes: Changes,
+    adjust_many: Callable[..., tuple[Any, list[Any]]],
+    insert: Callable[[Any, Any, Any], Any],
+    remove: Callable[[Any, Any], tuple[Any, Any]],
+) -> Any:
+    """``replace``'s map changes through a backend's ``adjust_many`` (its ``insert`` and ``remove`` besides).
+
+    Every present vertex's list rebuilt in one descent (the red-black tree
+    copies the nodes its search paths share once), then the new vertices
+    inserted and the emptied ones removed.  Raises what the per-vertex updates
+    raise (Missing, Present; Unbatched for a triangle to remove at a vertex
+    with no list).
+    """
+    emptied: list[Any] = []
+    items = [(v, (changes[v], v, emptied)) for v in sorted(changes)]
+    rep, absent = adjust_many(rebuild, rep, items)
+    for item in absent:
+        change = item[1][0]
+        if change[0]:  # the vertex had no list: a triangle to remove is absent
+            raise Unbatched
+        rep = insert(rep, item[0], tuple(change[1] + change[2]))
+    for v in emptied:  # v is in no triangle any more
+        rep = remove(rep, v)[0]
+    return rep
 
 
 def neighbours_in(
