@@ -1,0 +1,14 @@
+"""Scale-out on Dask: the same exact algorithms over chunks, on a local or remote cluster (``persistri[dask]``).
+
+* :mod:`persistri.impl.scale.cluster` — where the work runs: the one place that
+  turns ``--workers``/``--scheduler`` (and ``PERSISTRI_SCHEDULER``) into a
+  ``distributed.Client`` or the sequential path;
+* :mod:`persistri.impl.scale.hull` — the exact convex hull of points in chunks
+  (arrays, Dask arrays, memory-mapped ``.npy``, Zarr, directories of ``.npy``):
+  chunk hulls on workers, merged by a tree reduction, equal to the one-process hull;
+* :mod:`persistri.impl.scale.futures` — several futures of one version (quality
+  refinements of one mesh) run as tasks from the shared version.
+
+Nothing outside this package imports Dask: ``import persistri`` and every other
+``persistri.impl`` module stay free of it (tested).
+"""
