@@ -83,13 +83,10 @@ def exact_float_spans(pred: Predicates2) -> tuple[bool, bool]:
     span = pred._span
     if not pred._uniform:
         return False, False
-    if span is None:  # every coordinate is 0: one point, no test to make
+    if span is None or len(pred) == 0:  # every coordinate is 0 (one point), or none: no test to make
         return True, True
     grain = span[0]
-    pts = pred.points
-    if pts.shape[0] == 0:
-        return True, True
-    extents = [float(pts[:, j].max()) - float(pts[:, j].min()) for j in range(2)]
+    extents = [hi - lo for lo, hi in pred._extents()]
     # Rounding is monotone and the bounds are doubles, so fl(hi - lo) < bound implies hi - lo < bound.
     fits_o = all(e < math.ldexp(float(ORIENT2D_EXACT_SPAN), grain) for e in extents)
     fits_i = fits_o and all(e < math.ldexp(float(INCIRCLE_EXACT_SPAN), grain) for e in extents)
@@ -135,9 +132,10 @@ class Delaunay2Kernel:
         exact_orient = pred._orient2d_exact
         sos_incircle = pred._sos_incircle
         sos2 = pred._sos2
-        xs, ys = pred._cols
-        finite = [(float(c.min()), float(c.max())) for c in (xs, ys)] if xs.size else [(0.0, 0.0), (0.0, 0.0)]
-        xspan, yspan = finite[0][1] - finite[0][0], finite[1][1] - finite[1][0]
+        # The box of the filter copy: the input's, times 2^shift (exact: a power of two).
+        shift = pred.filter_scale[0]
+        (xlo, xhi), (ylo, yhi) = pred._extents() if len(pred) else [(0.0, 0.0), (0.0, 0.0)]
+        xspan, yspan = math.ldexp(xhi - xlo, shift), math.ldexp(yhi - ylo, shift)
         o2_static = orient2d_box_threshold(xspan, yspan)
         ic_static = incircle_box_threshold(xspan, yspan)
         o2_errbound = ERRBOUND_ORIENT2D

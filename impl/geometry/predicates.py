@@ -55,6 +55,7 @@ from fractions import Fraction
 from typing import Final
 
 import itertools
+import math
 import struct
 
 import numpy as np
@@ -217,6 +218,19 @@ class _IndexedPoints:
         rows[start : start + len(block[0])] = zip(*block)
         return rows[i]
 
+    def _filter_columns(self, i: int | IntArray) -> list[NDArray[np.float64]]:
+        """The filter copy's coordinates of point ``i`` (0-d arrays) or of points ``i`` (one array per axis)."""
+        if isinstance(i, int):
+            return [np.asarray(col[i]) for col in self._cols]
+        return [col[i] for col in self._cols]
+
+    def _extents(self) -> list[tuple[float, float]]:
+        """``(least, greatest)`` input coordinate along each axis (the bounding box; NaN twice for no points). O(n)."""
+        pts = self._points
+        if pts.shape[0] == 0:
+            return [(math.nan, math.nan)] * self._dim
+        return [(float(pts[:, j].min()), float(pts[:, j].max())) for j in range(self._dim)]
+
     # -- sizes and data ----------------------------------------------------------------
 
     def __len__(self) -> int:
@@ -350,11 +364,7 @@ class _IndexedPoints:
             flip = (len(idx) - 1 - j) % 2 == 1  # moving j to the end takes len - 1 - j transpositions
         coords: list[NDArray[np.float64]] = []
         for k in order:
-            i = idx[k]
-            if isinstance(i, int):
-                coords.extend(np.asarray(col[i]) for col in self._cols)
-            else:
-                coords.extend(col[i] for col in self._cols)
+            coords.extend(self._filter_columns(idx[k]))
         if self._uniform:
             # No overflow is possible (magnitudes <= 2^TOP_MAX) and NaN is quiet: no warnings to silence.
             det, perm = terms(*coords)
@@ -752,6 +762,11 @@ class Predicates2(_IndexedPoints):
 
     def __repr__(self) -> str:
         return f"Predicates2(n={self._n})"
+
+    def coordinates(self, q: IntArray) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The input coordinates ``(x, y)`` of points ``q`` (an index array), as two float64 arrays. O(len(q))."""
+        pts = self._points[q]
+        return pts[:, 0], pts[:, 1]
 
     def kernel(self) -> Delaunay2Kernel:
         """The trusted fast path of :meth:`orient2d`, :meth:`orient2d_sign` and :meth:`incircle`: no validation.

@@ -72,7 +72,7 @@ from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Lineage, Vertex, VertexState
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.terrain.errors import TriangulationCheckError
-from persistri.impl.terrain.sectors import fan_sectors, small_integer_points
+from persistri.impl.terrain.sectors import fan_sectors
 
 __all__ = [
     "TriDatum",
@@ -200,10 +200,9 @@ class Triangulator:
         self.tri_of: dict[int, Triangle] = {}
         self._next_id = 0
         self.complex: Complex[TriDatum] = structure.new(2)
-        self._xy: NDArray[np.float64] = pred.points
-        self.small_integers = small_integer_points(pred.points)
-        self._columns = (np.ascontiguousarray(pred.points[:, 0]), np.ascontiguousarray(pred.points[:, 1]))
         self.kernel = pred.kernel()
+        # The sector test's float path is exact when orient2d's is (docs of kernel2d and sectors).
+        self.small_integers = self.kernel.exact_orient2d
 
     # -- construction ------------------------------------------------------------------
 
@@ -252,10 +251,8 @@ class Triangulator:
 
     def _between(self, u: int, w: int, p: int) -> bool:
         """Whether ``p``, known to be on the line ``uw``, lies strictly between ``u`` and ``w`` (exact comparisons)."""
-        xy = self._xy
-        ux, uy = xy[u]
-        wx, wy = xy[w]
-        px, py = xy[p]
+        xs, ys = self.pred.coordinates(np.array([u, w, p], dtype=np.intp))
+        (ux, wx, px), (uy, wy, py) = xs.tolist(), ys.tolist()
         if ux != wx:
             return bool(min(ux, wx) < px < max(ux, wx))
         return bool(min(uy, wy) < py < max(uy, wy))
@@ -437,7 +434,6 @@ class Triangulator:
                 pooled,
                 closed,
                 exact_floats=self.small_integers,
-                columns=self._columns,
                 stats=self.pred.stats,
                 check=self.check,
             )

@@ -73,7 +73,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
-from persistri.impl.geometry.predicates import Predicates2
+from persistri.impl.geometry.grid_predicates import GridPredicates2
 from persistri.impl.maps import backend as map_backend
 from persistri.impl.progress import progress_callback
 from persistri.impl.stats import Stats
@@ -82,21 +82,31 @@ from persistri.impl.terrain.delaunay import Insertion, TriDatum, Triangulator, c
 from persistri.impl.terrain.crs import Crs
 from persistri.impl.terrain.grids import GridTransform, as_heights, as_transform
 
-__all__ = ["greedy_insertion", "Tin", "TinHistory", "plane_errors", "fan_errors", "apex_first", "grid_points"]
+__all__ = ["greedy_insertion", "Tin", "TinHistory", "plane_errors", "fan_errors", "apex_first", "grid_points", "grid_xy"]
 
 IntArray = NDArray[np.intp]
 FloatArray = NDArray[np.float64]
 
 
 def apex_first(tri: IntArray, rank: IntArray) -> IntArray:
-    """Each triangle rotated (orientation kept) to start at its *apex*, the vertex of largest ``rank``.
+    """Each triangle rotated (orientation kept) to start at its *apex*, the vertex of largest rank.
 
-    With ``rank`` the insertion order, the apex is the vertex whose insertion made
-    the triangle (every new triangle is in the fan of the new point).  O(m).
+    ``rank`` is ``(k, 3)``: the insertion order of each vertex of ``tri`` (:func:`ranks`); the apex is the
+    vertex whose insertion made the triangle (every new triangle is in the fan of the new point).  O(m).
     """
     t = np.asarray(tri, dtype=np.intp).reshape(-1, 3)
-    k = np.argmax(rank[t], axis=1)
+    k = np.argmax(np.asarray(rank).reshape(-1, 3), axis=1)
     out: IntArray = np.take_along_axis(t, (k[:, None] + np.arange(3)[None, :]) % 3, axis=1)
+    return out
+
+
+def ranks(labels: IntArray, inserted: IntArray) -> IntArray:
+    """The position in ``inserted`` (the insertion order) of each of ``labels`` (all of them inserted).
+
+    By binary search over the sorted insertion order: O((k + len(labels)) log k), no array of the grid's size.
+    """
+    order = np.argsort(inserted, kind="stable")
+    out: IntArray = order[np.searchsorted(inserted[order], labels)]
     return out
 
 
@@ -109,66 +119,80 @@ def grid_points(shape: tuple[int, int]) -> FloatArray:
     return xy
 
 
-def plane_errors(x: FloatArray, y: FloatArray, z: FloatArray, tri: IntArray, counts: IntArray, samples: IntArray) -> FloatArray:
+def grid_xy(q: IntArray, cols: int) -> tuple[FloatArray, FloatArray]:
+    """The grid coordinates ``(x, y) = (q mod cols, q div cols)`` of samples ``q``, as float64 (exact). O(len(q))."""
+    y, x = np.divmod(q, cols)
+    return x.astype(np.float64), y.astype(np.float64)
+
+
+_CHUNK: Final = 1 << 18
+"""Samples per block where a whole grid's samples are measured at once (the first triangles, a level's
+errors): the temporaries stay a few megabytes whatever the grid."""
+
+
+def plane_errors(cols: int, z: FloatArray, tri: IntArray, counts: IntArray, samples: IntArray) -> FloatArray:
     """Vertical errors ``|z[s] − plane(t)(x[s], y[s])|`` of samples grouped by triangle (float64).
 
-    ``tri`` is ``(k, 3)`` vertex indices (nonzero area); the first ``counts[0]``
-    entries of ``samples`` lie in ``tri[0]``, the next ``counts[1]`` in ``tri[1]``,
-    and so on.  Each row must start at the triangle's apex (:func:`apex_first`),
-    and the plane of ``(a, b, c)`` is written around ``a``:
-    ``z_a + g_x (x − x_a) + g_y (y − y_a)``, its gradient ``g`` by Cramer's rule,
-    computed once per triangle.  :func:`fan_errors` performs the same operations
-    in the same order for the fan of one insertion, so the queue's errors and a
-    mesh's reported errors agree bit for bit (``check=True`` asserts it).
-    O(k + len(samples)), vectorised.
+    Points are samples of a grid with ``cols`` columns (``x = s mod cols``,
+    ``y = s div cols``).  ``tri`` is ``(k, 3)`` vertex indices (nonzero area); the
+    first ``counts[0]`` entries of ``samples`` lie in ``tri[0]``, the next
+    ``counts[1]`` in ``tri[1]``, and so on.  Each row must start at the
+    triangle's apex (:func:`apex_first`), and the plane of ``(a, b, c)`` is
+    written around ``a``: ``z_a + g_x (x − x_a) + g_y (y − y_a)``, its gradient
+    ``g`` by Cramer's rule, computed once per triangle.  :func:`fan_errors`
+    performs the same operations in the same order for the fan of one
+    insertion, so the queue's errors and a mesh's reported errors agree bit for
+    bit (``check=True`` asserts it).  O(k + len(samples)), vectorised, in blocks
+    of :data:`_CHUNK` samples.
     """
-    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-    xa, ya, za = x[a], y[a], z[a]
-    dx1, dy1, dz1 = x[b] - xa, y[b] - ya, z[b] - za
-    dx2, dy2, dz2 = x[c] - xa, y[c] - ya, z[c] - za
+    x, y = grid_xy(tri.ravel(), cols)
+    x, y = x.reshape(-1, 3), y.reshape(-1, 3)
+    zt = z[tri]
+    xa, ya, za = x[:, 0], y[:, 0], zt[:, 0]
+    dx1, dy1, dz1 = x[:, 1] - xa, y[:, 1] - ya, zt[:, 1] - za
+    dx2, dy2, dz2 = x[:, 2] - xa, y[:, 2] - ya, zt[:, 2] - za
     det = dx1 * dy2 - dx2 * dy1
     gx = (dz1 * dy2 - dz2 * dy1) / det
     gy = (dx1 * dz2 - dx2 * dz1) / det
-    if tri.shape[0] == 1:
-        xr, yr, zr, gxr, gyr = xa[0], ya[0], za[0], gx[0], gy[0]
-        err: FloatArray = np.abs(z[samples] - (zr + gxr * (x[samples] - xr) + gyr * (y[samples] - yr)))
-        return err
-    rep = np.repeat(np.arange(tri.shape[0]), counts)
-    err = np.abs(z[samples] - (za[rep] + gx[rep] * (x[samples] - xa[rep]) + gy[rep] * (y[samples] - ya[rep])))
+    m = samples.size
+    err: FloatArray = np.empty(m, dtype=np.float64)
+    ends = np.cumsum(counts)
+    for lo in range(0, m, _CHUNK):
+        hi = min(m, lo + _CHUNK)
+        s = samples[lo:hi]
+        xs, ys = grid_xy(s, cols)
+        rep = np.searchsorted(ends, np.arange(lo, hi), side="right") if tri.shape[0] > 1 else np.zeros(hi - lo, dtype=np.intp)
+        np.abs(z[s] - (za[rep] + gx[rep] * (xs - xa[rep]) + gy[rep] * (ys - ya[rep])), out=err[lo:hi])
     return err
 
 
-def fan_errors(
-    x: FloatArray, y: FloatArray, z: FloatArray, p: int, ring: IntArray, fan_index: IntArray, samples: IntArray
-) -> FloatArray:
+def fan_errors(cols: int, z: FloatArray, p: int, ring: IntArray, fan_index: IntArray, samples: IntArray) -> FloatArray:
     """:func:`plane_errors` for the fan of one insertion: triangles ``(p, ring[i], ring[i+1])``, apex ``p``.
 
     ``ring`` holds the ``k + 1`` boundary vertices in fan order (the last repeats
     the first when the fan closes around ``p``); ``samples[j]`` lies in fan
-    triangle ``fan_index[j]``.  The fan has a handful of triangles, so their
-    gradients are computed on Python floats — the same IEEE operations in the
-    same order as :func:`plane_errors`, so the same floats — and only the
-    per-sample work is vectorised (numpy calls on small arrays cost more than
-    the arithmetic).  O(k + len(samples)).
+    triangle ``fan_index[j]``; the grid has ``cols`` columns.  The fan has a
+    handful of triangles, so their gradients are computed on Python floats — the
+    same IEEE operations in the same order as :func:`plane_errors`, so the same
+    floats — and only the per-sample work is vectorised (numpy calls on small
+    arrays cost more than the arithmetic).  O(k + len(samples)).
     """
-    xp, yp, zp = x.item(p), y.item(p), z.item(p)
+    xy = [(float(v % cols), float(v // cols), z.item(v)) for v in (int(p), *map(int, ring))]
+    (xp, yp, zp), (x1, y1, z1) = xy[0], xy[1]
     gxs: list[float] = []
     gys: list[float] = []
-    pts = zip(x[ring].tolist(), y[ring].tolist(), z[ring].tolist())
-    x1, y1, z1 = next(pts)
-    for x2, y2, z2 in pts:
+    for x2, y2, z2 in xy[2:]:
         dx1, dy1, dz1 = x1 - xp, y1 - yp, z1 - zp
         dx2, dy2, dz2 = x2 - xp, y2 - yp, z2 - zp
         det = dx1 * dy2 - dx2 * dy1
         gxs.append((dz1 * dy2 - dz2 * dy1) / det)
         gys.append((dx1 * dz2 - dx2 * dz1) / det)
         x1, y1, z1 = x2, y2, z2
-    return _fan_plane_errors(x, y, z, xp, yp, zp, gxs, gys, fan_index, samples)
+    return _fan_plane_errors(cols, z, xp, yp, zp, gxs, gys, fan_index, samples)
 
 
 def _fan_plane_errors(
-    x: FloatArray,
-    y: FloatArray,
+    cols: int,
     z: FloatArray,
     xp: float,
     yp: float,
@@ -178,23 +202,34 @@ def _fan_plane_errors(
     fan_index: IntArray,
     samples: IntArray,
 ) -> FloatArray:
-    """The per-sample half of :func:`fan_errors`: ``|z − (zp + gx (x − xp) + gy (y − yp))|`` by fan triangle."""
+    """The per-sample half of :func:`fan_errors`: ``|z − (zp + gx (x − xp) + gy (y − yp))|`` by fan triangle.
+
+    In blocks of :data:`_CHUNK` samples (the first insertions move millions): O(len(samples)).
+    """
+    m = samples.size
+    if m > _CHUNK:
+        err: FloatArray = np.empty(m, dtype=np.float64)
+        for lo in range(0, m, _CHUNK):
+            hi = min(m, lo + _CHUNK)
+            err[lo:hi] = _fan_plane_errors(cols, z, xp, yp, zp, gxs, gys, fan_index[lo:hi], samples[lo:hi])
+        return err
+    ys, xs = np.divmod(samples, cols)
     if len(gxs) == 1:
         # One triangle: its gradient is a scalar (no gather).
-        plane = x[samples] - xp
+        plane = xs - xp
         plane *= gxs[0]
         plane += zp
-        slope = y[samples] - yp
+        slope = ys - yp
         slope *= gys[0]
     else:
         plane = np.array(gxs)[fan_index]
-        plane *= x[samples] - xp
+        plane *= xs - xp
         plane += zp
         slope = np.array(gys)[fan_index]
-        slope *= y[samples] - yp
+        slope *= ys - yp
     plane += slope
-    err: FloatArray = np.abs(z[samples] - plane)
-    return err
+    out: FloatArray = np.abs(z[samples] - plane)
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -272,7 +307,6 @@ class TinHistory:
 
     heights: FloatArray
     shape: tuple[int, int]
-    xy: FloatArray
     structure: TwoComplex[TriDatum]
     versions: tuple[Complex[TriDatum], ...]
     inserted: IntArray
@@ -339,14 +373,13 @@ def tin_of_version(h: TinHistory, j: int) -> Tin:
     k = 4 + j
     inserted = h.inserted[:k]
     version = h.versions[j]
-    return _tin(h.structure, version, inserted, h.xy, h.heights, h.shape, h.transform, h, h.infinite, None)
+    return _tin(h.structure, version, inserted, h.heights, h.shape, h.transform, h, h.infinite, None)
 
 
 def _tin(
     structure: TwoComplex[TriDatum],
     version: Complex[TriDatum],
     inserted: IntArray,
-    xy: FloatArray,
     z: FloatArray,
     shape: tuple[int, int],
     transform: GridTransform | None,
@@ -360,19 +393,21 @@ def _tin(
     lists = [d[1] for _, d in items]
     counts = np.fromiter(map(len, lists), dtype=np.intp, count=len(lists))
     n_total = z.size
-    rank = np.full(n_total, -1, dtype=np.intp)
-    rank[inserted] = np.arange(inserted.size, dtype=np.intp)
+    cols = shape[1]
+    rank = ranks(tri.ravel(), inserted).reshape(-1, 3)
     if counts.sum():
         samples = np.concatenate(lists)
-        err = plane_errors(xy[:, 0], xy[:, 1], z, apex_first(tri, rank), counts, samples)
+        err = plane_errors(cols, z, apex_first(tri, rank), counts, samples)
+        del samples
         max_error = float(err.max())
         rms = root_mean_square(err, n_total)
     else:
         max_error = rms = 0.0
-    vertices = np.column_stack([xy[inserted], z[inserted]])
+    vx, vy = grid_xy(inserted, cols)
+    vertices = np.column_stack([vx, vy, z[inserted]])
     return Tin(
         vertices=vertices,
-        triangles=canonical_triangles(rank[tri]),
+        triangles=canonical_triangles(rank),
         samples=inserted.copy(),
         max_error=max_error,
         rms_error=rms,
@@ -422,10 +457,7 @@ class _Greedy:
     ) -> None:
         rows, cols = shape
         self.z = z
-        self.xy = grid_points(shape)
-        self.x = np.ascontiguousarray(self.xy[:, 0])
-        self.y = np.ascontiguousarray(self.xy[:, 1])
-        self.pred = Predicates2(self.xy, stats=stats)
+        self.pred = GridPredicates2(shape, stats=stats)
         self.structure: TwoComplex[TriDatum] = TwoComplex(map_backend(backend), stats)
         self.T = Triangulator(self.pred, self.structure, check=check, stepwise=stepwise)
         self.heap: list[tuple[float, int, int]] = []
@@ -438,20 +470,17 @@ class _Greedy:
         self.corners = (a, b, c, d)
         for v in self.corners:
             self.vxyz[v] = (float(v % cols), float(v // cols), z.item(v))
-        inside = np.ones(n, dtype=bool)
-        inside[[a, b, c, d]] = False
-        samples = np.flatnonzero(inside).astype(np.intp)
         P = self.pred
         # The diagonal: the one that is Delaunay under the predicates' tie-breaking (the corners are cocircular).
         if P.incircle(a, b, c, d) < 0:
             t1, t2, u, w = (a, b, c), (a, c, d), a, c
         else:
             t1, t2, u, w = (b, c, d), (a, b, d), b, d
-        side = P.orient2d_batch(u, w, samples) if samples.size else np.zeros(0, dtype=np.int8)
+        side = self._sides(u, w, shape)
         # t1 is right of the diagonal u → w, t2 left of it (closed triangles: a sample on the diagonal goes by SoS).
-        self.T.begin([(t1, samples[side < 0]), (t2, samples[side > 0])])
-        rank = np.full(n, -1, dtype=np.intp)
-        rank[[a, b, c, d]] = np.arange(4)
+        self.T.begin([(t1, np.flatnonzero(side < 0)), (t2, np.flatnonzero(side > 0))])
+        del side
+        inserted = np.array(self.corners, dtype=np.intp)
         for tid, tri in list(self.T.tri_of.items()):
             if self.T.infinite in tri:
                 continue
@@ -459,9 +488,35 @@ class _Greedy:
             assert found is not None
             own = found[0][1]
             if own.size:
-                counts = np.array([own.size], dtype=np.intp)
-                err = plane_errors(self.x, self.y, self.z, apex_first(np.array([tri]), rank), counts, own)
+                t = np.array([tri], dtype=np.intp)
+                err = plane_errors(cols, self.z, apex_first(t, ranks(t.ravel(), inserted)), np.array([own.size]), own)
                 self._queue([tid], [own.size], own, err)
+
+    def _sides(self, u: int, w: int, shape: tuple[int, int]) -> NDArray[np.int8]:
+        """For every grid sample, the SoS side of the diagonal ``u → w`` (±1), and 0 at the four corners.
+
+        Exact: ``(w − u) × (q − u)`` on integer coordinates (int64: |coordinates| < 2^25), row blocks at a
+        time; the samples exactly on the diagonal take the predicates' SoS sign.  O(rows · cols), one byte each.
+        """
+        rows, cols = shape
+        n = rows * cols
+        uy, ux = divmod(u, cols)
+        wy, wx = divmod(w, cols)
+        ex, ey = wx - ux, wy - uy
+        side = np.empty(n, dtype=np.int8)
+        block = max(1, _CHUNK // cols)
+        xs = np.arange(cols, dtype=np.int64) - ux
+        for r0 in range(0, rows, block):
+            r1 = min(rows, r0 + block)
+            ys = np.arange(r0, r1, dtype=np.int64) - uy
+            cross = (ys * ex)[:, None] - ey * xs[None, :]
+            side[r0 * cols : r1 * cols] = np.sign(cross).ravel()
+        on = np.flatnonzero(side == 0)
+        on = on[(on != u) & (on != w)]
+        if on.size:
+            side[on] = self.pred.orient2d_batch(u, w, on)
+        side[list(self.corners)] = 0
+        return side
 
     def _queue(self, tids: list[int], counts: list[int], samples: IntArray, err: FloatArray) -> None:
         """Queue the candidate — the first sample of largest error — of each triangle with samples and error > 0."""
@@ -520,7 +575,7 @@ class _Greedy:
             gxs.append((dz1 * dy2 - dz2 * dy1) / det)
             gys.append((dx1 * dz2 - dx2 * dz1) / det)
             x1, y1, z1 = x2, y2, z2
-        err = _fan_plane_errors(self.x, self.y, self.z, xp, yp, zp, gxs, gys, ins.fan_index, samples)
+        err = _fan_plane_errors(self.cols, self.z, xp, yp, zp, gxs, gys, ins.fan_index, samples)
         self._queue([tid for tid, _ in ins.created], ins.counts, samples, err)
 
     def current_error(self) -> float:
@@ -631,7 +686,6 @@ def greedy_insertion(
             kept = TinHistory(
                 heights=z,
                 shape=shape,
-                xy=run.xy,
                 structure=run.structure,
                 versions=tuple(versions),
                 inserted=inserted_arr,
@@ -639,7 +693,7 @@ def greedy_insertion(
                 transform=tf,
                 infinite=int(T.infinite),
             )
-        tin = _tin(run.structure, T.complex, inserted_arr, run.xy, z, shape, tf, kept, int(T.infinite), stats)
+        tin = _tin(run.structure, T.complex, inserted_arr, z, shape, tf, kept, int(T.infinite), stats)
     finally:
         if collector:
             # Promote what the run made to the oldest generation (freeze, unfreeze: two list splices):

@@ -88,14 +88,19 @@ def sector_sides(
             out[:, i] = pred.orient2d_sign_batch(int(p), int(ring[i]), samples) >= 0
         return out
     if columns is None:
-        xy = pred.points
-        columns = (xy[:, 0], xy[:, 1])
-    x, y = columns
-    px, py = x[p], y[p]
-    rx = x[ring] - px
-    ry = y[ring] - py
-    qx = x[samples] - px
-    qy = y[samples] - py
+        xr, yr = pred.coordinates(np.append(ring, [p]).astype(np.intp))
+        px, py = xr[-1], yr[-1]
+        rx, ry = xr[:-1] - px, yr[:-1] - py
+        qx, qy = pred.coordinates(samples)
+        qx = qx - px
+        qy = qy - py
+    else:
+        x, y = columns
+        px, py = x[p], y[p]
+        rx = x[ring] - px
+        ry = y[ring] - py
+        qx = x[samples] - px
+        qy = y[samples] - py
     # orient2d(p, r, q) = (r - p) × (q - p) = rx·qy − ry·qx, exact here.
     det = np.multiply.outer(qy, rx)
     det -= np.multiply.outer(qx, ry)
@@ -191,15 +196,50 @@ def fan_sectors(
     if stats is not None:
         stats.plane_side_tests += m * tested
         stats.flops += FLOPS_SECTOR_TEST * m * tested
+    if m > SECTOR_BLOCK:
+        # Block by block (the first insertions of a large grid move millions of samples: a (rays, samples)
+        # array of each would take hundreds of megabytes), then one stable sort by sector.
+        found = np.empty(m, dtype=np.int16 if k < 2**15 else np.intp)  # int16: numpy's stable sort is a radix sort
+        for lo in range(0, m, SECTOR_BLOCK):
+            hi = min(m, lo + SECTOR_BLOCK)
+            part_order, part_sector = _fan_block(pred, p, rays, samples[lo:hi], closed, columns)
+            found[lo + part_order] = part_sector
+        by_sector: IntArray = np.argsort(found, kind="stable")
+        out: IntArray = found[by_sector].astype(np.intp)
+        return by_sector, out
+    return _fan_block(pred, p, rays, samples, closed, columns)
+
+
+SECTOR_BLOCK: Final[int] = 1 << 18
+"""Samples per block of :func:`fan_sectors`' exact float path."""
+
+
+def _fan_block(
+    pred: Predicates2,
+    p: int,
+    rays: IntArray,
+    samples: IntArray,
+    closed: bool,
+    columns: tuple[NDArray[np.float64], NDArray[np.float64]] | None,
+) -> tuple[IntArray, IntArray]:
+    """:func:`fan_sectors`' exact float path on one block of samples (nothing counted here)."""
+    k = rays.size - 1
+    m = samples.size
     if columns is None:
-        xy = pred.points
-        columns = (xy[:, 0], xy[:, 1])
-    x, y = columns
-    px, py = x[p], y[p]
-    rx = x[rays] - px
-    ry = y[rays] - py
-    qx = x[samples] - px
-    qy = y[samples] - py
+        # The coordinates from the predicates (a grid's are computed from the index, not stored).
+        rxs, rys = pred.coordinates(np.append(rays, p))
+        px, py = rxs[-1], rys[-1]
+        rx, ry = rxs[:-1] - px, rys[:-1] - py
+        qx, qy = pred.coordinates(samples)
+        qx -= px
+        qy -= py
+    else:
+        x, y = columns
+        px, py = x[p], y[p]
+        rx = x[rays] - px
+        ry = y[rays] - py
+        qx = x[samples] - px
+        qy = y[samples] - py
     # orient2d(p, r, q) = (r − p) × (q − p) = rx·qy − ry·qx, exact here (module docstring).
     det = np.multiply.outer(rx, qy)
     det -= np.multiply.outer(ry, qx)

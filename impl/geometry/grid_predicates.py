@@ -1,0 +1,145 @@
+"""Exact 2D predicates over the points of a height grid, computed from their indices: :class:`GridPredicates2`.
+
+Greedy insertion (paper §5) triangulates the samples of a ``rows × cols`` grid:
+point ``i`` is ``(x, y) = (i mod cols, i div cols)``.  A
+:class:`~persistri.impl.geometry.predicates.Predicates2` over those points would
+keep an ``(n, 2)`` array of them, its scaled copy and a row table — some 170
+bytes per sample, 700 MB for a 2,048 × 2,048 grid, where only the few vertices
+are ever tested one by one.  :class:`GridPredicates2` answers the same tests with
+the same signs (the same filter, exact arithmetic and Simulation of Simplicity,
+by point index) and keeps nothing per sample: coordinates are computed from the
+index when a test needs them, and a point's row of floats is made, and kept, the
+first time it is tested (the vertices).
+
+The coordinates are small integers, so the filter needs no scaling (``shift``
+0: every grain is 1, every magnitude below ``2^25``) and the exact integers are
+the coordinates themselves.  :meth:`GridPredicates2.points` still returns the
+``(n, 2)`` array, made on each call.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from persistri.impl.geometry.exact import IntegerScale
+from persistri.impl.geometry.predicates import Predicates2
+from persistri.impl.stats import Stats
+
+__all__ = ["GridPredicates2", "GRID_LIMIT"]
+
+GRID_LIMIT = 2**25
+"""Largest number of rows or columns: coordinates stay below ``2^25`` (the filters' and the sectors' bounds)."""
+
+IntArray = NDArray[np.intp]
+
+
+class _GridRows(dict[int, tuple[float, ...]]):
+    """Point ``i``'s row of floats ``(i mod cols, i div cols)``, made on first use and kept (a dict with ``__missing__``)."""
+
+    __slots__ = ("cols", "n")
+
+    def __init__(self, cols: int, n: int) -> None:
+        super().__init__()
+        self.cols = cols
+        self.n = n
+
+    def __missing__(self, i: int) -> tuple[float, ...]:
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)):
+            raise TypeError(f"point indices must be integers, got {i!r}")
+        k = int(i)
+        if not 0 <= k < self.n:
+            raise IndexError(f"point index {k} out of range for {self.n} points")
+        y, x = divmod(k, self.cols)
+        row = (float(x), float(y))
+        self[k] = row
+        return row
+
+
+class GridPredicates2(Predicates2):
+    """Exact ``orient2d`` and ``incircle`` over the points ``(col, row)`` of a ``rows × cols`` grid, by point index.
+
+    ``GridPredicates2((rows, cols), stats=None)``: O(1) to build, O(1) memory per
+    point tested.  The same methods, signs, counting and errors as
+    :class:`~persistri.impl.geometry.predicates.Predicates2` built over
+    ``grid_points((rows, cols))`` (point ``i`` is ``(i mod cols, i div cols)``).
+    :class:`ValueError` for a shape that is not two integers in ``[1, GRID_LIMIT]``.
+    """
+
+    __slots__ = ("_shape",)
+
+    _shape: tuple[int, int]
+
+    def __init__(self, shape: tuple[int, int], *, stats: Stats | None = None) -> None:
+        rows, cols = shape
+        for v in (rows, cols):
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= GRID_LIMIT:
+                raise ValueError(f"a grid's shape is two integers from 1 to {GRID_LIMIT}, got {shape!r}")
+        rows, cols = int(rows), int(cols)
+        n = rows * cols
+        self._shape = (rows, cols)
+        self._n = n
+        self._dim = 2
+        self.stats = stats
+        empty = np.zeros((0, 2))
+        empty.setflags(write=False)
+        self._points = empty  # never read: every reader of the points is overridden below
+        self._cols = (np.zeros(0), np.zeros(0))
+        # The row table: a dict that makes a point's row on first use, where the base class keeps a list of
+        # n lazy rows (8 bytes per sample).  Every reader of _rows indexes it by one point (the checked
+        # tests, the kernel) or is overridden here (_row), so a mapping serves: hence the one ignore.
+        self._rows = _GridRows(cols, n)  # type: ignore[assignment]
+        top = max(rows, cols) - 1
+        # Integer coordinates: grain 0 (the least over the nonzero ones is that of an odd number), magnitude < 2^25.
+        self._span = (0, top.bit_length()) if top > 0 else None
+        self._shift = 0  # every grain is >= 0 >= GRAIN_MIN and every magnitude <= 25 <= TOP_MAX: no scaling needed
+        self._uniform = True
+        self._grain = None
+        self._scale = IntegerScale(0, 0)
+        self._ints = {}
+
+    def __repr__(self) -> str:
+        return f"GridPredicates2(shape={self._shape})"
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """The grid's ``(rows, cols)``."""
+        return self._shape
+
+    @property
+    def points(self) -> NDArray[np.float64]:
+        """The ``(n, 2)`` array of the grid's points, ``(col, row)`` in index order: made on each call. O(n)."""
+        rows, cols = self._shape
+        xy = np.empty((self._n, 2), dtype=np.float64)
+        xy[:, 0] = np.tile(np.arange(cols, dtype=np.float64), rows)
+        xy[:, 1] = np.repeat(np.arange(rows, dtype=np.float64), cols)
+        xy.setflags(write=False)
+        return xy
+
+    def coordinates(self, q: IntArray) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """``(x, y)`` of points ``q``: ``(q mod cols, q div cols)`` as float64. O(len(q))."""
+        y, x = np.divmod(np.asarray(q, dtype=np.intp), self._shape[1])
+        return x.astype(np.float64), y.astype(np.float64)
+
+    # -- the hooks of the base class ---------------------------------------------------
+
+    def _row(self, i: int) -> tuple[float, ...]:
+        return self._rows[i]
+
+    def _filter_columns(self, i: int | IntArray) -> list[NDArray[np.float64]]:
+        if isinstance(i, int):
+            fx, fy = self._rows[i]
+            return [np.asarray(fx), np.asarray(fy)]
+        return list(self.coordinates(i))
+
+    def _extents(self) -> list[tuple[float, float]]:
+        rows, cols = self._shape
+        return [(0.0, float(cols - 1)), (0.0, float(rows - 1))]
+
+    def _int(self, i: int) -> tuple[int, ...]:
+        y, x = divmod(int(i), self._shape[1])
+        return (x, y)
+
+    def _int_columns(self, q: IntArray) -> list[NDArray[np.object_]]:
+        y, x = np.divmod(np.asarray(q, dtype=np.intp), self._shape[1])
+        return [x.astype(object), y.astype(object)]
