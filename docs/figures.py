@@ -28,8 +28,8 @@ something the code does not do:
   constrained Delaunay triangulation, an undo (the circumcentre tried, the
   subsegment it encroaches, its cavity) and the split after it, a later
   version, the final mesh, and the whole history; drawn and checked by
-  ``mesh_figures.py`` beside this script (every dropped point classified as
-  undone or blocked, matching the run's own counts).
+  ``mesh_figures.py`` beside this script, from the run's record of its undone
+  and blocked points (checked against its counts and exactly before drawing).
 
 ``make docs`` runs this script before ``mkdocs build --strict``, so the pictures
 are redrawn (and their checks rerun) by every ``make test``; the PNGs are also
@@ -445,7 +445,7 @@ def draw_terrain_lod(out: Path) -> Path:
 def draw_mesh_refinement(out: Path) -> Path:
     """``mesh-refinement.png``: one Ruppert refinement's versions, its undos checked (:mod:`mesh_figures`)."""
     mesh = mesh_figures.refinement_run()
-    return mesh_figures.draw_refinement(mesh, mesh_figures.dropped_points(mesh), out)
+    return mesh_figures.draw_refinement(mesh, mesh_figures.checked_record(mesh), out)
 
 
 def _save(fig: Any, path: Path) -> Path:

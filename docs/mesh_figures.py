@@ -4,25 +4,20 @@ Drawn by ``docs/figures.py`` (``make docs``).  One refinement of a gallery
 domain (:data:`MESH_DOMAIN` at :data:`MESH_MIN_ANGLE` degrees with the area
 bound :data:`MESH_MAX_AREA`) is run once; every panel is a version read from
 ``mesh.history`` — the constrained Delaunay triangulation it starts from, the
-version before an **undo** with the circumcentre that was tried and dropped,
-the version after it with the subsegment split instead, a later version and
-the final mesh — and a chart of the whole history.
+version an **undo** returned to with the circumcentre that was tried and
+dropped, the version in which the subsegment it encroached was split instead,
+a later version and the final mesh — and a chart of the whole history.
 
-Nothing the refiner does is recorded beyond its versions, the points it kept
-and its counts, so the pictures' claims about the points it *dropped* are
-recomputed and checked (:func:`dropped_points`; :class:`FigureCheckError` on any
-disagreement): the run's point set is append-only, so a Steiner point that is
-in no version was tried from the version the refinement stood at when it was
-made, and dropped.  It was **undone** (inserted, then dropped because it
-encroached a subsegment) exactly when it lies in a domain triangle of that
-version, on no segment, and its cavity — the triangles whose circumcircle holds
-it (exact incircle with the same perturbation), reached without crossing a
-segment — has a subsegment on its boundary whose diametral lens holds it; else
-it was **blocked** (a segment lay between it and its triangle).  The
-classification must give the refinement's own ``undos`` and ``blocked``
-counts, each version may drop at most one point, and the version after an
-undo must add a split point on one of the subsegments the undone point
-encroached (Ruppert's rule: split them instead).  Every version drawn passes
+The points the run dropped come from its own record, ``mesh.history.undone``
+and ``mesh.history.blocked`` (:mod:`persistri.impl.mesh.record`); before anything
+is drawn the record is checked against the run (:func:`checked_record`;
+:class:`FigureCheckError` on any disagreement): one record per undo and per
+blocked point the run counted; no dropped point in any kept version; each undone
+point strictly inside the diametral lens of every subsegment it is recorded to
+encroach (exact, on predicates built from the recorded coordinates alone), that
+subsegment present in the version it was tried on and split — replaced by two
+halves through the point that version adds — in the version recorded; the
+cavity's triangles in the version tried on.  Every version drawn passes
 :func:`~persistri.impl.mesh.verify.verify_mesh`.
 """
 
@@ -35,10 +30,12 @@ from typing import Any
 
 import numpy as np
 
+from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.api import QualityMesh, triangulate
 from persistri.impl.mesh.gallery import gallery_domain
 from persistri.impl.mesh.plot import draw_mesh, mesh_origin
 from persistri.impl.mesh.quality import inside_lens
+from persistri.impl.mesh.record import Blocked, Undone
 from persistri.impl.mesh.verify import verify_mesh
 
 __all__ = [
@@ -46,9 +43,9 @@ __all__ = [
     "MESH_MIN_ANGLE",
     "MESH_MAX_AREA",
     "FigureCheckError",
-    "Dropped",
+    "Record",
     "refinement_run",
-    "dropped_points",
+    "checked_record",
     "draw_refinement",
 ]
 
@@ -71,22 +68,11 @@ def _require(cond: bool, message: str) -> None:
 
 
 @dataclass(frozen=True)
-class Dropped:
-    """A Steiner point the refinement tried from version ``k`` and kept in no version.
+class Record:
+    """The run's dropped points, checked against the run: ``undone`` and ``blocked`` as the history records them."""
 
-    ``point`` is its index in the run's point set, ``xy`` its coordinates.
-    ``undone``: it was inserted and the new version dropped (it encroached the
-    subsegments ``encroached``, pairs of point indices; ``cavity`` the triangles
-    of version ``k`` its insertion replaced); otherwise it was blocked before
-    insertion and both are empty.
-    """
-
-    k: int
-    point: int
-    xy: tuple[float, float]
-    undone: bool
-    encroached: tuple[Edge, ...]
-    cavity: tuple[Tri, ...]
+    undone: tuple[Undone, ...]
+    blocked: tuple[Blocked, ...]
 
 
 def refinement_run(name: str = MESH_DOMAIN, min_angle: float = MESH_MIN_ANGLE, max_area: float | None = MESH_MAX_AREA) -> QualityMesh:
@@ -94,115 +80,64 @@ def refinement_run(name: str = MESH_DOMAIN, min_angle: float = MESH_MIN_ANGLE, m
     return triangulate(gallery_domain(name).pslg, min_angle=min_angle, max_area=max_area)
 
 
-def _pred(mesh: QualityMesh) -> Any:
-    """The run's append-only point set and its exact predicates (the kept and the dropped points)."""
-    return mesh._run.T.pred
-
-
-def _version(mesh: QualityMesh, k: int) -> tuple[list[Tri], set[frozenset[int]]]:
-    """Version ``k``'s domain triangles and subsegments, as point indices."""
+def _subsegments(mesh: QualityMesh, k: int) -> set[frozenset[int]]:
+    """Version ``k``'s subsegments, as pairs of point indices."""
     arr = mesh.history.mesh(k)
-    tris = [tuple(int(v) for v in row) for row in arr.points[arr.triangles].tolist()]
-    segs = {frozenset(int(v) for v in row) for row in arr.points[arr.segments].tolist()}
-    return [(a, b, c) for a, b, c in tris], segs
+    return {frozenset(int(v) for v in row) for row in arr.points[arr.segments].tolist()}
+
+
+def _triangles(mesh: QualityMesh, k: int) -> set[Tri]:
+    """Version ``k``'s finite triangles (domain and exterior), as point indices in their stored rotation."""
+    out: set[Tri] = set()
+    for t, _ in mesh.history.structure.items(mesh.history[k]):
+        a, b, c = (int(v) for v in t)
+        if min(a, b, c) >= 0:
+            out.update({(a, b, c), (b, c, a), (c, a, b)})
+    return out
+
+
+def _encroaches(mesh: QualityMesh, lo: int, hi: int, p: int) -> bool:
+    """Whether ``p`` lies strictly inside the diametral lens of ``{lo, hi}`` at the run's bound: exact, on
+    predicates over the three recorded points alone."""
+    P = GrowingPredicates2(np.array([mesh.history.point(v) for v in (lo, hi, p)]))
+    return P.dot_sign(0, 1, 2) < 0 and inside_lens(P, 0, 1, 2, mesh.min_angle)
+
+
+def checked_record(mesh: QualityMesh) -> Record:
+    """The run's record of its dropped points, checked against the run (module docstring)."""
+    history = mesh.history
+    undone, blocked = history.undone, history.blocked
+    _require(len(undone) == mesh.undos, f"{len(undone)} undone insertions recorded; the run undid {mesh.undos}")
+    _require(len(blocked) == mesh.blocked, f"{len(blocked)} blocked points recorded; the run blocked {mesh.blocked}")
+    kept = {int(p) for p in history.inserted}
+    last = len(history) - 1
+    for d in (*undone, *blocked):
+        _require(0 <= d.version <= last, f"point {d.point} was tried on version {d.version}, not in the history")
+        _require(d.point not in kept, f"point {d.point}, recorded as dropped, is in a kept version")
+        _require(history.point(d.point) == d.xy, f"point {d.point} is recorded at {d.xy}, not where it is")
+    for d in undone:
+        _require(bool(d.encroached), f"undone point {d.point} encroaches nothing")
+        segs = _subsegments(mesh, d.version)
+        tris = _triangles(mesh, d.version)
+        _require(all(t in tris for t in d.cavity), f"undone point {d.point}: its cavity is not in version {d.version}")
+        for (lo, hi, _), at in zip(d.encroached, d.split_at):
+            _require(frozenset((lo, hi)) in segs, f"undone point {d.point}: ({lo}, {hi}) is no subsegment of version {d.version}")
+            _require(_encroaches(mesh, lo, hi, d.point), f"undone point {d.point} does not encroach ({lo}, {hi})")
+            _require(at is not None and d.version < at <= last, f"undone point {d.point}: ({lo}, {hi}) was never split")
+            assert at is not None
+            q = int(history.inserted[at - 1])
+            before, after = _subsegments(mesh, at - 1), _subsegments(mesh, at)
+            _require(
+                frozenset((lo, hi)) in before and frozenset((lo, hi)) not in after
+                and {frozenset((lo, q)), frozenset((q, hi))} <= after,
+                f"after undoing point {d.point}, version {at} adds point {q}, not splitting ({lo}, {hi})",
+            )
+    return Record(undone, blocked)
 
 
 def _edges(t: Tri) -> tuple[Edge, Edge, Edge]:
     a, b, c = t
     return ((a, b), (b, c), (c, a))
-
-
-def _classify(mesh: QualityMesh, k: int, p: int) -> tuple[bool, tuple[Edge, ...], tuple[Tri, ...]]:
-    """Whether point ``p``, tried from version ``k``, was undone; the subsegments it encroaches and its cavity."""
-    P = _pred(mesh)
-    tris, segs = _version(mesh, k)
-    holding = [t for t in tris if all(P.orient2d_sign(u, w, p) >= 0 for u, w in _edges(t))]
-    on_segment = any(
-        P.orient2d_sign(u, w, p) == 0 and P.between(u, w, p) for t in holding for u, w in _edges(t) if frozenset((u, w)) in segs
-    )
-    if not holding or on_segment:
-        return False, (), ()
-    by_edge = {e: t for t in tris for e in _edges(t)}
-    cavity: list[Tri] = []
-    seen: set[Tri] = set()
-    boundary: list[Edge] = []
-    stack = list(holding)
-    seen.update(holding)
-    while stack:
-        t = stack.pop()
-        cavity.append(t)
-        for u, w in _edges(t):
-            beyond = by_edge.get((w, u))
-            if frozenset((u, w)) in segs or beyond is None:
-                boundary.append((u, w))
-            elif beyond not in seen and P.incircle(*beyond, p) > 0:
-                seen.add(beyond)
-                stack.append(beyond)
-            elif beyond not in seen:
-                boundary.append((u, w))
-    bound = mesh.min_angle
-    encroached = tuple(
-        (u, w) for u, w in boundary if frozenset((u, w)) in segs and inside_lens(P, u, w, p, bound)
-    )
-    return bool(encroached), encroached, tuple(cavity)
-
-
-def dropped_points(mesh: QualityMesh) -> list[Dropped]:
-    """Every Steiner point the run tried and kept in no version, classified and checked (module docstring)."""
-    P = _pred(mesh)
-    n = mesh.domain.vertices.shape[0]
-    inserted = [int(p) for p in mesh.history.inserted]
-    _require(inserted == sorted(inserted) and len(set(inserted)) == len(inserted),
-             "the kept points were not made in the order of the versions")
-    kept = set(inserted)
-    # The triangulation locates the hole and region points by adding them to the point set (in this order) before
-    # the refinement starts: they are not Steiner points.
-    located = [tuple(map(float, xy)) for xy in (*mesh.domain.holes.tolist(), *mesh.domain.regions[:, :2].tolist())]
-    first = n + len(located) if [P.xy(n + i) for i in range(min(len(located), len(P) - n))] == located else n
-    out: list[Dropped] = []
-    for p in range(first, len(P)):
-        if p in kept:
-            continue
-        k = int(np.searchsorted(inserted, p))  # the versions made before p was
-        undone, encroached, cavity = _classify(mesh, k, p)
-        out.append(Dropped(k, p, P.xy(p), undone, encroached, cavity))
-    undos = sum(d.undone for d in out)
-    _require(undos == mesh.undos, f"{undos} dropped points encroach a subsegment of their cavity; the run undid {mesh.undos}")
-    _require(len(out) - undos == mesh.blocked, f"{len(out) - undos} dropped points look blocked; the run blocked {mesh.blocked}")
-    _require(len({d.k for d in out}) == len(out), "a version dropped two points: a split must follow each drop")
-    for d in out:
-        if not d.undone:
-            continue
-        _require(d.k < len(inserted), f"the run ended right after undoing point {d.point}: no subsegment was split")
-        q = inserted[d.k]
-        _, segs = _version(mesh, d.k + 1)  # by the mesh's own subsegments: a rounded split point is off by an ulp
-        _require(
-            any({frozenset((u, q)), frozenset((q, w))} <= segs and frozenset((u, w)) not in segs for u, w in d.encroached),
-            f"after undoing point {d.point}, version {d.k + 1} adds point {q}, splitting none of the subsegments it encroached",
-        )
-    return out
-
-
-def _circumscribed(mesh: QualityMesh, d: Dropped) -> Tri | None:
-    """The triangle of version ``d.k`` whose circumcentre, rounded to doubles, is ``d.xy`` (None: an off-centre).
-
-    Steiner points are exact circumcentres rounded once, so the float circumcentre of the right triangle is within
-    a few units in the last place; an off-centre lies on the bisector of the shortest edge, nearer to it.
-    """
-    P = _pred(mesh)
-    tris, _ = _version(mesh, d.k)
-    x, y = d.xy
-    best: tuple[float, Tri] | None = None
-    for t in tris:
-        (ax, ay), (bx, by), (cx, cy) = (P.xy(v) for v in t)
-        den = 2 * ((bx - ax) * (cy - ay) - (by - ay) * (cx - ax))
-        b2, c2 = (bx - ax) ** 2 + (by - ay) ** 2, (cx - ax) ** 2 + (cy - ay) ** 2
-        ux = ax + ((cy - ay) * b2 - (by - ay) * c2) / den
-        uy = ay + ((bx - ax) * c2 - (cx - ax) * b2) / den
-        gap = float(np.hypot(ux - x, uy - y)) / max(np.sqrt(b2), np.sqrt(c2))
-        if best is None or gap < best[0]:
-            best = (gap, t)
-    return best[1] if best is not None and best[0] < 1e-9 else None
 
 
 def _check_version(mesh: QualityMesh, k: int) -> None:
@@ -211,9 +146,9 @@ def _check_version(mesh: QualityMesh, k: int) -> None:
     _require(report.ok, f"history[{k}] is not a valid constrained Delaunay mesh of the domain: {report}")
 
 
-def _marks(ax: Any, P: Any, origin: Any, points: Sequence[int], style: dict[str, Any]) -> None:
+def _marks(ax: Any, mesh: QualityMesh, origin: Any, points: Sequence[int], style: dict[str, Any]) -> None:
     if points:
-        xy = np.array([P.xy(p) for p in points]) - origin
+        xy = np.array([mesh.history.point(p) for p in points]) - origin
         ax.plot(xy[:, 0], xy[:, 1], linestyle="none", zorder=6, **style)
 
 
@@ -233,24 +168,27 @@ def _panel(ax: Any, mesh: QualityMesh, k: int, origin: Any, title: str, *, colou
     return polys
 
 
-def draw_refinement(mesh: QualityMesh, dropped: Sequence[Dropped], out: Path, name: str = MESH_DOMAIN) -> Path:
+def draw_refinement(mesh: QualityMesh, record: Record, out: Path, name: str = MESH_DOMAIN) -> Path:
     """``mesh-refinement.png``: the CDT, an undo and the split after it, a later version, the final mesh, the history."""
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
     from matplotlib.patches import Circle, Polygon
 
-    P = _pred(mesh)
+    at = mesh.history.point
     last = len(mesh.history) - 1
-    undone = [d for d in dropped if d.undone]
-    _require(bool(undone), "the run drawn has no undo to show")
-    # The undo drawn: the one whose encroached subsegment is longest (its circle reads best), the earliest on a tie.
-    def length(d: Dropped) -> float:
-        (u, w) = d.encroached[0]
-        return float(np.hypot(*np.subtract(P.xy(u), P.xy(w))))
+    _require(bool(record.undone), "the run drawn has no undo to show")
 
-    show = max(undone, key=lambda d: (length(d), -d.k))
-    later = (show.k + 1 + last) // 2
-    for k in sorted({0, show.k, show.k + 1, later, last}):
+    # The undo drawn: the one whose encroached subsegment is longest (its circle reads best), the earliest on a tie.
+    def length(d: Undone) -> float:
+        lo, hi, _ = d.encroached[0]
+        return float(np.hypot(*np.subtract(at(lo), at(hi))))
+
+    show = max(record.undone, key=lambda d: (length(d), -d.version))
+    split = show.split_at[0]
+    _require(split is not None, f"the subsegment undone point {show.point} encroached was never split")
+    assert split is not None
+    later = (split + last) // 2
+    for k in sorted({0, show.version, split - 1, split, later, last}):
         _check_version(mesh, k)
     origin = mesh_origin(mesh.vertices)
     fig, axes = plt.subplots(2, 3, figsize=(13.5, 9.2))
@@ -258,21 +196,19 @@ def draw_refinement(mesh: QualityMesh, dropped: Sequence[Dropped], out: Path, na
 
     _panel(a0, mesh, 0, origin, f"history[0]: the constrained Delaunay\ntriangulation ({len(mesh.history.mesh(0).triangles)} triangles)")
 
-    bad = _circumscribed(mesh, show)
-    what = "the circumcentre c of the bad triangle (outlined)" if bad is not None else "the off-centre c of a bad triangle"
-    _panel(a1, mesh, show.k, origin, f"history[{show.k}]: {what}\nencroaches subsegment s: the new version is dropped")
-    if bad is not None:
-        a1.add_patch(Polygon(np.array([P.xy(v) for v in bad]) - origin, closed=True, fill=False, edgecolor="#d01010",
-                             linewidth=2.2, zorder=6))
+    what = "the off-centre c of the bad triangle (outlined)" if show.offcenter else "the circumcentre c of the bad triangle (outlined)"
+    _panel(a1, mesh, show.version, origin, f"history[{show.version}]: {what}\nencroaches subsegment s: the new version is dropped")
+    a1.add_patch(Polygon(np.array([at(v) for v in show.triangle]) - origin, closed=True, fill=False, edgecolor="#d01010",
+                         linewidth=2.2, zorder=6))
     for t in show.cavity:
-        a1.add_patch(Polygon(np.array([P.xy(v) for v in t]) - origin, closed=True, facecolor="#f4b0b0", edgecolor="none", zorder=2))
+        a1.add_patch(Polygon(np.array([at(v) for v in t]) - origin, closed=True, facecolor="#f4b0b0", edgecolor="none", zorder=2))
     cx, cy = np.subtract(show.xy, origin)
     for t in show.cavity:
-        for u, w in _edges(t):
-            x = np.subtract(P.xy(u), origin)
+        for u, _ in _edges(t):
+            x = np.subtract(at(u), origin)
             a1.plot([cx, x[0]], [cy, x[1]], color="#d01010", linewidth=0.8, linestyle="--", zorder=3)
-    u, w = show.encroached[0]
-    pu, pw = np.subtract(P.xy(u), origin), np.subtract(P.xy(w), origin)
+    lo, hi, _ = show.encroached[0]
+    pu, pw = np.subtract(at(lo), origin), np.subtract(at(hi), origin)
     a1.plot([pu[0], pw[0]], [pu[1], pw[1]], color="#e08000", linewidth=4, zorder=5)
     a1.add_patch(Circle(tuple((pu + pw) / 2), float(np.hypot(*(pu - pw))) / 2, fill=False, linestyle="--",
                         edgecolor="#e08000", linewidth=1.3, zorder=5))
@@ -280,30 +216,28 @@ def draw_refinement(mesh: QualityMesh, dropped: Sequence[Dropped], out: Path, na
     a1.annotate("c", (cx, cy), textcoords="offset points", xytext=(6, 4), color="#d01010", fontsize=10, weight="bold")
     a1.annotate("s", tuple((pu + pw) / 2), textcoords="offset points", xytext=(6, -12), color="#b06000", fontsize=10, weight="bold")
 
-    q = int(mesh.history.inserted[show.k])
-    before, after = (set(mesh.history.mesh(k).points.tolist()) for k in (show.k, show.k + 1))
-    _require(after - before == {q}, f"history[{show.k + 1}] adds points {sorted(after - before)}, not just the split point {q}")
-    deleted = sorted(before - after)  # free vertices in s's diametral circle, if the refiner deletes them (Chew)
+    q = int(mesh.history.inserted[split - 1])
+    deleted = list(mesh.history.deleted[split - 1])  # free vertices in s's diametral circle (Chew's rule), if any
     also = f", {len(deleted)} free vert{'ex' if len(deleted) == 1 else 'ices'} in its circle deleted" if deleted else ""
-    _panel(a2, mesh, show.k + 1, origin,
-           f"history[{show.k + 1}]: s split instead{also}\n(history[{show.k}] itself was never changed)")
-    _marks(a2, P, origin, [q], _SPLIT)
-    _marks(a2, P, origin, deleted, _DELETED)
+    _panel(a2, mesh, split, origin,
+           f"history[{split}]: s split instead{also}\n(history[{show.version}] itself was never changed)")
+    _marks(a2, mesh, origin, [q], _SPLIT)
+    _marks(a2, mesh, origin, deleted, _DELETED)
 
     _panel(a3, mesh, later, origin, f"history[{later}]: {len(mesh.history.mesh(later).triangles)} triangles")
 
     polys = _panel(a4, mesh, last, origin,
                    f"history[{last}], the final mesh: {len(mesh.triangles)} triangles,\n"
                    f"min angle ≥ {mesh.min_angle:g}°, {mesh.undos} undos, {mesh.blocked} blocked", colour=True)
-    _marks(a4, P, origin, [d.point for d in undone], _UNDONE)
-    _marks(a4, P, origin, [d.point for d in dropped if not d.undone], _BLOCKED)
+    _marks(a4, mesh, origin, [d.point for d in record.undone], _UNDONE)
+    _marks(a4, mesh, origin, [d.point for d in record.blocked], _BLOCKED)
     bar = fig.colorbar(polys, ax=a4, shrink=0.75, pad=0.02)
     bar.set_label("smallest angle (°)")
 
     sizes = [len(mesh.history.mesh(k).triangles) for k in range(last + 1)]
     a5.plot(range(last + 1), sizes, color="#20303a", linewidth=1.2)
-    for d in dropped:
-        a5.axvline(d.k, color="#d01010" if d.undone else "#909090", linewidth=0.8, alpha=0.7)
+    for version, colour in [(d.version, "#d01010") for d in record.undone] + [(d.version, "#909090") for d in record.blocked]:
+        a5.axvline(version, color=colour, linewidth=0.8, alpha=0.7)
     a5.set_xlabel("version k (insertions so far)")
     a5.set_ylabel("triangles in history[k]")
     a5.set_title("every version kept: red, an undo from version k;\ngrey, a blocked point"

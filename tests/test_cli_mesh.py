@@ -289,3 +289,26 @@ def test_an_unenclosed_domain_points_to_convex(tmp_path: Path) -> None:
     _ok(["mesh", str(poly), "--convex", "-q", "30", "-o", str(out), "--check", "--quiet"])
     mesh = _npz(out)
     assert sum(_twice_area(mesh["vertices"], mesh["triangles"])) == 2 * 8  # the 3 × 3 box less the unit hole
+
+
+def test_npz_holds_the_record_of_the_undone_points(tmp_path: Path) -> None:
+    out = tmp_path / "l.npz"
+    stdout = _ok(["mesh", "l-shape", "-q", "30", "-a", "0.05", "-o", str(out), "--stats", "--quiet"])
+    api = triangulate(gallery_domain("l-shape").pslg, min_angle=30, max_area=0.05)
+    mesh = _npz(out)
+    undone = api.history.undone
+    assert len(undone) == api.undos > 0 and mesh["undone_xy"].shape == (api.undos, 2)
+    assert mesh["undone_xy"].tolist() == [list(d.xy) for d in undone]
+    assert mesh["undone_version"].tolist() == [d.version for d in undone]
+    assert mesh["blocked_xy"].shape == (api.blocked, 2) and mesh["blocked_version"].tolist() == [d.version for d in api.history.blocked]
+    # Each encroached subsegment by the rows of its ends in the output's vertices: the recorded coordinates.
+    rows = mesh["undone_encroached"]
+    assert rows.shape == (sum(len(d.encroached) for d in undone), 3)
+    written = sorted((i, tuple(mesh["vertices"][a]), tuple(mesh["vertices"][b])) for i, a, b in rows.tolist())
+    recorded = sorted((i, api.history.point(lo), api.history.point(hi)) for i, d in enumerate(undone) for lo, hi, _ in d.encroached)
+    assert written == recorded
+    lines = {ln.split("│")[1].strip(): ln.split("│")[2].strip() for ln in stdout.splitlines() if ln.count("│") == 3}
+    first = min(d.version for d in undone)
+    assert lines["versions an undo returned to (history.undone)"].startswith(
+        f"{len({d.version for d in undone})} (history[{first}]"
+    )

@@ -105,8 +105,30 @@ def _first_number(source: str) -> int:
     return 0 if token.lstrip("+") == "0" else 1
 
 
+def _dropped_arrays(mesh: QualityMesh) -> dict[str, Any]:
+    """The refinement's record of its dropped points as arrays (``history.undone`` / ``history.blocked``).
+
+    ``undone_xy`` (U × 2) and ``undone_version`` (U): each undone point and the version it was tried on (and the
+    run went on from); ``undone_encroached`` (E × 3): per subsegment an undone point encroached, the row of that
+    point in ``undone_xy`` and the two ``vertices`` rows of the subsegment's ends (split points and input vertices
+    are never deleted, so they are rows of the final mesh); ``blocked_xy``, ``blocked_version`` likewise.
+    """
+    history = mesh.history
+    last = history.mesh(len(history) - 1).points
+    row = {int(p): k for k, p in enumerate(last.tolist())}
+    encroached = [(i, row[lo], row[hi]) for i, d in enumerate(history.undone) for lo, hi, _ in d.encroached]
+    return {
+        "undone_xy": np.array([d.xy for d in history.undone], dtype=np.float64).reshape(-1, 2),
+        "undone_version": np.array([d.version for d in history.undone], dtype=np.int64),
+        "undone_encroached": np.array(encroached, dtype=np.int64).reshape(-1, 3),
+        "blocked_xy": np.array([d.xy for d in history.blocked], dtype=np.float64).reshape(-1, 2),
+        "blocked_version": np.array([d.version for d in history.blocked], dtype=np.int64),
+    }
+
+
 def npz_arrays(mesh: QualityMesh, smallest: float) -> dict[str, Any]:
-    """What an ``.npz`` output holds: the mesh's arrays, the bounds, what was reached and the refinement's counts."""
+    """What an ``.npz`` output holds: the mesh's arrays, the bounds, what was reached, the refinement's counts and
+    its record of the points it dropped (:func:`_dropped_arrays`)."""
     return {
         "vertices": mesh.vertices,
         "triangles": mesh.triangles,
@@ -130,6 +152,7 @@ def npz_arrays(mesh: QualityMesh, smallest: float) -> dict[str, Any]:
         "exempt": np.int64(mesh.exempt),
         "rounded_splits": np.int64(mesh.rounded_splits),
         "exact_segments": np.bool_(mesh.exact_segments),
+        **_dropped_arrays(mesh),
     }
 
 
@@ -187,6 +210,14 @@ def _summary(source: str, mesh: QualityMesh, smallest: float, report: MeshReport
     return f"{what}, {angle}; {steps}{rounded}{verified}"
 
 
+def _versions_text(versions: list[int]) -> str:
+    """``3 (history[4], history[9], …)``: how many versions, and the first few."""
+    if not versions:
+        return "0"
+    shown = ", ".join(f"history[{k}]" for k in versions[:3])
+    return f"{len(versions):,} ({shown}{', …' if len(versions) > 3 else ''})"
+
+
 def _stats_table(source: str, mesh: QualityMesh, smallest: float, report: MeshReport | None) -> Table:
     table = Table(title=f"Ruppert's refinement of {source}, undone by persistence")
     table.add_column("count")
@@ -204,6 +235,8 @@ def _stats_table(source: str, mesh: QualityMesh, smallest: float, report: MeshRe
         ("circumcentres", f"{mesh.circumcenters:,}"),
         ("off-centres", f"{mesh.offcenters:,}"),
         ("undos (insertion dropped, previous version kept)", f"{mesh.undos:,}"),
+        ("versions an undo returned to (history.undone)", _versions_text(sorted({d.version for d in mesh.history.undone}))),
+        ("subsegments split after an undo", f"{sum(len(d.encroached) for d in mesh.history.undone):,}"),
         ("blocked (point beyond a segment, not inserted)", f"{mesh.blocked:,}"),
         ("deletions (free vertices in a split subsegment's circle)", f"{mesh.deletions:,}"),
         ("split points rounded off their segment", f"{mesh.rounded_splits:,}"),

@@ -45,7 +45,8 @@ from persistri.impl.maps import backend as map_backend
 from persistri.impl.mesh.cdt import SegmentGeometry, constrained_delaunay
 from persistri.impl.mesh.domain import PSLG, as_pslg
 from persistri.impl.mesh.quality import AngleBound
-from persistri.impl.mesh.ruppert import Counts, Refiner
+from persistri.impl.mesh.record import Blocked, Counts, Undone
+from persistri.impl.mesh.ruppert import Refiner
 from persistri.impl.mesh.steiner import offcenter_constant
 from persistri.impl.mesh.triangulation import EXTERIOR, MeshDatum, MeshTriangulation
 from persistri.impl.progress import progress_callback
@@ -113,6 +114,14 @@ class MeshHistory:
     step, before a segment split (Chew's rule; usually none); :meth:`mesh` reads a
     version back as arrays.  The versions share structure: keeping all of them
     costs O(lg n) map nodes per changed vertex, not a copy each.
+
+    The points the run tried and dropped are recorded too
+    (:mod:`~persistri.impl.mesh.record`): ``undone`` — each insertion undone by
+    returning to the version it was made from (:class:`~persistri.impl.mesh.record.Undone`:
+    that version, the point, the subsegments it encroached and the versions that
+    split them instead), one per :attr:`QualityMesh.undos`; ``blocked`` — each
+    point a segment kept from its triangle (:class:`~persistri.impl.mesh.record.Blocked`).
+    Points are indices in the run's point set, read with :meth:`point`.
     """
 
     def __init__(
@@ -121,11 +130,15 @@ class MeshHistory:
         versions: list[Complex[MeshDatum]],
         inserted: list[int],
         deleted: list[tuple[int, ...]] | None = None,
+        undone: tuple[Undone, ...] = (),
+        blocked: tuple[Blocked, ...] = (),
     ) -> None:
         self._run = run
         self.versions: tuple[Complex[MeshDatum], ...] = tuple(versions)
         self.inserted: tuple[int, ...] = tuple(inserted)
         self.deleted: tuple[tuple[int, ...], ...] = tuple(deleted) if deleted is not None else ((),) * len(inserted)
+        self.undone: tuple[Undone, ...] = undone
+        self.blocked: tuple[Blocked, ...] = blocked
 
     def __len__(self) -> int:
         return len(self.versions)
@@ -144,6 +157,10 @@ class MeshHistory:
     def mesh(self, k: int) -> MeshArrays:
         """Version ``k`` as arrays (domain triangles, counterclockwise; segments; regions). O(size)."""
         return _arrays(self._run, self.versions[k])
+
+    def point(self, i: int) -> tuple[float, float]:
+        """The coordinates of point ``i`` of the run's point set (kept, dropped or an input vertex). O(1)."""
+        return self._run.T.pred.xy(i)
 
 
 @dataclass(frozen=True, eq=False)
@@ -283,14 +300,16 @@ def _finish(
     area_reached: bool,
     exact_segments: bool = False,
     deleted: list[tuple[int, ...]] | None = None,
+    undone: tuple[Undone, ...] = (),
+    blocked: tuple[Blocked, ...] = (),
 ) -> QualityMesh:
-    history = MeshHistory(run, versions, inserted, deleted)
+    history = MeshHistory(run, versions, inserted, deleted, undone, blocked)
     arr = _arrays(run, versions[-1])
     notes: list[str] = []
     if counts.rounded_splits:
         segs = sorted(counts.rounded_segments)
         notes.append(
-            f"{counts.rounded_splits} split point{'s' if counts.rounded_splits > 1 else ''} within half an ulp of "
+            f"{counts.rounded_splits} split point{'s' if counts.rounded_splits > 1 else ''} within an ulp of "
             f"segment{'s' if len(segs) > 1 else ''} {', '.join(map(str, segs))}, not on it: no double lies exactly "
             "there, so they were rounded to the nearest doubles (check with verify_mesh(..., exact_segments=False))"
         )
@@ -371,6 +390,8 @@ def _refine_run(
         result.area_reached,
         exact_segments,
         result.deleted,
+        result.undone,
+        result.blocked,
     )
     if check:
         _check(mesh)

@@ -89,7 +89,6 @@ import heapq
 import math
 from collections import deque
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
@@ -98,6 +97,7 @@ from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
 from persistri.impl.mesh.angles import angle_at_least
 from persistri.impl.mesh.precision import crowded_apex, nearest_features, valid_split
 from persistri.impl.mesh.quality import AngleBound, QualityTests
+from persistri.impl.mesh.record import Counts, DropLog, Refinement
 from persistri.impl.mesh.splitting import rounded_candidates, small_angle_at, split_point
 from persistri.impl.mesh.steiner import PrecisionLimitError, steiner_point
 from persistri.impl.mesh.triangulation import (
@@ -116,57 +116,6 @@ __all__ = ["Counts", "Refinement", "Refiner"]
 
 Bad = tuple[int, int, Tri, MeshDatum, int, int, int]
 """A queued bad triangle: ``(bucket, sequence, triangle, datum, p, q, r)`` with ``pq`` its shortest edge."""
-
-
-@dataclass
-class Counts:
-    """What a refinement did.
-
-    * ``insertions`` — accepted insertions (= new versions), ``segment_splits +
-      circumcenters + offcenters``;
-    * ``undos`` — insertions made and then dropped because the new point
-      encroached a subsegment (the paper's undo by persistence);
-    * ``blocked`` — circumcentres or off-centres not inserted because a segment
-      stood between them and their triangle (the segment was split instead);
-    * ``deletions`` — free vertices deleted from a subsegment's diametral circle
-      before it was split (Chew's rule, with lenses);
-    * ``exempt`` — bad-angle triangles left alone at small input angles;
-    * ``rounded_splits`` — split points not exactly on their input segment (``exact_segments=False``,
-      the default): rounded to the nearest doubles where no double lies on the subsegment, or on a
-      piece of the chain that ends at such a point; ``rounded_segments`` — the input segments they split;
-      ``rounding_retries`` — rounded split points inserted and dropped because their version was not a valid
-      mesh (a flat or inverted triangle), before a nearby double that makes one.
-    """
-
-    insertions: int = 0
-    segment_splits: int = 0
-    circumcenters: int = 0
-    offcenters: int = 0
-    undos: int = 0
-    blocked: int = 0
-    exempt: int = 0
-    rounded_splits: int = 0
-    rounded_segments: set[int] = field(default_factory=set)
-    deletions: int = 0
-    rounding_retries: int = 0
-
-
-@dataclass
-class Refinement:
-    """The result of a run: ``versions[k]`` is the mesh after ``k`` steps (``versions[0]`` the start);
-    ``inserted[k - 1]`` the point inserted to make version ``k`` and ``deleted[k - 1]`` the free vertices deleted
-    in that step (before a split); ``angle_reached`` / ``area_reached`` whether every domain triangle of the last
-    version meets the angle bound (exempt ones excepted) / the area bounds, decided exactly (False only when
-    ``max_steiner`` stopped the run)."""
-
-    versions: list[Complex[MeshDatum]]
-    inserted: list[int]
-    counts: Counts
-    angle_reached: bool
-    area_reached: bool
-    exempt: set[int] = field(default_factory=set)
-    """Ids of the last version's exempt triangles."""
-    deleted: list[tuple[int, ...]] = field(default_factory=list)
 
 
 class Refiner:
@@ -214,6 +163,8 @@ class Refiner:
         self._exempt: set[int] = set()
         self._small: dict[tuple[int, int], bool] = {}
         self._dead: set[int] = set()
+        self.log = DropLog()
+        self._version = 0  # the history index of the version the run stands at
 
     # -- tests -----------------------------------------------------------------------------
 
@@ -381,11 +332,13 @@ class Refiner:
         x, y, off = steiner_point(P, sp, sq, sr, self.offconstant)
         p = P.append(x, y)
         where = T.walk_to(c, (t, d), p)
+        tri = (int(t[0]), int(t[1]), int(t[2]))
         if where[0] == "blocked":
             lo, hi, s = where[1]
             if s < 0:
                 raise MeshError(f"internal: the Steiner point of triangle {t} lies outside the triangulation")
             self.counts.blocked += 1
+            self.log.blocked(self._version, p, (x, y), tri, off, (int(lo), int(hi), s))
             self._segs.append((lo, hi, s))
             self._requeue(bad)
             return None
@@ -401,8 +354,10 @@ class Refiner:
                 s = constraint_of(fd, u, w)
                 if s >= 0 and P.orient2d_sign(u, w, p) == 0:
                     # On a subsegment: it encroaches it (strictly inside its diametral circle).
+                    lo, hi = edge_key(u, w)
                     self.counts.blocked += 1
-                    self._segs.append((*edge_key(u, w), s))
+                    self.log.blocked(self._version, p, (x, y), tri, off, (int(lo), int(hi), s))
+                    self._segs.append((lo, hi, s))
                     self._requeue(bad)
                     return None
         step = T.insert(c, p, (ft, fd))
@@ -411,6 +366,10 @@ class Refiner:
         if encroached:
             # The paper's undo: drop the new version and go on from c, which persistence kept.
             self.counts.undos += 1
+            cavity = tuple((int(a), int(b), int(e)) for (a, b, e), _ in step.removed if a >= 0 and b >= 0 and e >= 0)
+            self.log.undone(
+                self._version, p, (x, y), tri, off, tuple((int(lo), int(hi), s) for lo, hi, s in encroached), cavity
+            )
             self._segs.extend(encroached)
             self._requeue(bad)
             return None
@@ -453,6 +412,7 @@ class Refiner:
             while True:
                 if max_steiner is not None and len(inserted) >= max_steiner:
                     break
+                self._version = len(versions) - 1
                 if self._segs:
                     sub = self._segs.popleft()
                     where = sub[0]
@@ -461,6 +421,7 @@ class Refiner:
                         continue
                     c, p, gone = split
                     deleted.append(tuple(gone))
+                    self.log.split(int(sub[0]), int(sub[1]), len(versions), deleted[-1])
                 elif self._bad:
                     bad = heapq.heappop(self._bad)
                     if bad[3][0] in dead:
@@ -493,7 +454,8 @@ class Refiner:
         else:
             angle_ok, area_ok = self._final(c)
         counts.exempt = len(self._exempt)
-        return Refinement(versions, inserted, counts, angle_ok, area_ok, set(self._exempt), deleted)
+        undone, blocked = self.log.records()
+        return Refinement(versions, inserted, counts, angle_ok, area_ok, set(self._exempt), deleted, undone, blocked)
 
     def _final(self, c: Complex[MeshDatum]) -> tuple[bool, bool]:
         """Whether every domain triangle of ``c`` meets the angle bound (exempt ones excepted) and the area bounds,

@@ -183,7 +183,7 @@ class MeshTriangulation:
         segment ``segment`` (``start`` beside it), which the cavity crosses; the two
         halves ``{u, p}``, ``{p, w}`` become constrained.  ``p`` lies on the edge exactly
         (then it conflicts with both triangles beside it), or — a split point rounded
-        where no double lies on the segment — within half an ulp of it, off its line.
+        where no double lies on the segment — within an ulp of it, off its line.
         Then the cavity starts from the triangle beside the edge on ``p``'s side; the one
         beyond goes too when it is a domain triangle (whatever its circle says: the
         edge must go, and a sliver left in the domain would not be Delaunay), and when
