@@ -23,7 +23,7 @@ from mesh_helpers import ring
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.api import triangulate
 from persistri.impl.mesh.chains import in_tolerance_box
-from persistri.impl.mesh.domain import PSLG, as_pslg
+from persistri.impl.mesh.domain import PSLG, DomainError, as_pslg
 from persistri.impl.mesh.splitting import rounded_candidates
 from persistri.impl.mesh.steiner import PrecisionLimitError
 from persistri.impl.mesh.verify import verify_mesh
@@ -147,7 +147,11 @@ def utm_lots(draw: st.DrawFn) -> PSLG:
         segs.append([base, base + 1])
     verts = np.round(np.vstack(pts) + [x0, y0], 2)
     hole_pts = np.round(np.array(holes).reshape(-1, 2) + [x0, y0], 2)
-    return as_pslg(verts, segs, holes=hole_pts)
+    try:
+        return as_pslg(verts, segs, holes=hole_pts)
+    except DomainError:  # corners of a small hole that round to the same centimetre: not a lot
+        assume(False)
+        raise
 
 
 @settings(max_examples=16)

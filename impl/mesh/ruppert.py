@@ -312,8 +312,9 @@ class Refiner:
         geo.on_segment[p] = (s, t)
         if shell is not None:
             geo.shell[p] = shell
-        if not rounded and (lo in geo.off_segment or hi in geo.off_segment):
-            # Exactly on a piece that ends at a rounded point: on the segment itself only if the line allows.
+        if rounded or lo in geo.off_segment or hi in geo.off_segment:
+            # Rounded, or exactly on a piece that ends at a rounded point: off the segment unless exactly on its line
+            # (a nearby double can happen to lie on it).
             a, b = geo.ends[s]
             rounded = P.orient2d_sign(a, b, p) != 0
         if rounded:
