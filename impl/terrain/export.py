@@ -31,22 +31,46 @@ are world coordinates) and, when the grid is georeferenced, ``transform``
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Final
+from typing import Final, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from persistri.impl.files import compact_mesh, write_mesh
 from persistri.impl.terrain.crs import Crs
-from persistri.impl.terrain.greedy import Tin
+from persistri.impl.terrain.grids import GridTransform
 
-__all__ = ["TIN_FORMATS", "SIDECAR_SUFFIX", "tin_mesh", "tin_arrays", "sidecar_wkt", "write_tin"]
+__all__ = ["TIN_FORMATS", "SIDECAR_SUFFIX", "TerrainMesh", "tin_mesh", "tin_arrays", "sidecar_wkt", "write_tin"]
 
 TIN_FORMATS: Final = (".ply", ".obj", ".stl", ".off", ".npz")
 """The output formats of :func:`write_tin`, by extension."""
 
 SIDECAR_SUFFIX: Final = ".prj"
 """The CRS sidecar beside a mesh file: ``mesh.ply`` → ``mesh.prj`` (WKT)."""
+
+
+class TerrainMesh(Protocol):
+    """What the writer reads from a terrain mesh: a :class:`~persistri.impl.terrain.greedy.Tin`, or the stitched
+    mesh of tiles (:class:`~persistri.impl.scale.terrain.TiledTin`)."""
+
+    @property
+    def vertices(self) -> NDArray[np.float64]: ...
+    @property
+    def triangles(self) -> NDArray[np.intp]: ...
+    @property
+    def samples(self) -> NDArray[np.integer]: ...
+    @property
+    def shape(self) -> tuple[int, int]: ...
+    @property
+    def max_error(self) -> float: ...
+    @property
+    def rms_error(self) -> float: ...
+    @property
+    def transform(self) -> GridTransform | None: ...
+    @property
+    def crs(self) -> Crs | None: ...
+    def world_vertices(self) -> NDArray[np.float64]: ...
+    def world_triangles(self) -> NDArray[np.intp]: ...
 
 
 def _format(path: Path) -> str:
@@ -56,7 +80,7 @@ def _format(path: Path) -> str:
     return suffix
 
 
-def tin_mesh(tin: Tin, *, world: bool = False) -> tuple[NDArray[np.float64], NDArray[np.intp], NDArray[np.intp]]:
+def tin_mesh(tin: TerrainMesh, *, world: bool = False) -> tuple[NDArray[np.float64], NDArray[np.intp], NDArray[np.integer]]:
     """``(vertices, triangles, samples)`` as written: used vertices only, triangles counterclockwise from above. O(k + m).
 
     ``world=True`` gives world coordinates (:class:`ValueError` if the TIN has no
@@ -72,7 +96,7 @@ def tin_mesh(tin: Tin, *, world: bool = False) -> tuple[NDArray[np.float64], NDA
     return used_vertices, renumbered, tin.samples[used]
 
 
-def tin_arrays(tin: Tin, *, world: bool = False) -> dict[str, NDArray[np.generic]]:
+def tin_arrays(tin: TerrainMesh, *, world: bool = False) -> dict[str, NDArray[np.generic]]:
     """The named arrays of a terrain ``.npz`` (module docstring). O(k + m)."""
     vertices, triangles, samples = tin_mesh(tin, world=world)
     arrays: dict[str, NDArray[np.generic]] = {
@@ -107,7 +131,7 @@ def sidecar_wkt(path: str | Path, crs: Crs | None, *, world: bool) -> str | None
     return crs.to_wkt()
 
 
-def write_tin(path: str | Path, tin: Tin, *, world: bool = False) -> list[Path]:
+def write_tin(path: str | Path, tin: TerrainMesh, *, world: bool = False) -> list[Path]:
     """Write ``tin`` to ``path`` by its extension (:data:`TIN_FORMATS`), and its ``.prj`` sidecar when due.
 
     Returns the files written, the mesh first.  ``world=True`` writes world
