@@ -144,7 +144,10 @@ def connect(
             threads_per_worker=1,
             processes=True,
             host="127.0.0.1",
-            dashboard_address=":0" if dashboard else None,
+            # The scheduler's HTTP server (health checks, and the dashboard if asked for) on a free port: its
+            # default, 8787, may be another cluster's.
+            dashboard_address=":0",
+            scheduler_kwargs={"dashboard": dashboard},
             silence_logs=logging.ERROR,
         )
     except (OSError, TimeoutError, RuntimeError) as exc:
