@@ -68,8 +68,6 @@ so the mesh is the same on one worker or many, in any completion order.
 
 from __future__ import annotations
 
-import uuid
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
@@ -77,9 +75,9 @@ from typing import TYPE_CHECKING, Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
-from persistri.impl.progress import progress_callback
+from persistri.impl.scale.tasks import Task, run, task
 from persistri.impl.scale.terrain_seams import Seam, Tiling, seam_vertices
-from persistri.impl.scale.terrain_source import Dem, DemSource, NodataRule, filled_window, open_dem, survey
+from persistri.impl.scale.terrain_source import ArraySource, Dem, DemSource, NodataRule, filled_window, open_dem, survey
 from persistri.impl.scale.terrain_tile import mesh_tile
 from persistri.impl.terrain.crs import Crs
 from persistri.impl.terrain.delaunay import canonical_triangles
@@ -154,9 +152,15 @@ def _combine(parts: list[tuple[float, float]]) -> tuple[float, float]:
     return top, float(sum(q * (s / top) ** 2 for s, q in parts if s > 0.0))
 
 
-def decide_seams(source: DemSource, tiling: Tiling, i: int, j: int, max_error: float, rule: NodataRule) -> BorderSeams:
+def _source(source: DemSource | FloatArray) -> DemSource:
+    """A task's grid: a source, or an array the cluster was sent once (:mod:`persistri.impl.scale.tasks`)."""
+    return ArraySource(source, "array") if isinstance(source, np.ndarray) else source
+
+
+def decide_seams(source: DemSource | FloatArray, tiling: Tiling, i: int, j: int, max_error: float, rule: NodataRule) -> BorderSeams:
     """The seam task of tile ``(i, j)``: read its top row and left column (and bottom, right on the rim) and
     choose each seam's vertices (:func:`~persistri.impl.scale.terrain_seams.seam_vertices`). O(tile)."""
+    source = _source(source)
     r0, r1, c0, c1 = tiling.window(i, j)
     ti, tj = tiling.shape
 
@@ -175,7 +179,7 @@ def decide_seams(source: DemSource, tiling: Tiling, i: int, j: int, max_error: f
 
 
 def mesh_tile_piece(
-    source: DemSource,
+    source: DemSource | FloatArray,
     tiling: Tiling,
     i: int,
     j: int,
@@ -187,6 +191,7 @@ def mesh_tile_piece(
     backend: str,
 ) -> TilePiece:
     """The tile task of tile ``(i, j)``: read its window, mesh it from its seams, name vertices globally. O(tile²)."""
+    source = _source(source)
     r0, r1, c0, c1 = tiling.window(i, j)
     top, left = own.top, own.left
     bottom = below.top if below is not None else own.bottom
@@ -273,7 +278,7 @@ def tiled_terrain(
     nodata: str | float = "error",
     fill_reach: int | None = None,
     backend: str = "red_black",
-    progress: bool | Callable[[int], Any] = False,
+    progress: bool = False,
     keep_tiles: bool = False,
     transform: GridTransform | None = None,
 ) -> TiledTin:
@@ -289,7 +294,7 @@ def tiled_terrain(
     * ``nodata`` — as :func:`~persistri.impl.terrain.grids.as_heights`; ``fill``
       searches ``fill_reach`` cells around each window (default: ``tile``);
     * ``backend`` — the ``ORD_MAP`` backend of each tile's complex;
-    * ``progress`` — True for a progress bar of finished tasks, or a callable taking a count;
+    * ``progress`` — a progress bar of finished tasks on stderr (Dask's diagnostics on a cluster);
     * ``keep_tiles`` — keep each tile's mesh (:attr:`TiledTin.pieces`, for :func:`write_tile_meshes`).
 
     Errors: :class:`ValueError`/:class:`TypeError`, one line naming the grid, for
@@ -314,16 +319,11 @@ def tiled_terrain(
             )
         if rule.kind == "min":
             rule = NodataRule("min", found.lowest, reach)
-    tick = progress_callback(progress, "terrain tiles", 2 * len(tiling), batch=1)
-    try:
-        if client is None:
-            pieces, seams = _run_here(dem.source, tiling, e, rule, backend, tick)
-        else:
-            pieces, seams = _run_on(client, dem.source, tiling, e, rule, backend, tick)
-    finally:
-        if hasattr(tick, "close"):
-            tick.close()
-    return _stitch(pieces, seams, tiling, dem.transform, keep_tiles)
+    # A grid held in memory goes as its array, which the cluster receives once (tasks.run scatters it).
+    src: DemSource | FloatArray = dem.source.heights if isinstance(dem.source, ArraySource) else dem.source
+    done = run(client, _tasks(src, tiling, e, rule, backend), progress=progress, title="terrain tiles")
+    n = len(tiling)
+    return _stitch(done[n:], done[:n], tiling, dem.transform, keep_tiles)
 
 
 def _bound(max_error: Any) -> float:
@@ -335,61 +335,16 @@ def _bound(max_error: Any) -> float:
     return e
 
 
-def _run_here(
-    source: DemSource, tiling: Tiling, e: float, rule: NodataRule, backend: str, tick: Any
-) -> tuple[list[TilePiece], list[BorderSeams]]:
-    """Every task in this process: the seams, then the tiles."""
+def _tasks(source: DemSource | FloatArray, tiling: Tiling, e: float, rule: NodataRule, backend: str) -> list[Task]:
+    """The graph: a seam task per tile, and a tile task per tile reading its own, its lower and its right neighbour's."""
     ti, tj = tiling.shape
-    borders: dict[tuple[int, int], BorderSeams] = {}
+    seams = {(i, j): task(decide_seams, source, tiling, i, j, e, rule) for i, j in tiling.tiles()}
+    tiles = []
     for i, j in tiling.tiles():
-        borders[i, j] = decide_seams(source, tiling, i, j, e, rule)
-        if tick is not None:
-            tick(1)
-    pieces = []
-    for i, j in tiling.tiles():
-        below = borders[i + 1, j] if i + 1 < ti else None
-        beside = borders[i, j + 1] if j + 1 < tj else None
-        pieces.append(mesh_tile_piece(source, tiling, i, j, borders[i, j], below, beside, e, rule, backend))
-        if tick is not None:
-            tick(1)
-    return pieces, [borders[k] for k in tiling.tiles()]
-
-
-def _run_on(
-    client: Client, source: DemSource, tiling: Tiling, e: float, rule: NodataRule, backend: str, tick: Any
-) -> tuple[list[TilePiece], list[BorderSeams]]:
-    """The tasks on a cluster: seam tasks, then tile tasks depending on the three seam tasks they read."""
-    from distributed import as_completed
-
-    from persistri.impl.scale.terrain_source import ArraySource, DaskSource
-
-    run = uuid.uuid4().hex[:12]
-    src: Any = source
-    if isinstance(source, (ArraySource, DaskSource)):
-        src = client.scatter(source, broadcast=False, hash=False)  # held in memory: one copy per worker that needs it
-    ti, tj = tiling.shape
-    border_f = {
-        (i, j): client.submit(decide_seams, src, tiling, i, j, e, rule, key=f"persistri-terrain-seams-{run}-{i}-{j}")
-        for i, j in tiling.tiles()
-    }
-    tile_f = {}
-    for i, j in tiling.tiles():
-        below = border_f[i + 1, j] if i + 1 < ti else None
-        beside = border_f[i, j + 1] if j + 1 < tj else None
-        tile_f[i, j] = client.submit(
-            mesh_tile_piece, src, tiling, i, j, border_f[i, j], below, beside, e, rule, backend,
-            key=f"persistri-terrain-tile-{run}-{i}-{j}",
-        )
-    everything = list(border_f.values()) + list(tile_f.values())
-    for done in as_completed(everything):
-        if done.status == "error":
-            done.result()  # raises the task's exception here
-        if tick is not None:
-            tick(1)
-    keys = tiling.tiles()
-    seams = client.gather([border_f[k] for k in keys])
-    pieces = client.gather([tile_f[k] for k in keys])
-    return list(pieces), list(seams)
+        below = seams[i + 1, j] if i + 1 < ti else None
+        beside = seams[i, j + 1] if j + 1 < tj else None
+        tiles.append(task(mesh_tile_piece, source, tiling, i, j, seams[i, j], below, beside, e, rule, backend))
+    return [seams[k] for k in tiling.tiles()] + tiles
 
 
 def _stitch(pieces: list[TilePiece], borders: list[BorderSeams], tiling: Tiling, transform: GridTransform | None,

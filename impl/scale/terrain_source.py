@@ -189,12 +189,18 @@ class ArraySource:
         return np.array(self.heights[r0:r1, c0:c1], dtype=np.float64, copy=True)
 
 
-@dataclass(frozen=True, slots=True, eq=False)
 class DaskSource:
-    """A user's Dask array: a window is computed in the reading process (synchronously) from its chunks."""
+    """A user's Dask array: a window is computed in the reading process (synchronously) from its chunks.
 
-    array: da.Array
-    source: str
+    A plain class, not a dataclass: ``dask.delayed`` looks inside dataclasses for
+    collections and would compute the whole array as a task's input.
+    """
+
+    __slots__ = ("array", "source")
+
+    def __init__(self, array: da.Array, source: str) -> None:
+        self.array = array
+        self.source = source
 
     @property
     def shape(self) -> tuple[int, int]:
