@@ -191,9 +191,11 @@ def _read_text(path: Path, columns: Sequence[int] | None) -> tuple[NDArray[np.fl
 # -- binary ----------------------------------------------------------------------------------
 
 
-def read_npy(path: str | Path) -> NDArray[Any]:
+def read_npy(path: str | Path, *, mmap: bool = False) -> NDArray[Any]:
     """The array of a ``.npy`` file of real numbers, its header checked before the data is read.
 
+    ``mmap`` — map the file read-only instead of reading it (``np.load(mmap_mode="r")``:
+    rows are read when used, so a file larger than memory can be cut into chunks).
     Raises :class:`InputFileError` for an empty, truncated or foreign file (a
     ``.npz`` archive, anything without the NumPy header), and for an array of
     Python objects (never unpickled), strings, complex numbers or records.
@@ -229,7 +231,7 @@ def read_npy(path: str | Path) -> NDArray[Any]:
     if held < expected:
         raise InputFileError(path, f"truncated: the header announces {shape} {dtype} ({expected:,} bytes), the file holds {held:,}")
     try:
-        arr: NDArray[Any] = np.load(path, allow_pickle=False)
+        arr: NDArray[Any] = np.load(path, allow_pickle=False, mmap_mode="r" if mmap else None)
     except (ValueError, EOFError, OSError) as exc:
         raise InputFileError(path, f"cannot read .npy ({str(exc).splitlines()[0]})") from None
     return arr

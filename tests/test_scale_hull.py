@@ -203,8 +203,12 @@ def test_bad_files_are_one_clear_error(tmp_path: Path) -> None:
     with pytest.raises(FileNotFoundError):
         parallel_hull(tmp_path / "missing.npy")
     np.save(tmp_path / "words.npy", np.array([["a", "b", "c"]]))
-    with pytest.raises(TypeError, match="real numbers"):
+    with pytest.raises(ValueError, match=r"words\.npy: holds <U1 values, not real numbers"):
         parallel_hull(tmp_path / "words.npy")
+    np.save(tmp_path / "pts.npy", np.eye(3)[[0, 1, 2, 0]])
+    (tmp_path / "pts.npy").write_bytes((tmp_path / "pts.npy").read_bytes()[:-8])
+    with pytest.raises(ValueError, match=r"pts\.npy: truncated"):
+        parallel_hull(tmp_path / "pts.npy")
 
 
 # --- on the cluster -----------------------------------------------------------------------------------
@@ -238,11 +242,14 @@ def test_through_a_scheduler_address(client: Client) -> None:
         assert_same(parallel_hull(pts, client=other, chunk_rows=70), convex_hull(pts))
 
 
-def test_errors_from_workers_are_the_same_errors(client: Client) -> None:
+def test_errors_from_workers_are_the_same_errors(client: Client, tmp_path: Path) -> None:
     pts = np.random.default_rng(9).normal(size=(400, 3))
     pts[250, 0] = np.nan
     with pytest.raises(ValueError, match=r"^points: row 250 is not finite"):
         parallel_hull(pts, client=client, chunk_rows=100)
+    np.save(tmp_path / "pts.npy", pts)
+    with pytest.raises(ValueError, match=r"pts\.npy: row 250 is not finite"):
+        parallel_hull(tmp_path / "pts.npy", client=client, chunk_rows=100)
     with pytest.raises(DegenerateInputError) as got:
         parallel_hull(np.c_[pts[:, :2], np.ones(400)][:249], client=client, chunk_rows=50)
     assert "affine dimension 2" in str(got.value)

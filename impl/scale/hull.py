@@ -187,12 +187,12 @@ def _bucket_of(points: NDArray[np.float64], buckets: int) -> IntArray:
     return out
 
 
-def _scan(data: Any, start: int, stop: int, buckets: int) -> tuple[_Scan, tuple[tuple[Any, Any], ...]]:
+def _scan(data: Any, start: int, stop: int, buckets: int, what: str) -> tuple[_Scan, tuple[tuple[Any, Any], ...]]:
     """Pass 1 on one block: validate, bounding box, rows cut into hash buckets (coordinates, input rows)."""
     empty = (np.zeros((0, 3)), np.zeros(0, dtype=np.int64))
     inf = np.full(3, np.inf)
     try:
-        pts = read_block(data, start)
+        pts = read_block(data, start, what)
     except (ValueError, TypeError) as exc:
         return _Scan(start, stop, inf, -inf, (type(exc).__name__, str(exc))), (empty,) * buckets
     if pts.shape[0] != stop - start:
@@ -381,7 +381,7 @@ def _levels(parts: Sequence[Candidates]) -> tuple[tuple[int, int], ...]:
 def _first_pass(client: Client | None, source: PointSource, progress: bool) -> tuple[list[_Scan], NDArray[np.int64]]:
     """Pass 1: every block's scan, and every ``(row, first equal row)`` pair of the input, sorted by row."""
     buckets = max(1, min(len(source.blocks), MAX_BUCKETS))
-    scans = [task(_scan, b.data, b.start, b.stop, buckets) for b in source.blocks]
+    scans = [task(_scan, b.data, b.start, b.stop, buckets, source.what) for b in source.blocks]
     summaries = [task(_item, s, 0) for s in scans]
     pieces = [task(_item, s, 1) for s in scans]
     dups = [task(_bucket_duplicates, *(task(_item, p, k) for p in pieces)) for k in range(buckets)]

@@ -86,11 +86,16 @@ class Block:
 
 @dataclass(frozen=True)
 class PointSource:
-    """An ``(n, 3)`` point set as consecutive blocks covering rows ``0 … n - 1``; ``name`` says what it is."""
+    """An ``(n, 3)`` point set as consecutive blocks covering rows ``0 … n - 1``.
+
+    ``name`` says what it is (for messages and reports); ``what`` is how errors about
+    its rows begin (``points``, or the file: ``pts.npy: row 7 is not finite: …``).
+    """
 
     n: int
     blocks: tuple[Block, ...]
     name: str
+    what: str = "points"
 
 
 def _rows(n: int, chunk_rows: int) -> list[tuple[int, int]]:
@@ -108,13 +113,10 @@ def _check_header(what: str, shape: tuple[int, ...], dtype: np.dtype[Any]) -> No
 
 
 def _npy_header(path: Path) -> tuple[tuple[int, ...], np.dtype[Any]]:
-    """The shape and dtype of the ``.npy`` file ``path``, from its header alone."""
-    try:
-        mapped = np.load(path, mmap_mode="r", allow_pickle=False)
-    except ValueError as exc:  # not a .npy, or object arrays (which would need pickle)
-        raise ValueError(f"{path}: not a readable .npy array ({exc})") from None
-    if not isinstance(mapped, np.ndarray):
-        raise ValueError(f"{path}: not a .npy array")
+    """The shape and dtype of the ``.npy`` file ``path``, its header checked (:func:`~persistri.impl.files.read_npy`)."""
+    from persistri.impl.files import read_npy
+
+    mapped = read_npy(path, mmap=True)
     return mapped.shape, mapped.dtype
 
 
@@ -161,7 +163,7 @@ def _path_source(path: Path, size: int) -> PointSource:
 
             array = zarr.open_array(store=str(path), mode="r")
             source = points_source(array, size)
-            return PointSource(source.n, source.blocks, f"{path} (zarr, {source.n:,} points)")
+            return PointSource(source.n, source.blocks, f"{path} (zarr, {source.n:,} points)", str(path))
         files = sorted(p for p in path.iterdir() if p.suffix.lower() == ".npy" and p.is_file())
         if not files:
             raise ValueError(f"{path}: a directory of points must hold .npy files (or be a Zarr store); it holds none")
@@ -176,13 +178,14 @@ def _path_source(path: Path, size: int) -> PointSource:
             offset += int(shape[0])
         if not blocks:
             blocks.append(Block(0, 0, np.zeros((0, 3))))
-        return PointSource(offset, tuple(blocks), f"{path} ({len(files)} .npy files, {offset:,} points)")
+        return PointSource(offset, tuple(blocks), f"{path} ({len(files)} .npy files, {offset:,} points)", str(path))
     if path.suffix.lower() != ".npy":
         raise ValueError(f"{path}: chunked input must be a .npy file, a directory of .npy files or a Zarr store")
     shape, dtype = _npy_header(path)
     _check_header(str(path), shape, dtype)
     n = int(shape[0])
-    return PointSource(n, tuple(Block(a, b, NpyRows(str(path), a, b)) for a, b in _rows(n, size)), f"{path} ({n:,} points)")
+    rows = tuple(Block(a, b, NpyRows(str(path), a, b)) for a, b in _rows(n, size))
+    return PointSource(n, rows, f"{path} ({n:,} points)", str(path))
 
 
 def _dask_source(x: Any, chunk_rows: int | None) -> PointSource:
@@ -205,17 +208,17 @@ def _dask_source(x: Any, chunk_rows: int | None) -> PointSource:
 _ROW = re.compile(r"\brow (\d+)\b")
 
 
-def read_block(data: Any, start: int) -> NDArray[np.float64]:
+def read_block(data: Any, start: int, what: str = "points") -> NDArray[np.float64]:
     """The rows of a block as validated float64 (:func:`~persistri.impl.geometry.points.as_points`).
 
     ``data`` is what :attr:`Block.data` holds, already computed when it was a
     Dask block; ``start`` its first row in the whole input, which the error for a
     NaN, infinite or inexact coordinate names (``points: row 1234567 is not
-    finite: …``).  O(rows).
+    finite: …``, ``what`` first).  O(rows).
     """
     raw = data.read() if isinstance(data, (NpyRows, ZarrRows)) else data
     try:
-        return as_points(raw, 3)
+        return as_points(raw, 3, what=what)
     except ValueError as exc:
         message = _ROW.sub(lambda m: f"row {int(m[1]) + start}", str(exc), count=1)
         raise ValueError(message) from None
