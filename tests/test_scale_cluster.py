@@ -30,6 +30,9 @@ def test_the_rules_in_order(monkeypatch: pytest.MonkeyPatch) -> None:
     assert plan() == ("scheduler", "tcp://from-env:8786")
     assert plan(workers=3) == ("local", 3)  # an explicit count beats the environment
     assert plan(scheduler="tcp://given:1") == ("scheduler", "tcp://given:1")
+    assert plan(tasks=1) == ("sequential", None)  # one task: nothing to share, even with a scheduler named
+    assert plan(tasks=2) == ("scheduler", "tcp://from-env:8786")
+    assert plan(workers=2, tasks=1) == ("local", 2) and plan(scheduler="tcp://s:1", tasks=1) == ("scheduler", "tcp://s:1")
     monkeypatch.setenv(ENV_SCHEDULER, "  ")
     assert plan() == (("sequential", None) if cores == 1 else ("local", cores))
 
@@ -62,6 +65,16 @@ def test_an_unreachable_scheduler_is_a_cluster_error(monkeypatch: pytest.MonkeyP
     assert "\n" not in str(info.value)
 
 
+def test_dask_missing_says_what_to_install(monkeypatch: pytest.MonkeyPatch) -> None:
+    import persistri.impl.scale as scale
+
+    assert scale.dask_missing() is None
+    monkeypatch.setattr(scale, "find_spec", lambda name: None if name == "distributed" else object())
+    assert scale.dask_missing() == (
+        "distributed not installed: the parallel path needs persistri[dask] (pip install 'persistri[dask]')"
+    )
+
+
 def _pid() -> int:
     return os.getpid()
 
@@ -89,20 +102,22 @@ import importlib, json, pkgutil, sys
 import persistri, persistri.impl
 names = []
 for info in pkgutil.walk_packages(persistri.impl.__path__, "persistri.impl."):
-    if info.name.startswith("persistri.impl.scale"):
-        continue
     importlib.import_module(info.name)
     names.append(info.name)
-print(json.dumps({"modules": len(names), "dask": sorted(m for m in ("dask", "distributed", "zarr", "bokeh") if m in sys.modules)}))
+heavy = sorted(m for m in ("dask", "distributed", "zarr", "bokeh") if m in sys.modules)
+{after}
+print(json.dumps({{"modules": len(names), "dask": heavy}}))
 """
 
 
-def test_only_the_scale_package_imports_dask() -> None:
-    """``import persistri`` and every ``persistri.impl`` module outside ``impl/scale`` (the CLI and the
-    benchmarks included: they import Dask when a command asks for workers) leave Dask unimported."""
-    out = subprocess.run([sys.executable, "-c", PROBE], check=True, capture_output=True, text=True, env=os.environ.copy())
+def test_only_running_on_a_cluster_imports_dask() -> None:
+    """``import persistri`` and every ``persistri.impl`` module (the CLI, the benchmarks and the scale
+    package included) leave Dask unimported: it is imported when a cluster is asked for."""
+    env = os.environ.copy()
+    out = subprocess.run([sys.executable, "-c", PROBE.format(after="")], check=True, capture_output=True, text=True, env=env)
     got = json.loads(out.stdout)
     assert got["dask"] == [] and got["modules"] > 50
-    probe = "import json, sys, persistri.impl.scale.cluster; print(json.dumps('distributed' in sys.modules))"
-    loads = subprocess.run([sys.executable, "-c", probe], check=True, capture_output=True, text=True, env=os.environ.copy())
-    assert json.loads(loads.stdout) is True  # the probe above can see Dask when it is there
+    # The probe sees Dask when it is there: the scale package's parallel path imports it.
+    after = "import dask.array; heavy = sorted(m for m in ('dask', 'distributed') if m in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", PROBE.format(after=after)], check=True, capture_output=True, text=True, env=env)
+    assert "dask" in json.loads(out.stdout)["dask"]

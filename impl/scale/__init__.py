@@ -10,5 +10,20 @@
   refinements of one mesh) run as tasks from the shared version.
 
 Nothing outside this package imports Dask: ``import persistri`` and every other
-``persistri.impl`` module stay free of it (tested).
+``persistri.impl`` module stay free of it (tested).  This file itself does not
+either, so that callers can ask :func:`dask_missing` first.
 """
+
+from __future__ import annotations
+
+from importlib.util import find_spec
+
+__all__ = ["dask_missing"]
+
+
+def dask_missing() -> str | None:
+    """None when Dask's parallel side can run here, else why not (one line: what to install)."""
+    missing = [name for name in ("dask", "distributed") if find_spec(name) is None]
+    if not missing:
+        return None
+    return f"{' and '.join(missing)} not installed: the parallel path needs persistri[dask] (pip install 'persistri[dask]')"

@@ -16,10 +16,11 @@ its :class:`distributed.Client`.  The rules, in order:
    scheduler (its workers are whatever that cluster has, so ``workers`` must
    not be given too).
 3. ``workers=N`` (N ≥ 2) — a **local cluster** of N worker processes.
-4. Neither given: the environment variable ``PERSISTRI_SCHEDULER``, when set,
-   names an existing cluster as in 2; otherwise a **local cluster** with one
-   worker per core (and the sequential path on a one-core machine, where a
-   cluster could only add overhead).
+4. Neither given: the sequential path when the work is a single task (the
+   caller says so with ``tasks=1``: a cluster could only add its start-up) or
+   the machine has one core; otherwise the environment variable
+   ``PERSISTRI_SCHEDULER``, when set, names an existing cluster as in 2, and
+   without it a **local cluster** with one worker per core.
 
 A local cluster is a :class:`distributed.LocalCluster` of worker
 **processes**, one thread each: persistri's work is pure Python and holds the
@@ -33,7 +34,9 @@ need ``persistri[dask]`` installed, and paths given to them (memory-mapped
 ``.npy``, Zarr stores) must name files they can read.
 
 Starting a local cluster costs a few seconds (one Python interpreter per
-worker); a client of an existing cluster, one round trip.
+worker); a client of an existing cluster, one round trip.  Importing this module
+imports no Dask (only :func:`connect` does, when it starts one), so that
+commands can apply :func:`plan` before they know Dask is installed.
 """
 
 from __future__ import annotations
@@ -42,8 +45,10 @@ import logging
 import os
 from collections.abc import Iterator
 from contextlib import contextmanager
+from typing import TYPE_CHECKING
 
-from distributed import Client, LocalCluster
+if TYPE_CHECKING:
+    from distributed import Client
 
 __all__ = ["ClusterError", "ENV_SCHEDULER", "connect", "default_workers", "plan"]
 
@@ -66,11 +71,12 @@ def default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def plan(workers: int | None = None, scheduler: str | None = None) -> tuple[str, int | str | None]:
+def plan(workers: int | None = None, scheduler: str | None = None, *, tasks: int | None = None) -> tuple[str, int | str | None]:
     """What :func:`connect` will do, without doing it: ``("sequential", None)``,
     ``("scheduler", address)`` or ``("local", worker count)``.
 
-    The rules are those of the module docstring.  Raises :class:`ValueError` for
+    The rules are those of the module docstring (``tasks``: how many independent
+    tasks the work has, when the caller knows).  Raises :class:`ValueError` for
     a worker count below 1, an empty address, or both ``workers`` and
     ``scheduler`` given.
 
@@ -93,6 +99,8 @@ def plan(workers: int | None = None, scheduler: str | None = None) -> tuple[str,
         return ("scheduler", scheduler.strip())
     if workers is not None:
         return ("local", workers)
+    if tasks is not None and tasks < 2:
+        return ("sequential", None)
     env = os.environ.get(ENV_SCHEDULER, "").strip()
     if env:
         return ("scheduler", env)
@@ -105,6 +113,7 @@ def connect(
     workers: int | None = None,
     scheduler: str | None = None,
     *,
+    tasks: int | None = None,
     dashboard: bool = False,
 ) -> Iterator[Client | None]:
     """A :class:`distributed.Client` for the block, or ``None`` for the sequential path.
@@ -122,10 +131,11 @@ def connect(
     (one line) when the scheduler does not answer within
     :data:`CONNECT_TIMEOUT` seconds or local workers fail to start.
     """
-    kind, arg = plan(workers, scheduler)
+    kind, arg = plan(workers, scheduler, tasks=tasks)
     if kind == "sequential":
         yield None
         return
+    from distributed import Client, LocalCluster  # here, not at import: plan() needs no Dask
     if kind == "scheduler":
         assert isinstance(arg, str)
         try:
