@@ -127,13 +127,15 @@ def _is_zarr_store(path: Path) -> bool:
 def points_source(points: Any, chunk_rows: int | None = None) -> PointSource:
     """``points`` as a :class:`PointSource` of blocks of ``chunk_rows`` rows (:data:`DEFAULT_CHUNK_ROWS`).
 
-    ``points``: a path (``str`` or :class:`~pathlib.Path`) of a ``.npy`` file, of
+    ``points``: a :class:`PointSource` (returned as it is); a path (``str`` or :class:`~pathlib.Path`) of a ``.npy`` file, of
     a directory of ``.npy`` files or of a Zarr store; a Zarr array; a Dask array
     (cut along its own row chunks unless ``chunk_rows`` is given); or any array
     of shape ``(n, 3)``.  Raises :class:`ValueError`/:class:`TypeError` (one line)
     for a missing path, a file of another shape or a non-numeric dtype,
     :class:`ValueError` for ``chunk_rows < 1``.  O(number of blocks); no row is read.
     """
+    if isinstance(points, PointSource):
+        return points
     if chunk_rows is not None and (isinstance(chunk_rows, bool) or chunk_rows < 1):
         raise ValueError(f"chunk size must be at least 1 row, got {chunk_rows}")
     size = chunk_rows or DEFAULT_CHUNK_ROWS
