@@ -29,13 +29,17 @@ of a PSLG (:mod:`persistri.impl.mesh.cdt`):
    shortest-edge first (Triangle's order: buckets by the binary exponent of the
    squared shortest edge, first in first out within one), and each is split by
    its circumcentre or, when nearer, its off-centre (:mod:`~persistri.impl.mesh.steiner`).
-3. **The undo.**  The new point ``c`` is inserted (one new version).  If ``c``
-   encroaches a subsegment of its cavity's boundary, the new version is
-   dropped — the refinement goes on from the version it started from, which
-   persistence kept — and the subsegments ``c`` encroaches are split instead;
-   the triangle goes back to the queue.  :attr:`Counts.undos` counts these.
-   (A mutable mesh must delete ``c`` and restore the cavity; Triangle does so
-   with its ``undovertex``.)  When ``c`` lies beyond a segment as seen from its
+3. **The undo.**  The new point ``c``'s cavity is found in the current
+   version (its conflict search).  If ``c`` encroaches a subsegment on the
+   cavity's boundary — one the new version would hold on its fan — the
+   insertion is undone: the refinement goes on from the version it started
+   from, which persistence kept unchanged, the subsegments ``c`` encroaches are
+   split instead, and the triangle goes back to the queue (:attr:`Counts.undos`;
+   the record: :class:`~persistri.impl.mesh.record.Undone`).  Since the
+   encroachment is decided on the cavity's boundary, the new version is not
+   even built: the undo costs the conflict search and nothing else.  Built or
+   not, the version returned to is the point — a mutable mesh must delete ``c``
+   and restore the cavity (Triangle's ``undovertex``).  When ``c`` lies beyond a segment as seen from its
    triangle (only possible for an off-centre or a rounding near a segment:
    Ruppert's lemma says a circumcentre lies in the domain when no subsegment
    is encroached), the straight walk to it stops at that segment and the
@@ -76,8 +80,9 @@ points for bounds beyond the theory's reach (Triangle's ``-S``).
 Costs per accepted insertion: the cavity's O(k) complex operations (O(lg n)
 each) and exact tests, plus O(1) quality and encroachment tests per new
 triangle (float stage first, exact when it cannot tell:
-:class:`~persistri.impl.mesh.quality.QualityTests`); an undone one costs the same
-and leaves nothing behind but its point's index (the point set is append-only).
+:class:`~persistri.impl.mesh.quality.QualityTests`); an undone one costs its
+conflict search and O(k) encroachment tests, no complex operation, and leaves
+nothing behind but its point's index (the point set is append-only) and its record.
 Whether a queued triangle is still there is a set lookup: triangle ids are never
 reused, and the run only ever moves forward from its current version, so an id
 removed once is gone for good (the undone versions' ids never enter the queue).
@@ -102,6 +107,7 @@ from persistri.impl.mesh.splitting import rounded_candidates, small_angle_at, sp
 from persistri.impl.mesh.steiner import PrecisionLimitError, steiner_point
 from persistri.impl.mesh.triangulation import (
     EXTERIOR,
+    Cavity,
     Constraint,
     Insertion,
     MeshDatum,
@@ -361,25 +367,54 @@ class Refiner:
                     self._segs.append((lo, hi, s))
                     self._requeue(bad)
                     return None
-        step = T.insert(c, p, (ft, fd))
-        encroaches = self.tests.encroaches
-        encroached = [(lo, hi, s) for _, dat in step.created for lo, hi, s in dat[2] if encroaches(lo, hi, p)]
+        cav = T.cavity(c, p, (ft, fd))
+        # The subsegments the new version would hold on its fan are the cavity's constrained boundary edges: whether p
+        # encroaches one is decided before the version is built.
+        encroached = self._encroached_on(cav, p)
         if encroached:
-            # The paper's undo: drop the new version and go on from c, which persistence kept.
+            # The paper's undo: go on from c, which persistence kept unchanged (the new version is not even built).
             self.counts.undos += 1
-            cavity = tuple((int(a), int(b), int(e)) for (a, b, e), _ in step.removed if a >= 0 and b >= 0 and e >= 0)
+            cavity = tuple((int(a), int(b), int(e)) for (a, b, e), _ in cav.triangles.values() if min(a, b, e) >= 0)
             self.log.undone(
                 self._version, p, (x, y), tri, off, tuple((int(lo), int(hi), s) for lo, hi, s in encroached), cavity
             )
             self._segs.extend(encroached)
             self._requeue(bad)
             return None
+        step = T.build(cav)
         if off:
             self.counts.offcenters += 1
         else:
             self.counts.circumcenters += 1
         self._adopt(step)
         return step.version, p
+
+    def _encroached_on(self, cav: Cavity, p: int) -> list[Constraint]:
+        """The constrained edges of the cavity's boundary that ``p`` encroaches, in the order the fan would make them
+        (around the boundary from its first edge, as :meth:`~persistri.impl.mesh.triangulation.MeshTriangulation.build`
+        walks it). O(k)."""
+        boundary = cav.boundary
+        for edge in boundary:
+            if edge[3] >= 0:
+                break
+        else:
+            return []
+        succ = {u: (w, seg) for u, w, _, seg in boundary}
+        inf = self.T.infinite
+        first = succ[inf][0] if inf in succ else boundary[0][0]
+        encroaches = self.tests.encroaches
+        out: list[Constraint] = []
+        u = first
+        for _ in range(len(boundary)):
+            w, seg = succ[u]
+            if seg >= 0:
+                lo, hi = edge_key(u, w)
+                if encroaches(lo, hi, p):
+                    out.append((lo, hi, seg))
+            u = w
+            if u == first:
+                break
+        return out
 
     def _requeue(self, bad: Bad) -> None:
         self._seq += 1

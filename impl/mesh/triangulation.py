@@ -51,7 +51,7 @@ deletion of a vertex of degree ``k`` ``O(k²)`` predicates; a walk ``O(length)``
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Final, Literal
+from typing import Final, Literal, NamedTuple
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
@@ -66,6 +66,7 @@ __all__ = [
     "MeshDatum",
     "Tri",
     "Insertion",
+    "Cavity",
     "MeshTriangulation",
     "MeshError",
 ]
@@ -96,6 +97,23 @@ class Insertion:
     version: Complex[MeshDatum]
     removed: tuple[tuple[Tri, MeshDatum], ...]
     created: tuple[tuple[Tri, MeshDatum], ...]
+
+
+class Cavity(NamedTuple):
+    """The conflict region of a point, before anything is built: what :meth:`MeshTriangulation.cavity` found.
+
+    ``triangles`` — the triangles to remove, by id; ``boundary`` — its boundary edges ``(u, w, region, segment)``
+    in cavity order (``u → w`` as in the cavity triangle beside it, ``region`` of the triangle to make on it,
+    ``segment`` -1 if none); ``beyond`` — for a rounded split point, the exterior triangle beyond the split edge
+    that stays, rewritten without the constraint (else None); ``split`` as :meth:`MeshTriangulation.insert`'s.
+    """
+
+    version: Complex[MeshDatum]
+    point: int
+    triangles: dict[int, tuple[Tri, MeshDatum]]
+    boundary: list[tuple[Vertex, Vertex, int, int]]
+    beyond: tuple[Tri, MeshDatum] | None
+    split: tuple[int, int, int] | None
 
 
 def edge_key(u: int, w: int) -> tuple[int, int]:
@@ -192,8 +210,20 @@ class MeshTriangulation:
         exterior (so a hull stays convex).  Returns the :class:`Insertion`; ``c`` is
         unchanged.
         """
-        vp = self.vertex(p)
-        inf = self.infinite
+        return self.build(self.cavity(c, p, start, split))
+
+    def cavity(
+        self,
+        c: Complex[MeshDatum],
+        p: int,
+        start: tuple[Tri, MeshDatum],
+        split: tuple[int, int, int] | None = None,
+    ) -> Cavity:
+        """The conflict search of :meth:`insert`, without building anything: which triangles go, and the boundary.
+
+        Reads ``c`` only (no complex operation that makes a version): the refinement decides on the
+        boundary whether the point would encroach a subsegment before paying for the new version. O(k).
+        """
         conflicts = self.conflicts
         pred = self.pred
         crossing = edge_key(split[0], split[1]) if split is not None else None
@@ -271,7 +301,16 @@ class MeshTriangulation:
                 beyond = found
             else:
                 boundary.append((u, w, dat[1], seg))
+        return Cavity(c, p, cavity, boundary, beyond, split)
 
+    def build(self, cav: Cavity) -> Insertion:
+        """The new version for a :class:`Cavity`: its triangles replaced by the fan from its point (one ``replace``).
+
+        O(k) complex operations; ``cav.version`` is unchanged."""
+        c, p, split, boundary, beyond = cav.version, cav.point, cav.split, cav.boundary, cav.beyond
+        vp = self.vertex(p)
+        inf = self.infinite
+        pred = self.pred
         succ = {u: (w, region, seg) for u, w, region, seg in boundary}
         if len(succ) != len(boundary):
             raise MeshError(f"internal: the cavity of point {p} is not a disc")
@@ -313,11 +352,13 @@ class MeshTriangulation:
                 s2 = new_constraints.get(edge_key(x, y), -1)
                 cons2: tuple[Constraint, ...] = ((*edge_key(x, y), s2),) if s2 >= 0 else ()
                 created.append((g, self.new_datum(EXTERIOR, cons2)))
-        removed = tuple(cavity.values())
+        removed = tuple(cav.triangles.values())
         if beyond is not None:
             # Its edge is no longer a subsegment: the triangle beyond is replaced by itself without the constraint.
+            assert split is not None, "only a rounded split point leaves a triangle beyond"
             gt, gd = beyond
             removed += (beyond,)
+            crossing = edge_key(split[0], split[1])
             created.append((gt, self.new_datum(EXTERIOR, tuple(k for k in gd[2] if (k[0], k[1]) != crossing))))
         version = self.S.replace(c, [t for t, _ in removed], created)
         return Insertion(version, removed, tuple(created))
