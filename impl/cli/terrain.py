@@ -7,9 +7,9 @@ from pathlib import Path
 import click
 import numpy as np
 
-from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_input
+from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_input, check_output_dir
 from persistri.impl.cli.console import stderr_console, stdout_console
-from persistri.impl.cli.errors import about, fail
+from persistri.impl.cli.errors import about, error_line, fail
 from persistri.impl.cli.hull import stats_table
 from persistri.impl.maps import BACKENDS
 from persistri.impl.stats import Stats
@@ -69,6 +69,28 @@ def _nodata_option(ctx: click.Context, param: click.Parameter, value: str) -> st
 @click.option("--check", is_flag=True, help="Assert the insertion invariants and verify the mesh exactly.")
 @click.option("--stats", "show_stats", is_flag=True, help="Print the operation counts (paper §4–5) as a table.")
 @click.option("--quiet", is_flag=True, help="No progress bar and no summary.")
+@click.option(
+    "--workers",
+    type=click.IntRange(min=1),
+    help="Mesh by tiles on a local Dask cluster of N worker processes (1: tiles in this process). "
+    "Without --tile, --workers or --scheduler: one process, no tiles.",
+)
+@click.option(
+    "--tile",
+    type=click.IntRange(min=3),
+    help="Mesh by tiles of SIZE × SIZE samples (neighbours share a row or column), seams decided first, so "
+    "the mesh is watertight and --max-error holds at every sample; .npy, .tif and .zarr are read in windows.",
+)
+@click.option(
+    "--scheduler",
+    metavar="ADDR",
+    help="Mesh by tiles on an existing Dask cluster (tcp://host:8786; also PERSISTRI_SCHEDULER with --tile).",
+)
+@click.option(
+    "--tile-output",
+    type=click.Path(path_type=Path),
+    help="With tiles: also write each tile's mesh to this directory (tile_I_J.npz, whole-grid coordinates).",
+)
 def terrain(
     source: str,
     max_error: float | None,
@@ -81,6 +103,10 @@ def terrain(
     check: bool,
     show_stats: bool,
     quiet: bool,
+    workers: int | None,
+    tile: int | None,
+    scheduler: str | None,
+    tile_output: Path | None,
 ) -> None:
     """Approximate the height grid INPUT by a Delaunay TIN, greedily (Garland–Heckbert).
 
@@ -102,12 +128,22 @@ def terrain(
     file of the same name (mesh.ply -> mesh.prj).  GeoTIFFs may be compressed
     (LZW, deflate, zstd, PackBits; tiled or in strips): pip install
     'persistri[geotiff]'.
+
+    With --tile (or --workers N ≥ 2, or --scheduler) the grid is meshed by
+    tiles on Dask (pip install 'persistri[dask]'): each seam between tiles is
+    decided once, each tile meshed from its seams, and the tiles stitched into
+    one watertight mesh with --max-error at every sample.  .npy, .tif/.tiff and
+    .zarr inputs are read in windows, so a worker holds one tile, not the grid.
     """
     from persistri.impl.terrain.greedy import greedy_insertion
 
     err = stderr_console()
     if max_error is None and max_points is None:
         raise click.UsageError("give --max-error, --max-points or both")
+    if tile is not None or scheduler is not None or (workers is not None and workers > 1) or tile_output is not None:
+        _tiled(source, max_error, max_points, output, plot, nodata, world, backend, check, show_stats, quiet,
+               workers, tile, scheduler, tile_output)
+        return
     check_input(Path(source), GRID_FORMATS, kind="grid", words=("jacksboro",))
     outputs = Outputs()
     outputs.file(output, TERRAIN_MESH_FORMATS, what="mesh")
@@ -166,4 +202,91 @@ def terrain(
     if show_stats and tin.stats is not None:
         stdout_console().print(stats_table(tin.stats, f"operation counts ({backend})"))
     if output is None and plot is None and quiet:
+        click.echo(f"{tin.n_points} points, {len(tin.triangles)} triangles, max error {tin.max_error:.6g}")
+
+
+def _tiled(
+    source: str,
+    max_error: float | None,
+    max_points: int | None,
+    output: Path | None,
+    plot: Path | None,
+    nodata: str | float,
+    world: bool,
+    backend: str,
+    check: bool,
+    show_stats: bool,
+    quiet: bool,
+    workers: int | None,
+    tile: int | None,
+    scheduler: str | None,
+    tile_output: Path | None,
+) -> None:
+    """``persistri terrain`` by tiles on Dask (:func:`persistri.impl.scale.terrain.tiled_terrain`): everything that
+    can be checked is checked before a cluster is started."""
+    err = stderr_console()
+    if max_error is None or max_points is not None:
+        fail("meshing by tiles needs --max-error and no --max-points: each tile stops at the error bound, "
+             "and a point budget has no meaning across tiles")
+    for given, name in ((plot is not None, "--plot"), (check, "--check"), (show_stats, "--stats")):
+        if given:
+            fail(f"{name} is not available when meshing by tiles (--tile, --workers N ≥ 2 or --scheduler)")
+    if workers is not None and scheduler is not None:
+        fail("give either --workers or --scheduler, not both (a cluster has its own workers)")
+    try:
+        from persistri.impl.scale.cluster import ClusterError, connect
+        from persistri.impl.scale.terrain import DEFAULT_TILE, tiled_terrain, write_tile_meshes
+        from persistri.impl.scale.terrain_source import LAZY_FORMATS, open_dem
+    except ImportError as exc:
+        fail(f"meshing by tiles needs Dask: pip install 'persistri[dask]' ({exc})")
+    path = Path(source)
+    if not (path.suffix.lower() == ".zarr" and path.is_dir()):
+        check_input(path, (*GRID_FORMATS, *LAZY_FORMATS), kind="grid", words=("jacksboro",))
+    outputs = Outputs()
+    outputs.file(output, TERRAIN_MESH_FORMATS, what="mesh")
+    if tile_output is not None:
+        check_output_dir(tile_output)
+    check_backend(backend)
+    with about(source):
+        dem = open_dem(source)
+    if world and dem.transform is None:
+        fail(f"{source}: --world needs georeferencing, and this input has none")
+    if output is not None:
+        with about(output):
+            sidecar_wkt(output, dem.transform.crs if dem.transform is not None else None, world=world)
+    size = DEFAULT_TILE if tile is None else tile
+    try:
+        with connect(workers, scheduler, dashboard=not quiet) as client:
+            if client is not None and not quiet:
+                link = getattr(client, "dashboard_link", None)
+                n = len(client.scheduler_info().get("workers", {}))
+                err.print(f"Dask cluster: {n} worker{'s' if n != 1 else ''}" + (f", dashboard {link}" if link else ""))
+            with about(source):
+                tin = tiled_terrain(dem, max_error=max_error, tile=size, client=client, nodata=nodata,
+                                    backend=backend, progress=not quiet, keep_tiles=tile_output is not None)
+    except ClusterError as exc:
+        fail(error_line(exc))
+    except ValueError as exc:  # connect's own checks of --workers and --scheduler
+        fail(error_line(exc))
+    written: list[Path] = []
+    with outputs.staged() as stage:
+        if output is not None:
+            written = [stage.target(w) for w in write_tin(stage(output), tin, world=world)]
+    if tile_output is not None:
+        with about(tile_output):
+            write_tile_meshes(tile_output, tin, world=world)
+        written.append(tile_output)
+    if not quiet:
+        rows, cols = tin.shape
+        ti, tj = tin.tiling.shape
+        err.print(
+            f"terrain {source} ({rows} × {cols}) in {ti} × {tj} tiles of {size}: {tin.n_points:,} points, "
+            f"{len(tin.triangles):,} triangles, max error {tin.max_error:.6g}, rms {tin.rms_error:.6g}"
+        )
+        if written:
+            where = "grid coordinates" if not world else "world coordinates" + (
+                f", CRS {tin.crs.label}" if tin.crs is not None else ", no CRS read from the input"
+            )
+            err.print(f"wrote {', '.join(str(w) for w in written)} ({where})")
+    if output is None and quiet:
         click.echo(f"{tin.n_points} points, {len(tin.triangles)} triangles, max error {tin.max_error:.6g}")

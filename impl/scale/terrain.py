@@ -16,9 +16,10 @@ line belong to the tiles on both sides.
    (:func:`~persistri.impl.scale.terrain_seams.seam_vertices`).  Every seam is
    decided once, by one task, from its samples only; tile corners are vertices
    of the four seams that meet there.
-2. **Tiles.**  One task per tile reads its window, lays its four corners and its
-   four seams' vertices, and inserts its *interior* samples greedily until every
-   one is within ``max_error`` (:func:`~persistri.impl.scale.terrain_tile.mesh_tile`).
+2. **Tiles.**  One task per tile reads its window and meshes it by greedy
+   insertion of its *interior* samples, with its four corners and its four
+   seams' vertices as vertices, until every interior sample is within
+   ``max_error`` (:func:`~persistri.impl.scale.terrain_tile.mesh_tile`).
 3. **Stitch.**  Vertices are named by their global sample index
    ``row · cols + col``, so the two copies of a seam vertex are one vertex.
 
