@@ -59,8 +59,9 @@ CONNECT_TIMEOUT = 10.0
 """Seconds to wait for an existing scheduler to answer before giving up with :class:`ClusterError`."""
 
 
-class ClusterError(RuntimeError):
-    """No cluster could be had: the scheduler did not answer, or the local workers did not start."""
+class ClusterError(ConnectionError):
+    """No cluster could be had (the scheduler did not answer, the local workers did not start), or it lost
+    the run (workers kept dying).  An :class:`OSError`, so the command line reports it as one line."""
 
 
 def default_workers() -> int:
