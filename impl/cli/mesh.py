@@ -355,6 +355,8 @@ def mesh(
         except PrecisionLimitError as exc:
             strict = exact_segments if exact_segments is not None else _refiner_default("exact_segments")
             if not strict:
+                if "input vertex" in str(exc) and _first_number(source) == 1:
+                    raise PrecisionLimitError(f"{exc} (rows counted from 0; the file numbers from 1)") from None
                 raise  # rounding was on: the option would not help
             raise ValueError(f"{error_line(exc)} (on the command line: --rounded-segments)") from None
     smallest = float(result.smallest_angle())
