@@ -12,8 +12,8 @@ rescaled to ``[0, relief]`` from the extremes of a first pass, in float64.
 
 :func:`bench_rows` meshes such a DEM by tiles on local clusters of 1 and 2
 worker processes and reports, per run, the wall time, the speed-up, and each
-worker's peak resident memory (``getrusage`` in the worker process, its
-baseline after imports given beside), and checks that a one-process run and a
+worker's peak resident memory (``getrusage`` in the worker process, with its
+peak after importing persistri, before the run, beside it), and checks that a one-process run and a
 two-worker run of a smaller DEM give identical arrays.  Not in the paper: the
 measurements behind ``docs/scale-out.md``.
 """
@@ -85,20 +85,18 @@ def write_bumps_dem(path: str | Path, size: int, *, seed: int = 0, bumps: int = 
     return p
 
 
-def worker_memory() -> tuple[int, int]:
-    """``(current RSS, peak RSS)`` of this process in bytes (run in a worker through ``Client.run``)."""
+def worker_memory() -> int:
+    """The peak resident memory of this process so far, in bytes (run in a worker through ``Client.run``)."""
     import resource
 
-    import psutil
-
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024  # KiB on Linux
-    return int(psutil.Process().memory_info().rss), int(peak)
+    return int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024  # KiB on Linux
 
 
 @dataclass(frozen=True)
 class TerrainRow:
-    """One measured run: ``workers``, wall ``seconds``, ``speedup`` over the first row, each worker's
-    ``baseline`` and ``peak`` RSS in bytes, and the mesh (``points``, ``triangles``, ``max_error``)."""
+    """One measured run: ``workers``, wall ``seconds``, ``speedup`` over the first row, each worker's peak RSS in
+    bytes before the run (``baseline``: after importing persistri) and after it (``peak``), and the mesh
+    (``points``, ``triangles``, ``max_error``)."""
 
     label: str
     workers: int
@@ -155,7 +153,7 @@ def bench_rows(
         first = first or seconds
         rows.append(TerrainRow(
             label=f"{n} worker{'s' if n != 1 else ''}", workers=n, seconds=seconds, speedup=first / seconds,
-            baseline=tuple(v[0] for v in base.values()), peak=tuple(v[1] for v in mem.values()),
+            baseline=tuple(base.values()), peak=tuple(mem.values()),
             points=tin.n_points, triangles=len(tin.triangles), max_error=tin.max_error,
         ))
     small = folder / f"bumps-{check_size}-{seed}.npy"
