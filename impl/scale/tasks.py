@@ -14,8 +14,8 @@ worker can import them); :func:`run` executes the graph:
   process, no Dask scheduler at all (a Dask array's blocks are computed in
   place).
 
-Arrays passed as arguments are sent to the cluster once each
-(:meth:`distributed.Client.scatter`), however many tasks read them.
+Arrays and byte strings (pickled versions) passed as arguments are sent to the
+cluster once each (:meth:`distributed.Client.scatter`), however many tasks read them.
 
 **Failures.**  A worker that dies mid-task (killed, out of memory) does not
 lose the run: the scheduler reassigns its tasks to the other workers (a local
@@ -43,7 +43,7 @@ if TYPE_CHECKING:
 __all__ = ["Task", "run", "task"]
 
 _SCATTER_BYTES = 1 << 16
-"""Arrays at least this large are scattered to the cluster rather than written into the task graph."""
+"""Arrays and byte strings at least this large are scattered to the cluster rather than written into the task graph."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,7 +134,7 @@ def _run_on(client: Client, targets: Sequence[Task], progress: bool, title: str)
     def arg(x: Any) -> Any:
         if isinstance(x, Task):
             return made[id(x)]
-        if isinstance(x, np.ndarray) and x.nbytes >= _SCATTER_BYTES:
+        if (isinstance(x, np.ndarray) and x.nbytes >= _SCATTER_BYTES) or (isinstance(x, bytes) and len(x) >= _SCATTER_BYTES):
             if id(x) not in scattered:
                 scattered[id(x)] = client.scatter(x, hash=False)
             return scattered[id(x)]
