@@ -236,8 +236,13 @@ def root_mean_square(errors: FloatArray, count: int) -> float:
     largest = float(np.max(np.abs(errors)))
     if largest == 0.0 or not np.isfinite(largest):
         return largest
-    scaled = errors / largest
-    return largest * float(np.sqrt(np.sum(scaled * scaled) / count))
+    # In blocks: the squares of a whole grid's errors would double its memory for a moment.
+    total = 0.0
+    block = 1 << 18
+    for lo in range(0, errors.size, block):
+        scaled = errors[lo : lo + block] / largest
+        total += float(np.dot(scaled, scaled))
+    return largest * float(np.sqrt(total / count))
 
 
 def mesh_errors(heights: ArrayLike, vertices: ArrayLike, triangles: ArrayLike) -> tuple[FloatArray, IntArray]:

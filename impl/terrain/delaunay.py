@@ -72,7 +72,7 @@ from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Lineage, Vertex, VertexState
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.terrain.errors import TriangulationCheckError
-from persistri.impl.terrain.sectors import fan_sectors
+from persistri.impl.terrain.sectors import fan_lists, fan_sectors
 
 __all__ = [
     "TriDatum",
@@ -89,6 +89,11 @@ Triangle = tuple[Vertex, Vertex, Vertex]
 TriDatum = tuple[int, IntArray]
 """The datum of a triangle: ``(triangle id, samples)``; the samples are a read-only array of point indices."""
 
+LARGE_FAN: Final[int] = 1 << 16
+"""Above this many pooled samples an insertion sorts them into one array per fan triangle
+(:func:`~persistri.impl.terrain.sectors.fan_lists`, in blocks) and reports no pooled array; below it, one
+sorted pooled array whose slices are copied (fewer numpy calls)."""
+
 EMPTY: Final[IntArray] = np.zeros(0, dtype=np.intp)
 """The empty (read-only) sample list of ghosts and of triangles without samples."""
 EMPTY.setflags(write=False)
@@ -104,19 +109,22 @@ class Insertion:
       the fan around ``point``;
     * ``samples`` — the pooled samples of the cavity, sorted by the position of
       their new triangle in ``created`` (``point`` excluded); ``counts[i]`` of them
-      belong to ``created[i]``, consecutively;
+      belong to ``created[i]``, consecutively; None when there were more than
+      :data:`LARGE_FAN` (``lists`` has them);
     * ``counts`` — how many samples each triangle of ``created`` holds;
     * ``hull_vertex`` — whether ``point`` is a vertex of the new convex hull (it lay on or
       beyond the old one: ghosts were in the cavity);
     * ``rays`` — the fan's boundary vertices in order, ``len(created) + 1`` of them:
       ``created[i]`` is ``(rays[i], rays[i + 1], point)`` (a closed fan repeats its first vertex at the end);
-    * ``fan_index`` — for each of ``samples``, the position of its triangle in ``created`` (nondecreasing).
+    * ``fan_index`` — for each of ``samples``, the position of its triangle in ``created`` (nondecreasing);
+      None with ``samples``;
+    * ``lists`` — the samples of each triangle of ``created`` (the arrays its datum holds).
 
     A record made once per insertion and only read afterwards (a plain slotted class: a frozen
     dataclass costs a microsecond more per insertion to make); the lists are the insertion's own.
     """
 
-    __slots__ = ("point", "version", "removed", "created", "samples", "counts", "hull_vertex", "rays", "fan_index")
+    __slots__ = ("point", "version", "removed", "created", "samples", "counts", "hull_vertex", "rays", "fan_index", "lists")
 
     def __init__(
         self,
@@ -124,11 +132,12 @@ class Insertion:
         version: Complex[TriDatum],
         removed: list[int],
         created: list[tuple[int, Triangle]],
-        samples: IntArray,
+        samples: IntArray | None,
         counts: list[int],
         hull_vertex: bool,
         rays: list[Vertex],
-        fan_index: IntArray,
+        fan_index: IntArray | None,
+        lists: list[IntArray],
     ) -> None:
         self.point = point
         self.version = version
@@ -139,9 +148,10 @@ class Insertion:
         self.hull_vertex = hull_vertex
         self.rays = rays
         self.fan_index = fan_index
+        self.lists = lists
 
     def __repr__(self) -> str:
-        return f"Insertion(point={self.point}, created={len(self.created)}, removed={len(self.removed)}, samples={self.samples.size})"
+        return f"Insertion(point={self.point}, created={len(self.created)}, removed={len(self.removed)}, samples={sum(self.counts)})"
 
 
 def canonical_triangles(tris: IntArray) -> IntArray:
@@ -369,15 +379,23 @@ class Triangulator:
         pooled = sized[0] if len(sized) == 1 else (np.concatenate(sized) if sized else EMPTY)
         if pooled.size:
             pooled = pooled[pooled != p]
-        if pooled.size and nfan > 1:
-            order, sector = self._sectors(p, ring, closed, pooled)
-            pooled = pooled[order]
-            counts: list[int] = np.bincount(sector, minlength=nfan).tolist()
+        parts: list[IntArray] | None = None
+        sector: IntArray | None = None
+        if pooled.size > LARGE_FAN and nfan > 1:
+            # Millions of samples (a large grid's first insertions): one array per triangle, in blocks.
+            parts = self._sector_lists(p, ring, closed, pooled)
+            counts = [part.size for part in parts]
+            samples: IntArray | None = None
         else:
-            sector = np.zeros(pooled.size, dtype=np.intp)
-            counts = [0] * nfan
-            counts[0] = pooled.size
-        _frozen(pooled)
+            if pooled.size and nfan > 1:
+                order, sector = self._sectors(p, ring, closed, pooled)
+                pooled = pooled[order]
+                counts = np.bincount(sector, minlength=nfan).tolist()
+            else:
+                sector = np.zeros(pooled.size, dtype=np.intp)
+                counts = [0] * nfan
+                counts[0] = pooled.size
+            samples = _frozen(pooled)
 
         # The new version: the cavity removed, the fan added (one replace, or the paper's rem and add each).
         tri_of = self.tri_of
@@ -388,6 +406,10 @@ class Triangulator:
         start_at = 0
         tid = self._next_id
         u = ring[0]
+        # Each triangle's list is its own array, not a view of the pooled one: a view would keep the whole
+        # pooled array alive as long as any one of the fan's triangles lives (three times the memory, measured).
+        whole = pooled.size
+        own: list[IntArray] = []
         for i in range(nfan):
             w = ring[i + 1]
             tri = (u, w, vp)
@@ -395,12 +417,16 @@ class Triangulator:
                 raise TriangulationCheckError(f"insert: point {p} makes the flat or inverted triangle {tri}")
             tri_of[tid] = tri  # as _new_id, inlined: once per fan triangle
             cnt = counts[i]
-            if cnt:
-                stop = start_at + cnt
-                fan.append((tri, (tid, pooled[start_at:stop])))
-                start_at = stop
+            if not cnt:
+                part = EMPTY
+            elif parts is not None:
+                part = _frozen(parts[i])
             else:
-                fan.append((tri, (tid, EMPTY)))
+                stop = start_at + cnt
+                part = pooled if cnt == whole else _frozen(pooled[start_at:stop].copy())
+                start_at = stop
+            fan.append((tri, (tid, part)))
+            own.append(part)
             created.append((tid, tri))
             tid += 1
             u = w
@@ -417,7 +443,25 @@ class Triangulator:
         else:
             cx = S.replace(cx, removed_tris, fan)
         self.complex = cx
-        return Insertion(p, cx, removed, created, pooled, counts, not closed, ring, _frozen(sector))
+        return Insertion(
+            p, cx, removed, created, samples, counts, not closed, ring, None if sector is None else _frozen(sector), own
+        )
+
+    def _sector_lists(self, p: int, ring: list[Vertex], closed: bool, pooled: IntArray) -> list[IntArray]:
+        """:meth:`_sectors` for very many samples: one array per fan triangle (:func:`~persistri.impl.terrain.sectors.fan_lists`)."""
+        try:
+            return fan_lists(
+                self.pred,
+                p,
+                np.fromiter(ring, dtype=np.intp, count=len(ring)),
+                pooled,
+                closed,
+                exact_floats=self.small_integers,
+                stats=self.pred.stats,
+                check=self.check,
+            )
+        except ValueError as exc:
+            raise TriangulationCheckError(f"inserting point {p}: {exc}") from None
 
     def _sectors(self, p: int, ring: list[Vertex], closed: bool, pooled: IntArray) -> tuple[IntArray, IntArray]:
         """The pooled samples sorted by fan triangle ``i`` (``(ring[i], ring[i+1], p)``): ``(order, i)`` (see ``fan_sectors``).

@@ -199,19 +199,21 @@ def _fan_plane_errors(
     zp: float,
     gxs: list[float],
     gys: list[float],
-    fan_index: IntArray,
+    fan_index: IntArray | None,
     samples: IntArray,
 ) -> FloatArray:
     """The per-sample half of :func:`fan_errors`: ``|z − (zp + gx (x − xp) + gy (y − yp))|`` by fan triangle.
 
-    In blocks of :data:`_CHUNK` samples (the first insertions move millions): O(len(samples)).
+    ``fan_index`` may be None for one triangle.  In blocks of :data:`_CHUNK` samples (the first
+    insertions move millions): O(len(samples)).
     """
     m = samples.size
     if m > _CHUNK:
         err: FloatArray = np.empty(m, dtype=np.float64)
         for lo in range(0, m, _CHUNK):
             hi = min(m, lo + _CHUNK)
-            err[lo:hi] = _fan_plane_errors(cols, z, xp, yp, zp, gxs, gys, fan_index[lo:hi], samples[lo:hi])
+            part = None if fan_index is None else fan_index[lo:hi]
+            err[lo:hi] = _fan_plane_errors(cols, z, xp, yp, zp, gxs, gys, part, samples[lo:hi])
         return err
     ys, xs = np.divmod(samples, cols)
     if len(gxs) == 1:
@@ -222,6 +224,7 @@ def _fan_plane_errors(
         slope = ys - yp
         slope *= gys[0]
     else:
+        assert fan_index is not None, "several triangles need their samples' fan_index"
         plane = np.array(gxs)[fan_index]
         plane *= xs - xp
         plane += zp
@@ -395,10 +398,9 @@ def _tin(
     n_total = z.size
     cols = shape[1]
     rank = ranks(tri.ravel(), inserted).reshape(-1, 3)
-    if counts.sum():
-        samples = np.concatenate(lists)
-        err = plane_errors(cols, z, apex_first(tri, rank), counts, samples)
-        del samples
+    total = int(counts.sum())
+    if total:
+        err = _level_errors(cols, z, apex_first(tri, rank), counts, lists, total)
         max_error = float(err.max())
         rms = root_mean_square(err, n_total)
     else:
@@ -418,6 +420,25 @@ def _tin(
         structure=structure,
         stats=stats,
     )
+
+
+def _level_errors(cols: int, z: FloatArray, apex: IntArray, counts: IntArray, lists: list[IntArray], total: int) -> FloatArray:
+    """The errors of every listed sample (:func:`plane_errors`), triangles taken in blocks of about
+    :data:`_CHUNK` samples, so that no list of the whole grid's samples is made. O(total)."""
+    err: FloatArray = np.empty(total, dtype=np.float64)
+    k = len(lists)
+    first = pos = 0
+    size = 0
+    for t in range(k + 1):
+        if t < k and size < _CHUNK:
+            size += int(counts[t])
+            continue
+        if size:
+            block = np.concatenate(lists[first:t]) if t - first > 1 else lists[first]
+            err[pos : pos + size] = plane_errors(cols, z, apex[first:t], counts[first:t], block)
+            pos += size
+        first, size = t, int(counts[t]) if t < k else 0
+    return err
 
 
 def _stop_criteria(max_error: Any, max_points: Any) -> tuple[float | None, int | None]:
@@ -462,14 +483,10 @@ class _Greedy:
         self.T = Triangulator(self.pred, self.structure, check=check, stepwise=stepwise)
         self.heap: list[tuple[float, int, int]] = []
         self.cols = cols
-        self.vxyz: dict[int, tuple[float, float, float]] = {}
-        """Each vertex's ``(x, y, z)`` as Python floats (for the fans' gradients)."""
         n = rows * cols
         # Corners counterclockwise in (x, y): (0, 0), (cols-1, 0), (cols-1, rows-1), (0, rows-1).
         a, b, c, d = 0, cols - 1, n - 1, n - cols
         self.corners = (a, b, c, d)
-        for v in self.corners:
-            self.vxyz[v] = (float(v % cols), float(v // cols), z.item(v))
         P = self.pred
         # The diagonal: the one that is Delaunay under the predicates' tie-breaking (the corners are cocircular).
         if P.incircle(a, b, c, d) < 0:
@@ -551,36 +568,54 @@ class _Greedy:
                 start += cnt
 
     def _assess(self, ins: Insertion) -> None:
-        """Measure the samples of the insertion's new triangles and queue their candidates.
+        """Measure the samples of the insertion's new triangles and queue their candidates (:func:`fan_errors`).
 
-        :func:`fan_errors`, with the fan's gradients from the vertices' coordinates kept as Python floats
-        (:attr:`vxyz`: reading seven points from the arrays costs more than the arithmetic).
+        Vectorised over the whole fan; for a fan of very many samples (no pooled array: ``ins.samples``
+        is None), triangle by triangle.
         """
-        p = ins.point
-        vxyz = self.vxyz
-        i = p
-        xp, yp, zp = vxyz[p] = (float(i % self.cols), float(i // self.cols), self.z.item(i))
         samples = ins.samples
-        if not samples.size:
+        if samples is not None and not samples.size:
             return
+        cols, zitem = self.cols, self.z.item
+        p = ins.point
+        yi, xi = divmod(p, cols)
+        xp, yp, zp = float(xi), float(yi), zitem(p)
         gxs: list[float] = []
         gys: list[float] = []
         rays = iter(ins.rays)
-        x1, y1, z1 = vxyz[next(rays)]
+        v = next(rays)
+        yi, xi = divmod(v, cols)
+        x1, y1, z1 = float(xi), float(yi), zitem(v)
         for v in rays:
-            x2, y2, z2 = vxyz[v]
+            yi, xi = divmod(v, cols)
+            x2, y2, z2 = float(xi), float(yi), zitem(v)
             dx1, dy1, dz1 = x1 - xp, y1 - yp, z1 - zp
             dx2, dy2, dz2 = x2 - xp, y2 - yp, z2 - zp
             det = dx1 * dy2 - dx2 * dy1
             gxs.append((dz1 * dy2 - dz2 * dy1) / det)
             gys.append((dx1 * dz2 - dx2 * dz1) / det)
             x1, y1, z1 = x2, y2, z2
-        err = _fan_plane_errors(self.cols, self.z, xp, yp, zp, gxs, gys, ins.fan_index, samples)
-        self._queue([tid for tid, _ in ins.created], ins.counts, samples, err)
+        tids = [tid for tid, _ in ins.created]
+        if samples is None:
+            for tid, gx, gy, part in zip(tids, gxs, gys, ins.lists):
+                if part.size:
+                    self._queue([tid], [part.size], part, _fan_plane_errors(cols, self.z, xp, yp, zp, [gx], [gy], None, part))
+            return
+        err = _fan_plane_errors(cols, self.z, xp, yp, zp, gxs, gys, ins.fan_index, samples)
+        self._queue(tids, ins.counts, samples, err)
 
     def current_error(self) -> float:
-        """The maximum error of the current mesh: the queue's top, once dead triangles are popped."""
+        """The maximum error of the current mesh: the queue's top, once dead triangles are popped.
+
+        Entries of dead triangles stay in the queue until they surface (lazy invalidation); when they
+        outnumber the live triangles the queue is rebuilt without them, so that it stays within twice the
+        mesh's size (O(queue) then, O(1) amortised per entry).  Its order is a total one (error, then
+        triangle id), so the rebuilt queue pops exactly what the old one would have.
+        """
         heap, alive = self.heap, self.T.tri_of
+        if len(heap) > 2 * len(alive) + 1024:
+            heap[:] = [entry for entry in heap if entry[1] in alive]
+            heapq.heapify(heap)
         while heap and heap[0][1] not in alive:
             heapq.heappop(heap)
         return -heap[0][0] if heap else 0.0
@@ -639,7 +674,8 @@ def greedy_insertion(
     for a cavity of k triangles, plus O(m·k) orient2d tests and O(m) float work
     for the m samples that change triangle.
     """
-    grid = as_heights(heights, nodata=nodata)
+    # A copy of its own only when the history keeps the heights (a run alone only reads them while it runs).
+    grid = as_heights(heights, nodata=nodata, copy=history)
     e_stop, k_stop = _stop_criteria(max_error, max_points)
     tf = as_transform(transform)
     if not isinstance(history, bool):

@@ -159,8 +159,15 @@ class HeightGrid:
         return None if self.transform is None else self.transform.crs
 
 
-def as_heights(heights: ArrayLike, *, nodata: str | float = "error", what: str = "heights") -> NDArray[np.float64]:
+def as_heights(
+    heights: ArrayLike, *, nodata: str | float = "error", what: str = "heights", copy: bool = True
+) -> NDArray[np.float64]:
     """``heights`` as a validated, C-contiguous ``(rows, cols)`` float64 array with no NaN. O(size).
+
+    ``copy`` — return an array of its own (default), which later changes to the
+    caller's array cannot reach; with False, a valid float64 C-contiguous input
+    without negative zeros is returned as a read-only view of itself (no copy:
+    for a caller that only reads it while it runs).
 
     Raises :class:`TypeError` for non-numeric input and :class:`ValueError` for
     a ragged, empty, 1-D, 1-row or 1-column array (a terrain needs at least
@@ -196,10 +203,15 @@ def as_heights(heights: ArrayLike, *, nodata: str | float = "error", what: str =
     arr = np.ascontiguousarray(raw, dtype=np.float64)
     if raw.dtype.kind in "iu" and bool(np.any(arr.astype(raw.dtype) != raw)):
         raise ValueError(f"{what}: an integer height is not exactly representable as float64")
-    if bool(np.any(np.isinf(arr))):
+    # The extremes first: two reductions, no temporary of the grid's size (they are NaN if a cell is).
+    lo, hi = float(arr.min()), float(arr.max())
+    if lo != lo or hi != hi:
+        valid = arr[~np.isnan(arr)]
+        lo, hi = (float(valid.min()), float(valid.max())) if valid.size else (0.0, 0.0)
+    if np.isinf(lo) or np.isinf(hi):
         r, c = np.argwhere(np.isinf(arr))[0]
         raise ValueError(f"{what}: cell (row {r}, col {c}) is infinite")
-    if bool(np.any(np.abs(arr) > HEIGHT_LIMIT)):
+    if max(abs(lo), abs(hi)) > HEIGHT_LIMIT:
         r, c = np.argwhere(np.abs(arr) > HEIGHT_LIMIT)[0]
         raise ValueError(
             f"{what}: cell (row {r}, col {c}) is {arr[r, c]:g}, beyond ±{HEIGHT_LIMIT:g}: the float64 error "
@@ -207,6 +219,10 @@ def as_heights(heights: ArrayLike, *, nodata: str | float = "error", what: str =
         )
     missing = np.isnan(arr)
     if not bool(missing.any()):
+        if not copy and arr is raw and not (lo <= 0.0 <= hi and bool(np.any(np.signbit(arr) & (arr == 0.0)))):
+            view: NDArray[np.float64] = arr.view()
+            view.setflags(write=False)
+            return view
         out: NDArray[np.float64] = arr + 0.0  # -0.0 becomes 0.0
         return out
     count = int(missing.sum())

@@ -34,7 +34,7 @@ filtered predicate call per test; for any other point set the signs come from
 
 from __future__ import annotations
 
-from typing import Final
+from typing import Any, Final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -42,13 +42,19 @@ from numpy.typing import NDArray
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.stats import Stats
 
-__all__ = ["EXACT_LIMIT", "FLOPS_SECTOR_TEST", "small_integer_points", "sector_sides", "sector_of", "fan_sectors"]
+__all__ = [
+    "EXACT_LIMIT", "FLOPS_SECTOR_TEST", "SECTOR_BLOCK", "small_integer_points", "sector_sides", "sector_of", "fan_sectors",
+    "fan_lists",
+]
 
 EXACT_LIMIT: Final[float] = float(2**25)
 """Largest coordinate magnitude for which :func:`sector_signs` evaluates orient2d exactly in float64."""
 
 FLOPS_SECTOR_TEST: Final[int] = 5
 """Floating-point operations per sign on the exact small-integer path: two differences, two products, one difference."""
+
+SECTOR_BLOCK: Final[int] = 1 << 18
+"""Samples per block of the exact float path (:func:`fan_sectors`, :func:`fan_lists`): a few megabytes of temporaries."""
 
 IntArray = NDArray[np.intp]
 BoolArray = NDArray[np.bool_]
@@ -197,21 +203,65 @@ def fan_sectors(
         stats.plane_side_tests += m * tested
         stats.flops += FLOPS_SECTOR_TEST * m * tested
     if m > SECTOR_BLOCK:
-        # Block by block (the first insertions of a large grid move millions of samples: a (rays, samples)
-        # array of each would take hundreds of megabytes), then one stable sort by sector.
-        found = np.empty(m, dtype=np.int16 if k < 2**15 else np.intp)  # int16: numpy's stable sort is a radix sort
-        for lo in range(0, m, SECTOR_BLOCK):
-            hi = min(m, lo + SECTOR_BLOCK)
-            part_order, part_sector = _fan_block(pred, p, rays, samples[lo:hi], closed, columns)
-            found[lo + part_order] = part_sector
-        by_sector: IntArray = np.argsort(found, kind="stable")
-        out: IntArray = found[by_sector].astype(np.intp)
+        blocked = _blocked_sectors(pred, p, rays, samples, closed, columns)
+        by_sector: IntArray = np.argsort(blocked, kind="stable")  # int16: numpy's stable sort is a radix sort
+        out: IntArray = blocked[by_sector].astype(np.intp)
         return by_sector, out
     return _fan_block(pred, p, rays, samples, closed, columns)
 
 
-SECTOR_BLOCK: Final[int] = 1 << 18
-"""Samples per block of :func:`fan_sectors`' exact float path."""
+def fan_lists(
+    pred: Predicates2,
+    p: int,
+    rays: IntArray,
+    samples: IntArray,
+    closed: bool,
+    *,
+    exact_floats: bool,
+    stats: Stats | None = None,
+    check: bool = False,
+) -> list[IntArray]:
+    """The samples of each fan triangle, as one array per triangle (each in the order of ``samples``).
+
+    The same answers and counts as :func:`fan_sectors` (``samples[order]`` cut at the
+    sector boundaries), for large ``samples``: the exact float path runs in blocks of
+    :data:`SECTOR_BLOCK` samples (a ``(rays, samples)`` array of millions of samples
+    would take hundreds of megabytes) and no permutation of the whole is made;
+    each triangle's list is gathered by one comparison of the sectors.
+    O(len(samples) · len(rays)).
+    """
+    k = rays.size - 1
+    if not exact_floats or samples.size <= SECTOR_BLOCK:
+        order, sector = fan_sectors(pred, p, rays, samples, closed, exact_floats=exact_floats, stats=stats, check=check)
+        ends = np.searchsorted(sector, np.arange(k + 1))
+        ordered = samples[order]
+        return [ordered[ends[i] : ends[i + 1]].copy() for i in range(k)]
+    m = samples.size
+    tested = k if closed else k - 1
+    if stats is not None:
+        stats.plane_side_tests += m * tested
+        stats.flops += FLOPS_SECTOR_TEST * m * tested
+    found = _blocked_sectors(pred, p, rays, samples, closed, None)
+    return [samples[found == i] for i in range(k)]
+
+
+def _blocked_sectors(
+    pred: Predicates2,
+    p: int,
+    rays: IntArray,
+    samples: IntArray,
+    closed: bool,
+    columns: tuple[NDArray[np.float64], NDArray[np.float64]] | None,
+) -> NDArray[np.integer[Any]]:
+    """The sector of each sample (the exact float path), :data:`SECTOR_BLOCK` samples at a time; int16 when it fits."""
+    k = rays.size - 1
+    m = samples.size
+    found: NDArray[np.integer[Any]] = np.empty(m, dtype=np.int16 if k < 2**15 else np.intp)
+    for lo in range(0, m, SECTOR_BLOCK):
+        hi = min(m, lo + SECTOR_BLOCK)
+        part_order, part_sector = _fan_block(pred, p, rays, samples[lo:hi], closed, columns)
+        found[lo + part_order] = part_sector
+    return found
 
 
 def _fan_block(
