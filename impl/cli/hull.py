@@ -29,6 +29,7 @@ from persistri.impl.hull.distributions import DISTRIBUTIONS, generate
 from persistri.impl.maps import BACKENDS
 from persistri.impl.scale import dask_missing
 from persistri.impl.scale.cluster import ENV_SCHEDULER, plan
+from persistri.impl.scale.hull import MAX_CHUNK_ROWS
 from persistri.impl.scale.sources import DEFAULT_CHUNK_ROWS, PointSource, points_source, read_block
 from persistri.impl.stats import Stats
 
@@ -82,7 +83,7 @@ def _chunked_source(input_path: Path, chunk_rows: int | None) -> PointSource:
 @click.option("--plot", type=click.Path(path_type=Path), help=f"Draw the hull to this image ({', '.join(PLOT_FORMATS)}).")
 @click.option("--workers", type=click.IntRange(min=1), help="Worker processes: 1 = this process; N = a local Dask cluster of N.  [default: one per core when the input has more than one chunk]")
 @click.option("--scheduler", metavar="ADDR", help=f"Run on the existing Dask cluster of this scheduler (tcp://host:8786; also ${ENV_SCHEDULER}).")
-@click.option("--chunk-size", "chunk_rows", type=click.IntRange(min=1), help=f"Points per chunk on a cluster.  [default: {DEFAULT_CHUNK_ROWS:,}]")
+@click.option("--chunk-size", "chunk_rows", type=click.IntRange(min=1), help=f"Points per chunk on a cluster.  [default: one chunk per worker, {DEFAULT_CHUNK_ROWS:,} to {MAX_CHUNK_ROWS:,}]")
 @click.option("--quiet", is_flag=True, help="No progress bar and no summary.")
 def hull(
     input_path: Path | None,
@@ -155,14 +156,13 @@ def hull(
             points = read_points(input_path, (3,))
         _one_process(points, input_path, dist, n, seed, backend, check, show_stats, quiet, outputs, output, plot)
         return
-    if source is None:
-        if npy:
-            assert input_path is not None
-            source = _chunked_source(input_path, chunk_rows)
-        else:
-            assert points is not None
-            source = points_source(points, chunk_rows)
-    _on_cluster(source, input_path, dist, n, seed, backend, check, quiet, outputs, output, plot, workers, scheduler, kind)
+    if npy:
+        assert input_path is not None
+        source = _chunked_source(input_path, chunk_rows)  # headers checked: one line for a bad one
+    _on_cluster(
+        input_path if source is not None else points, input_path, dist, n, seed, backend, check, quiet, outputs, output, plot,
+        workers, scheduler, chunk_rows, kind,
+    )
 
 
 def _npy_rows(path: Path) -> int | None:
@@ -214,7 +214,7 @@ def _one_process(
 
 
 def _on_cluster(
-    source: PointSource,
+    source: Any,
     input_path: Path | None,
     dist: str | None,
     n: int,
@@ -227,6 +227,7 @@ def _on_cluster(
     plot: Path | None,
     workers: int | None,
     scheduler: str | None,
+    chunk_rows: int | None,
     kind: str,
 ) -> None:
     """The chunked path: :func:`~persistri.impl.scale.hull.parallel_hull` on a cluster (or, for a directory
@@ -236,19 +237,19 @@ def _on_cluster(
 
     err = stderr_console()
     with about(input_path):
-        with connect(workers, scheduler, tasks=len(source.blocks) if kind != "sequential" else 1, dashboard=not quiet) as client:
+        with connect(workers, scheduler, tasks=None if kind != "sequential" else 1, dashboard=not quiet) as client:
             if client is not None and not quiet:
                 where = f"{len(client.scheduler_info(n_workers=-1)['workers'])} workers"
                 err.print(f"dask: {where}, dashboard {client.dashboard_link}", soft_wrap=True, highlight=False)
             result = parallel_hull(
-                source, client=client, seed=seed, backend=backend, check=check, progress=not quiet
+                source, client=client, chunk_rows=chunk_rows, seed=seed, backend=backend, check=check, progress=not quiet
             )
     local = np.searchsorted(result.vertices, result.simplices).astype(np.intp)
     with outputs.staged() as stage:
         if output is not None:
             if output.suffix.lower() == ".npz":
                 arrays = {"simplices": result.simplices, "vertices": result.vertices}
-                write_npz_streamed(stage(output), source, arrays)
+                write_npz_streamed(stage(output), result.source, arrays)
             else:
                 write_mesh(stage(output), result.vertex_points, local)
         if plot is not None:

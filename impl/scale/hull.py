@@ -79,19 +79,26 @@ from persistri.impl.geometry.zorder import morton_codes
 from persistri.impl.hull.api import Hull, convex_hull
 from persistri.impl.hull.errors import DegenerateInputError
 from persistri.impl.hull.verify import HullVerificationError, verify_hull
-from persistri.impl.scale.sources import PointSource, points_source, read_block
+from persistri.impl.scale.sources import DEFAULT_CHUNK_ROWS, PointSource, points_source, read_block
 from persistri.impl.scale.tasks import Task, run, task
 
 if TYPE_CHECKING:
     from distributed import Client
 
-__all__ = ["Candidates", "ChunkReport", "ParallelHull", "parallel_hull", "DEFAULT_FAN_IN", "MAX_BUCKETS"]
+__all__ = [
+    "Candidates", "ChunkReport", "ParallelHull", "parallel_hull", "chunk_rows_for", "DEFAULT_FAN_IN", "MAX_BUCKETS",
+    "MAX_CHUNK_ROWS",
+]
 
 IntArray = NDArray[np.intp]
 Box = tuple[NDArray[np.float64], NDArray[np.float64]]
 
 DEFAULT_FAN_IN = 8
 """Vertex sets merged per task of the tree reduction (and at most this many reach the final run)."""
+
+MAX_CHUNK_ROWS = 1 << 21
+"""The largest chunk :func:`parallel_hull` makes by itself (2,097,152 points, 48 MiB of float64; a chunk hull
+of it peaks near 1 GiB): the bound on a task's memory, whatever the input's size."""
 
 MAX_BUCKETS = 64
 """At most this many hash buckets in the duplicate exchange (one per block below that): C × B small tasks."""
@@ -139,7 +146,7 @@ class ParallelHull:
     * ``rows`` — the input row of each row of ``hull.points``;
     * ``chunks`` — one :class:`ChunkReport` per block; ``merges`` — per level of the tree
       reduction, the points that went in and came out; ``workers`` — the cluster's
-      workers (0: the sequential path).
+      workers (0: the sequential path); ``source`` — the input as it was cut.
     """
 
     simplices: IntArray
@@ -151,6 +158,7 @@ class ParallelHull:
     chunks: tuple[ChunkReport, ...]
     merges: tuple[tuple[int, int], ...]
     workers: int
+    source: PointSource
 
     @property
     def vertex_points(self) -> NDArray[np.float64]:
@@ -303,6 +311,21 @@ def _workers(client: Client | None) -> int:
     return 0 if client is None else len(client.scheduler_info(n_workers=-1)["workers"])
 
 
+def chunk_rows_for(n: int, workers: int) -> int:
+    """The chunk size :func:`parallel_hull` picks for ``n`` points on ``workers`` workers: one chunk per worker,
+    within :data:`~persistri.impl.scale.sources.DEFAULT_CHUNK_ROWS` … :data:`MAX_CHUNK_ROWS`.
+
+    Few chunks, because chunking adds work: a chunk of m uniform points in a ball needs
+    Θ(√m) insertions, so C chunks need Θ(√(C·n)) — √C times one process's —, and all
+    their vertices go on to the merge.  The bounds keep a task's memory bounded on huge
+    inputs and tiny chunks out of small ones.
+
+    >>> chunk_rows_for(4_000_000, 2), chunk_rows_for(10_000, 8), chunk_rows_for(10**9, 100)
+    (2000000, 262144, 2097152)
+    """
+    return min(MAX_CHUNK_ROWS, max(DEFAULT_CHUNK_ROWS, -(-n // max(1, workers))))
+
+
 def parallel_hull(
     points: Any,
     *,
@@ -320,7 +343,8 @@ def parallel_hull(
     ``points`` — anything :func:`~persistri.impl.scale.sources.points_source` reads: an
     ``(n, 3)`` array, a Dask array, a Zarr array, or the path of a ``.npy`` file (memory-mapped),
     a directory of ``.npy`` files or a Zarr store; ``chunk_rows`` — rows per block;
-    ``client`` — from :func:`persistri.impl.scale.cluster.connect`; ``seed``, ``backend`` and
+    ``client`` — from :func:`persistri.impl.scale.cluster.connect`; by default a Dask array keeps its own
+    chunks and other inputs are cut by :func:`chunk_rows_for`; ``seed``, ``backend`` and
     ``history`` as for :func:`~persistri.impl.hull.api.convex_hull` (``history`` keeps the final
     run's versions); ``fan_in`` — vertex sets per merge; ``check`` — verify every point of the
     input against the result, exactly, block by block on the workers, and the final run's
@@ -335,6 +359,11 @@ def parallel_hull(
     if fan_in < 2:
         raise ValueError(f"fan_in must be at least 2, got {fan_in}")
     source = points_source(points, chunk_rows)
+    dask_array = type(points).__module__.startswith("dask")
+    if chunk_rows is None and not isinstance(points, PointSource) and not dask_array:
+        size = chunk_rows_for(source.n, _workers(client))
+        if size != DEFAULT_CHUNK_ROWS:
+            source = points_source(points, size)
     scans, later = _first_pass(client, source, progress)
     box: Box = (np.min([s.lo for s in scans], axis=0), np.max([s.hi for s in scans], axis=0))
     if source.n == 0:
@@ -364,6 +393,7 @@ def parallel_hull(
         chunks=tuple(r for c in parts for r in c.chunks),
         merges=_levels(parts),
         workers=_workers(client),
+        source=source,
     )
     if check:
         _check(client, source, hull, progress)
