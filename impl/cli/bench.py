@@ -14,6 +14,7 @@ import zipfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import click
 from rich.console import Console
@@ -469,4 +470,63 @@ def mesh(domains: str | None, angles: tuple[float, ...], max_area: float | None,
     else:
         stdout_console().print(mesh_table(result))
     if result.errors():
+        raise SystemExit(1)
+
+
+@bench.command("scale")
+@click.option("-n", "--points", "n", type=click.IntRange(min=4), default=4_000_000, show_default=True, help="Points of the hull.")
+@click.option("--dist", default="InBall", show_default=True, help="Their §4 distribution.")
+@click.option("--chunk-size", "chunk_rows", type=click.IntRange(min=1), default=None, help="Points per chunk.  [default: 262,144]")
+@click.option("--workers", "worker_counts", default="1,2", show_default=True, callback=_sizes_option, help="Worker counts to measure, separated by commas.")
+@click.option("--terrain-size", type=click.IntRange(min=0), default=8000, show_default=True, help="Side of the synthetic DEM of the tiled-terrain rows (0: none).")
+@click.option("--dir", "directory", type=click.Path(path_type=Path), default=None, help="Where the points and DEM files are written (and reused).  [default: a temporary directory]")
+@click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of tables.")
+def scale(n: int, dist: str, chunk_rows: int | None, worker_counts: tuple[int, ...], terrain_size: int, directory: Path | None, as_json: bool) -> None:
+    """The parallel side on local Dask clusters of 1 and 2 worker processes (docs/scale-out.md).
+
+    The exact hull of --points points of --dist: one process (convex_hull) against
+    parallel_hull on 1 and 2 workers: wall time, speed-up, peak resident memory per
+    worker, and whether each result equals the one-process hull exactly.  Then the
+    tiled terrain of a synthetic --terrain-size² DEM, by the same measures.  Needs
+    persistri[dask].  Minutes at the defaults.
+    """
+    import dataclasses
+    import tempfile
+
+    from persistri.impl.bench.scale import hull_rows, hull_table, terrain_available, terrain_table
+    from persistri.impl.hull.distributions import DISTRIBUTIONS
+    from persistri.impl.scale import dask_missing
+
+    if (why := dask_missing()) is not None:
+        fail(why)
+    if dist.lower() not in {d.lower() for d in DISTRIBUTIONS}:
+        raise click.BadParameter(f"unknown distribution {dist!r}; known: {', '.join(DISTRIBUTIONS)}", param_hint="--dist")
+    if directory is not None:
+        from persistri.impl.cli.checks import check_output_dir
+
+        check_output_dir(directory)
+    err = stderr_console()
+    with tempfile.TemporaryDirectory(prefix="persistri-bench-scale-") as scratch:
+        folder = directory or Path(scratch)
+        rows = hull_rows(folder, n=n, dist=dist, chunk_rows=chunk_rows, workers=worker_counts,
+                         progress=lambda line: err.print(f"bench scale: {line}", highlight=False))
+        terrain: tuple[list[Any], bool] | None = None
+        if terrain_size and terrain_available():
+            from persistri.impl.scale.terrain_bench import bench_rows
+
+            err.print(f"bench scale: tiled terrain of a {terrain_size:,} × {terrain_size:,} DEM", highlight=False)
+            terrain = bench_rows(folder, size=terrain_size, workers=worker_counts)
+    if as_json:
+        out: dict[str, Any] = {"hull": [dataclasses.asdict(r) for r in rows]}
+        if terrain is not None:
+            out["terrain"] = {"rows": [dataclasses.asdict(r) for r in terrain[0]], "same": terrain[1]}
+        click.echo(json.dumps(out, indent=2, ensure_ascii=False))
+    else:
+        console = stdout_console()
+        console.print(hull_table(rows, f"exact hull of {n:,} {dist} points"))
+        if terrain is not None:
+            console.print(terrain_table(terrain[0], terrain[1], f"tiled terrain of a {terrain_size:,} × {terrain_size:,} DEM"))
+        elif terrain_size:
+            console.print("tiled terrain: not measured (persistri.impl.scale.terrain_bench is not installed)")
+    if not all(r.same for r in rows) or (terrain is not None and not terrain[1]):
         raise SystemExit(1)

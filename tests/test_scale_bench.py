@@ -1,0 +1,37 @@
+"""``persistri bench scale`` (:mod:`persistri.impl.bench.scale`): it runs, measures in the workers, checks equality."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from click.testing import CliRunner
+
+from persistri.impl.cli.main import main
+
+
+def test_bench_scale_small_as_json(tmp_path: Path) -> None:
+    result = CliRunner().invoke(
+        main,
+        ["bench", "scale", "-n", "30000", "--chunk-size", "7500", "--workers", "2", "--terrain-size", "0", "--dir", str(tmp_path), "--json"],
+    )
+    assert result.exit_code == 0, result.output
+    rows = json.loads(result.stdout)["hull"]
+    assert [r["label"] for r in rows] == ["one process", "2 workers"]
+    one, two = rows
+    assert one["workers"] == 0 and one["candidates"] == 30_000 and one["speedup"] == 1.0
+    assert two["workers"] == 2 and two["chunks"] == 4 and two["candidates"] < 30_000
+    assert all(r["same"] for r in rows) and one["faces"] == two["faces"] > 0
+    for r in rows:  # measured in the workers: one figure per worker, a peak at least the baseline
+        assert len(r["peak"]) == len(r["baseline"]) == max(1, r["workers"])
+        assert all(p >= b > 0 for p, b in zip(r["peak"], r["baseline"], strict=True))
+        assert r["seconds"] > 0 and r["cpu"] > 0
+    assert (tmp_path / "inball-30000-0.npy").exists()  # the points file is kept for the next run
+
+
+def test_bench_scale_rejects_bad_options(tmp_path: Path) -> None:
+    runner = CliRunner()
+    bad = runner.invoke(main, ["bench", "scale", "--dist", "Nowhere", "--terrain-size", "0"])
+    assert bad.exit_code == 2 and "unknown distribution 'Nowhere'" in bad.stderr
+    bad = runner.invoke(main, ["bench", "scale", "--workers", "0", "--terrain-size", "0"])
+    assert bad.exit_code == 2
