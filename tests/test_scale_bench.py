@@ -25,7 +25,7 @@ def test_bench_scale_small_as_json(tmp_path: Path) -> None:
     for r in rows:  # measured in the workers: one figure per worker, a peak at least the baseline
         assert len(r["peak"]) == len(r["baseline"]) == max(1, r["workers"])
         assert all(p >= b > 0 for p, b in zip(r["peak"], r["baseline"], strict=True))
-        assert r["seconds"] > 0 and r["cpu"] > 0
+        assert r["seconds"] > 0 and len(r["cpu"]) == len(r["peak"]) and sum(r["cpu"]) > 0
     assert (tmp_path / "inball-30000-0.npy").exists()  # the points file is kept for the next run
 
 

@@ -51,8 +51,8 @@ class HullRow:
     memory in bytes after importing persistri / after the run; ``chunks`` and
     ``candidates`` (the points that reached the final run; all ``n`` for one process);
     ``faces``, ``vertices``; ``same`` whether the hull equals the one-process hull exactly;
-    ``cpu`` the CPU seconds the workers spent in the run, summed (less sensitive than the wall
-    time to other load on the machine: the total work).
+    ``cpu`` the CPU seconds each worker spent in the run and ``client_cpu`` this process's (the
+    final run happens here): less sensitive than the wall time to other load on the machine.
     """
 
     label: str
@@ -66,7 +66,8 @@ class HullRow:
     faces: int
     vertices: int
     same: bool
-    cpu: float = 0.0
+    cpu: tuple[float, ...] = ()
+    client_cpu: float = 0.0
 
 
 def worker_cpu() -> float:
@@ -146,30 +147,30 @@ def hull_rows(
         client.run(_warm)
         base = client.run(worker_peak_rss)
         cpu0 = client.run(worker_cpu)
-        start = time.perf_counter()
+        start, mine = time.perf_counter(), time.process_time()
         simplices, vertices, duplicates, _ = client.submit(_one_process, str(path), seed, backend, pure=False).result()
-        seconds = time.perf_counter() - start
+        seconds, mine = time.perf_counter() - start, time.process_time() - mine
         peak = client.run(worker_peak_rss)
-        cpu = sum(client.run(worker_cpu).values()) - sum(cpu0.values())
+        cpu = tuple(v - cpu0[k] for k, v in client.run(worker_cpu).items())
     one = seconds
     rows.append(HullRow("one process", 0, seconds, 1.0, tuple(base.values()), tuple(peak.values()), 1, n,
-                        len(simplices), len(vertices), True, cpu))
+                        len(simplices), len(vertices), True, cpu, mine))
     for w in workers:
         say(f"{w} worker{'s' if w != 1 else ''}: parallel_hull of the same file")
         with _cluster(w) as lc, Client(lc) as client:
             client.run(_warm)
             base = client.run(worker_peak_rss)
             cpu0 = client.run(worker_cpu)
-            start = time.perf_counter()
+            start, mine = time.perf_counter(), time.process_time()
             got = parallel_hull(str(path), client=client, chunk_rows=chunk_rows, seed=seed, backend=backend)
-            seconds = time.perf_counter() - start
+            seconds, mine = time.perf_counter() - start, time.process_time() - mine
             peak = client.run(worker_peak_rss)
-            cpu = sum(client.run(worker_cpu).values()) - sum(cpu0.values())
+            cpu = tuple(v - cpu0[k] for k, v in client.run(worker_cpu).items())
         same = (np.array_equal(got.simplices, simplices) and np.array_equal(got.vertices, vertices)
                 and got.duplicates == duplicates)
         rows.append(HullRow(f"{w} worker{'s' if w != 1 else ''}", w, seconds, one / seconds, tuple(base.values()),
                             tuple(peak.values()), len(got.chunks), got.candidates, len(got.simplices),
-                            len(got.vertices), same, cpu))
+                            len(got.vertices), same, cpu, mine))
     return rows
 
 
@@ -182,13 +183,13 @@ def hull_table(rows: Sequence[HullRow], title: str) -> Any:
     from rich.table import Table
 
     table = Table(title=title)
-    for name, justify in [("run", "left"), ("seconds", "right"), ("speed-up", "right"), ("worker CPU s", "right"),
+    for name, justify in [("run", "left"), ("seconds", "right"), ("speed-up", "right"), ("CPU s per worker", "right"), ("client CPU s", "right"),
                           ("peak RSS per worker, MiB", "right"),
                           ("after imports, MiB", "right"), ("chunks", "right"), ("final run points", "right"),
                           ("faces", "right"), ("same hull", "left")]:
         table.add_column(name, justify=justify)  # type: ignore[arg-type]
     for r in rows:
-        table.add_row(r.label, f"{r.seconds:.1f}", f"{r.speedup:.2f}×", f"{r.cpu:.1f}", _mib(r.peak), _mib(r.baseline), f"{r.chunks:,}",
+        table.add_row(r.label, f"{r.seconds:.1f}", f"{r.speedup:.2f}×", " / ".join(f"{c:.1f}" for c in r.cpu), f"{r.client_cpu:.1f}", _mib(r.peak), _mib(r.baseline), f"{r.chunks:,}",
                       f"{r.candidates:,}", f"{r.faces:,}", "yes" if r.same else "NO")
     return table
 
@@ -201,7 +202,7 @@ def terrain_table(rows: Sequence[Any], same: bool, title: str) -> Any:
     for name in ("run", "seconds", "speed-up", "peak RSS per worker, MiB", "after imports, MiB", "points", "triangles", "max error"):
         table.add_column(name, justify="left" if name == "run" else "right")
     for r in rows:
-        table.add_row(r.label, f"{r.seconds:.1f}", f"{r.speedup:.2f}×", f"{r.cpu:.1f}", _mib(r.peak), _mib(r.baseline), f"{r.points:,}",
+        table.add_row(r.label, f"{r.seconds:.1f}", f"{r.speedup:.2f}×", " / ".join(f"{c:.1f}" for c in r.cpu), f"{r.client_cpu:.1f}", _mib(r.peak), _mib(r.baseline), f"{r.points:,}",
                       f"{r.triangles:,}", f"{r.max_error:.3g}")
     return table
 
