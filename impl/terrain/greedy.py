@@ -713,6 +713,10 @@ def greedy_insertion(
         finally:
             if hasattr(tick, "close"):
                 tick.close()
+        # The run's scratch (the queue, the live-triangle index) is not needed to read the result: free it
+        # before the final mesh's errors are measured, whose arrays are of the grid's size.
+        run.heap = []
+        T.tri_of = {}
         inserted_arr = np.array(inserted, dtype=np.intp)
         inserted_arr.setflags(write=False)
         errors_arr = np.array(errors, dtype=np.float64)
