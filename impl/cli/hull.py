@@ -1,6 +1,6 @@
 """``persistri hull``: the exact 3D convex hull of a point file or of a generated distribution.
 
-One process by default for an input of one chunk; on a Dask cluster otherwise
+One process by default for an input of one chunk (2,097,152 points, or ``--chunk-size``); on a Dask cluster otherwise
 (:mod:`persistri.impl.scale`): ``--workers N`` starts a local cluster of N worker
 processes, ``--scheduler ADDR`` (or ``PERSISTRI_SCHEDULER``) uses an existing one,
 ``--workers 1`` is the one-process path.  Both paths give exactly the same hull
@@ -81,7 +81,7 @@ def _chunked_source(input_path: Path, chunk_rows: int | None) -> PointSource:
 @click.option("--check", is_flag=True, help="Assert the theorems of Appendix A at every insertion and verify the hull exactly.")
 @click.option("--stats", "show_stats", is_flag=True, help="Print the operation counts (paper §4) as a table (one process: implies --workers 1).")
 @click.option("--plot", type=click.Path(path_type=Path), help=f"Draw the hull to this image ({', '.join(PLOT_FORMATS)}).")
-@click.option("--workers", type=click.IntRange(min=1), help="Worker processes: 1 = this process; N = a local Dask cluster of N.  [default: one per core when the input has more than one chunk]")
+@click.option("--workers", type=click.IntRange(min=1), help=f"Worker processes: 1 = this process; N = a local Dask cluster of N.  [default: one per core for more than one chunk ({MAX_CHUNK_ROWS:,} points, or --chunk-size)]")
 @click.option("--scheduler", metavar="ADDR", help=f"Run on the existing Dask cluster of this scheduler (tcp://host:8786; also ${ENV_SCHEDULER}).")
 @click.option("--chunk-size", "chunk_rows", type=click.IntRange(min=1), help=f"Points per chunk on a cluster.  [default: one chunk per worker, {DEFAULT_CHUNK_ROWS:,} to {MAX_CHUNK_ROWS:,}]")
 @click.option("--quiet", is_flag=True, help="No progress bar and no summary.")
@@ -144,7 +144,9 @@ def hull(
     else:
         points = read_points(input_path, (3,)) if input_path is not None else generate(dist or "", n, seed)
         rows = points.shape[0]
-    tasks = 1 if show_stats or rows is None else max(1, math.ceil(rows / (chunk_rows or DEFAULT_CHUNK_ROWS)))
+    # By default a cluster only for more than one largest chunk: below that one process is as fast (bench scale,
+    # docs/performance.md) and needs no cluster start-up; --chunk-size says what a chunk is.
+    tasks = 1 if show_stats or rows is None else max(1, math.ceil(rows / (chunk_rows or MAX_CHUNK_ROWS)))
     kind = plan(workers, scheduler, tasks=tasks)[0] if rows is not None else "sequential"
     if kind != "sequential" and (why := dask_missing()) is not None:
         if explicit:
