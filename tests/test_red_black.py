@@ -460,3 +460,13 @@ def test_adjust_many_errors() -> None:
     assert S.adjust_many(f, m, [(-5, 1)]) == (m, [(-5, 1)])
     assert S.adjust_many(f, S.empty(), [(1, 2)]) == (S.empty(), [(1, 2)])
     assert S.adjust_many(f, m, []) == (m, [])
+
+
+@given(st.lists(st.integers(0, 200), max_size=100), st.lists(st.integers(-10, 210), max_size=30))
+def test_find_unchecked_is_find(keys: list[int], probes: list[int]) -> None:
+    """The unchecked find the 2-complex's walks use answers as ``find`` (keys ordered with the map's)."""
+    m: RBMap[int, int] = S.empty()
+    for k in keys:
+        m = S.insert(m, k, -k)
+    for k in probes:
+        assert S.find_unchecked(m, k) == S.find(m, k)

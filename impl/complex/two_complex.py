@@ -307,7 +307,9 @@ class TwoComplex(ComplexStructure[D]):
         rep, lin = self._unpack(c, "neighbour")
         neighbour = self.neighbour
         # The slow path raises the precise error, or accepts what neighbour accepts.
-        return neighbours_in(rep, lin, self._m.find, lambda s: neighbour(c, s))
+        # The backend's unchecked find if it has one (the red-black map): the vertices are validated first.
+        find = getattr(self._m, "find_unchecked", None) or self._m.find
+        return neighbours_in(rep, lin, find, lambda s: neighbour(c, s))
 
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
         """``add (c, s, x)``: ``c`` with the triangle ``s`` carrying ``x``: three ``insertWith``.

@@ -231,6 +231,11 @@ class RedBlackMap(Generic[K, V]):
             raise _key_error(k, exc) from None
         return None if node is None else (node[3],)
 
+    find_unchecked = staticmethod(_tree.find)
+    """``find`` for a key known to be ordered with the map's keys (a comparison's TypeError is not reworded):
+    persistri's addition, for the 2-complex's walks, whose vertices are validated before; in the compiled
+    twin a call of it runs no interpreted code."""
+
     def lookup(self, m: RBMap[K, V], k: K, /) -> V:
         """The value of ``k``; raises :class:`NotFound` if absent. O(lg n)."""
         try:

@@ -31,6 +31,7 @@ __all__ = [
     "Absent",
     "FailedWith",
     "search",
+    "find",
     "ins",
     "replace",
     "update",
@@ -73,6 +74,21 @@ def search(t: Tree, k: Any) -> Tree:
             t = t[4]
         else:
             return t
+    return None
+
+
+def find(m: tuple[Any, ...], k: Any) -> tuple[Any, ...] | None:
+    """``find`` of the map ``m = (size, tree)``: ``(v,)`` if ``k ↦ v`` is in it, else None; for a key known to be
+    ordered with the map's keys (a comparison's TypeError is not reworded).  O(lg n)."""
+    t: Tree = m[1]
+    while t is not None:
+        y = t[2]
+        if k < y:
+            t = t[1]
+        elif y < k:
+            t = t[4]
+        else:
+            return (t[3],)
     return None
 
 
