@@ -248,9 +248,14 @@ def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Chang
     twice or in both orientations; raises Unbatched (or the TypeError /
     ValueError / AttributeError of a malformed argument) on anything unusual,
     and the caller lets the fold raise the precise error.  O(|removed| + |added|).
+    (The loop variables' types let the compiled twin unpack the triangles
+    natively; it raises TypeError for any other element, which the caller
+    treats alike.)
     """
     changes: Changes = {}
     get = changes.get
+    s: tuple[Any, Any, Any]
+    sx: tuple[tuple[Any, Any, Any], Any]
     for s in removed:
         a, b, cc = s
         la = a.lineage
@@ -272,7 +277,8 @@ def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Chang
         else:
             ch[0].append((a, b))
     out_lin = lin
-    for s, x in added:
+    for sx in added:
+        s, x = sx
         a, b, cc = s
         la = a.lineage
         if out_lin is None:

@@ -7,9 +7,10 @@ keep an ``(n, 2)`` array of them, its scaled copy and a row table — some 170
 bytes per sample, 700 MB for a 2,048 × 2,048 grid, where only the few vertices
 are ever tested one by one.  :class:`GridPredicates2` answers the same tests with
 the same signs (the same filter, exact arithmetic and Simulation of Simplicity,
-by point index) and keeps nothing per sample: coordinates are computed from the
-index when a test needs them, and a point's row of floats is made, and kept, the
-first time it is tested (the vertices).
+by point index) and keeps 4 bytes per sample: a point's row of floats is
+computed from its index, and kept, the first time it is tested (the vertices),
+and the samples' coordinates, which the terrain's sector tests and errors read
+in bulk, are two columns of small integers (:meth:`GridPredicates2.coordinates`).
 
 The coordinates are small integers, so the filter needs no scaling (``shift``
 0: every grain is 1, every magnitude below ``2^25``) and the exact integers are
@@ -18,6 +19,9 @@ the coordinates themselves.  :meth:`GridPredicates2.points` still returns the
 """
 
 from __future__ import annotations
+
+import operator
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -45,14 +49,15 @@ class _GridRows(dict[int, tuple[float, ...]]):
         self.n = n
 
     def __missing__(self, i: int) -> tuple[float, ...]:
-        if isinstance(i, bool) or not isinstance(i, (int, np.integer)):
-            raise TypeError(f"point indices must be integers, got {i!r}")
-        k = int(i)
+        # As a list of rows would: any integer (bool included), IndexError out of range, TypeError otherwise.
+        try:
+            k = operator.index(i)
+        except TypeError:
+            raise TypeError(f"point indices must be integers, got {i!r}") from None
         if not 0 <= k < self.n:
             raise IndexError(f"point index {k} out of range for {self.n} points")
         y, x = divmod(k, self.cols)
-        row = (float(x), float(y))
-        self[k] = row
+        row = self[k] = (float(x), float(y))
         return row
 
 
@@ -66,9 +71,10 @@ class GridPredicates2(Predicates2):
     :class:`ValueError` for a shape that is not two integers in ``[1, GRID_LIMIT]``.
     """
 
-    __slots__ = ("_shape",)
+    __slots__ = ("_shape", "_columns")
 
     _shape: tuple[int, int]
+    _columns: tuple[NDArray[Any], NDArray[Any]] | None
 
     def __init__(self, shape: tuple[int, int], *, stats: Stats | None = None) -> None:
         rows, cols = shape
@@ -78,6 +84,7 @@ class GridPredicates2(Predicates2):
         rows, cols = int(rows), int(cols)
         n = rows * cols
         self._shape = (rows, cols)
+        self._columns = None
         self._n = n
         self._dim = 2
         self.stats = stats
@@ -116,10 +123,31 @@ class GridPredicates2(Predicates2):
         xy.setflags(write=False)
         return xy
 
-    def coordinates(self, q: IntArray) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """``(x, y)`` of points ``q``: ``(q mod cols, q div cols)`` as float64. O(len(q))."""
-        y, x = np.divmod(np.asarray(q, dtype=np.intp), self._shape[1])
-        return x.astype(np.float64), y.astype(np.float64)
+    def coordinate_columns(self) -> tuple[NDArray[Any], NDArray[Any]]:
+        """The ``x`` and ``y`` of every point, as two read-only columns of small integers (``uint16`` up to
+        65,536 rows and columns, ``int32`` beyond): 4 bytes per sample, made on the first call (gathering from
+        them is three times faster than dividing the indices).  O(n) once."""
+        cols = self._columns
+        if cols is None:
+            rows, width = self._shape
+            kind = np.uint16 if max(rows, width) <= 1 << 16 else np.int32
+            cols = self._columns = (
+                np.tile(np.arange(width, dtype=kind), rows),
+                np.repeat(np.arange(rows, dtype=kind), width),
+            )
+            for c in cols:
+                c.setflags(write=False)
+        return cols
+
+    def coordinates(self, q: IntArray) -> tuple[NDArray[Any], NDArray[Any]]:
+        """``(x, y)`` of points ``q``: ``(q mod cols, q div cols)``, as small integers (:meth:`coordinate_columns`). O(len(q))."""
+        x, y = self.coordinate_columns()
+        return x[q], y[q]
+
+    def xy(self, i: int) -> tuple[float, float]:
+        """``(x, y)`` of point ``i`` as floats (its row, kept once made). O(1)."""
+        x, y = self._rows[i]
+        return x, y
 
     # -- the hooks of the base class ---------------------------------------------------
 
@@ -130,7 +158,8 @@ class GridPredicates2(Predicates2):
         if isinstance(i, int):
             fx, fy = self._rows[i]
             return [np.asarray(fx), np.asarray(fy)]
-        return list(self.coordinates(i))
+        x, y = self.coordinates(i)
+        return [x.astype(np.float64), y.astype(np.float64)]
 
     def _extents(self) -> list[tuple[float, float]]:
         rows, cols = self._shape

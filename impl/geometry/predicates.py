@@ -52,7 +52,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from fractions import Fraction
-from typing import Final
+from typing import Any, Final
 
 import itertools
 import math
@@ -763,10 +763,20 @@ class Predicates2(_IndexedPoints):
     def __repr__(self) -> str:
         return f"Predicates2(n={self._n})"
 
-    def coordinates(self, q: IntArray) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """The input coordinates ``(x, y)`` of points ``q`` (an index array), as two float64 arrays. O(len(q))."""
+    def coordinates(self, q: IntArray) -> tuple[NDArray[Any], NDArray[Any]]:
+        """The input coordinates ``(x, y)`` of points ``q`` (an index array), as two arrays of real numbers
+        (float64 here; a grid's are small integers). O(len(q))."""
         pts = self._points[q]
         return pts[:, 0], pts[:, 1]
+
+    def coordinate_columns(self) -> tuple[NDArray[Any], NDArray[Any]]:
+        """The ``x`` and ``y`` of every point, as two columns (views of :attr:`points`; a grid's are small integers). O(1)."""
+        return self._points[:, 0], self._points[:, 1]
+
+    def xy(self, i: int) -> tuple[float, float]:
+        """The input coordinates ``(x, y)`` of point ``i``. O(1)."""
+        x, y = self._points[i].tolist()
+        return x, y
 
     def kernel(self) -> Delaunay2Kernel:
         """The trusted fast path of :meth:`orient2d`, :meth:`orient2d_sign` and :meth:`incircle`: no validation.

@@ -94,6 +94,9 @@ LARGE_FAN: Final[int] = 1 << 16
 (:func:`~persistri.impl.terrain.sectors.fan_lists`, in blocks) and reports no pooled array; below it, one
 sorted pooled array whose slices are copied (fewer numpy calls)."""
 
+COPY_POOL: Final[int] = 1024
+"""Above this many pooled samples the fan's lists are copies of their own rather than views of the pool."""
+
 EMPTY: Final[IntArray] = np.zeros(0, dtype=np.intp)
 """The empty (read-only) sample list of ghosts and of triangles without samples."""
 EMPTY.setflags(write=False)
@@ -406,9 +409,11 @@ class Triangulator:
         start_at = 0
         tid = self._next_id
         u = ring[0]
-        # Each triangle's list is its own array, not a view of the pooled one: a view would keep the whole
-        # pooled array alive as long as any one of the fan's triangles lives (three times the memory, measured).
+        # A large pool is cut into arrays of their own, not views: a view keeps the whole pooled array alive
+        # as long as any one of the fan's triangles lives (three times the memory on a 2,048² grid, measured);
+        # a small one's views cost little and save a copy per triangle.
         whole = pooled.size
+        copy = whole > COPY_POOL
         own: list[IntArray] = []
         for i in range(nfan):
             w = ring[i + 1]
@@ -423,7 +428,7 @@ class Triangulator:
                 part = _frozen(parts[i])
             else:
                 stop = start_at + cnt
-                part = pooled if cnt == whole else _frozen(pooled[start_at:stop].copy())
+                part = pooled if cnt == whole else (_frozen(pooled[start_at:stop].copy()) if copy else pooled[start_at:stop])
                 start_at = stop
             fan.append((tri, (tid, part)))
             own.append(part)

@@ -188,11 +188,15 @@ def fan_errors(cols: int, z: FloatArray, p: int, ring: IntArray, fan_index: IntA
         gxs.append((dz1 * dy2 - dz2 * dy1) / det)
         gys.append((dx1 * dz2 - dx2 * dz1) / det)
         x1, y1, z1 = x2, y2, z2
-    return _fan_plane_errors(cols, z, xp, yp, zp, gxs, gys, fan_index, samples)
+    return _fan_plane_errors(lambda q: grid_xy(q, cols), z, xp, yp, zp, gxs, gys, fan_index, samples)
+
+
+Coordinates = Callable[[IntArray], tuple[NDArray[Any], NDArray[Any]]]
+"""Samples to their ``(x, y)`` grid coordinates (:meth:`GridPredicates2.coordinates`, or :func:`grid_xy`)."""
 
 
 def _fan_plane_errors(
-    cols: int,
+    coordinates: Coordinates,
     z: FloatArray,
     xp: float,
     yp: float,
@@ -213,9 +217,9 @@ def _fan_plane_errors(
         for lo in range(0, m, _CHUNK):
             hi = min(m, lo + _CHUNK)
             part = None if fan_index is None else fan_index[lo:hi]
-            err[lo:hi] = _fan_plane_errors(cols, z, xp, yp, zp, gxs, gys, part, samples[lo:hi])
+            err[lo:hi] = _fan_plane_errors(coordinates, z, xp, yp, zp, gxs, gys, part, samples[lo:hi])
         return err
-    ys, xs = np.divmod(samples, cols)
+    xs, ys = coordinates(samples)
     if len(gxs) == 1:
         # One triangle: its gradient is a scalar (no gather).
         plane = xs - xp
@@ -576,19 +580,20 @@ class _Greedy:
         samples = ins.samples
         if samples is not None and not samples.size:
             return
-        cols, zitem = self.cols, self.z.item
+        # The vertices' coordinates from the predicates' rows (made when the kernel first tested them).
+        xy, zitem, coords = self.pred.xy, self.z.item, self.pred.coordinates
         p = ins.point
-        yi, xi = divmod(p, cols)
-        xp, yp, zp = float(xi), float(yi), zitem(p)
+        xp, yp = xy(p)
+        zp = zitem(p)
         gxs: list[float] = []
         gys: list[float] = []
         rays = iter(ins.rays)
         v = next(rays)
-        yi, xi = divmod(v, cols)
-        x1, y1, z1 = float(xi), float(yi), zitem(v)
+        x1, y1 = xy(v)
+        z1 = zitem(v)
         for v in rays:
-            yi, xi = divmod(v, cols)
-            x2, y2, z2 = float(xi), float(yi), zitem(v)
+            x2, y2 = xy(v)
+            z2 = zitem(v)
             dx1, dy1, dz1 = x1 - xp, y1 - yp, z1 - zp
             dx2, dy2, dz2 = x2 - xp, y2 - yp, z2 - zp
             det = dx1 * dy2 - dx2 * dy1
@@ -599,9 +604,9 @@ class _Greedy:
         if samples is None:
             for tid, gx, gy, part in zip(tids, gxs, gys, ins.lists):
                 if part.size:
-                    self._queue([tid], [part.size], part, _fan_plane_errors(cols, self.z, xp, yp, zp, [gx], [gy], None, part))
+                    self._queue([tid], [part.size], part, _fan_plane_errors(coords, self.z, xp, yp, zp, [gx], [gy], None, part))
             return
-        err = _fan_plane_errors(cols, self.z, xp, yp, zp, gxs, gys, ins.fan_index, samples)
+        err = _fan_plane_errors(coords, self.z, xp, yp, zp, gxs, gys, ins.fan_index, samples)
         self._queue(tids, ins.counts, samples, err)
 
     def current_error(self) -> float:

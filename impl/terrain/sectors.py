@@ -93,20 +93,12 @@ def sector_sides(
         for i in range(k):
             out[:, i] = pred.orient2d_sign_batch(int(p), int(ring[i]), samples) >= 0
         return out
-    if columns is None:
-        xr, yr = pred.coordinates(np.append(ring, [p]).astype(np.intp))
-        px, py = xr[-1], yr[-1]
-        rx, ry = xr[:-1] - px, yr[:-1] - py
-        qx, qy = pred.coordinates(samples)
-        qx = qx - px
-        qy = qy - py
-    else:
-        x, y = columns
-        px, py = x[p], y[p]
-        rx = x[ring] - px
-        ry = y[ring] - py
-        qx = x[samples] - px
-        qy = y[samples] - py
+    x, y = pred.coordinate_columns() if columns is None else columns
+    px, py = float(x[p]), float(y[p])
+    rx = x[ring] - px
+    ry = y[ring] - py
+    qx = x[samples] - px
+    qy = y[samples] - py
     # orient2d(p, r, q) = (r - p) × (q - p) = rx·qy − ry·qx, exact here.
     det = np.multiply.outer(qy, rx)
     det -= np.multiply.outer(qx, ry)
@@ -275,21 +267,14 @@ def _fan_block(
     """:func:`fan_sectors`' exact float path on one block of samples (nothing counted here)."""
     k = rays.size - 1
     m = samples.size
-    if columns is None:
-        # The coordinates from the predicates (a grid's are computed from the index, not stored).
-        rxs, rys = pred.coordinates(np.append(rays, p))
-        px, py = rxs[-1], rys[-1]
-        rx, ry = rxs[:-1] - px, rys[:-1] - py
-        qx, qy = pred.coordinates(samples)
-        qx -= px
-        qy -= py
-    else:
-        x, y = columns
-        px, py = x[p], y[p]
-        rx = x[rays] - px
-        ry = y[rays] - py
-        qx = x[samples] - px
-        qy = y[samples] - py
+    # The predicates' coordinate columns (a grid's are small integers): p's as Python floats, so that every
+    # difference is float64 whatever the columns' type (exact: module docstring).
+    x, y = pred.coordinate_columns() if columns is None else columns
+    px, py = float(x[p]), float(y[p])
+    rx = x[rays] - px
+    ry = y[rays] - py
+    qx = x[samples] - px
+    qy = y[samples] - py
     # orient2d(p, r, q) = (r − p) × (q − p) = rx·qy − ry·qx, exact here (module docstring).
     det = np.multiply.outer(rx, qy)
     det -= np.multiply.outer(ry, qx)
