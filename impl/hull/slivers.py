@@ -90,7 +90,10 @@ def remove_slivers(
         candidates = [lookup[frozenset(row)] for row in tri_arr[maybe].tolist()]
     else:
         candidates = []
-    work = [t for t in candidates if pred.collinear(t[0], t[1], t[2])]
+    # In an order fixed by the labels alone (not by the face table's, which follows the insertion path):
+    # the bulldozer's hull of the perturbed points is unique, so the flipped surface is too, whatever
+    # the seed or the insertion order (the parallel hull's equality with the one-process hull needs it).
+    work = sorted((t for t in candidates if pred.collinear(t[0], t[1], t[2])), key=lambda t: sorted(int(v) for v in t), reverse=True)
     flips = 0
     budget = 4 * len(work) + 8
     while work and budget > 0:
