@@ -5,13 +5,20 @@ bulldozer, paper §3 and Appendix A) with the attributes of
 :class:`scipy.spatial.ConvexHull`, plus what persistence adds: ``history`` (every
 intermediate hull, sharing structure) and :meth:`ConvexHull.add_points`, which
 returns a *new* hull and leaves this one as it was.
+
+Inputs too big to load — a Dask array, a Zarr array, the path of a ``.npy`` file,
+of a directory of ``.npy`` files or of a Zarr store — are hulled chunk by chunk by
+:func:`persistri.impl.scale.hull.parallel_hull` (in this process or on a Dask
+cluster), which gives exactly the one-process hull; the view is then built from
+the hull's vertices alone.
 """
 
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -21,6 +28,12 @@ from persistri.impl.complex.adjacency import triangle_neighbors
 from persistri.impl.hull.api import Hull, HullHistory, convex_hull
 from persistri.impl.hull.measures import enclosed_volume, equations_of, facet_normals
 from persistri.impl.stats import Stats
+
+if TYPE_CHECKING:
+    from distributed import Client
+
+    from persistri.impl.scale.hull import ParallelHull
+    from persistri.impl.scale.sources import PointSource
 
 __all__ = ["ConvexHull"]
 
@@ -65,6 +78,40 @@ class ConvexHull:
     :class:`~persistri.impl.hull.errors.DegenerateInputError` (a ``ValueError``)
     when the distinct points do not span space.  Expected O(n lg n) time.
 
+    **Inputs too big to load.**  ``points`` may also be a Dask array, a Zarr array,
+    or the path (``str`` or :class:`os.PathLike`) of a ``.npy`` file (memory-mapped),
+    of a directory of ``.npy`` files (one input, in file-name order) or of a Zarr
+    store.  Such input is hulled chunk by chunk by
+    :func:`~persistri.impl.scale.hull.parallel_hull` — each chunk's hull on a
+    worker, the survivors merged — with exactly the one-process hull as result
+    (same ``vertices``, ``simplices``, ``duplicates``).  Where it runs, as
+    ``persistri hull`` decides (:func:`~persistri.impl.scale.cluster.plan`):
+
+    * ``client=`` — on this ``distributed.Client``'s cluster;
+    * ``workers=1`` — in this process, chunk by chunk (no Dask scheduler);
+      ``workers=N`` — on a local cluster of N worker processes, started and closed here;
+    * ``scheduler="tcp://host:8786"`` — on that existing cluster;
+    * none of them — in this process for an input of at most one chunk
+      (``chunk_rows``, by default :data:`~persistri.impl.scale.hull.MAX_CHUNK_ROWS`
+      points), otherwise on the cluster named by ``PERSISTRI_SCHEDULER`` or a local
+      one with one worker per core.
+
+    ``chunk_rows`` — points per chunk (default: one chunk per worker, a Dask array's
+    own chunks).  Giving any of these four with an in-memory array sends it the same
+    way; without them an array (or a list) takes the one-process path, as always.
+    On the chunked path ``vertices``, ``simplices``, ``neighbors``, ``duplicates``
+    name rows of the whole input, and the measures are computed from the vertices
+    alone, so only the hull needs to fit in memory: ``vertex_points`` holds the
+    vertices' coordinates, and ``points`` is read on first access (a float64
+    ``.npy`` file memory-mapped, read-only; any other input loaded whole — O(n)
+    memory); ``history`` is the final merge's versions (hulls of growing sets of the
+    candidates that reached it), its simplices as rows of the whole input; ``result``
+    is that final run (its ``points`` are the candidates, input rows ``chunked.rows``)
+    and ``chunked`` the whole run (chunks, merges, workers).  ``stats``, a
+    ``progress`` callback and :meth:`add_points` need the one-process path and are a
+    :class:`ValueError` there.  Dask is imported only on this path (``persistri[dask]``
+    for a cluster); ``import persistri`` never imports it.
+
     >>> import numpy as np, persistri
     >>> cube = np.array([[x, y, z] for x in (0, 2) for y in (0, 2) for z in (0, 2)], dtype=float)
     >>> hull = persistri.ConvexHull(cube)
@@ -73,15 +120,20 @@ class ConvexHull:
     >>> bigger = hull.add_points([[1.0, 1.0, 5.0]])    # a new hull; the old one is unchanged
     >>> bigger.volume, hull.volume
     (12.0, 8.0)
+    >>> chunked = persistri.ConvexHull(cube, workers=1, chunk_rows=3)   # chunk by chunk, here
+    >>> chunked.vertices.tolist() == hull.vertices.tolist(), chunked.volume, len(chunked.chunked.chunks)
+    (True, 8.0, 3)
     """
 
     __slots__ = (
-        "_hull", "_check", "_points", "_simplices", "_vertices", "_neighbors", "_facets", "_equations", "_area", "_volume"
+        "_hull", "_check", "_n", "_points", "_simplices", "_vertices", "_neighbors", "_facets", "_equations", "_area",
+        "_volume", "_chunked", "_mpoints", "_msimplices", "_history",
     )
 
     _hull: Hull
     _check: bool
-    _points: FloatArray
+    _n: int
+    _points: FloatArray | None
     _simplices: IntcArray
     _vertices: IntcArray
     _neighbors: IntcArray | None
@@ -89,10 +141,14 @@ class ConvexHull:
     _equations: FloatArray | None
     _area: float | None
     _volume: float | None
+    _chunked: ParallelHull | None
+    _mpoints: FloatArray  # the coordinates the measures read: all points, or only the vertices (chunked)
+    _msimplices: NDArray[np.intp]  # the triangles as rows of _mpoints, in the order of `simplices`
+    _history: HullHistory | None
 
     def __init__(
         self,
-        points: ArrayLike,
+        points: ArrayLike | os.PathLike[str],
         *,
         backend: str = "red_black",
         history: bool = False,
@@ -100,21 +156,62 @@ class ConvexHull:
         check: bool = False,
         stats: Stats | None = None,
         progress: bool | Callable[[int], Any] = False,
+        client: Client | None = None,
+        workers: int | None = None,
+        scheduler: str | None = None,
+        chunk_rows: int | None = None,
     ) -> None:
+        where = (client, workers, scheduler, chunk_rows)
+        if isinstance(points, os.PathLike) or _too_big_to_load(points) or any(x is not None for x in where):
+            if stats is not None:
+                raise ValueError("stats= counts the operations of one process: give the points as an array, without client/workers/scheduler/chunk_rows")
+            if not isinstance(progress, bool):
+                raise ValueError("a progress callback follows the one-process run: give progress=True for chunked input")
+            self._adopt_chunked(
+                _chunked_hull(
+                    points, client=client, workers=workers, scheduler=scheduler, chunk_rows=chunk_rows,
+                    seed=seed, backend=backend, history=history, check=check, progress=progress,
+                ),
+                check,
+            )
+            return
         hull = convex_hull(points, backend=backend, history=history, seed=seed, check=check, stats=stats, progress=progress)
         self._adopt(hull, check)
 
-    def _adopt(self, hull: Hull, check: bool) -> None:
+    def _reset(self, hull: Hull, check: bool) -> None:
         self._hull = hull
         self._check = check
-        self._points = read_only(hull.points)
-        self._simplices = read_only(hull.simplices, np.intc)
-        self._vertices = read_only(hull.vertices, np.intc)
         self._neighbors = None
         self._facets = None
         self._equations = None
         self._area = None
         self._volume = None
+
+    def _adopt(self, hull: Hull, check: bool) -> None:
+        self._reset(hull, check)
+        self._chunked = None
+        self._points = read_only(hull.points)
+        self._n = int(hull.points.shape[0])
+        self._simplices = read_only(hull.simplices, np.intc)
+        self._vertices = read_only(hull.vertices, np.intc)
+        self._mpoints = hull.points
+        self._msimplices = hull.simplices
+        self._history = hull.history
+
+    def _adopt_chunked(self, result: ParallelHull, check: bool) -> None:
+        self._reset(result.hull, check)
+        self._chunked = result
+        self._points = None  # read on first access: the input may not fit in memory
+        self._n = result.n
+        self._simplices = read_only(result.simplices, np.intc)
+        self._vertices = read_only(result.vertices, np.intc)
+        self._mpoints = read_only(result.vertex_points)
+        self._msimplices = np.searchsorted(result.vertices, result.simplices).astype(np.intp)
+        h = result.hull.history
+        # The final merge's versions, its labels renamed to rows of the whole input (the versions are shared).
+        self._history = None if h is None else HullHistory(
+            h.structure, result.rows[h.rows].astype(np.intp), h.versions, tuple(int(result.rows[i]) for i in h.inserted)
+        )
 
     @classmethod
     def from_hull(cls, hull: Hull, *, check: bool = False) -> ConvexHull:
@@ -141,9 +238,16 @@ class ConvexHull:
         its ``points`` are this hull's rows followed by the new ones (row numbers
         keep their meaning), and its ``history`` continues this one's when this
         one kept it.  ``check`` defaults to this hull's.  Errors as for the
-        constructor, about ``points``.
+        constructor, about ``points``.  A :class:`ValueError` for a hull computed chunk by chunk
+        (its input is not in memory to resume from: hull the old and new points together).
         """
         from persistri.impl.hull.extend import extend_hull
+
+        if self._chunked is not None:
+            raise ValueError(
+                f"add_points resumes the one-process run, but this hull was computed chunk by chunk from "
+                f"{self._chunked.source.name}: hull the old and the new points together instead"
+            )
 
         chk = self._check if check is None else check
         return ConvexHull.from_hull(extend_hull(self._hull, points, check=chk, progress=progress), check=chk)
@@ -152,8 +256,25 @@ class ConvexHull:
 
     @property
     def points(self) -> FloatArray:
-        """``(n, 3)`` float64: the input points as validated (read-only)."""
+        """``(n, 3)`` float64: the input points as validated (read-only).
+
+        For chunked input, read on first access: a float64 ``.npy`` file memory-mapped (nothing
+        loaded), any other input loaded whole (O(n) memory: :attr:`vertex_points` may be all you need).
+        """
+        if self._points is None:
+            assert self._chunked is not None
+            self._points = _read_all(self._chunked.source)
         return self._points
+
+    @property
+    def vertex_points(self) -> FloatArray:
+        """``(len(vertices), 3)`` float64: the coordinates of :attr:`vertices`, in their order (read-only).
+
+        ``points[vertices]``, without reading the other points (for chunked input: only these are in memory).
+        """
+        if self._chunked is not None:
+            return self._mpoints
+        return read_only(self._hull.points[self._hull.vertices])
 
     @property
     def simplices(self) -> IntcArray:
@@ -169,7 +290,7 @@ class ConvexHull:
     def neighbors(self) -> IntcArray:
         """``(m, 3)``: ``neighbors[i, j]`` is the triangle across the edge opposite ``simplices[i, j]``. O(m log m), once."""
         if self._neighbors is None:
-            self._neighbors = read_only(triangle_neighbors(self._hull.simplices), np.intc)
+            self._neighbors = read_only(triangle_neighbors(self._msimplices), np.intc)
         return self._neighbors
 
     @property
@@ -177,13 +298,13 @@ class ConvexHull:
         """``(m, 4)``: outward unit normal and offset per triangle; ``normal·x + offset <= 0`` inside. O(m), once."""
         if self._equations is None:
             normals, _ = self._normals()
-            self._equations = read_only(equations_of(self._hull.points, self._hull.simplices, normals))
+            self._equations = read_only(equations_of(self._mpoints, self._msimplices, normals))
         return self._equations
 
     def _normals(self) -> tuple[FloatArray, FloatArray]:
         """The facets' unit normals and cross-product lengths (:func:`~persistri.impl.hull.measures.facet_normals`), once."""
         if self._facets is None:
-            self._facets = facet_normals(self._hull.points, self._hull.simplices)
+            self._facets = facet_normals(self._mpoints, self._msimplices)
         return self._facets
 
     @property
@@ -198,18 +319,19 @@ class ConvexHull:
     def volume(self) -> float:
         """The volume of the hull, computed exactly and rounded once to a double. O(m) big-integer work, once."""
         if self._volume is None:
-            self._volume = enclosed_volume(self._hull.points, self._hull.simplices)
+            self._volume = enclosed_volume(self._mpoints, self._msimplices)
         return self._volume
 
     @property
     def duplicates(self) -> IntcArray:
         """``(k, 2)``: ``[row, earlier equal row]`` for each input row merged into an exactly equal earlier one."""
-        return read_only(np.array(self._hull.duplicates, dtype=np.intc).reshape(-1, 2))
+        pairs = self._hull.duplicates if self._chunked is None else self._chunked.duplicates
+        return read_only(np.array(pairs, dtype=np.intc).reshape(-1, 2))
 
     @property
     def npoints(self) -> int:
         """The number of input rows (duplicates included)."""
-        return int(self._points.shape[0])
+        return self._n
 
     @property
     def ndim(self) -> int:
@@ -225,8 +347,12 @@ class ConvexHull:
 
     @property
     def history(self) -> HullHistory | None:
-        """Every intermediate hull, oldest first, sharing structure (``history=True``), else None (time travel)."""
-        return self._hull.history
+        """Every intermediate hull, oldest first, sharing structure (``history=True``), else None (time travel).
+
+        For chunked input, the versions of the final merge (the hulls of growing sets of candidates,
+        the last one this hull), with ``history.simplices(k)`` and ``inserted`` as rows of the whole input.
+        """
+        return self._history
 
     @property
     def backend(self) -> str:
@@ -240,12 +366,92 @@ class ConvexHull:
 
     @property
     def result(self) -> Hull:
-        """The full result of :func:`persistri.convex_hull`: the persistent complex, its structure, counts."""
+        """The full result of :func:`persistri.convex_hull`: the persistent complex, its structure, counts.
+
+        For chunked input, the final merge's (its ``points`` are the candidates, input rows ``chunked.rows``).
+        """
         return self._hull
 
+    @property
+    def chunked(self) -> ParallelHull | None:
+        """How a chunked input was hulled (:class:`~persistri.impl.scale.hull.ParallelHull`: chunks, merges,
+        workers, candidates), else None."""
+        return self._chunked
+
     def __repr__(self) -> str:
-        kept = "" if self._hull.history is None else f", history of {len(self._hull.history)} versions"
+        kept = "" if self._history is None else f", history of {len(self._history)} versions"
+        if self._chunked is not None:
+            kept += f", {len(self._chunked.chunks)} chunks of {self._chunked.source.name}"
         return (
             f"persistri.ConvexHull({self.npoints} points, {self.nsimplex} triangles, "
             f"{self._vertices.size} vertices, backend={self.backend!r}{kept})"
         )
+
+
+# -- inputs too big to load --------------------------------------------------------------------------
+
+
+def _too_big_to_load(points: object) -> bool:
+    """Whether ``points`` is read chunk by chunk: a path, a Dask or Zarr array, or a chunked source."""
+    if isinstance(points, (str, os.PathLike)):
+        return True
+    module = type(points).__module__
+    return module.split(".")[0] in ("dask", "zarr") or module == "persistri.impl.scale.sources"
+
+
+def _chunked_hull(
+    points: Any,
+    *,
+    client: Client | None,
+    workers: int | None,
+    scheduler: str | None,
+    chunk_rows: int | None,
+    seed: int,
+    backend: str,
+    history: bool,
+    check: bool,
+    progress: bool,
+) -> ParallelHull:
+    """:func:`~persistri.impl.scale.hull.parallel_hull` of ``points`` where ``persistri hull`` would run it.
+
+    O(chunks) here before the run (the headers are read to count the rows); Dask is imported only
+    when a cluster is used.
+    """
+    from persistri.impl.scale import dask_missing
+    from persistri.impl.scale.cluster import connect, plan
+    from persistri.impl.scale.hull import MAX_CHUNK_ROWS, parallel_hull
+    from persistri.impl.scale.sources import points_source
+
+    options: dict[str, Any] = {"chunk_rows": chunk_rows, "seed": seed, "backend": backend, "history": history, "check": check, "progress": progress}
+    if client is not None:
+        if workers is not None or scheduler is not None:
+            raise ValueError("give a client, a worker count or a scheduler address, not several")
+        if not type(client).__module__.startswith("distributed"):
+            raise TypeError(f"client must be a distributed.Client, not {type(client).__name__}")
+        return parallel_hull(points, client=client, **options)
+    # As `persistri hull`: a cluster by default only for more than one chunk (one process is as fast below).
+    n = points_source(points, chunk_rows).n  # headers only; a bad file or shape is its one-line error here
+    tasks = max(1, -(-n // (chunk_rows or MAX_CHUNK_ROWS)))
+    if plan(workers, scheduler, tasks=tasks)[0] != "sequential" and (why := dask_missing()) is not None:
+        if workers is not None or scheduler is not None:
+            raise ModuleNotFoundError(why)
+        workers = 1  # the default only: without the extra, in this process
+    with connect(workers, scheduler, tasks=tasks) as here:
+        return parallel_hull(points, client=here, **options)
+
+
+def _read_all(source: PointSource) -> FloatArray:
+    """Every row of ``source`` as one read-only float64 array: a float64 ``.npy`` file memory-mapped, else read. O(n)."""
+    from persistri.impl.scale.sources import NpyRows, read_block
+
+    files = {b.data.path for b in source.blocks if isinstance(b.data, NpyRows)}
+    if len(files) == 1 and all(isinstance(b.data, NpyRows) for b in source.blocks):
+        mapped = np.load(files.pop(), mmap_mode="r", allow_pickle=False)
+        if mapped.dtype == np.float64 and mapped.shape == (source.n, 3):
+            out: FloatArray = mapped  # validated block by block when the hull was computed
+            return out
+    parts = []
+    for b in source.blocks:
+        data = b.data.compute(scheduler="synchronous") if type(b.data).__module__.startswith("dask") else b.data
+        parts.append(read_block(data, b.start, source.what))
+    return read_only(np.concatenate(parts) if parts else np.zeros((0, 3)))

@@ -220,7 +220,9 @@ def test_errors_are_the_deep_apis_one_line() -> None:
     with pytest.raises(ValueError, match="coplanar|affine dimension 2"):
         persistri.ConvexHull([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
     with pytest.raises(TypeError, match="real numbers"):
-        persistri.ConvexHull("points")
+        persistri.ConvexHull(np.array([["a", "b", "c"]] * 4))
+    with pytest.raises(FileNotFoundError, match="No such file or directory: 'points'"):
+        persistri.ConvexHull("points")  # a string is the path of a file of points (chunked input)
     with pytest.raises(ValueError, match="unknown map backend 'btree'"):
         persistri.ConvexHull(generate("InBall", 10, seed=0), backend="btree")
     with pytest.raises(TypeError, match="needs a persistri Hull"):
