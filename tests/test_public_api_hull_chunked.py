@@ -118,13 +118,14 @@ def test_history_is_the_final_merges_and_result_its_run(tmp_path: Path) -> None:
     pts = np.random.default_rng(4).normal(size=(2000, 3))
     got = persistri.ConvexHull(da.from_array(pts, chunks=(400, 3)), workers=1, history=True, check=True)
     assert got.chunked is not None and len(got.chunked.chunks) == 5
-    final = got.result
-    assert got.history is not None and len(got.history) == final.insertions + 1
+    final, history = got.result, got.history
+    assert history is not None and final.history is not None and len(history) == final.insertions + 1
     assert final.points.shape[0] == got.chunked.candidates < 2000  # the merge saw the candidates only
     assert np.array_equal(np.sort(got.chunked.rows[final.vertices]), got.vertices)
-    assert got.history[-1] is final.complex and got.history[0] is final.history[0]  # the versions, shared
-    assert np.array_equal(got.history.simplices(len(got.history) - 1), got.simplices)  # rows of the whole input
-    assert set(got.history.inserted) <= set(got.chunked.rows.tolist())
+    assert history[-1] is final.complex and history[0] is final.history[0]  # the versions, shared
+    assert np.array_equal(history.simplices(len(history) - 1), got.simplices)  # rows of the whole input
+    assert not np.array_equal(history.simplices(0), final.history.simplices(0))  # renamed: rows, not candidates
+    assert set(history.inserted) <= set(got.chunked.rows.tolist())
     assert "5 chunks of dask array of 2,000 points" in repr(got)
 
 

@@ -26,6 +26,9 @@ from persistri.impl.experiments.fig11 import DEFAULT_DEMS, OPTIONAL_DEMS
 from persistri.impl.experiments.output import Progress as ProgressCallback
 from persistri.impl.experiments.output import parse_sizes
 from persistri.impl.experiments.suite import FIGURES, replot, run_experiments, sizes_for
+from persistri.impl.experiments.sweep import SWEPT
+from persistri.impl.scale import dask_missing
+from persistri.impl.scale.cluster import ENV_SCHEDULER, connect
 
 __all__ = ["experiments", "parse_size_options"]
 
@@ -120,6 +123,12 @@ def _bars(console: Console) -> Iterator[Progress]:
     help=f"Fig. 11: the DEMs, comma-separated, of {', '.join(DEMS)}.  Default: {','.join(DEFAULT_DEMS)}, leaving out "
     f"{', '.join(sorted(OPTIONAL_DEMS))} with a note where its package is not installed.",
 )
+@click.option(
+    "--workers",
+    type=click.IntRange(min=1),
+    help="Make the counted hull runs of Figs. 6-7 on a local Dask cluster of N worker processes first (1: this process).  [default: this process]",
+)
+@click.option("--scheduler", metavar="ADDR", help=f"Make them on the existing Dask cluster of this scheduler (tcp://host:8786; ${ENV_SCHEDULER} is not read here).")
 @click.option("--replot", "replot_only", is_flag=True, help="Measure nothing: redraw the PNGs and rewrite the pages from an earlier run's CSV and JSON in --out.")
 def experiments(
     which: tuple[str, ...],
@@ -130,6 +139,8 @@ def experiments(
     repeat: int,
     backends: str,
     dems: str | None,
+    workers: int | None,
+    scheduler: str | None,
     replot_only: bool,
 ) -> None:
     """Regenerate the paper's Fig. 6, 7, 8, 11 (several, or all) into --out: CSV, PNG and a paper-vs-persistri table each.
@@ -143,8 +154,20 @@ def experiments(
     The paper's sizes are long: Figs. 6-7 need about 35 minutes of CPU (the
     three sphere distributions at 512K, each about 8 minutes, extrapolated from
     64K as n lg n); Figs. 8 and 11 a few minutes.  --quick takes seconds.
+
+    With --workers N or --scheduler ADDR the counted hull runs of Figs. 6 and 7
+    (the sweep over distributions, sizes and seeds) are made first as Dask tasks,
+    in parallel: the same counts and files.  Figs. 8 and 11 run in this process
+    (Fig. 8 times its runs).
     """
     names = list(FIGURES) if "all" in which else [f for f in FIGURES if f in which]
+    if workers is not None and scheduler is not None:
+        raise click.UsageError("give either --workers or --scheduler, not both (a cluster has its own workers)")
+    if scheduler is not None and not scheduler.strip():
+        raise click.BadParameter("an address such as tcp://host:8786, not an empty string", param_hint="--scheduler")
+    distributed = (workers is not None and workers > 1) or scheduler is not None
+    if replot_only and distributed:
+        raise click.UsageError("--replot measures nothing: --workers and --scheduler do not apply")
     if replot_only:
         if not out.is_dir():
             fail(f"{out}: no such directory (--replot redraws the files of an earlier run there)")
@@ -169,7 +192,15 @@ def experiments(
         raise click.BadParameter(str(exc), param_hint="--sizes") from None
     check_output_dir(out)
     err = stderr_console()
-    with _bars(err) as bars:
+    swept = [n for n in names if n in SWEPT]
+    if distributed and not swept:
+        err.print(f"note: --workers and --scheduler apply to {' and '.join(SWEPT)}; {', '.join(names)} run in this process", markup=False, highlight=False)
+    if distributed and swept and (why := dask_missing()) is not None:
+        fail(why)
+    with connect(workers if distributed and swept else 1, scheduler if swept else None) as client, _bars(err) as bars:
+        if client is not None:
+            count = len(client.scheduler_info(n_workers=-1)["workers"])
+            err.print(f"dask: {count} workers, dashboard {client.dashboard_link}", soft_wrap=True, highlight=False, markup=False)
 
         def progress_for(name: str) -> ProgressCallback:
             task = bars.add_task(name, total=None)
@@ -189,6 +220,7 @@ def experiments(
             repeat=repeat,
             dems=dem_list,
             progress=progress_for,
+            client=client,
         )
     table = Table(title=Text(f"persistri experiments → {out}"))
     columns: tuple[tuple[str, JustifyMethod], ...] = (

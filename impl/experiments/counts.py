@@ -70,10 +70,16 @@ class HullCount:
 
 
 class HullCountCache:
-    """The counted runs made so far in this process, by ``(dist, n, seed, backend)`` (Figs. 6 and 7 share them)."""
+    """The counted runs made so far in this session, by ``(dist, n, seed, backend)`` (Figs. 6 and 7 share them).
+
+    Runs made ahead of the figures (on a Dask cluster, :mod:`persistri.impl.experiments.sweep`) are
+    kept apart (:meth:`prefill`): a figure that asks for one *takes* it (:meth:`take`) as if it had made
+    it, so :meth:`get` still says which runs an earlier figure made (what Fig. 7 reports as reused).
+    """
 
     def __init__(self) -> None:
         self._runs: dict[tuple[str, int, int, str], HullCount] = {}
+        self._ready: dict[tuple[str, int, int, str], HullCount] = {}
 
     def get(self, dist: str, n: int, seed: int, backend: str) -> HullCount | None:
         """The record of that run, if made."""
@@ -82,6 +88,17 @@ class HullCountCache:
     def put(self, record: HullCount) -> None:
         """Remember ``record``."""
         self._runs[(record.dist, record.n, record.seed, record.backend)] = record
+
+    def prefill(self, record: HullCount) -> None:
+        """Keep ``record``, made ahead of the figure that will ask for it."""
+        self._ready[(record.dist, record.n, record.seed, record.backend)] = record
+
+    def take(self, dist: str, n: int, seed: int, backend: str) -> HullCount | None:
+        """The prefilled record of that run, if any, now remembered as made (:meth:`put`)."""
+        record = self._ready.pop((dist, n, seed, backend), None)
+        if record is not None:
+            self.put(record)
+        return record
 
     def __len__(self) -> int:
         return len(self._runs)
@@ -108,7 +125,7 @@ def hull_counts(
     if isinstance(n, bool) or not isinstance(n, int) or n < 4:
         raise ValueError(f"a hull needs at least 4 points, got n={n!r}")
     if cache is not None:
-        hit = cache.get(dist, n, seed, backend)
+        hit = cache.get(dist, n, seed, backend) or cache.take(dist, n, seed, backend)
         if hit is not None:
             if on_points is not None:
                 on_points(n)
