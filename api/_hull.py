@@ -381,7 +381,8 @@ class ConvexHull:
     def __repr__(self) -> str:
         kept = "" if self._history is None else f", history of {len(self._history)} versions"
         if self._chunked is not None:
-            kept += f", {len(self._chunked.chunks)} chunks of {self._chunked.source.name}"
+            k = len(self._chunked.chunks)
+            kept += f", {k} chunk{'' if k == 1 else 's'} of {self._chunked.source.name}"
         return (
             f"persistri.ConvexHull({self.npoints} points, {self.nsimplex} triangles, "
             f"{self._vertices.size} vertices, backend={self.backend!r}{kept})"

@@ -162,7 +162,7 @@ def connect(
             silence_logs=logging.ERROR,
         )
     except (OSError, TimeoutError, RuntimeError) as exc:
-        raise ClusterError(f"cannot start a local Dask cluster of {arg} workers: {_first_line(exc)}") from None
+        raise ClusterError(f"cannot start a local Dask cluster of {arg} workers: {_first_line(exc)}{_main_hint()}") from None
     try:
         client = Client(cluster)
         try:
@@ -171,6 +171,16 @@ def connect(
             client.close()
     finally:
         cluster.close()
+
+
+def _main_hint() -> str:
+    """Why worker processes may fail to start from a script: each re-imports the script's ``__main__``."""
+    import sys
+
+    main = sys.modules.get("__main__")
+    if main is None or not hasattr(main, "__file__"):  # the REPL, python -c: nothing to re-import
+        return ""
+    return ' (from a script, start it under `if __name__ == "__main__":`; worker processes re-import the script)'
 
 
 def _first_line(exc: BaseException) -> str:
