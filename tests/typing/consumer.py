@@ -214,6 +214,14 @@ taller = hull.add_points([[1.0, 1.0, 5.0]])
 assert_type(taller, persistri.ConvexHull)
 assert taller.volume == 12.0 and hull.volume == 8.0
 
+# Points too many to load: a path (or a Dask/Zarr array), hulled chunk by chunk — here in this process.
+with tempfile.TemporaryDirectory() as where:
+    np.save(Path(where) / "cube.npy", cube)
+    chunked = persistri.ConvexHull(Path(where) / "cube.npy", workers=1, chunk_rows=3)
+    assert_type(chunked.vertex_points, FloatArray)
+    assert chunked.chunked is not None and chunked.volume == hull.volume
+    assert chunked.vertices.tolist() == hull.vertices.tolist()
+
 # The functions under the classes, and their result types.
 deep: persistri.Hull = persistri.convex_hull(cube)
 assert_type(persistri.ConvexHull.from_hull(deep), persistri.ConvexHull)
