@@ -107,9 +107,9 @@ class ConvexHull:
     memory); ``history`` is the final merge's versions (hulls of growing sets of the
     candidates that reached it), its simplices as rows of the whole input; ``result``
     is that final run (its ``points`` are the candidates, input rows ``chunked.rows``)
-    and ``chunked`` the whole run (chunks, merges, workers).  ``stats``, a
-    ``progress`` callback and :meth:`add_points` need the one-process path and are a
-    :class:`ValueError` there.  Dask is imported only on this path (``persistri[dask]``
+    and ``chunked`` the whole run (chunks, merges, workers); :meth:`add_points`
+    resumes that final run.  ``stats`` and a ``progress`` callback need the
+    one-process path and are a :class:`ValueError` there.  Dask is imported only on this path (``persistri[dask]``
     for a cluster); ``import persistri`` never imports it.
 
     >>> import numpy as np, persistri
@@ -238,18 +238,22 @@ class ConvexHull:
         its ``points`` are this hull's rows followed by the new ones (row numbers
         keep their meaning), and its ``history`` continues this one's when this
         one kept it.  ``check`` defaults to this hull's.  Errors as for the
-        constructor, about ``points``.  A :class:`ValueError` for a hull computed chunk by chunk
-        (its input is not in memory to resume from: hull the old and new points together).
+        constructor, about ``points``.
+
+        A hull computed chunk by chunk resumes its final merge instead
+        (:func:`~persistri.impl.scale.extend.extend_parallel`), with exactly the same result as
+        the one-process hull's ``add_points``; that reads the input once, in this process, to
+        find the new points equal to old ones.
         """
         from persistri.impl.hull.extend import extend_hull
 
-        if self._chunked is not None:
-            raise ValueError(
-                f"add_points resumes the one-process run, but this hull was computed chunk by chunk from "
-                f"{self._chunked.source.name}: hull the old and the new points together instead"
-            )
-
         chk = self._check if check is None else check
+        if self._chunked is not None:
+            from persistri.impl.scale.extend import extend_parallel
+
+            out = ConvexHull.__new__(ConvexHull)
+            out._adopt_chunked(extend_parallel(self._chunked, points, check=chk, progress=progress), chk)
+            return out
         return ConvexHull.from_hull(extend_hull(self._hull, points, check=chk, progress=progress), check=chk)
 
     # -- scipy.spatial.ConvexHull's attributes ---------------------------------------

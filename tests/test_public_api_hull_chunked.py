@@ -20,9 +20,12 @@ import numpy as np
 import pytest
 import zarr
 from distributed import Client
+from hypothesis import given
+from hypothesis import strategies as st
 from numpy.typing import NDArray
 
 import persistri
+from persistri.impl.hull.errors import DegenerateInputError
 from persistri.impl.scale.cluster import ENV_SCHEDULER, connect
 
 pytestmark = pytest.mark.filterwarnings("ignore::ResourceWarning")
@@ -133,8 +136,8 @@ def test_what_cannot_be_done_chunk_by_chunk_is_one_clear_error(tmp_path: Path) -
     pts = degenerate(5)
     np.save(tmp_path / "pts.npy", pts)
     hull = persistri.ConvexHull(tmp_path / "pts.npy")
-    with pytest.raises(ValueError, match=r"^add_points resumes the one-process run, but this hull was computed chunk by chunk from .*pts\.npy"):
-        hull.add_points([[9.0, 9.0, 9.0]])
+    with pytest.raises(ValueError, match=r"^new points: row 1 is not finite"):
+        hull.add_points([[9.0, 9.0, 9.0], [np.inf, 0.0, 0.0]])
     with pytest.raises(ValueError, match=r"^stats= counts the operations of one process"):
         persistri.ConvexHull(tmp_path / "pts.npy", stats=persistri.Stats())
     with pytest.raises(ValueError, match=r"^a progress callback follows the one-process run"):
@@ -155,6 +158,59 @@ def test_what_cannot_be_done_chunk_by_chunk_is_one_clear_error(tmp_path: Path) -
     np.save(tmp_path / "bad.npy", bad)
     with pytest.raises(ValueError, match=r"bad\.npy: row 200 is not finite"):
         persistri.ConvexHull(tmp_path / "bad.npy", chunk_rows=64, workers=1)
+
+
+# --- add_points: the final merge resumed ---------------------------------------------------------------
+
+
+def test_add_points_is_the_one_process_extension(tmp_path: Path) -> None:
+    """New points on the hull's faces and edges, inside, equal to old rows (vertices or not), to each other."""
+    pts = degenerate(8)
+    np.save(tmp_path / "pts.npy", pts)
+    grid = np.array([[x, y, z] for x in range(5) for y in range(5) for z in range(5)], dtype=np.float64)
+    new = np.array(
+        [[2, 2, 2], [0, 0, 0], [2, 2, 7], [2, 2, 7], [1, 1, 6], [4, 4, 5], [0, 2, 4], [2, 0, 3.5], [6, 6, 6], [4, 4, 6]],
+        dtype=np.float64,
+    )
+    for seed in (0, 1):
+        one = persistri.ConvexHull(pts, seed=seed, history=True)
+        got = persistri.ConvexHull(tmp_path / "pts.npy", chunk_rows=60, workers=1, seed=seed, history=True)
+        before = got.simplices.copy()
+        a, b = one.add_points(new), got.add_points(new)
+        assert np.array_equal(got.simplices, before)  # the old hull is unchanged
+        assert_same_extension(b, a)
+        old_rows = {tuple(p): i for i, p in reversed(list(enumerate(pts.tolist())))}  # each point's first row
+        for j, p in enumerate(new.tolist()):  # merged into the first old row, else into the first new one
+            first = old_rows.get(tuple(p), len(pts) + new.tolist().index(p))
+            assert (first == len(pts) + j) != ([len(pts) + j, first] in b.duplicates.tolist()), p
+        assert len(b.duplicates) - len(got.duplicates) >= 4  # [2,2,2], [0,0,0], [4,4,5] old; [2,2,7] twice
+        history = b.history
+        assert history is not None and got.history is not None
+        assert history[: len(got.history)] == tuple(got.history)  # the old versions, the same objects
+        # The last version is the bulldozer's, before sliver flips (as in one process): the same vertices.
+        assert np.array_equal(history.vertices(len(history) - 1), b.vertices)
+        assert_same_extension(b.add_points(grid + 0.5), a.add_points(grid + 0.5))  # a chain of them
+
+
+def assert_same_extension(got: persistri.ConvexHull, want: persistri.ConvexHull) -> None:
+    for name in ("vertices", "simplices", "duplicates", "equations", "vertex_points"):
+        assert np.array_equal(getattr(got, name), getattr(want, name)), name
+    assert (got.npoints, got.volume, got.area) == (want.npoints, want.volume, want.area)
+    assert np.array_equal(got.points, want.points)
+
+
+@given(
+    coords=st.lists(st.tuples(*[st.integers(0, 3)] * 3), min_size=4, max_size=60),
+    more=st.lists(st.tuples(*[st.integers(-1, 4)] * 3), min_size=1, max_size=25),
+    chunk_rows=st.integers(1, 30),
+)
+def test_add_points_on_integer_grids(coords: list[tuple[int, int, int]], more: list[tuple[int, int, int]], chunk_rows: int) -> None:
+    pts, new = np.array(coords, dtype=np.float64), np.array(more, dtype=np.float64)
+    try:
+        want = persistri.ConvexHull(pts).add_points(new)
+    except DegenerateInputError:
+        return  # no hull to extend (the chunked path's same error is tested in test_scale_hull.py)
+    assert_same_extension(persistri.ConvexHull(pts, workers=1, chunk_rows=chunk_rows).add_points(new), want)
 
 
 # --- on two worker processes --------------------------------------------------------------------------
