@@ -6,6 +6,8 @@
 * :mod:`persistri.impl.scale.hull` — the exact convex hull of points in chunks
   (arrays, Dask arrays, memory-mapped ``.npy``, Zarr, directories of ``.npy``):
   chunk hulls on workers, merged by a tree reduction, equal to the one-process hull;
+* :mod:`persistri.impl.scale.extend` — points added to such a hull, resuming its final
+  merge (``persistri.ConvexHull.add_points`` on chunked input);
 * :mod:`persistri.impl.scale.futures` — several futures of one version (quality
   refinements of one mesh) run as tasks from the shared version.
 
