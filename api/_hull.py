@@ -164,7 +164,10 @@ class ConvexHull:
         where = (client, workers, scheduler, chunk_rows)
         if isinstance(points, os.PathLike) or _too_big_to_load(points) or any(x is not None for x in where):
             if stats is not None:
-                raise ValueError("stats= counts the operations of one process: give the points as an array, without client/workers/scheduler/chunk_rows")
+                raise ValueError(
+                    "stats= counts the operations of one process: give the points as an array, "
+                    "without client/workers/scheduler/chunk_rows"
+                )
             if not isinstance(progress, bool):
                 raise ValueError("a progress callback follows the one-process run: give progress=True for chunked input")
             self._adopt_chunked(
