@@ -103,7 +103,7 @@ from persistri.impl.mesh.angles import angle_at_least
 from persistri.impl.mesh.precision import crowded_apex, nearest_features, valid_split
 from persistri.impl.mesh.quality import AngleBound, QualityTests
 from persistri.impl.mesh.record import Counts, DropLog, Refinement
-from persistri.impl.mesh.splitting import rounded_candidates, small_angle_at, split_point
+from persistri.impl.mesh.splitting import placement_tolerances, rounded_candidates, small_angle_at, split_point
 from persistri.impl.mesh.steiner import PrecisionLimitError, steiner_point
 from persistri.impl.mesh.triangulation import (
     EXTERIOR,
@@ -168,6 +168,7 @@ class Refiner:
         self._segs: deque[Constraint] = deque()
         self._exempt: set[int] = set()
         self._small: dict[tuple[int, int], bool] = {}
+        self._placement: dict[int, tuple[tuple[int, float], ...]] = {}
         self._dead: set[int] = set()
         self.log = DropLog()
         self._version = 0  # the history index of the version the run stands at
@@ -204,6 +205,12 @@ class Refiner:
         found = self._small.get(key)
         if found is None:
             found = self._small[key] = small_angle_at(self.P, self.geo, int(o), s)
+        return found
+
+    def _tolerances(self, s: int) -> tuple[tuple[int, float], ...]:
+        found = self._placement.get(s)
+        if found is None:
+            found = self._placement[s] = placement_tolerances(self.P, self.geo, s)
         return found
 
     def _push_bad(self, t: Tri, d: MeshDatum, p: int, q: int, r: int, edge2: float) -> None:
@@ -289,7 +296,9 @@ class Refiner:
                     f"{crowded}: a mesh meeting the bounds would need edges shorter than the spacing of doubles there "
                     "(move the vertex onto the segment or away from it, or mesh without an angle bound)"
                 )
-        t, x, y, shell, rounded = split_point(P, geo, lo, hi, s, sides, self._small_angle, self.exact_segments)
+        t, x, y, shell, rounded = split_point(
+            P, geo, lo, hi, s, sides, self._small_angle, self.exact_segments, self._tolerances
+        )
         p = P.append(x, y)
         step = T.insert(c, p, start, split=(lo, hi, s))
         if rounded and not valid_split(P, step, lo, hi):

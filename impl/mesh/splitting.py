@@ -44,7 +44,16 @@ from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
 from persistri.impl.mesh.steiner import PrecisionLimitError, split_parameter
 from persistri.impl.mesh.triangulation import MeshDatum, Tri, constraint_of
 
-__all__ = ["SplitPoint", "split_point", "rounded_candidates", "near_segment", "small_angle_at", "shell_exponent"]
+__all__ = [
+    "SplitPoint",
+    "split_point",
+    "rounded_candidates",
+    "near_segment",
+    "small_angle_at",
+    "placement_tolerances",
+    "placed_well",
+    "shell_exponent",
+]
 
 SplitPoint = tuple[Fraction, float, float, "tuple[int, int] | None", bool]
 """``(t, x, y, shell, rounded)``: the parameter on the segment, the point, the shell ``(o, k)`` it lies on (or
@@ -68,6 +77,45 @@ def small_angle_at(P: GrowingPredicates2, geo: SegmentGeometry, o: int, s: int) 
         if not angle_at_least(d1[0] * d2[0] + d1[1] * d2[1], d1[0] ** 2 + d1[1] ** 2, d2[0] ** 2 + d2[1] ** 2, 60.0):
             return True
     return False
+
+
+def placement_tolerances(P: GrowingPredicates2, geo: SegmentGeometry, s: int) -> tuple[tuple[int, float], ...]:
+    """For each end ``o`` of segment ``s`` where another segment meets it at less than 60°: ``(o, α² / 4)``, ``α`` the
+    smallest such angle in radians (a float: it sets a tolerance, decides no predicate).
+
+    A split point of ``s`` off its wanted place by ``δ`` (along the segment) moves its distance from ``o`` by ``δ``.
+    Its twin on the other segment — the split point at the same distance ``r`` from ``o`` — stays outside the
+    diametral circle of the subsegments beside it only while ``δ / r`` is below about ``α² / 2`` (the twin lies
+    ``r α`` off the segment and ``r α² / 2`` back from its foot), and Triangle's exemption asks the two distances
+    to agree within a factor 1.001; ``α² / 4`` keeps both, with a margin.  O(segments): the caller memoises it.
+    """
+    out: list[tuple[int, float]] = []
+    for o in geo.ends[s]:
+        if o >= geo.n_input or geo.incident[o] < 2 or not small_angle_at(P, geo, o, s):
+            continue
+        a, b = geo.ends[s]
+        far = b if a == o else a
+        smallest = math.pi
+        for t, (c, d) in enumerate(geo.ends):
+            if t == s or o not in (c, d) or c == d:
+                continue
+            other = d if c == o else c
+            (io, ip, iq), _ = P.integers(o, far, other)
+            d1, d2 = (ip[0] - io[0], ip[1] - io[1]), (iq[0] - io[0], iq[1] - io[1])
+            cross, dot = d1[0] * d2[1] - d1[1] * d2[0], d1[0] * d2[0] + d1[1] * d2[1]
+            # int / int divides exactly rounded, without overflow; atan2 stays accurate for tiny angles.
+            big = max(abs(cross), abs(dot))
+            smallest = min(smallest, abs(math.atan2(cross / big, dot / big)))
+        out.append((o, min(2.0**-12, smallest * smallest / 4.0)))
+    return tuple(out)
+
+
+def placed_well(t: Fraction, wanted: Fraction, ends: Sequence[tuple[Fraction, float]]) -> bool:
+    """Whether parameter ``t`` is within ``τ · |wanted − t_o|`` of ``wanted`` for every ``(t_o, τ)`` in ``ends``:
+    the split point is as near its wanted place, relative to its distance from each small input angle's apex, as
+    :func:`placement_tolerances` asks (exact, on rationals). O(1)."""
+    off = abs(t - wanted)
+    return all(off <= Fraction(tau) * abs(wanted - t_o) for t_o, tau in ends)
 
 
 def shell_exponent(length: float) -> int:
@@ -109,6 +157,7 @@ def split_point(
     sides: Sequence[tuple[Tri, MeshDatum] | None],
     small: Callable[[int, int], bool],
     exact_segments: bool,
+    tolerances: Callable[[int], tuple[tuple[int, float], ...]] | None = None,
 ) -> SplitPoint:
     """The point splitting the subsegment ``{lo, hi}`` of segment ``s`` (module docstring).
 
@@ -142,7 +191,14 @@ def split_point(
             shell = (centre, k)
     try:
         t, x, y = split_parameter(P, a, b, first, second, t_first, t_second, wanted)
-        return t, x, y, shell, False
+        near = () if tolerances is None else tolerances(s)
+        if exact_segments or not near:
+            return t, x, y, shell, False
+        ends = [(Fraction(0) if o == a else Fraction(1), tau) for o, tau in near]
+        if placed_well(t, wanted, ends):
+            return t, x, y, shell, False
+        # The doubles exactly on the segment are too sparse here: the nearest is farther from the shell than a
+        # small input angle tolerates, and the refinement would split on forever.  Rounded, as Triangle's are.
     except PrecisionLimitError as exc:
         if exact_segments:
             raise PrecisionLimitError(
