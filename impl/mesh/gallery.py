@@ -10,7 +10,10 @@ each with a name and a one-line description (:data:`GALLERY`):
 * ``crack`` — a square with an internal crack and one from the boundary (dangling segments);
 * ``utm-tile`` — a 40 m lot at UTM offsets (x ≈ 5e5, y ≈ 4e6 m) with centimetre detail
   and a building footprint as a hole;
-* ``comb`` — a comb of twelve thin teeth (width 0.25, height 3).
+* ``comb`` — a comb of twelve thin teeth (width 0.25, height 3);
+* ``needle`` — a triangle of length 1 whose tip is a 1e-6 rad input angle;
+* ``fan`` — a rectangle with five unit segments from one interior vertex, 1e-6 rad apart
+  (a cluster of small input angles at one vertex).
 
 Coordinates computed from trigonometry are rounded to a dyadic grid
 (multiples of 2^-40), so every machine builds the same doubles.  Every domain
@@ -28,7 +31,7 @@ from numpy.typing import NDArray
 
 from persistri.impl.mesh.domain import PSLG, as_pslg
 
-__all__ = ["GalleryDomain", "GALLERY", "gallery", "gallery_domain", "star_tip_angle"]
+__all__ = ["GalleryDomain", "GALLERY", "gallery", "gallery_domain", "star_tip_angle", "needle", "fan"]
 
 _GRID = 2.0**-40
 
@@ -126,6 +129,23 @@ def comb(teeth: int = 12) -> PSLG:
     return as_pslg(pts, _ring(0, len(pts)))
 
 
+def needle(half_width: float = 5e-7) -> PSLG:
+    """The triangle (0, 0), (1, ∓``half_width``): its tip at the origin is an input angle of about
+    ``2 · half_width`` radians.  Not snapped: a full-precision ``half_width`` (5e-7 has a 53-bit significand)
+    leaves few doubles exactly on the two long segments, as real-world coordinates do."""
+    return as_pslg([[0.0, 0.0], [1.0, -half_width], [1.0, half_width]], _ring(0, 3))
+
+
+def fan(spokes: int = 5, gap: float = 1e-6) -> PSLG:
+    """The rectangle [−1, 2] × [−1, 1] with ``spokes`` unit segments from the origin, ``gap`` radians apart: a
+    cluster of small input angles at one vertex, inside the domain."""
+    pts = [[-1.0, -1.0], [2.0, -1.0], [2.0, 1.0], [-1.0, 1.0], [0.0, 0.0]]
+    for k in range(spokes):
+        a = (k - (spokes - 1) / 2) * gap
+        pts.append([math.cos(a), math.sin(a)])
+    return as_pslg(_snap(np.array(pts)), _ring(0, 4) + [[4, 5 + k] for k in range(spokes)])
+
+
 _BUILDERS: tuple[tuple[str, str, Callable[[], PSLG]], ...] = (
     ("square-hole", "a square with a square hole", square_hole),
     ("l-shape", "an L-shaped polygon with one reflex corner", l_shape),
@@ -134,6 +154,8 @@ _BUILDERS: tuple[tuple[str, str, Callable[[], PSLG]], ...] = (
     ("crack", "a square with an internal crack and a crack from the boundary", crack),
     ("utm-tile", "a 40 m lot at UTM offsets (5e5, 4e6) with a 5 cm notch and a building hole", utm_tile),
     ("comb", "a comb of twelve thin teeth", comb),
+    ("needle", "a triangle with a 1e-6 rad tip (an input angle far below 60°)", needle),
+    ("fan", "five segments from one interior vertex, 1e-6 rad apart", fan),
 )
 
 GALLERY: tuple[str, ...] = tuple(name for name, _, _ in _BUILDERS)
