@@ -422,7 +422,7 @@ def _angles_option(ctx: click.Context, param: click.Parameter, value: str) -> tu
     "--domains",
     default=None,
     metavar="NAMES",
-    help="Gallery domains, separated by commas (default: all: square-hole, l-shape, star, circle, crack, utm-tile, comb).",
+    help="Gallery domains, separated by commas (default: all: square-hole, l-shape, star, circle, crack, utm-tile, comb, needle, fan).",
 )
 @click.option("--angles", default="20,30,33", show_default=True, callback=_angles_option, help="Minimum-angle bounds in degrees, separated by commas.")
 @click.option("--max-area", type=click.FloatRange(min=0, min_open=True), default=None, help="Also bound every triangle's area by this, on every domain.")

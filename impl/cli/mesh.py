@@ -302,7 +302,7 @@ def mesh(
     INPUT is a Triangle .poly file (vertices, segments, holes, regions; its
     vertices may be in the .node beside it), a .node file (the convex hull of
     its points) or the name of a gallery domain: square-hole, l-shape, star,
-    circle, crack, utm-tile, comb.  Every vertex of the mesh is a pair of
+    circle, crack, utm-tile, comb, needle, fan.  Every vertex of the mesh is a pair of
     doubles and every decision is exact; a circumcentre that would encroach a
     segment is undone by returning to the version before it (the paper's §1).
 
