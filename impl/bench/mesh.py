@@ -389,8 +389,8 @@ def mesh_table(bench: MeshBench) -> Any:
             notes.append(f"{r.domain} at {r.angle:g}°: persistri's mesh: {p.problem}")
         if p.rounded_splits:
             notes.append(
-                f"{r.domain} at {r.angle:g}°: persistri rounded {p.rounded_splits} split point(s) where no double lies "
-                "on the segment (as Triangle does); checked with rounding allowed"
+                f"{r.domain} at {r.angle:g}°: persistri rounded {p.rounded_splits} split point(s) to the nearest "
+                "doubles, off the segment by an ulp (as Triangle does); checked with rounding allowed"
             )
         if not t.passes:
             notes.append(f"{r.domain} at {r.angle:g}°: Triangle's mesh: {t.problem}")

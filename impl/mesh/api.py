@@ -184,7 +184,9 @@ class QualityMesh:
       ``blocked`` — ones not inserted (a segment lay between); ``exempt`` —
       triangles left below the angle bound at small input angles; ``rounded_splits`` —
       split points rounded to the nearest doubles because no double lies exactly on
-      their subsegment (never with ``exact_segments=True``; such a mesh passes
+      their subsegment, or none near enough the place a small input angle needs the split
+      at (:func:`~persistri.impl.mesh.splitting.placement_tolerances`) (never with
+      ``exact_segments=True``; such a mesh passes
       ``verify_mesh(..., exact_segments=False)``, one with none passes with ``True``);
       ``rounding_retries`` — rounded split points whose version was not a valid mesh (a
       flat or inverted triangle near a vertex close to the segment), dropped for the next
@@ -311,7 +313,8 @@ def _finish(
         notes.append(
             f"{counts.rounded_splits} split point{'s' if counts.rounded_splits > 1 else ''} within an ulp of "
             f"segment{'s' if len(segs) > 1 else ''} {', '.join(map(str, segs))}, not on it: no double lies exactly "
-            "there, so they were rounded to the nearest doubles (check with verify_mesh(..., exact_segments=False))"
+            "there (or none near enough the place a small input angle needs), so they were rounded to the nearest "
+            "doubles (check with verify_mesh(..., exact_segments=False))"
         )
     return QualityMesh(
         vertices=arr.vertices,
@@ -444,7 +447,9 @@ def triangulate(
       is split; fewer triangles) or ``"circle"`` (Ruppert's diametral circles, no
       deletion: Triangle's ``-D``);
     * ``exact_segments`` — False (the default): a split point lies exactly on its segment
-      wherever a double does; on a subsegment where none does (ends given to the
+      wherever a double does near the wanted place (on a segment at a small input angle:
+      within ``min(α²/4, 2^-12)`` of its distance from the apex, :func:`~persistri.impl.mesh.splitting.placement_tolerances`);
+      on a subsegment where none does (ends given to the
       centimetre at UTM offsets, say) it is rounded to the nearest doubles, as Triangle's
       are, counted in ``rounded_splits`` and said in ``notes``; such a mesh passes
       ``verify_mesh(..., exact_segments=False)``, and one with ``rounded_splits == 0``

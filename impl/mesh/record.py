@@ -45,7 +45,8 @@ class Counts:
       before it was split (Chew's rule, with lenses);
     * ``exempt`` — bad-angle triangles left alone at small input angles;
     * ``rounded_splits`` — split points not exactly on their input segment (``exact_segments=False``,
-      the default): rounded to the nearest doubles where no double lies on the subsegment, or on a
+      the default): rounded to the nearest doubles where no double lies on the subsegment (or none near
+      enough the place a small input angle needs), or on a
       piece of the chain that ends at such a point; ``rounded_segments`` — the input segments they split;
       ``rounding_retries`` — rounded split points inserted and dropped because their version was not a valid
       mesh (a flat or inverted triangle), before a nearby double that makes one.

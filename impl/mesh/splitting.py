@@ -17,8 +17,10 @@ parameter on ``AB``:
   midpoint;
 * **exactly**: the point is the double nearest the wanted one *exactly on the
   subsegment* (:func:`~persistri.impl.mesh.steiner.split_parameter`: the lattice
-  of doubles on the segment).  Where no double lies on the subsegment the
-  exact point is rounded to the nearest doubles instead, as Triangle's split
+  of doubles on the segment).  Where no double lies on the subsegment — or, on a
+  segment at a small input angle, none near enough the wanted place for the
+  shells to pair up (:func:`placement_tolerances`) — the exact point is rounded to
+  the nearest doubles instead, as Triangle's split
   points are (``exact_segments=False``, the default; reported as *rounded*), or
   :class:`~persistri.impl.mesh.steiner.PrecisionLimitError` is raised
   (``exact_segments=True``).  A rounded point lies off the segment's line, and
@@ -80,14 +82,19 @@ def small_angle_at(P: GrowingPredicates2, geo: SegmentGeometry, o: int, s: int) 
 
 
 def placement_tolerances(P: GrowingPredicates2, geo: SegmentGeometry, s: int) -> tuple[tuple[int, float], ...]:
-    """For each end ``o`` of segment ``s`` where another segment meets it at less than 60°: ``(o, α² / 4)``, ``α`` the
-    smallest such angle in radians (a float: it sets a tolerance, decides no predicate).
+    """For each end ``o`` of segment ``s`` where another segment meets it at less than 60°: ``(o, τ)`` with
+    ``τ = min(α² / 4, 2^-12)``, ``α`` the smallest such angle in radians (a float: it sets a tolerance, decides no
+    predicate).  A split point of ``s`` is *placed well* when it lies within ``τ · r`` of its wanted place, ``r``
+    the wanted place's distance from ``o`` (:func:`placed_well`).
 
-    A split point of ``s`` off its wanted place by ``δ`` (along the segment) moves its distance from ``o`` by ``δ``.
-    Its twin on the other segment — the split point at the same distance ``r`` from ``o`` — stays outside the
-    diametral circle of the subsegments beside it only while ``δ / r`` is below about ``α² / 2`` (the twin lies
-    ``r α`` off the segment and ``r α² / 2`` back from its foot), and Triangle's exemption asks the two distances
-    to agree within a factor 1.001; ``α² / 4`` keeps both, with a margin.  O(segments): the caller memoises it.
+    Why: a split point off its wanted place by ``δ`` (along the segment) is ``δ`` farther from or nearer to ``o``.
+    Its twin on the other segment — the split point at the same distance ``r`` from ``o`` — lies ``r sin α`` off
+    this segment and ``r (1 − cos α) ≈ r α² / 2`` back from the foot of the split point; it stays outside the
+    diametral circle of the subsegment of length ``L <= r`` ending there only while the split point is not farther
+    than that, ``δ / r`` below about ``α² / 2``.  Triangle's exemption asks the two distances to agree within a
+    factor 1.001 on their squares, 5e-4 on the distances.  ``τ`` keeps both, with a margin.  On a needle of 1e-6
+    rad the doubles lying exactly on a segment can be 5e-4 apart, relatively: the nearest one is then not placed
+    well.  O(segments): the caller memoises it.
     """
     out: list[tuple[int, float]] = []
     for o in geo.ends[s]:
@@ -162,7 +169,10 @@ def split_point(
     """The point splitting the subsegment ``{lo, hi}`` of segment ``s`` (module docstring).
 
     ``sides``: the triangles beside it (None where there is none); ``small(o, s)``: the memoised
-    :func:`small_angle_at`.  :class:`PrecisionLimitError` in strict mode where no double lies on the subsegment,
+    :func:`small_angle_at`; ``tolerances(s)``: the memoised :func:`placement_tolerances` (None: none asked).  A
+    lattice point not placed well is rounded off instead unless ``exact_segments`` (strict mode keeps it: exactness
+    was asked first, and the refinement may then need ``max_steiner`` at a tiny input angle).
+    :class:`PrecisionLimitError` in strict mode where no double lies on the subsegment,
     or when even the rounded point falls on an end.  O(1).
     """
     tu, tw = param_on_segment(P, geo, s, lo), param_on_segment(P, geo, s, hi)
@@ -262,11 +272,12 @@ def rounded_candidates(
                 along = (fx - ux) * vx + (fy - uy) * vy
                 if not 0 < along < vx * vx + vy * vy:
                     continue
-                if near_segment(fax, fay, fbx, fby, x, y):
-                    near.append(((fx - px) ** 2 + (fy - py) ** 2, x, y))
+                near.append(((fx - px) ** 2 + (fy - py) ** 2, x, y))
         near.sort()
+        # The box test is the costly one: run it lazily, nearest first (the caller usually takes the first).
         for _, x, y in near:
-            yield t, x, y
+            if near_segment(fax, fay, fbx, fby, x, y):
+                yield t, x, y
 
 
 _WINDOW: Final[int] = 3
