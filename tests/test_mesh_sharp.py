@@ -1,4 +1,4 @@
-"""Very sharp input angles (issue 16): needles, a vee inside a domain, a fan of segments at one vertex, against Triangle.
+"""Very sharp input angles (issue 16): needles, a vee inside a domain, a fan of segments at one vertex; vs Triangle.
 
 The refinement must terminate there with the bound reached outside the exempt triangles, every mesh must pass the
 exact checker, and the triangle counts must stay near Triangle's ``pq<angle>`` (within 1.1x where the issue asks it).
@@ -26,7 +26,7 @@ TIPS = {"1deg": math.radians(1.0), "0.1deg": math.radians(0.1), "1e-3rad": 1e-3,
 
 
 def vee(tip: float) -> PSLG:
-    """Two segments of length about 0.5 meeting at the origin at ``tip`` radians, inside the rectangle [−1, 2] × [−1, 1]."""
+    """Two segments of length about 0.5 meeting at the origin at ``tip`` radians, inside [−1, 2] × [−1, 1]."""
     h = math.tan(tip / 2) / 2
     pts = [[-1.0, -1.0], [2.0, -1.0], [2.0, 1.0], [-1.0, 1.0], [0.0, 0.0], [0.5, -h], [0.5, h]]
     return as_pslg(pts, [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [4, 6]])

@@ -447,9 +447,10 @@ def triangulate(
       is split; fewer triangles) or ``"circle"`` (Ruppert's diametral circles, no
       deletion: Triangle's ``-D``);
     * ``exact_segments`` — False (the default): a split point lies exactly on its segment
-      wherever a double does near the wanted place (on a segment at a small input angle:
-      within ``min(α²/4, 2^-12)`` of its distance from the apex, :func:`~persistri.impl.mesh.splitting.placement_tolerances`);
-      on a subsegment where none does (ends given to the
+      wherever a double does near the wanted place (on a segment at a small input angle
+      ``α``: within ``min(α²/4, 2^-12)`` of its distance from the apex,
+      :func:`~persistri.impl.mesh.splitting.placement_tolerances`); on a subsegment where
+      none does (ends given to the
       centimetre at UTM offsets, say) it is rounded to the nearest doubles, as Triangle's
       are, counted in ``rounded_splits`` and said in ``notes``; such a mesh passes
       ``verify_mesh(..., exact_segments=False)``, and one with ``rounded_splits == 0``

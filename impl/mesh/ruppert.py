@@ -72,7 +72,11 @@ distances to ``o`` within a factor 1.001 of each other (Triangle's rule; the
 comparison is exact, on integers: the factor is a tolerance of the rule, which
 splits at midpoints when both ends of a segment are shared vertices, not of any
 predicate) — is **exempt**: it is not split (such a triangle's small angle is
-forced by the input angle; :attr:`Counts.exempt`).  Triangles exempt this way are
+forced by the input angle; :attr:`Counts.exempt`).  Both devices need the splits on their shells: on a
+segment at an input angle ``α`` below 60°, a split point exactly on the segment but farther than
+``min(α²/4, 2^-12)`` of its distance from the apex off its wanted place is rounded to the nearest doubles instead
+(:func:`~persistri.impl.mesh.splitting.placement_tolerances`), else its twin on the other segment encroaches and
+the two sides split each other without end.  Triangles exempt this way are
 the only ones allowed below the bound; :attr:`Refinement.reached` says whether
 every other triangle meets it.  ``max_steiner`` caps the number of Steiner
 points for bounds beyond the theory's reach (Triangle's ``-S``).
