@@ -89,275 +89,58 @@ at ``insert`` without an ordered structure, and are reported with a clear
 ``TypeError`` by the first operation that orders them (the listing, or an
 insertion into the same collision node).  As for Python's ``dict``, equal keys
 must have equal hashes, and equality (``==``) must agree with the order.
+
+Where it lives: the node layout, its bit arithmetic and the path-copying node
+builders in :mod:`~persistri.impl.maps.hamt_nodes` (with :class:`HMap` and
+:class:`HashKey`, re-exported here); the exact check of every invariant in
+:mod:`~persistri.impl.maps.hamt_check`; the ``ORD_MAP`` operations, which walk
+the nodes, here.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Hashable
-from operator import itemgetter
-from typing import Any, Final, Generic, NamedTuple, Protocol, TypeAlias, TypeVar
+from collections.abc import Callable
+from typing import Any, Generic, TypeVar
 
+from persistri.impl.maps.hamt_check import check as _check_map
+from persistri.impl.maps.hamt_nodes import (
+    _BIT,
+    _BITS,
+    _CKEYS,
+    _EMPTY_ROOT,
+    _ENTRIES,
+    _FULL,
+    _LOW,
+    _MASK,
+    HashKey,
+    HMap,
+    _Absent,
+    _check_orderable,
+    _child_to_leaf,
+    _collision_insert,
+    _collision_pair,
+    _collision_remove,
+    _full,
+    _hash,
+    _join,
+    _new_map,
+    _Node,
+    _replace,
+    _sorted_items,
+    _unhashable,
+    _unorderable,
+    _unpickle,  # noqa: F401 - pickles made before the split name persistri.impl.maps.hamt._unpickle
+    _update,
+)
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound
-from persistri.spec.order import NATURAL_ORDER, Comparable, NaturalOrder
+from persistri.spec.order import NATURAL_ORDER, NaturalOrder
 
 __all__ = ["HashKey", "HamtMap", "HMap", "hamt"]
-
-
-class HashKey(Hashable, Comparable, Protocol):
-    """A key the HAMT accepts: hashable (the trie is indexed by ``hash``) and ordered by ``<``."""
-
 
 K = TypeVar("K", bound=HashKey)
 V = TypeVar("V")
 B = TypeVar("B")
-
-_Node: TypeAlias = tuple[Any, ...]
-"""A bitmap node ``(datamap, nodemap, k, v, …, children…)`` or a collision node ``(0, 0, hash, k, v, …)``."""
-
-_BITS: Final = 4
-"""Hash bits read per level."""
-_WIDTH: Final = 1 << _BITS
-"""Slots per node (16)."""
-_MASK: Final = _WIDTH - 1
-_LEVELS: Final = 16
-"""Levels that separate any two different 64-bit hashes (64 / 4)."""
-_FULL: Final = (1 << _WIDTH) - 1
-"""The nodemap of a node whose every slot holds a child: always this very object (see :func:`_full`)."""
-_BIT: Final = tuple(1 << s for s in range(_WIDTH))
-"""``_BIT[s] = 2**s``: precomputed, so the hot paths allocate no int for it."""
-_LOW: Final = tuple((1 << s) - 1 for s in range(_WIDTH))
-"""``_LOW[s]``: the bits below slot ``s``, whose population count is the slot's position."""
-
-_ENTRIES: Final = 2
-"""Index of a bitmap node's first entry (after its two bitmaps): its first leaf, or its first child."""
-_CKEYS: Final = 3
-"""Index of a collision node's first key (after ``0, 0, hash``)."""
-
-
-class HMap(NamedTuple, Generic[K, V]):
-    """A HAMT map value: its number of items and its root bitmap node.
-
-    Only :class:`HamtMap`'s operations look inside; the fields are public for
-    tests and teaching.  Two maps with the same items are equal (canonical form).
-    """
-
-    size: int
-    """The number of items, so ``numItems`` is O(1)."""
-    root: _Node
-    """The root bitmap node (the only node allowed to be empty or to hold a single leaf or collision node)."""
-
-    def __reduce__(self) -> tuple[Callable[[int, _Node], HMap[K, V]], tuple[int, _Node]]:
-        """Pickle as ``(size, root)``, rebuilt by :func:`_unpickle` (which restores the shared ``_FULL``)."""
-        return (_unpickle, (self[0], self[1]))
-
-
-_EMPTY_ROOT: _Node = (0, 0)
-# ``HMap(size, root)`` goes through NamedTuple's Python-level ``__new__``; the
-# tuple constructor builds the same value several times faster.
-_new_map = tuple.__new__
-_first = itemgetter(0)
-
-
-def _full(nodemap: int) -> int:
-    """``nodemap``, as the shared ``_FULL`` object when every slot is set (the identity test of ``find``)."""
-    return _FULL if nodemap == _FULL else nodemap
-
-
-def _interned(node: _Node) -> _Node:
-    """``node`` with every full nodemap below it made the shared ``_FULL`` (an unpickled int is a new object)."""
-    datamap, nodemap = node[0], node[1]
-    if not (datamap or nodemap):  # a collision node, or the empty root
-        return node
-    split = (datamap.bit_count() << 1) + _ENTRIES
-    return (datamap, _full(nodemap), *node[_ENTRIES:split], *map(_interned, node[split:]))
-
-
-def _unpickle(size: int, root: _Node) -> HMap[Any, Any]:
-    """The map ``(size, root)`` of a pickle, its full nodemaps shared again. O(n)."""
-    return HMap(size, _interned(root))
-
-
-class _Absent(Exception):
-    """Raised by :func:`_update` when it cannot do the change in one descent: ``insertWith`` then inserts in full."""
-
-
-# -- errors at the API boundary -------------------------------------------------
-
-
-def _unhashable(k: object) -> TypeError:
-    return TypeError(f"hamt: key {k!r} of type {type(k).__name__} is not hashable")
-
-
-def _unorderable(k: object) -> TypeError:
-    return TypeError(f"hamt: key {k!r} of type {type(k).__name__} is not orderable (no '<')")
-
-
-def _check_orderable(k: Any) -> None:
-    """Reject a key that Python cannot order even against itself (e.g. ``object()``). O(1)."""
-    try:
-        k < k  # noqa: B015 - evaluated for its TypeError only
-    except TypeError:
-        raise _unorderable(k) from None
-
-
-def _not_ordered(k: object, exc: TypeError) -> TypeError:
-    return TypeError(f"hamt: key {k!r} is not ordered with the keys of this map ({exc})")
-
-
-def _hash(k: object) -> int:
-    try:
-        return hash(k)
-    except TypeError:
-        raise _unhashable(k) from None
-
-
-# -- node builders ----------------------------------------------------------------
-
-
-def _join(hx: int, x: _Node, h: int, k: Any, v: Any) -> _Node:
-    """The bitmap node holding the entry ``x`` and the new leaf ``k ↦ v``, whose hashes differ.
-
-    ``x`` is a leaf ``(key, value)`` or a collision node; ``hx`` and ``h`` are
-    the two hashes shifted to this node's level.  While their slots agree, each
-    level is a node with a single child (canonical: the entries cannot part any
-    sooner).  At most 16 levels.
-    """
-    sx = hx & _MASK
-    s = h & _MASK
-    if sx == s:
-        return (0, _BIT[s], _join(hx >> _BITS, x, h >> _BITS, k, v))
-    bx, b = _BIT[sx], _BIT[s]
-    if len(x) == 2:  # two leaves, in slot order
-        return (bx | b, 0, *x, k, v) if sx < s else (bx | b, 0, k, v, *x)
-    return (b, bx, k, v, x)
-
-
-def _collision_pair(h: int, k1: Any, v1: Any, k2: Any, v2: Any) -> _Node:
-    """The collision node of two different keys with the same hash ``h``, in key order."""
-    try:
-        first = k2 < k1
-    except TypeError as exc:
-        raise _not_ordered(k2, exc) from None
-    return (0, 0, h, k2, v2, k1, v1) if first else (0, 0, h, k1, v1, k2, v2)
-
-
-def _collision_insert(cnode: _Node, k: Any, v: Any, f: Callable[[Any, Any], Any]) -> tuple[_Node, bool]:
-    """``cnode`` with ``k ↦ v`` (or ``f(old, v)``), and whether it grew. O(c) for c colliding keys."""
-    n = len(cnode)
-    for j in range(_CKEYS, n, 2):
-        key = cnode[j]
-        if key is k or key == k:
-            return (*cnode[:j], k, f(cnode[j + 1], v), *cnode[j + 2 :]), False
-    _check_orderable(k)
-    j = _CKEYS
-    try:
-        while j < n and cnode[j] < k:
-            j += 2
-    except TypeError as exc:
-        raise _not_ordered(k, exc) from None
-    return (*cnode[:j], k, v, *cnode[j:]), True
-
-
-def _collision_remove(cnode: _Node, k: Any) -> tuple[_Node, Any]:
-    """The entry replacing ``cnode`` once ``k`` is removed, and ``k``'s value; :class:`NotFound` if absent.
-
-    The entry is the smaller collision node, or the leaf ``(key, value)`` when
-    one key is left (canonical form).
-    """
-    for j in range(_CKEYS, len(cnode), 2):
-        key = cnode[j]
-        if key is k or key == k:
-            rest = cnode[:j] + cnode[j + 2 :]
-            if len(rest) == _CKEYS + 2:
-                return rest[_CKEYS:], cnode[j + 1]
-            return rest, cnode[j + 1]
-    raise NotFound(k)
-
-
-def _child_to_leaf(node: _Node, j: int, s: int, k: Any, v: Any) -> _Node:
-    """``node`` with its child at index ``j`` (slot ``s``) replaced by the leaf ``k ↦ v``."""
-    datamap, nodemap = node[0], node[1]
-    bit = _BIT[s]
-    q = ((datamap & _LOW[s]).bit_count() << 1) + _ENTRIES  # after the leaves below slot s (q < j)
-    return (datamap | bit, nodemap ^ bit, *node[_ENTRIES:q], k, v, *node[q:j], *node[j + 1 :])
-
-
-def _replace(old: Any, new: Any) -> Any:
-    """``insert``'s combining function: the new value replaces the old."""
-    return new
-
-
-def _update(node: _Node, h: int, k: Any, f: Callable[[Any, Any], Any], v: Any, grew: list[bool]) -> _Node:
-    """``node`` with ``k ↦ f(old, v)`` if ``k ↦ old`` is a leaf, or the new leaf ``k ↦ v`` in an empty slot.
-
-    The hot path of ``insertWith``: one descent, the path copied on the way
-    back.  ``h`` is ``k``'s hash shifted to this level; a new leaf appends to
-    ``grew`` (the caller's own list, so a reentrant ``f`` cannot disturb it).
-    Where the change needs more (``k``'s slot holds another key, or a
-    collision node, whose bitmaps are both 0), raises :class:`_Absent`.
-    """
-    # Literals 15, 4, 2 for _MASK, _BITS, _ENTRIES: a constant load is cheaper than a global one.
-    nodemap = node[1]
-    if nodemap is _FULL:
-        j = (h & 15) + 2
-    else:
-        s = h & 15
-        bit = _BIT[s]
-        datamap = node[0]
-        if datamap & bit:
-            i = ((datamap & _LOW[s]).bit_count() << 1) + 2
-            key = node[i]
-            if key is k or key == k:
-                # A list copy with items replaced beats slicing and concatenating.
-                copy = list(node)
-                copy[i] = k
-                copy[i + 1] = f(node[i + 1], v)
-                return tuple(copy)
-            raise _Absent
-        if not nodemap & bit:
-            if not (datamap or nodemap):
-                raise _Absent
-            try:
-                k < k  # noqa: B015 - the cheap orderability check of a new key
-            except TypeError:
-                raise _unorderable(k) from None
-            grew.append(True)
-            i = ((datamap & _LOW[s]).bit_count() << 1) + 2
-            return (datamap | bit, nodemap, *node[2:i], k, v, *node[i:])
-        j = (datamap.bit_count() << 1) + (nodemap & _LOW[s]).bit_count() + 2
-    copy = list(node)
-    copy[j] = _update(node[j], h >> 4, k, f, v, grew)
-    return tuple(copy)
-
-
-def _items(root: _Node) -> list[tuple[Any, Any]]:
-    """Every ``(key, value)`` of the trie, in trie order. O(n), iterative."""
-    out: list[tuple[Any, Any]] = []
-    stack = [root]
-    while stack:
-        node = stack.pop()
-        nodemap = node[1]
-        if not (nodemap or node[0]):  # a collision node (or the empty root)
-            out.extend(zip(node[_CKEYS::2], node[_CKEYS + 1 :: 2]))
-            continue
-        split = (node[0].bit_count() << 1) + _ENTRIES
-        out.extend(zip(node[_ENTRIES:split:2], node[_ENTRIES + 1 : split : 2]))
-        stack.extend(node[split:])
-    return out
-
-
-def _sorted_items(root: _Node) -> list[tuple[Any, Any]]:
-    """Every item in increasing key order: O(n log n) key comparisons (keys only, never values)."""
-    items = _items(root)
-    try:
-        items.sort(key=_first)
-    except TypeError as exc:
-        raise TypeError(f"hamt: the keys of this map are not mutually ordered ({exc})") from None
-    return items
-
-
-# -- the structure ----------------------------------------------------------------
 
 
 class HamtMap(Generic[K, V]):
@@ -632,96 +415,12 @@ class HamtMap(Generic[K, V]):
     def _check(self, m: HMap[K, V], /) -> None:
         """Assert every representation invariant, with a message naming the broken one.
 
-        Bitmaps are disjoint 16-bit naturals, a full nodemap is the shared
-        ``_FULL`` object, and a node's length is 2 + its children + twice its
-        leaves; every key sits in the slot its hash bits select at each level;
-        a collision node holds ≥ 2 keys, all of its hash, in strictly increasing
-        order, in the slot its hash selects; no node is empty and no node holds
-        a single leaf or a single collision node, except the root; the stored
-        size is the real count; no key occurs twice.  O(n · depth).
+        See :func:`persistri.impl.maps.hamt_check.check`.  O(n · depth).
         """
-        assert isinstance(m, tuple) and len(m) == 2, f"hamt: a map is (size, root), got {m!r}"
-        size, root = m
-        keys: list[Any] = []
-        # (node, depth, slots on the path to it); the root has depth 0 and no slots.
-        stack: list[tuple[Any, int, tuple[int, ...]]] = [(root, 0, ())]
-        while stack:
-            node, depth, slots = stack.pop()
-            where = f"node at slots {list(slots)}"
-            assert isinstance(node, tuple) and len(node) >= 2, f"hamt: {where} is not a bitmap node: {node!r}"
-            datamap, nodemap = node[0], node[1]
-            for name, bits in (("datamap", datamap), ("nodemap", nodemap)):
-                assert isinstance(bits, int) and 0 <= bits <= _FULL, (
-                    f"hamt: {where} has {name} {bits!r}, not a {_WIDTH}-bit natural number"
-                )
-            assert not datamap & nodemap, (
-                f"hamt: {where} has slots both leaf and child: datamap {datamap:#06x}, nodemap {nodemap:#06x}"
-            )
-            assert nodemap != _FULL or nodemap is _FULL, f"hamt: {where} has a full nodemap that is not _FULL"
-            children, leaves = nodemap.bit_count(), datamap.bit_count()
-            assert len(node) == _ENTRIES + children + 2 * leaves, (
-                f"hamt: {where} has {children} child bit(s) and {leaves} leaf bit(s) "
-                f"but holds {len(node) - _ENTRIES} item(s), not {children + 2 * leaves}"
-            )
-            assert depth < _LEVELS, f"hamt: {where} is at depth {depth}, below the {_LEVELS} levels of a hash"
-            if slots:
-                assert children + leaves > 0, f"hamt: {where} is an empty non-root node"
-                if children + leaves == 1:
-                    assert leaves == 0, f"hamt: {where} is a non-root node holding a single leaf (it belongs in its parent)"
-                    only = node[_ENTRIES]  # no leaves: the child
-                    assert not (isinstance(only, tuple) and len(only) > 2 and only[0] == only[1] == 0), (
-                        f"hamt: {where} is a non-root node holding a single collision node (it belongs in its parent)"
-                    )
-            d = _ENTRIES
-            c = _ENTRIES + 2 * leaves
-            for slot in range(_WIDTH):
-                here = (*slots, slot)
-                if nodemap >> slot & 1:
-                    child = node[c]
-                    c += 1
-                    assert isinstance(child, tuple) and len(child) >= 2, (
-                        f"hamt: the child at slots {list(here)} is not a node: {child!r}"
-                    )
-                    if child[0] == 0 and child[1] == 0 and len(child) > 2:
-                        keys.extend(_check_collision(child, here))
-                    else:
-                        stack.append((child, depth + 1, here))
-                elif datamap >> slot & 1:
-                    key = node[d]
-                    d += 2
-                    _check_slots(hash(key), here, f"key {key!r}")
-                    keys.append(key)
-        assert len(keys) == size, f"hamt: stored size {size} but the trie holds {len(keys)} keys"
-        assert len(set(keys)) == len(keys), "hamt: a key occurs twice in the trie"
+        _check_map(m)
 
     def __repr__(self) -> str:
         return "hamt"
-
-
-def _check_collision(cnode: _Node, slots: tuple[int, ...]) -> list[Any]:
-    """Assert the invariants of the collision node at ``slots``; its keys."""
-    where = f"collision node at slots {list(slots)}"
-    assert len(cnode) % 2 == 1, f"hamt: {where} has a malformed tuple {cnode!r}"
-    assert len(cnode) >= _CKEYS + 4, f"hamt: {where} holds {(len(cnode) - _CKEYS) // 2} key(s), not ≥ 2"
-    ch = cnode[2]
-    assert isinstance(ch, int), f"hamt: {where} has hash {ch!r}, not an int"
-    _check_slots(ch, slots, f"collision node of hash {ch!r}")
-    ckeys = list(cnode[_CKEYS::2])
-    for ck in ckeys:
-        assert hash(ck) == ch, f"hamt: key {ck!r} (hash {hash(ck)}) is in the collision node of hash {ch}"
-    for a, b in zip(ckeys, ckeys[1:]):
-        assert a < b, f"hamt: {where} has {a!r} before {b!r}"
-    return ckeys
-
-
-def _check_slots(h: int, slots: tuple[int, ...], what: str) -> None:
-    """Assert that hash ``h`` selects ``slots`` level by level (the path an entry sits on)."""
-    for depth, slot in enumerate(slots):
-        want = (h >> (_BITS * depth)) & _MASK
-        assert want == slot, (
-            f"hamt: {what} sits in slot {slot} at depth {depth} but its hash selects slot {want} "
-            f"(path {list(slots)})"
-        )
 
 
 hamt: HamtMap[Any, Any] = HamtMap()
