@@ -72,13 +72,17 @@ class DelaunayBench:
 
 
 def terrain_build() -> str:
-    """Which build of the 2D modules is running: ``"interpreted"``, or ``"compiled twin (… by mypyc)"`` naming
-    those of them imported as extension modules (``tools/compiled_twin.py``)."""
+    """Which build of the modules a 2D run goes through is running: ``"interpreted"``, or ``"compiled twin (…
+    by mypyc)"`` naming those of them imported as extension modules (``tools/compiled_twin.py``): the 2D kernel
+    and the triangulator's modules, and the persistent structures' inner modules, which the twin compiles for
+    the hull and a terrain run spends a third of its time in."""
+    from persistri.impl.complex import vertex_lists
     from persistri.impl.geometry import kernel2d
+    from persistri.impl.maps import red_black_tree
     from persistri.impl.terrain import delaunay as triangulator
     from persistri.impl.terrain import greedy, sectors
 
-    mods = (kernel2d, triangulator, sectors, greedy)
+    mods = (kernel2d, triangulator, sectors, greedy, red_black_tree, vertex_lists)
     compiled = [m.__name__.rsplit(".", 1)[1] for m in mods if not str(m.__file__).endswith(".py")]
     return f"compiled twin ({', '.join(compiled)} by mypyc)" if compiled else "interpreted"
 
