@@ -35,3 +35,22 @@ def test_bench_scale_rejects_bad_options(tmp_path: Path) -> None:
     assert bad.exit_code == 2 and "unknown distribution 'Nowhere'" in bad.stderr
     bad = runner.invoke(main, ["bench", "scale", "--workers", "0", "--terrain-size", "0"])
     assert bad.exit_code == 2
+
+
+def test_the_tiled_terrain_table_shows_every_row() -> None:
+    """The rows of ``bench_rows`` as the command prints them (a wrong attribute here once crashed the command
+    only after minutes of measuring)."""
+    from rich.console import Console
+
+    from persistri.impl.bench.scale import terrain_table
+    from persistri.impl.scale.terrain_bench import TerrainRow
+
+    rows = [
+        TerrainRow("1 worker", 1, 12.5, 1.0, (80 << 20,), (300 << 20,), 1234, 2400, 0.998),
+        TerrainRow("2 workers", 2, 7.25, 1.72, (81 << 20, 82 << 20), (200 << 20, 210 << 20), 1234, 2400, 0.998),
+    ]
+    console = Console(width=200, record=True)
+    console.print(terrain_table(rows, True, "tiled terrain"))
+    text = console.export_text()
+    assert "12.5" in text and "1.72×" in text and "200 / 210" in text and "1,234" in text and "0.998" in text
+    assert "identical meshes: yes" in text

@@ -28,10 +28,13 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Final
+from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from persistri.impl.scale.terrain_bench import TerrainRow
 
 __all__ = [
     "DEFAULT_POINTS", "HullRow", "hull_rows", "worker_cpu", "worker_peak_rss", "hull_table", "terrain_table",
@@ -194,7 +197,7 @@ def hull_table(rows: Sequence[HullRow], title: str) -> Any:
     return table
 
 
-def terrain_table(rows: Sequence[Any], same: bool, title: str) -> Any:
+def terrain_table(rows: Sequence[TerrainRow], same: bool, title: str) -> Any:
     """The tiled-terrain rows (:class:`persistri.impl.scale.terrain_bench.TerrainRow`) as a rich table."""
     from rich.table import Table
 
@@ -202,7 +205,7 @@ def terrain_table(rows: Sequence[Any], same: bool, title: str) -> Any:
     for name in ("run", "seconds", "speed-up", "peak RSS per worker, MiB", "after imports, MiB", "points", "triangles", "max error"):
         table.add_column(name, justify="left" if name == "run" else "right")
     for r in rows:
-        table.add_row(r.label, f"{r.seconds:.1f}", f"{r.speedup:.2f}×", " / ".join(f"{c:.1f}" for c in r.cpu), f"{r.client_cpu:.1f}", _mib(r.peak), _mib(r.baseline), f"{r.points:,}",
+        table.add_row(r.label, f"{r.seconds:.1f}", f"{r.speedup:.2f}×", _mib(r.peak), _mib(r.baseline), f"{r.points:,}",
                       f"{r.triangles:,}", f"{r.max_error:.3g}")
     return table
 
