@@ -31,12 +31,13 @@ ROOT = Path(__file__).resolve().parent.parent
 MODULES = (
     "persistri/impl/geometry/kernel.py",
     "persistri/impl/hull/bulldozer.py",
+    "persistri/impl/hull/conflicts.py",
     "persistri/impl/maps/red_black_tree.py",
     "persistri/impl/complex/vertex_lists.py",
 )
-"""The modules compiled: the bulldozer's insertion loop, the predicate kernel it calls, and the inner
-functions of the persistent structures it changes — the red-black tree's node algorithms and the
-2-complex's list functions — where a hull run spends most of its interpreted time
+"""The modules compiled: the bulldozer's insertion loop and its conflict-list helpers, the predicate
+kernel it calls, and the inner functions of the persistent structures it changes — the red-black
+tree's node algorithms and the 2-complex's list functions — where a hull run spends most of its interpreted time
 (docs/performance.md).  The structures' public operations (``red_black.py``, ``two_complex.py``)
 stay interpreted: they raise the signature's errors for ill-typed arguments, where mypyc's entry
 checks would raise its own.  The compiled ones type their nodes, entries and lists as tuples of any

@@ -76,14 +76,19 @@ Vertices: the vertex of input point ``i`` has label ``i`` and is made when
 unique: each point is inserted at most once).
 
 Everything is iterative (no recursion), so any input size works.
+
+Where it lives: the conflict lists, point statuses and the face table in
+:mod:`~persistri.impl.hull.conflicts`; the initial tetrahedron and the first
+cones in :mod:`~persistri.impl.hull.first_hull`; ``check=True``'s verifications
+in :mod:`~persistri.impl.hull.bulldozer_checks`; the state of a run and the
+insertion loop here (re-exporting what this module always exported).
 """
 
 from __future__ import annotations
 
-import itertools
 from array import array
-from collections.abc import Callable, Iterable, Iterator, Sequence
-from typing import Any, Final
+from collections.abc import Callable, Iterator, Sequence
+from typing import Final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -91,9 +96,28 @@ from numpy.typing import NDArray
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Vertex, VertexState
-from persistri.impl.geometry.kernel import KERNEL_BATCH, Indices
+from persistri.impl.geometry.kernel import Indices
 from persistri.impl.geometry.predicates import Predicates3
-from persistri.impl.hull.errors import BulldozerCheckError, DegenerateInputError
+from persistri.impl.hull.bulldozer_checks import check_bulldozed, check_cones, check_sectors, check_walk
+from persistri.impl.hull.conflicts import (
+    INTERIOR,
+    ON_HULL,
+    PENDING,
+    Conflict,
+    Entry,
+    FaceDatum,
+    IntArray,
+    Triangle,
+    _assign,
+    _FaceTable,
+    _freeze,
+    _join,
+    _smallest_first,
+    all_but,
+    triangle_array,
+)
+from persistri.impl.hull.errors import BulldozerCheckError
+from persistri.impl.hull.first_hull import cones_by_planes, cones_by_tree, initial_tetrahedron
 
 __all__ = [
     "Bulldozer",
@@ -108,21 +132,6 @@ __all__ = [
     "ON_HULL",
 ]
 
-IntArray = NDArray[np.intp]
-ListArray = NDArray[np.int32]
-"""A long conflict list: 4 bytes a point, half of ``intp``'s (every version keeps its lists)."""
-Triangle = tuple[Vertex, Vertex, Vertex]
-Conflict = tuple[int, ...] | ListArray
-"""A conflict list: point indices, a tuple below ``KERNEL_BATCH`` entries, else a read-only int32 array."""
-FaceDatum = tuple[int, Conflict]
-"""The datum of a hull face: ``(face id, conflict list)``."""
-
-PENDING: Final = 0
-"""Status of a point outside the current hull (in the conflict list of its associated face)."""
-INTERIOR: Final = 1
-"""Status of a point found inside the hull (discarded for good)."""
-ON_HULL: Final = 2
-"""Status of a point that was inserted (a vertex of the hull when inserted)."""
 
 _RUN_BLOCK: Final = 1024
 """How many points of the insertion order :meth:`Bulldozer.run` filters at once by status."""
@@ -131,120 +140,10 @@ _HORIZON: Final = -1
 """The face id of an out-edge that leads off the visible region (a horizon edge)."""
 
 
-def _freeze(pts: Indices) -> Conflict:
-    """``pts`` as a conflict list: a tuple when short, else a read-only int32 array (a copy only when
-    ``pts`` is not int32 already: partitions of int32 lists are int32)."""
-    if isinstance(pts, np.ndarray):
-        if len(pts) < KERNEL_BATCH:
-            return tuple(pts.tolist())
-        arr: ListArray = pts.astype(np.int32, copy=False)
-        arr.setflags(write=False)
-        return arr
-    return tuple(pts)
-
-
-def _join(parts: list[Indices]) -> Indices:
-    """The concatenation of point lists (one array if any part is an array, else a list)."""
-    if len(parts) == 1:
-        return parts[0]
-    for x in parts:
-        if type(x) is np.ndarray:
-            return np.concatenate([x if type(x) is np.ndarray else np.array(x, dtype=np.int32) for x in parts])
-    out: list[int] = []
-    for x in parts:
-        out.extend(x)
-    return out
-
-
-def _as_list(pts: Indices) -> list[int]:
-    return pts.tolist() if isinstance(pts, np.ndarray) else list(pts)
-
-
-def _assign(table: bytearray | array[int], view: NDArray[Any], pts: Indices, value: int) -> None:
-    """``table[q] = value`` for every ``q`` in ``pts``: through the numpy ``view`` of ``table`` for an array."""
-    if isinstance(pts, np.ndarray):
-        # numpy scatters through intp indices three times faster than through int32 ones, converting included.
-        view[pts if pts.dtype == np.intp else pts.astype(np.intp)] = value
-    else:
-        for q in pts:
-            table[q] = value
-
-
-def _smallest_first(a: int, b: int, d: int) -> tuple[int, int, int]:
-    """The rotation of triangle ``(a, b, d)`` that starts at its smallest vertex (same orientation)."""
-    if a < b and a < d:
-        return (int(a), int(b), int(d))
-    if b < d:
-        return (int(b), int(d), int(a))
-    return (int(d), int(a), int(b))
-
-
-def all_but(n: int, tetra: tuple[int, int, int, int]) -> IntArray:
-    """``0 … n-1`` without the four points of ``tetra``, increasing. O(n)."""
-    keep = np.ones(n, dtype=bool)
-    keep[list(tetra)] = False
-    return np.flatnonzero(keep).astype(np.intp, copy=False)
-
-
-def triangle_array(triangles: Iterable[Triangle]) -> IntArray:
-    """Triangles of vertices as an (m, 3) int array of their labels (point indices). O(m)."""
-    tris = list(triangles)
-    flat = np.fromiter(itertools.chain.from_iterable(tris), dtype=np.intp, count=3 * len(tris))
-    return flat.reshape(-1, 3)
-
-
-def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
-    """Four points among the first ``n`` of ``pred`` spanning a tetrahedron of nonzero volume (exact).
-
-    A fat tetrahedron is chosen from extremes (least x, farthest from it,
-    farthest from their line, farthest from their plane, in floating point) and
-    verified exactly; if that fails, the exact greedy
-    :meth:`~persistri.impl.geometry.predicates.Predicates3.affine_basis` decides.
-    Raises :class:`DegenerateInputError` naming the affine dimension when the
-    points are identical, collinear or coplanar.  O(n).
-    """
-    pts = pred.points[:n]
-    if n >= 4:
-        with np.errstate(all="ignore"):
-            # Scaled so that squares cannot overflow; a float heuristic, verified exactly below.  Dot
-            # products by einsum, not BLAS: a threaded BLAS call leaves its worker threads spinning,
-            # which costs CPU time long after the call (measured: 0.1 s at 256K points).
-            scale = max(float(pts.max()), -float(pts.min())) or 1.0
-            i0 = int(np.argmin(pts[:, 0]))
-            dq = pts / scale  # scaled before subtracting: 1e308 - (-1e308) would overflow
-            dq -= dq[i0].copy()
-            d0 = np.einsum("ij,ij->i", dq, dq)  # squared distances to point i0
-            i1 = int(np.argmax(d0))
-            u = dq[i1]
-            along = np.einsum("ij,j->i", dq, u)
-            # Squared distances to the line (i0, i1), by Pythagoras: |dq|² - (dq·u)²/|u|².
-            i2 = int(np.argmax(d0 - along * along / float(np.einsum("i,i->", u, u))))
-            nrm = np.cross(u, dq[i2])
-            i3 = int(np.argmax(np.abs(np.einsum("ij,j->i", dq, nrm))))
-        cand = (i0, i1, i2, i3)
-        if len(set(cand)) == 4 and pred.orient3d_sign(*cand) != 0:
-            return cand
-    basis = pred.affine_basis(np.arange(n, dtype=np.intp))
-    if len(basis) < 4:
-        dim = len(basis) - 1
-        what = {-1: "there are no points", 0: "all points are identical", 1: "all points are collinear",
-                2: "all points are coplanar"}[dim]
-        raise DegenerateInputError(
-            f"no 3D convex hull: {what} (affine dimension {max(dim, 0)}, {n} distinct points)",
-            affine_dimension=max(dim, 0),
-            distinct=n,
-        )
-    a, b, c, d = basis
-    return (a, b, c, d)
-
-
 Out = tuple[Vertex, Vertex, int, Triangle | None, Conflict]
 """An out-edge ``(u, w, face id, triangle, conflict list)`` of a visible face; the id is
 :data:`_HORIZON` (and the triangle None) for a horizon edge.  The neighbour's triangle and list
 ride along so that the neighbour can be expanded when the walk first reaches it."""
-
-Entry = tuple[Triangle, FaceDatum]
-"""A face as the bulldozer's table holds it and :meth:`TwoComplex.replace` adds it: ``(triangle, (id, list))``."""
 
 
 class _Visible:
@@ -258,40 +157,6 @@ class _Visible:
         self.incoming: list[Indices] = []  # points bulldozed into it along arcs (not yet tested)
         self.indeg = indeg  # arcs into it from faces not processed yet
         self.outs = outs  # in the edge order (a, b), (b, d), (d, a)
-
-
-class _FaceTable:
-    """Every face ever made, as rows of point indices by face id, and which are in the hull (``check=True`` only).
-
-    Face ids are consecutive, so the table grows by appending; it lets the check
-    test every face of the hull against a point in one vectorised batch.
-    """
-
-    def __init__(self) -> None:
-        self.corners: IntArray = np.zeros((1024, 3), dtype=np.intp)
-        self.live: NDArray[np.bool_] = np.zeros(1024, dtype=bool)
-
-    def add(self, fid: int, tri: Triangle) -> None:
-        if fid >= len(self.live):
-            self._grow(fid)
-        self.corners[fid] = tri
-        self.live[fid] = True
-
-    def add_many(self, fids: IntArray, corners: IntArray) -> None:
-        """Faces ``corners[j]`` with ids ``fids[j]``, at once (a resumed run's faces)."""
-        if fids.size:
-            self._grow(int(fids.max()))
-            self.corners[fids] = corners
-            self.live[fids] = True
-
-    def _grow(self, fid: int) -> None:
-        size = len(self.live)
-        while fid >= size:
-            size *= 2
-        if size > len(self.live):
-            extra = size - len(self.live)
-            self.corners = np.concatenate([self.corners, np.zeros((extra, 3), dtype=np.intp)])
-            self.live = np.concatenate([self.live, np.zeros(extra, dtype=bool)])
 
 
 class Bulldozer:
@@ -410,73 +275,12 @@ class Bulldozer:
         return cx
 
     def _cones_by_planes(self, faces: list[Triangle], others: IntArray) -> dict[frozenset[int], IntArray]:
-        """The points of ``others`` in the cone from the centre through each face, by the cone's definition.
-
-        ``q`` is in the cone of face ``(x, y, z)`` iff it is on the inner side of the
-        three planes ``(c, x, y)``, ``(c, y, z)``, ``(c, z, x)``: six planes in all,
-        each tested on every point (counted runs, and ``check=True``, which also
-        verifies that the cones partition the points).  O(n) tests.
-        """
-        P, C = self.pred, self.C
-        side: dict[tuple[int, int], NDArray[np.int8]] = {}
-
-        def plane_side(x: int, y: int) -> NDArray[np.int8]:
-            if (x, y) in side:
-                return side[(x, y)]
-            if (y, x) in side:
-                return -side[(y, x)]
-            s = self._signs(C, x, y, others)
-            side[(x, y)] = s
-            return s
-
-        cones: dict[frozenset[int], IntArray] = {}
-        claimed = np.zeros(others.size, dtype=bool)
-        for tri in faces:
-            x, y, z = tri
-            inside = (
-                (plane_side(x, y) == P.orient3d(C, x, y, z))
-                & (plane_side(y, z) == P.orient3d(C, y, z, x))
-                & (plane_side(z, x) == P.orient3d(C, z, x, y))
-            )
-            if self.check and bool(np.any(inside & claimed)):
-                raise BulldozerCheckError("the cones of the first tetrahedron's faces overlap")
-            claimed |= inside
-            cones[frozenset(tri)] = others[inside]
-        if self.check and others.size and not bool(claimed.all()):
-            raise BulldozerCheckError("some point lies in no cone of the first tetrahedron's faces")
-        return cones
+        """The cones of the first tetrahedron's ``faces``, by definition (:func:`.first_hull.cones_by_planes`)."""
+        return cones_by_planes(self, faces, others)
 
     def _cones_by_tree(self, tetra: tuple[int, int, int, int], others: IntArray) -> dict[frozenset[int], IntArray]:
-        """:meth:`_cones_by_planes` in three tests per point: a decision tree over the same planes.
-
-        The plane ``(c, a, b)`` has ``c`` and ``d`` on opposite sides (the centre is
-        inside), and the cone of ``abc`` lies on ``c``'s side, that of ``abd`` on
-        ``d``'s.  On ``c``'s side the cones met are those of the three faces at
-        ``c``; there, a point is in the cone of the face ``c x y`` iff it lies in
-        the wedge between the half-planes that the axis from the centre through
-        the apex ``c`` spans with ``x`` and with ``y`` — the routing question of
-        the associated face (two tests of planes through the axis).  Likewise on
-        ``d``'s side around the apex ``d``.  The same cones as the definition (a perturbed point set is
-        in general position, where both are exact), each list in increasing
-        order as there; ``tests/test_hull.py`` compares the two.  O(n) tests.
-        """
-        C, partition, o3 = self.C, self._partition, self._o3
-
-        def split(x: int, y: int, ref: int, pts: Indices) -> tuple[Indices, Indices]:
-            """``pts`` on ``ref``'s side of the plane ``(c, x, y)``, and on the other side."""
-            minus, plus = partition(C, x, y, pts)
-            return (plus, minus) if o3(C, x, y, ref) > 0 else (minus, plus)
-
-        a, b, c, d = tetra
-        found: dict[frozenset[int], list[Indices]] = {}
-        for apex, half, (x, y, z) in zip((c, d), split(a, b, c, others), ((a, b, d), (a, b, c))):
-            # Around the axis from the centre through apex, the wedges between x, y and z.
-            y_side, z_side = split(apex, x, y, half)
-            in_xy, in_yz = split(apex, y, x, y_side)
-            in_zx, in_zy = split(apex, z, x, z_side)
-            for corners, pts in (((apex, x, y), in_xy), ((apex, y, z), in_yz), ((apex, y, z), in_zy), ((apex, z, x), in_zx)):
-                found.setdefault(frozenset(corners), []).append(pts)
-        return {key: np.sort(np.asarray(_join(parts), dtype=np.intp)) for key, parts in found.items()}
+        """The same cones by a decision tree (:func:`.first_hull.cones_by_tree`)."""
+        return cones_by_tree(self, tetra, others)
 
     # -- continuing a run ------------------------------------------------------------
 
@@ -525,7 +329,7 @@ class Bulldozer:
         status, assoc = self._status, self._assoc
         faces = self.faces
         if self.check:
-            self._check_cones(points, fids)
+            check_cones(self, points, fids)
         by_face = np.argsort(fids, kind="stable")
         sorted_fids = fids[by_face]
         cuts = np.flatnonzero(sorted_fids[1:] != sorted_fids[:-1]) + 1
@@ -564,19 +368,6 @@ class Bulldozer:
             self.complex = cx
         return cx
 
-    def _check_cones(self, points: IntArray, fids: IntArray) -> None:
-        """Each point of ``points`` in the cone from the centre through its face of ``fids`` (all three signs)."""
-        if not points.size:
-            return
-        assert self._table is not None
-        corners = self._table.corners[fids]
-        for i, j in ((0, 1), (1, 2), (2, 0)):
-            bad = np.flatnonzero(self.pred.orient3d_many(corners[:, i], corners[:, j], self.C, points) != -1)
-            if bad.size:
-                k = int(bad[0])
-                raise BulldozerCheckError(
-                    f"point {int(points[k])} is not in the cone of face {tuple(corners[k].tolist())} it was located in"
-                )
 
     # -- one insertion ---------------------------------------------------------------
 
@@ -737,7 +528,7 @@ class Bulldozer:
                 da2, in_bd = partition(C, p, d, b_minus)
                 in_da = _join([da1, da2])
                 if check:
-                    self._check_sectors(p, rec.tri, pts, (in_ab, in_bd, in_da))
+                    check_sectors(self, p, rec.tri, pts, (in_ab, in_bd, in_da))
                 groups = (in_ab, in_bd, in_da)
             else:
                 raise BulldozerCheckError(f"visible face {rec.tri} has no out-edge in the walking graph")
@@ -761,7 +552,7 @@ class Bulldozer:
                     queue.append(gid)
 
         if check:
-            self._check_walk(p, fid0, work, processed)
+            check_walk(self, p, fid0, work, processed)
 
         # The new version: the lit faces removed, the tent added.
         lit = [work[fid].tri for fid in processed]  # as the walk met them (the rotation findi gave)
@@ -800,7 +591,7 @@ class Bulldozer:
         status[p] = ON_HULL
         self.complex = cx
         if check:
-            self._check_bulldozed(p, routed, added)
+            check_bulldozed(self, p, routed, added)
         return cx
 
     def _across_counted(self, cx: Complex[FaceDatum]) -> Callable[[tuple[Vertex, Vertex]], tuple[Triangle, FaceDatum] | None]:
@@ -812,108 +603,6 @@ class Bulldozer:
             return tri, datum
 
         return across
-
-    # -- check=True ------------------------------------------------------------------
-
-    def _check_sectors(self, p: int, tri: Triangle, pts: Indices, groups: tuple[Indices, Indices, Indices]) -> None:
-        """The associated face's points split into the three projected sectors, each by all three signs."""
-        o3, C = self._o3, self.C
-        a, b, d = tri
-        if sorted(_as_list(pts)) != sorted(q for g in groups for q in _as_list(g)):
-            raise BulldozerCheckError(f"the projected sectors of face {tri} lose or repeat points")
-        for (x, y), grp in zip(((a, b), (b, d), (d, a)), groups):
-            if o3(C, p, x, y) != -1:
-                raise BulldozerCheckError(f"edge {(x, y)} of the associated face of point {p} is not an out-arc")
-            for q in _as_list(grp):
-                if not (o3(C, p, x, q) == -1 and o3(C, p, y, q) == 1):
-                    raise BulldozerCheckError(f"point {q} is routed across edge {(x, y)} of face {tri} but its ray is not there")
-
-    def _check_walk(self, p: int, fid0: int, work: dict[int, _Visible], processed: list[int]) -> None:
-        """Theorem 2 and Lemma 9: the walk was a topological order of the whole visible region."""
-        if len(processed) != len(work) or len(set(processed)) != len(processed):
-            stuck = sorted(set(work) - set(processed))
-            raise BulldozerCheckError(
-                f"inserting point {p}: the walking graph has a cycle or an unreachable face "
-                f"({len(stuck)} visible faces never reached in-degree 0: {stuck[:5]})"
-            )
-        # Independently: the faces visible to p, by a search over adjacency from the associated face.
-        S, P, cx = self.S, self.pred, self.complex
-        seen = {fid0}
-        stack = [self.faces[fid0][0]]
-        while stack:
-            a, b, d = stack.pop()
-            for u, w in ((a, b), (b, d), (d, a)):
-                ((gtri, (gid, _)),) = S.findi(cx, (w, u))
-                if gid not in seen and P.orient3d(gtri[0], gtri[1], gtri[2], p) < 0:
-                    seen.add(gid)
-                    stack.append(gtri)
-        if seen != set(work):
-            raise BulldozerCheckError(
-                f"inserting point {p}: the walk visited {len(work)} faces but {len(seen)} visible faces "
-                f"are connected to the associated face (Lemma 9)"
-            )
-        if len(self.faces) <= 4096 and self._table is not None:
-            # Every face of the hull, tested at once (vectorised): the visible ones are exactly the walk's.
-            fids = np.flatnonzero(self._table.live[: self._next_fid])
-            corners = self._table.corners[fids]
-            lit = P.orient3d_many(corners[:, 0], corners[:, 1], corners[:, 2], p) < 0
-            everywhere = set(fids[lit].tolist())
-            if everywhere != set(work):
-                raise BulldozerCheckError(
-                    f"inserting point {p}: {len(everywhere)} faces are visible but the walk found {len(work)} (Lemma 9)"
-                )
-
-    def _check_bulldozed(self, p: int, routed: list[Indices], tents: list[Entry]) -> None:
-        """Theorems 6 and 7: every bulldozed point is in the list of its associated face or rightly interior.
-
-        Independently of the walk, with the checked predicates: the ray from the
-        centre to each bulldozed point ``q`` must leave the new hull through
-        exactly one tent face ``(u, w, p)`` — the cone bounded by the planes
-        ``(c, u, w)``, ``(c, w, p)`` and ``(c, p, u)`` — and ``q`` must be pending in
-        that face's list if it is beyond the face, interior otherwise.  Vectorised
-        over every (tent face, point) pair at once (the planes ``(c, x, p)`` are
-        shared by the two tent faces at the horizon vertex ``x``).
-        """
-        P, C = self.pred, self.C
-        parts = [np.asarray(x, dtype=np.intp) for x in routed if len(x)]
-        if not parts:
-            return
-        pts = np.unique(np.concatenate(parts))  # a point is routed once per face it crosses
-        m, k = pts.size, len(tents)
-        us = np.array([t[0][0] for t in tents], dtype=np.intp)
-        ws = np.array([t[0][1] for t in tents], dtype=np.intp)
-        fan, at = np.unique(np.concatenate([us, ws]), return_inverse=True)  # the horizon vertices
-        iu, iw = at[:k], at[k:]
-        everyone = np.tile(pts, k)
-        # Each tent face (u, w, p) against each point, and each fan plane (c, x, p) against each point.
-        edge = P.orient3d_many(C, np.repeat(us, m), np.repeat(ws, m), everyone).reshape(k, m)
-        side = P.orient3d_many(C, np.repeat(fan, m), p, np.tile(pts, fan.size)).reshape(fan.size, m)
-        edge_ref = np.array([P.orient3d(C, u, w, p) for u, w in zip(us.tolist(), ws.tolist())])
-        w_ref = np.array([P.orient3d(C, w, p, u) for u, w in zip(us.tolist(), ws.tolist())])
-        u_ref = np.array([P.orient3d(C, p, u, w) for u, w in zip(us.tolist(), ws.tolist())])
-        inside = (edge == edge_ref[:, None]) & (side[iw] == w_ref[:, None]) & (-side[iu] == u_ref[:, None])
-        cones = inside.sum(axis=0)
-        wrong = np.flatnonzero(cones != 1)
-        if wrong.size:
-            raise BulldozerCheckError(
-                f"inserting point {p}: the ray to point {int(pts[wrong[0]])} leaves the tent through "
-                f"{int(cones[wrong[0]])} faces"
-            )
-        owner = inside.argmax(axis=0)
-        fids = np.array([t[1][0] for t in tents], dtype=np.intp)[owner]
-        beyond = P.orient3d_many(us[owner], ws[owner], p, pts) < 0
-        bad = np.flatnonzero(beyond & ((self.status[pts] != PENDING) | (self.assoc[pts] != fids)))
-        if bad.size:
-            j = int(bad[0])
-            raise BulldozerCheckError(
-                f"inserting point {p}: point {int(pts[j])} is outside tent face {tents[int(owner[j])][0]} (its "
-                f"associated face, Theorem 6) but is not in that face's list"
-            )
-        bad = np.flatnonzero(~beyond & (self.status[pts] != INTERIOR))
-        if bad.size:
-            raise BulldozerCheckError(
-                f"inserting point {p}: point {int(pts[bad[0]])} is inside the new hull but was not discarded (Theorem 7)"
-            )
 
     # -- the whole run ---------------------------------------------------------------
 

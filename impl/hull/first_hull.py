@@ -1,0 +1,144 @@
+"""The first hull: the initial tetrahedron and the cones that give every other point its first face.
+
+The bulldozer starts from a tetrahedron of nonzero volume (chosen exactly by
+:func:`initial_tetrahedron`) whose centroid is the fixed centre ``c``; each
+other point is associated with the face through which the ray ``c → q``
+leaves the tetrahedron (Appendix A.1): the face's **cone**.
+:func:`cones_by_planes` computes the cones by their definition (the counted
+and checked runs), :func:`cones_by_tree` by a decision tree of three tests per
+point; ``Bulldozer._start`` (:mod:`persistri.impl.hull.bulldozer`) uses one or
+the other.  Each is O(n) plane-side tests, vectorised.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from persistri.impl.geometry.kernel import Indices
+from persistri.impl.geometry.predicates import Predicates3
+from persistri.impl.hull.conflicts import IntArray, Triangle, _join
+from persistri.impl.hull.errors import BulldozerCheckError, DegenerateInputError
+
+if TYPE_CHECKING:
+    from persistri.impl.hull.bulldozer import Bulldozer
+
+__all__ = ["initial_tetrahedron", "cones_by_planes", "cones_by_tree"]
+
+
+def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
+    """Four points among the first ``n`` of ``pred`` spanning a tetrahedron of nonzero volume (exact).
+
+    A fat tetrahedron is chosen from extremes (least x, farthest from it,
+    farthest from their line, farthest from their plane, in floating point) and
+    verified exactly; if that fails, the exact greedy
+    :meth:`~persistri.impl.geometry.predicates.Predicates3.affine_basis` decides.
+    Raises :class:`DegenerateInputError` naming the affine dimension when the
+    points are identical, collinear or coplanar.  O(n).
+    """
+    pts = pred.points[:n]
+    if n >= 4:
+        with np.errstate(all="ignore"):
+            # Scaled so that squares cannot overflow; a float heuristic, verified exactly below.  Dot
+            # products by einsum, not BLAS: a threaded BLAS call leaves its worker threads spinning,
+            # which costs CPU time long after the call (measured: 0.1 s at 256K points).
+            scale = max(float(pts.max()), -float(pts.min())) or 1.0
+            i0 = int(np.argmin(pts[:, 0]))
+            dq = pts / scale  # scaled before subtracting: 1e308 - (-1e308) would overflow
+            dq -= dq[i0].copy()
+            d0 = np.einsum("ij,ij->i", dq, dq)  # squared distances to point i0
+            i1 = int(np.argmax(d0))
+            u = dq[i1]
+            along = np.einsum("ij,j->i", dq, u)
+            # Squared distances to the line (i0, i1), by Pythagoras: |dq|² - (dq·u)²/|u|².
+            i2 = int(np.argmax(d0 - along * along / float(np.einsum("i,i->", u, u))))
+            nrm = np.cross(u, dq[i2])
+            i3 = int(np.argmax(np.abs(np.einsum("ij,j->i", dq, nrm))))
+        cand = (i0, i1, i2, i3)
+        if len(set(cand)) == 4 and pred.orient3d_sign(*cand) != 0:
+            return cand
+    basis = pred.affine_basis(np.arange(n, dtype=np.intp))
+    if len(basis) < 4:
+        dim = len(basis) - 1
+        what = {-1: "there are no points", 0: "all points are identical", 1: "all points are collinear",
+                2: "all points are coplanar"}[dim]
+        raise DegenerateInputError(
+            f"no 3D convex hull: {what} (affine dimension {max(dim, 0)}, {n} distinct points)",
+            affine_dimension=max(dim, 0),
+            distinct=n,
+        )
+    a, b, c, d = basis
+    return (a, b, c, d)
+
+
+def cones_by_planes(bd: Bulldozer, faces: list[Triangle], others: IntArray) -> dict[frozenset[int], IntArray]:
+    """The points of ``others`` in the cone from the centre through each face, by the cone's definition.
+
+    ``q`` is in the cone of face ``(x, y, z)`` iff it is on the inner side of the
+    three planes ``(c, x, y)``, ``(c, y, z)``, ``(c, z, x)``: six planes in all,
+    each tested on every point (counted runs, and ``check=True``, which also
+    verifies that the cones partition the points).  O(n) tests.
+    """
+    P, C = bd.pred, bd.C
+    side: dict[tuple[int, int], NDArray[np.int8]] = {}
+
+    def plane_side(x: int, y: int) -> NDArray[np.int8]:
+        if (x, y) in side:
+            return side[(x, y)]
+        if (y, x) in side:
+            return -side[(y, x)]
+        s = bd._signs(C, x, y, others)
+        side[(x, y)] = s
+        return s
+
+    cones: dict[frozenset[int], IntArray] = {}
+    claimed = np.zeros(others.size, dtype=bool)
+    for tri in faces:
+        x, y, z = tri
+        inside = (
+            (plane_side(x, y) == P.orient3d(C, x, y, z))
+            & (plane_side(y, z) == P.orient3d(C, y, z, x))
+            & (plane_side(z, x) == P.orient3d(C, z, x, y))
+        )
+        if bd.check and bool(np.any(inside & claimed)):
+            raise BulldozerCheckError("the cones of the first tetrahedron's faces overlap")
+        claimed |= inside
+        cones[frozenset(tri)] = others[inside]
+    if bd.check and others.size and not bool(claimed.all()):
+        raise BulldozerCheckError("some point lies in no cone of the first tetrahedron's faces")
+    return cones
+
+
+def cones_by_tree(bd: Bulldozer, tetra: tuple[int, int, int, int], others: IntArray) -> dict[frozenset[int], IntArray]:
+    """:func:`cones_by_planes` in three tests per point: a decision tree over the same planes.
+
+    The plane ``(c, a, b)`` has ``c`` and ``d`` on opposite sides (the centre is
+    inside), and the cone of ``abc`` lies on ``c``'s side, that of ``abd`` on
+    ``d``'s.  On ``c``'s side the cones met are those of the three faces at
+    ``c``; there, a point is in the cone of the face ``c x y`` iff it lies in
+    the wedge between the half-planes that the axis from the centre through
+    the apex ``c`` spans with ``x`` and with ``y`` — the routing question of
+    the associated face (two tests of planes through the axis).  Likewise on
+    ``d``'s side around the apex ``d``.  The same cones as the definition (a perturbed point set is
+    in general position, where both are exact), each list in increasing
+    order as there; ``tests/test_hull.py`` compares the two.  O(n) tests.
+    """
+    C, partition, o3 = bd.C, bd._partition, bd._o3
+
+    def split(x: int, y: int, ref: int, pts: Indices) -> tuple[Indices, Indices]:
+        """``pts`` on ``ref``'s side of the plane ``(c, x, y)``, and on the other side."""
+        minus, plus = partition(C, x, y, pts)
+        return (plus, minus) if o3(C, x, y, ref) > 0 else (minus, plus)
+
+    a, b, c, d = tetra
+    found: dict[frozenset[int], list[Indices]] = {}
+    for apex, half, (x, y, z) in zip((c, d), split(a, b, c, others), ((a, b, d), (a, b, c))):
+        # Around the axis from the centre through apex, the wedges between x, y and z.
+        y_side, z_side = split(apex, x, y, half)
+        in_xy, in_yz = split(apex, y, x, y_side)
+        in_zx, in_zy = split(apex, z, x, z_side)
+        for corners, pts in (((apex, x, y), in_xy), ((apex, y, z), in_yz), ((apex, y, z), in_zy), ((apex, z, x), in_zx)):
+            found.setdefault(frozenset(corners), []).append(pts)
+    return {key: np.sort(np.asarray(_join(parts), dtype=np.intp)) for key, parts in found.items()}
