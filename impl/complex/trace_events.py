@@ -95,7 +95,7 @@ class ReplayMismatch(AssertionError):
 
 @dataclass(frozen=True, eq=False)
 class Trace:
-    """The recorded operations of one run on n-complexes (module docstring); arrays of one length each.
+    """The recorded operations of one run on n-complexes (:mod:`persistri.impl.complex.trace`); arrays of one length each.
 
     Build one with :class:`TracingTwoComplex` or :func:`load_trace`; the
     constructor validates (:class:`TraceFormatError`).

@@ -48,7 +48,7 @@ D = TypeVar("D")
 
 
 class TracingTwoComplex(TwoComplex[D]):
-    """A 2-complex structure that forwards every operation to ``inner`` and records it (module docstring).
+    """A 2-complex structure that forwards every operation to ``inner`` and records it (:mod:`persistri.impl.complex.trace`).
 
     Its complex values are ``inner``'s own (same family), so they can be
     checked and read with ``inner`` too.  Recording costs O(1) per operation
@@ -243,7 +243,7 @@ class TracingTwoComplex(TwoComplex[D]):
         return out
 
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
-        """``add (c, s, x)``, recorded (``x`` is not: see the module docstring)."""
+        """``add (c, s, x)``, recorded (``x`` is not: see :mod:`persistri.impl.complex.trace`)."""
         if not self._recording:
             return self.inner.add(c, s, x)
         src = self._src(c, "add")
@@ -261,7 +261,7 @@ class TracingTwoComplex(TwoComplex[D]):
         return out
 
     def update(self, c: Complex[D], s: Simplex, f: Callable[[D], D], /) -> Complex[D]:
-        """``update (c, s, f)``, recorded (``f`` is not: see the module docstring)."""
+        """``update (c, s, f)``, recorded (``f`` is not: see :mod:`persistri.impl.complex.trace`)."""
         if not self._recording:
             return self.inner.update(c, s, f)
         src = self._src(c, "update")
