@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Final, Protocol
+from typing import TYPE_CHECKING, Final
 
 from persistri.impl.geometry.filter import (
     ERRBOUND_INCIRCLE,
@@ -63,19 +63,6 @@ if TYPE_CHECKING:
     from persistri.impl.geometry.predicates import Predicates2
 
 __all__ = ["Delaunay2Kernel", "INCIRCLE_EXACT_SPAN", "ORIENT2D_EXACT_SPAN", "exact_float_spans"]
-
-
-class RowTable(Protocol):
-    """What the kernel reads of the predicates' float rows: point ``i``'s row by index.
-
-    A list for most point sets; a grid's rows are a dict filled on first use
-    (:class:`~persistri.impl.geometry.grid_predicates.GridPredicates2`).  Typed by
-    this protocol, not as the list the base class declares, so that the compiled
-    twin's kernel (mypyc checks declared types) accepts both.
-    """
-
-    def __getitem__(self, i: int, /) -> tuple[float, ...]: ...
-
 
 INCIRCLE_EXACT_SPAN: Final[int] = 2**12
 """Largest extent, in grains along each axis, for which the incircle determinant is exact in float64."""
@@ -138,7 +125,7 @@ class Delaunay2Kernel:
             self.orient2d_sign = pred.orient2d_sign
             self.incircle = pred.incircle
             return
-        rows: RowTable = pred._rows
+        rows = pred._rows
         row = pred._row  # makes a lazy row: rows[i] unpacks to ValueError until then
         checked_o, checked_sign, checked_i = pred.orient2d, pred.orient2d_sign, pred.incircle
         exact_incircle = pred._incircle_exact
