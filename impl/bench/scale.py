@@ -10,8 +10,9 @@ What it measures, on this machine, in one run:
   :func:`~persistri.impl.scale.hull.parallel_hull` on fresh local clusters of
   1 and 2 worker processes.  Per run: the wall time (cluster start-up
   excluded, the workers' imports done before the clock), the speed-up over the
-  one-process run, each worker's peak resident memory (``getrusage`` in the
-  worker: ``ru_maxrss``, with the peak after importing persistri beside it),
+  one-process run, each worker's peak resident memory (``VmHWM`` in the
+  worker, reset after importing persistri: :func:`reset_peak_rss`; the
+  resident memory at that moment beside it),
   and the points that reached the final run.  Every parallel result is compared
   with the one-process hull, exactly (vertices, triangles, duplicates).
 * **the tiled terrain** rows, from :func:`persistri.impl.scale.terrain_bench.bench_rows`
@@ -37,7 +38,7 @@ if TYPE_CHECKING:
     from persistri.impl.scale.terrain_bench import TerrainRow
 
 __all__ = [
-    "DEFAULT_POINTS", "HullRow", "hull_rows", "worker_cpu", "worker_peak_rss", "hull_table", "terrain_table",
+    "DEFAULT_POINTS", "HullRow", "hull_rows", "worker_cpu", "reset_peak_rss", "worker_peak_rss", "hull_table", "terrain_table",
     "terrain_available",
 ]
 
@@ -81,8 +82,30 @@ def worker_cpu() -> float:
     return float(r.ru_utime + r.ru_stime)
 
 
+def reset_peak_rss() -> None:
+    """Reset this process's peak resident memory to its current one, where Linux allows it (``clear_refs``, 4.0+).
+
+    A worker process starts with the high-water mark of the process it was forked from (``ru_maxrss`` survives
+    ``fork`` and ``exec``): without the reset, a client that has just written a 512 MB DEM gives every worker a
+    "peak" of 512 MB before it has done anything.  Elsewhere nothing happens (the figure is then an upper bound).
+    """
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+    except OSError:
+        pass
+
+
 def worker_peak_rss() -> int:
-    """The peak resident memory of this process so far, in bytes (``Client.run`` calls it in each worker)."""
+    """The peak resident memory of this process since :func:`reset_peak_rss`, in bytes (``Client.run`` calls it
+    in each worker): ``VmHWM`` on Linux, else ``ru_maxrss`` (the peak since the process began)."""
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) * 1024  # kB
+    except OSError:
+        pass
     import resource
 
     return int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024  # KiB on Linux
@@ -148,6 +171,7 @@ def hull_rows(
     say(f"one process: convex_hull of {n:,} {dist} points")
     with _cluster(1) as lc, Client(lc) as client:
         client.run(_warm)
+        client.run(reset_peak_rss)
         base = client.run(worker_peak_rss)
         cpu0 = client.run(worker_cpu)
         start, mine = time.perf_counter(), time.process_time()
@@ -162,6 +186,7 @@ def hull_rows(
         say(f"{w} worker{'s' if w != 1 else ''}: parallel_hull of the same file")
         with _cluster(w) as lc, Client(lc) as client:
             client.run(_warm)
+            client.run(reset_peak_rss)
             base = client.run(worker_peak_rss)
             cpu0 = client.run(worker_cpu)
             start, mine = time.perf_counter(), time.process_time()

@@ -12,8 +12,8 @@ rescaled to ``[0, relief]`` from the extremes of a first pass, in float64.
 
 :func:`bench_rows` meshes such a DEM by tiles on local clusters of 1 and 2
 worker processes and reports, per run, the wall time, the speed-up, and each
-worker's peak resident memory (``getrusage`` in the worker process, with its
-peak after importing persistri, before the run, beside it), and checks that a one-process run and a
+worker's peak resident memory (``VmHWM`` in the worker process, reset after
+importing persistri, with the resident memory then beside it), and checks that a one-process run and a
 two-worker run of a smaller DEM give identical arrays.  Not in the paper: the
 measurements behind ``docs/scale-out.md``.
 """
@@ -86,10 +86,11 @@ def write_bumps_dem(path: str | Path, size: int, *, seed: int = 0, bumps: int = 
 
 
 def worker_memory() -> int:
-    """The peak resident memory of this process so far, in bytes (run in a worker through ``Client.run``)."""
-    import resource
+    """The peak resident memory of this process since the last reset, in bytes (run in a worker through
+    ``Client.run``; :func:`persistri.impl.bench.scale.worker_peak_rss`)."""
+    from persistri.impl.bench.scale import worker_peak_rss
 
-    return int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024  # KiB on Linux
+    return worker_peak_rss()
 
 
 @dataclass(frozen=True)
@@ -128,6 +129,7 @@ def bench_rows(
     """
     from distributed import Client, LocalCluster
 
+    from persistri.impl.bench.scale import reset_peak_rss
     from persistri.impl.scale.terrain import tiled_terrain
 
     folder = Path(directory)
@@ -145,6 +147,7 @@ def bench_rows(
     for n in workers:
         with cluster(n) as lc, Client(lc) as client:
             client.run(_warm)  # import persistri in every worker before the clock
+            client.run(reset_peak_rss)  # a worker inherits the high-water mark of the process that forked it
             base = client.run(worker_memory)
             start = time.perf_counter()
             tin = tiled_terrain(str(dem), max_error=max_error, tile=tile, client=client)
