@@ -68,6 +68,14 @@ def small_angle_at(P: GrowingPredicates2, geo: SegmentGeometry, o: int, s: int) 
     O(segments): the caller memoises it."""
     if o >= geo.n_input or geo.incident[o] < 2:
         return False
+    for d1, d2 in _arms(P, geo, o, s):
+        if not angle_at_least(d1[0] * d2[0] + d1[1] * d2[1], d1[0] ** 2 + d1[1] ** 2, d2[0] ** 2 + d2[1] ** 2, 60.0):
+            return True
+    return False
+
+
+def _arms(P: GrowingPredicates2, geo: SegmentGeometry, o: int, s: int) -> Iterator[tuple[tuple[int, int], tuple[int, int]]]:
+    """For every other segment at ``o``: the exact integer vectors from ``o`` along ``s`` and along it. O(segments)."""
     a, b = geo.ends[s]
     far = b if a == o else a
     for t, (c, d) in enumerate(geo.ends):
@@ -75,10 +83,7 @@ def small_angle_at(P: GrowingPredicates2, geo: SegmentGeometry, o: int, s: int) 
             continue
         other = d if c == o else c
         (io, ip, iq), _ = P.integers(o, far, other)
-        d1, d2 = (ip[0] - io[0], ip[1] - io[1]), (iq[0] - io[0], iq[1] - io[1])
-        if not angle_at_least(d1[0] * d2[0] + d1[1] * d2[1], d1[0] ** 2 + d1[1] ** 2, d2[0] ** 2 + d2[1] ** 2, 60.0):
-            return True
-    return False
+        yield (ip[0] - io[0], ip[1] - io[1]), (iq[0] - io[0], iq[1] - io[1])
 
 
 def placement_tolerances(P: GrowingPredicates2, geo: SegmentGeometry, s: int) -> tuple[tuple[int, float], ...]:
@@ -100,15 +105,8 @@ def placement_tolerances(P: GrowingPredicates2, geo: SegmentGeometry, s: int) ->
     for o in geo.ends[s]:
         if o >= geo.n_input or geo.incident[o] < 2 or not small_angle_at(P, geo, o, s):
             continue
-        a, b = geo.ends[s]
-        far = b if a == o else a
         smallest = math.pi
-        for t, (c, d) in enumerate(geo.ends):
-            if t == s or o not in (c, d) or c == d:
-                continue
-            other = d if c == o else c
-            (io, ip, iq), _ = P.integers(o, far, other)
-            d1, d2 = (ip[0] - io[0], ip[1] - io[1]), (iq[0] - io[0], iq[1] - io[1])
+        for d1, d2 in _arms(P, geo, o, s):
             cross, dot = d1[0] * d2[1] - d1[1] * d2[0], d1[0] * d2[0] + d1[1] * d2[1]
             # int / int divides exactly rounded, without overflow; atan2 stays accurate for tiny angles.
             big = max(abs(cross), abs(dot))
