@@ -258,8 +258,10 @@ def _on_cluster(
             from persistri.impl.hull.plot import plot_hull
 
             plot_hull(result.vertex_points, local, stage(plot), interior=False)
-    on = f"; {len(result.chunks)} chunks, {result.candidates:,} points reached the final run"
-    on += f", on {result.workers} workers" if result.workers else ", in this process"
+    k = len(result.chunks)
+    on = f"; {k:,} chunk{'s' if k != 1 else ''}, {result.candidates:,} points reached the final run"
+    w = result.workers
+    on += f", on {w} worker{'s' if w != 1 else ''}" if w else ", in this process"
     _summary(quiet, input_path, dist, n, seed, check, len(result.simplices), len(result.vertices), len(result.duplicates), on)
     if output is None and plot is None and quiet:
         click.echo(f"{len(result.simplices)} faces, {len(result.vertices)} vertices")
