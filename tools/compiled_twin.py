@@ -119,7 +119,7 @@ def build(out: Path) -> int:
     shutil.copytree(ROOT / "impl", package / "impl", ignore=ignore)
     shutil.copytree(ROOT / "spec", package / "spec", ignore=ignore)
     (out / "mypy.ini").write_text(MYPY_CONFIG)
-    print(f"compiled twin: compiling {len(MODULES)} modules with mypyc (a minute or two) …", flush=True)
+    print(f"compiled twin: compiling {len(MODULES)} modules with mypyc (about half a minute) …", flush=True)
     log = out / "mypyc.log"
     with log.open("w") as sink:
         done = subprocess.run([sys.executable, "-m", "mypyc", *MODULES], cwd=out, stdout=sink, stderr=subprocess.STDOUT)
