@@ -24,8 +24,8 @@ from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.api import triangulate
 from persistri.impl.mesh.chains import in_tolerance_box
 from persistri.impl.mesh.domain import PSLG, DomainError, as_pslg
-from persistri.impl.mesh.splitting import rounded_candidates
-from persistri.impl.mesh.steiner import PrecisionLimitError
+from persistri.impl.mesh.splitting import near_segment, rounded_candidates
+from persistri.impl.mesh.steiner import PrecisionLimitError, _dyadic_double
 from persistri.impl.mesh.verify import verify_mesh
 
 X0, Y0 = 512_345.0, 4_123_456.0
@@ -165,3 +165,66 @@ def test_utm_lots_with_holes_refine_to_verified_meshes(domain: PSLG, angle: floa
     assert report.rounded_split_vertices == mesh.rounded_splits
     middle = mesh.history.mesh(len(mesh.history) // 2)  # an older version, still valid
     assert verify_mesh(domain, middle.vertices, middle.triangles, exact_segments=False).ok
+
+
+def _near_segment_rational(ax: float, ay: float, bx: float, by: float, x: float, y: float, ulps: float) -> bool:
+    """The tolerance-box clipping of :func:`near_segment`, written plainly in rationals (the reference)."""
+    lower, upper = Fraction(0), Fraction(1)
+    for a, b, c in ((ax, bx, x), (ay, by, y)):
+        h = Fraction(ulps) * Fraction(math.ulp(max(abs(a), abs(b), abs(c))))
+        lo, hi = Fraction(c) - h, Fraction(c) + h
+        fa, d = Fraction(a), Fraction(b) - Fraction(a)
+        if d == 0:
+            if not lo <= fa <= hi:
+                return False
+            continue
+        t1, t2 = (lo - fa) / d, (hi - fa) / d
+        lower, upper = max(lower, min(t1, t2)), min(upper, max(t1, t2))
+    return lower <= upper
+
+
+_any_double = st.one_of(
+    st.floats(-1e7, 1e7, allow_nan=False),
+    st.floats(allow_nan=False, allow_infinity=False),
+    st.sampled_from([0.0, -0.0, 5e-324, -5e-324, 2.2250738585072014e-308, 1.7976931348623157e308]),
+)
+
+
+@settings(max_examples=400, deadline=None)
+@given(
+    _any_double, _any_double, _any_double, _any_double, st.floats(0, 1), st.integers(-3, 3), st.integers(-3, 3),
+    st.sampled_from([0.3, 0.5, 1.0, 1.5, 2.0]), st.booleans(),
+)
+def test_near_segment_on_integers_agrees_with_rationals(
+    ax: float, ay: float, bx: float, by: float, t: float, sx: int, sy: int, ulps: float, vertical: bool
+) -> None:
+    """The integer clipping decides exactly as the rational one, near the segment (a few ulps off a point on it),
+    on degenerate axes and on subnormal and huge coordinates, where ``ulps · ulp`` underflows a double."""
+    if vertical:
+        bx = ax
+    x, y = ax + t * (bx - ax), ay + t * (by - ay)
+    assume(math.isfinite(x) and math.isfinite(y))
+    for _ in range(abs(sx)):
+        x = math.nextafter(x, math.copysign(math.inf, sx))
+    for _ in range(abs(sy)):
+        y = math.nextafter(y, math.copysign(math.inf, sy))
+    assume(math.isfinite(x) and math.isfinite(y))
+    assert near_segment(ax, ay, bx, by, x, y, ulps) == _near_segment_rational(ax, ay, bx, by, x, y, ulps)
+    assert near_segment(ax, ay, bx, by, bx, ay, ulps) == _near_segment_rational(ax, ay, bx, by, bx, ay, ulps)
+
+
+def test_dyadic_double_is_exact() -> None:
+    """``n · 2^e`` is returned exactly when it is a double: 53-bit odd parts, subnormals down to 2^-1074, no overflow."""
+    assert _dyadic_double(0, 5) == 0.0
+    assert _dyadic_double(3, -1) == 1.5 and _dyadic_double(-12, -3) == -1.5
+    assert _dyadic_double((1 << 53) - 1, 0) == float((1 << 53) - 1)
+    assert _dyadic_double((1 << 53) + 1, 0) is None  # 54 significant bits
+    assert _dyadic_double(1, -1074) == 5e-324 and _dyadic_double(1, -1075) is None
+    assert _dyadic_double(3, -1075) is None and _dyadic_double(6, -1075) == 1.5e-323
+    assert _dyadic_double(1, 1023) == 2.0**1023 and _dyadic_double(1, 1024) is None
+    for n, e in ((5, 7), (-(2**52) - 1, -1100), (2**60, -2000)):
+        got = _dyadic_double(n, e)
+        exact = Fraction(n) * Fraction(2) ** e
+        assert (got is not None) == (Fraction(float(exact)) == exact if abs(exact) < 2**1024 else False)
+        if got is not None:
+            assert Fraction(got) == exact

@@ -43,7 +43,7 @@ from typing import Final
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.angles import angle_at_least
 from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
-from persistri.impl.mesh.steiner import PrecisionLimitError, split_parameter
+from persistri.impl.mesh.steiner import PrecisionLimitError, _to_double, split_parameter
 from persistri.impl.mesh.triangulation import MeshDatum, Tri, constraint_of
 
 __all__ = [
@@ -249,28 +249,37 @@ def rounded_candidates(
     """
     delta = tw - tu
     first = min(max(wanted, tu + delta / 4), tw - delta / 4)
-    others = sorted((tu + delta * k / 16 for k in range(4, 13)), key=lambda t: (abs(t - first), t))
     (ia, ib, iu, iw), ex = P.integers(a, b, u, w)
-    s = Fraction(2) ** ex
-    ax, ay = Fraction(ia[0]) * s, Fraction(ia[1]) * s
-    dx, dy = Fraction(ib[0] - ia[0]) * s, Fraction(ib[1] - ia[1]) * s
-    ux, uy = Fraction(iu[0]) * s, Fraction(iu[1]) * s
-    vx, vy = Fraction(iw[0] - iu[0]) * s, Fraction(iw[1] - iu[1]) * s
     (fax, fay), (fbx, fby) = P.xy(a), P.xy(b)
     seen: set[tuple[float, float]] = set()
-    for t in [first] + [t for t in others if t != first]:
-        px, py = ax + t * dx, ay + t * dy
-        near: list[tuple[Fraction, float, float]] = []
-        for x in _window(px):
-            for y in _window(py):
+    for t in _candidate_parameters(first, tu, delta):
+        # The exact point a + t (b − a) = (nx, ny) / t.den · 2^ex, and its nearest doubles (int / int rounds once).
+        tn, td = t.numerator, t.denominator
+        nx = ia[0] * td + tn * (ib[0] - ia[0])
+        ny = ia[1] * td + tn * (ib[1] - ia[1])
+        xs, ys = _window(_to_double(nx, td, ex)), _window(_to_double(ny, td, ex))
+        # Everything in integer units 2^-J, J large enough for the window's doubles and for 2^ex.
+        ratios_x = [v.as_integer_ratio() for v in xs]
+        ratios_y = [v.as_integer_ratio() for v in ys]
+        den = max(max(d for _, d in ratios_x), max(d for _, d in ratios_y), 1 << max(0, -ex))
+        up = den.bit_length() - 1 + ex  # 2^ex in units 2^-J is 2^up, up >= 0
+        ux, uy = iu[0] << up, iu[1] << up
+        vx, vy = (iw[0] - iu[0]) << up, (iw[1] - iu[1]) << up
+        px, py = nx << up, ny << up  # the exact point times td
+        span = vx * vx + vy * vy
+        near: list[tuple[int, float, float]] = []
+        for x, (xn, xd) in zip(xs, ratios_x):
+            ix = xn * (den // xd)
+            for y, (yn, yd) in zip(ys, ratios_y):
                 if (x, y) in seen:
                     continue
                 seen.add((x, y))
-                fx, fy = Fraction(x), Fraction(y)
-                along = (fx - ux) * vx + (fy - uy) * vy
-                if not 0 < along < vx * vx + vy * vy:
+                iy = yn * (den // yd)
+                along = (ix - ux) * vx + (iy - uy) * vy
+                if not 0 < along < span:
                     continue
-                near.append(((fx - px) ** 2 + (fy - py) ** 2, x, y))
+                ex_, ey_ = ix * td - px, iy * td - py
+                near.append((ex_ * ex_ + ey_ * ey_, x, y))
         near.sort()
         # The box test is the costly one: run it lazily, nearest first (the caller usually takes the first).
         for _, x, y in near:
@@ -278,13 +287,22 @@ def rounded_candidates(
                 yield t, x, y
 
 
+def _candidate_parameters(first: Fraction, tu: Fraction, delta: Fraction) -> Iterator[Fraction]:
+    """:func:`rounded_candidates`' parameters: ``first``, then ``tu + k · delta / 16`` for ``k = 4 … 12``, nearest
+    ``first`` first (computed only if the caller asks beyond the first)."""
+    yield first
+    others = sorted((tu + delta * k / 16 for k in range(4, 13)), key=lambda t: (abs(t - first), t))
+    for t in others:
+        if t != first:
+            yield t
+
+
 _WINDOW: Final[int] = 3
 """Doubles tried on each side of the nearest one, per axis, around a rounded split point."""
 
 
-def _window(v: Fraction) -> list[float]:
-    """The doubles nearest ``v``, then up to :data:`_WINDOW` more on each side."""
-    f = float(v)
+def _window(f: float) -> list[float]:
+    """The double ``f``, then up to :data:`_WINDOW` more on each side, in increasing order."""
     below, above = [f], [f]
     for _ in range(_WINDOW):
         below.append(math.nextafter(below[-1], -math.inf))
@@ -294,19 +312,37 @@ def _window(v: Fraction) -> list[float]:
 
 def near_segment(ax: float, ay: float, bx: float, by: float, x: float, y: float, ulps: float = 1.0) -> bool:
     """Whether the closed segment ``ab`` meets the closed box of half-width ``ulps`` units in the last place of the
-    largest magnitude per axis around ``(x, y)`` (parametric clipping, exact in rationals). O(1).
+    largest magnitude per axis around ``(x, y)`` (parametric clipping, exact on integers). O(1).
 
     The box is :func:`~persistri.impl.mesh.verify.verify_mesh`'s tolerance box (its default is two units): a split
-    point in it counts as on the segment there with ``exact_segments=False``."""
-    lower, upper = Fraction(0), Fraction(1)
-    for a, b, c in ((ax, bx, x), (ay, by, y)):
-        h = Fraction(ulps) * Fraction(math.ulp(max(abs(a), abs(b), abs(c))))
-        lo, hi = Fraction(c) - h, Fraction(c) + h
-        fa, d = Fraction(a), Fraction(b) - Fraction(a)
+    point in it counts as on the segment there with ``exact_segments=False``.  Every number involved is a double
+    (or ``ulps`` times a power of two), so all of them are integers over one power of two: the clipping
+    parameters ``(c ± h − a) / (b − a)`` are compared as integer fractions, with no rational arithmetic."""
+    # Integers over one common power of two (every double, and ulps · ulp exactly, is m / 2^j).
+    un_, ud_ = ulps.as_integer_ratio()
+    ratios = [v.as_integer_ratio() for v in (ax, bx, x, ay, by, y)]
+    ux_, uxd = math.ulp(max(abs(ax), abs(bx), abs(x))).as_integer_ratio()
+    uy_, uyd = math.ulp(max(abs(ay), abs(by), abs(y))).as_integer_ratio()
+    hrx, hry = (un_ * ux_, ud_ * uxd), (un_ * uy_, ud_ * uyd)
+    den = max(max(d for _, d in ratios), hrx[1], hry[1])
+    iax, ibx, ix, iay, iby, iy = (n * (den // d) for n, d in ratios)
+    ihx, ihy = hrx[0] * (den // hrx[1]), hry[0] * (den // hry[1])
+    # lower = ln / ld, upper = un / ud (denominators positive), starting at [0, 1].
+    ln, ld, un, ud = 0, 1, 1, 1
+    for a, b, c, h in ((iax, ibx, ix, ihx), (iay, iby, iy, ihy)):
+        lo, hi = c - h, c + h
+        d = b - a
         if d == 0:
-            if not lo <= fa <= hi:
+            if not lo <= a <= hi:
                 return False
             continue
-        t1, t2 = (lo - fa) / d, (hi - fa) / d
-        lower, upper = max(lower, min(t1, t2)), min(upper, max(t1, t2))
-    return lower <= upper
+        if d > 0:
+            tn_min, tn_max, td = lo - a, hi - a, d
+        else:
+            tn_min, tn_max, td = a - hi, a - lo, -d
+        if tn_min * ld > ln * td:
+            ln, ld = tn_min, td
+        if tn_max * ud < un * td:
+            un, ud = tn_max, td
+    return ln * ud <= un * ld
+

@@ -205,36 +205,59 @@ def _congruence(c: int, d: int, bits: int) -> tuple[int, int] | None:
 def _dyadic_split(
     P: GrowingPredicates2, a: int, b: int, t_lo: Fraction, t_hi: Fraction, wanted: Fraction
 ) -> tuple[Fraction, float, float]:
-    """:func:`split_parameter`'s fallback: dyadic ``t`` in the middle half of ``(t_lo, t_hi)`` near ``wanted``."""
+    """:func:`split_parameter`'s fallback: dyadic ``t`` in the middle half of ``(t_lo, t_hi)`` near ``wanted``.
+
+    On integers: with ``t = j / 2^k`` the point is ``(a·2^k + j (b − a)) · 2^(ex − k)`` in the units ``2^ex`` of
+    ``P.integers``, and it is a double exactly when :func:`_dyadic_double` says so (no rational arithmetic)."""
     delta = t_hi - t_lo
     lo_ok, hi_ok = t_lo + delta / 4, t_hi - delta / 4
     target = min(max(wanted, lo_ok), hi_ok)
-    # The coarsest level whose spacing 2^-k is at most delta / 8 (so a candidate lands in the middle half).
-    k0 = 0
-    while Fraction(1, 1 << k0) > delta / 8:
+    # The coarsest level whose spacing 2^-k is at most delta / 8 (so a candidate lands in the middle half):
+    # the least k >= 0 with 8 · den(delta) <= num(delta) · 2^k.
+    dn, dd8 = delta.numerator, 8 * delta.denominator
+    k0 = max(0, dd8.bit_length() - dn.bit_length() - 1)
+    while (dn << k0) < dd8:
         k0 += 1
+    while k0 > 0 and (dn << (k0 - 1)) >= dd8:
+        k0 -= 1
     fine = min(k0 + _LEVELS, max(k0, target.denominator.bit_length() - 1))
     (pa, pb), ex = P.integers(a, b)
-    s = _pow2(ex)
-    ax, ay = Fraction(pa[0]) * s, Fraction(pa[1]) * s
-    dx, dy = Fraction(pb[0] - pa[0]) * s, Fraction(pb[1] - pa[1]) * s
-    tried: set[Fraction] = set()
+    ax, ay = pa
+    dx, dy = pb[0] - ax, pb[1] - ay
+    tn, td = target.numerator, target.denominator
+    lon, lod, hin, hid = lo_ok.numerator, lo_ok.denominator, hi_ok.numerator, hi_ok.denominator
+    tried: set[tuple[int, int]] = set()
     for k in range(fine, k0 - 1, -1):
         unit = 1 << k
-        base = math.floor(target * unit)
-        first, second = (base, base + 1) if target * unit - base <= Fraction(1, 2) else (base + 1, base)
+        scaled = tn * unit  # target · 2^k = scaled / td
+        base = scaled // td
+        first, second = (base, base + 1) if 2 * (scaled - base * td) <= td else (base + 1, base)
         for j in (first, second):
-            t = Fraction(j, unit)
-            if t in tried or not lo_ok <= t <= hi_ok:
+            # j / 2^k in lowest terms, as the set's key.
+            tz = min((j & -j).bit_length() - 1, k) if j else k
+            key = (j >> tz, k - tz)
+            if key in tried or not (lon * unit <= j * lod and j * hid <= hin * unit):
                 continue
-            tried.add(t)
-            x = ax + t * dx
-            y = ay + t * dy
-            fx, fy = float(x), float(y)
-            if fx == x and fy == y:
-                return t, fx, fy
+            tried.add(key)
+            fx = _dyadic_double((ax << k) + j * dx, ex - k)
+            if fx is None:
+                continue
+            fy = _dyadic_double((ay << k) + j * dy, ex - k)
+            if fy is not None:
+                return Fraction(j, unit), fx, fy
     raise PrecisionLimitError(
         f"no pair of doubles lies exactly on the segment between points {a} and {b} "
         f"for parameters in ({float(t_lo)!r}, {float(t_hi)!r}): the subsegment is at the limit of double precision "
         "(round the input coordinates to fewer significant bits, or ask for a coarser mesh)"
     )
+
+
+def _dyadic_double(n: int, e: int) -> float | None:
+    """``n · 2^e`` as a double when it is one exactly (normal or subnormal), else None. O(1) on integers."""
+    if n == 0:
+        return 0.0
+    tz = (n & -n).bit_length() - 1
+    odd, e = n >> tz, e + tz
+    if abs(odd).bit_length() > 53 or e < -1074 or e + abs(odd).bit_length() > 1024:
+        return None
+    return math.ldexp(float(odd), e)
