@@ -94,8 +94,8 @@ class GridPredicates2(Predicates2):
         self._cols = (np.zeros(0), np.zeros(0))
         # The row table: a dict that makes a point's row on first use, where the base class keeps a list of
         # n lazy rows (8 bytes per sample).  Every reader of _rows indexes it by one point (the checked
-        # tests, the kernel) or is overridden here (_row), so a mapping serves: hence the one ignore.
-        self._rows = _GridRows(cols, n)  # type: ignore[assignment]
+        # tests, the kernel: the base class declares it a RowTable) or is overridden here (_row).
+        self._rows = _GridRows(cols, n)
         top = max(rows, cols) - 1
         # Integer coordinates: grain 0 (the least over the nonzero ones is that of an odd number), magnitude < 2^25.
         self._span = (0, top.bit_length()) if top > 0 else None

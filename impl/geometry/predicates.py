@@ -52,7 +52,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from fractions import Fraction
-from typing import Any, Final
+from typing import Any, Final, Protocol
 
 import itertools
 import math
@@ -89,7 +89,7 @@ from persistri.impl.geometry.points import as_points
 from persistri.impl.geometry.sos import sort_with_parity, sos_orient2d, sos_orient3d
 from persistri.impl.stats import Stats
 
-__all__ = ["Predicates2", "Predicates3", "Orient3dKernel", "Indices", "affine_dimension"]
+__all__ = ["Predicates2", "Predicates3", "Orient3dKernel", "Indices", "RowTable", "affine_dimension"]
 
 _INVALID_GRAIN: Final[int] = -ZERO_LOW
 """Grain of a point with no valid float copy: fails every grain check."""
@@ -119,6 +119,23 @@ def _sign(v: int) -> int:
     return (v > 0) - (v < 0)
 
 
+class RowTable(Protocol):
+    """The predicates' table of float rows, as its readers use it: point ``i``'s row by index.
+
+    ``rows[i]`` is point ``i`` of the filter copy as a tuple of floats, or, for a
+    lazy table, possibly ``()`` until :meth:`_IndexedPoints._row` has made it
+    (unpacking it then raises :class:`ValueError`, which the fast paths catch);
+    an index out of range raises :class:`IndexError`.  A list for
+    :class:`Predicates3` and :class:`Predicates2` (:meth:`_IndexedPoints._setup`);
+    a grid's table is a dict that makes each row on first use
+    (:class:`~persistri.impl.geometry.grid_predicates.GridPredicates2`).  Compiled
+    readers (the twin's kernels, docs/performance.md) check an attribute's
+    declared type when they read it, so the declaration says only this.
+    """
+
+    def __getitem__(self, i: int, /) -> tuple[float, ...]: ...
+
+
 class _IndexedPoints:
     """What both dimensions share: validation, the filter's scaled copy, exact integers,
     counting, and the batch engine.
@@ -138,7 +155,7 @@ class _IndexedPoints:
     _n: int
     _dim: int
     _cols: tuple[NDArray[np.float64], ...]
-    _rows: list[tuple[float, ...]]
+    _rows: RowTable
     _grain: NDArray[np.int64] | None
     _uniform: bool
     _shift: int
@@ -213,10 +230,13 @@ class _IndexedPoints:
         row = rows[i]
         if row:
             return row
+        # Only _setup's lazy list has unmade rows; a table of another kind makes its rows itself.
+        assert isinstance(rows, list), "a row table with unmade rows is _setup's lazy list"
+        lazy: list[tuple[float, ...]] = rows
         start = i - i % _ROW_BLOCK
         block = [col[start : start + _ROW_BLOCK].tolist() for col in self._cols]
-        rows[start : start + len(block[0])] = zip(*block)
-        return rows[i]
+        lazy[start : start + len(block[0])] = zip(*block)
+        return lazy[i]
 
     def _filter_columns(self, i: int | IntArray) -> list[NDArray[np.float64]]:
         """The filter copy's coordinates of point ``i`` (0-d arrays) or of points ``i`` (one array per axis)."""
@@ -412,6 +432,9 @@ class Predicates3(_IndexedPoints):
 
     __slots__ = ("_centre", "_centre_exact")
 
+    _rows: list[tuple[float, ...]]
+    """Always :meth:`_setup`'s list here (or :meth:`_with_row`'s copy of it): the compiled
+    :class:`~persistri.impl.geometry.kernel.Orient3dKernel` indexes it as a list."""
     _centre: int | None
     _centre_exact: tuple[int, ...] | None
 
