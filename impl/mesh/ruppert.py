@@ -105,7 +105,7 @@ from persistri.impl.complex.structure import Complex
 from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
 from persistri.impl.mesh.angles import angle_at_least
 from persistri.impl.mesh.precision import crowded_apex, nearest_features, valid_split
-from persistri.impl.mesh.quality import AngleBound, QualityTests
+from persistri.impl.mesh.quality import AngleBound, BadShape, QualityTests
 from persistri.impl.mesh.record import Counts, DropLog, Refinement
 from persistri.impl.mesh.splitting import placement_tolerances, rounded_candidates, small_angle_at, split_point
 from persistri.impl.mesh.steiner import PrecisionLimitError, steiner_point
@@ -167,7 +167,9 @@ class Refiner:
         self.exact_segments = exact_segments
         self.tests = QualityTests(T.pred, bound, max_area, region_area, lens)
         self.counts = Counts()
-        self._bad: list[Bad] = []
+        # The bad triangles: a FIFO queue per bucket, and a heap of the buckets that have one (Triangle's queue).
+        self._queues: dict[int, deque[Bad]] = {}
+        self._buckets: list[int] = []
         self._seq = 0
         self._segs: deque[Constraint] = deque()
         self._exempt: set[int] = set()
@@ -220,13 +222,36 @@ class Refiner:
     def _push_bad(self, t: Tri, d: MeshDatum, p: int, q: int, r: int, edge2: float) -> None:
         bucket = math.frexp(edge2)[1] if 0.0 < edge2 < math.inf else 0
         self._seq += 1
-        heapq.heappush(self._bad, (bucket, self._seq, t, d, p, q, r))
+        self._enqueue((bucket, self._seq, t, d, p, q, r))
+
+    def _enqueue(self, bad: Bad) -> None:
+        """Queue ``bad`` last in its bucket. O(1), plus O(lg buckets) for a bucket that was empty."""
+        queue = self._queues.get(bad[0])
+        if queue is None:
+            queue = self._queues[bad[0]] = deque()
+            heapq.heappush(self._buckets, bad[0])
+        queue.append(bad)
+
+    def _pop_bad(self) -> Bad:
+        """The first bad triangle of the lowest non-empty bucket: the least ``(bucket, sequence)`` queued (the
+        sequence grows, so first in first out within a bucket). O(1), plus O(lg buckets) when a bucket empties."""
+        buckets = self._buckets
+        bucket = buckets[0]
+        queue = self._queues[bucket]
+        bad = queue.popleft()
+        if not queue:
+            heapq.heappop(buckets)
+            del self._queues[bucket]
+        return bad
 
     def _judge(self, t: Tri, d: MeshDatum) -> None:
         """Queue the domain triangle ``t`` if it must be split; record it if it is exempt."""
         found = self.tests.assess(t[0], t[1], t[2], d[1])
-        if found is None:
-            return
+        if found is not None:
+            self._judge_bad(t, d, found)
+
+    def _judge_bad(self, t: Tri, d: MeshDatum, found: BadShape) -> None:
+        """:meth:`_judge` for a triangle whose assessment ``found`` says it is bad: queue it, or record it exempt."""
         p, q, r, edge2, good = found
         if not good and self._exempt_edge(p, q) and not self.tests.area_bad(t[0], t[1], t[2], d[1]):
             self._exempt.add(d[0])
@@ -236,10 +261,13 @@ class Refiner:
     def _examine(self, created: tuple[tuple[Tri, MeshDatum], ...]) -> None:
         """Queue the bad triangles among ``created`` and the subsegments their apexes encroach."""
         encroaches = self.tests.encroaches
+        assess = self.tests.assess
         for t, d in created:
             if d[1] == EXTERIOR:
                 continue
-            self._judge(t, d)
+            found = assess(t[0], t[1], t[2], d[1])  # self._judge(t, d), inlined
+            if found is not None:
+                self._judge_bad(t, d, found)
             if d[2]:
                 a, b, c = t
                 for lo, hi, s in d[2]:
@@ -352,8 +380,8 @@ class Refiner:
         x, y, off = steiner_point(P, sp, sq, sr, self.offconstant)
         p = P.append(x, y)
         where = T.walk_to(c, (t, d), p)
-        tri = (int(t[0]), int(t[1]), int(t[2]))
         if where[0] == "blocked":
+            tri = (int(t[0]), int(t[1]), int(t[2]))
             lo, hi, s = where[1]
             if s < 0:
                 raise MeshError(f"internal: the Steiner point of triangle {t} lies outside the triangulation")
@@ -376,6 +404,7 @@ class Refiner:
                     # On a subsegment: it encroaches it (strictly inside its diametral circle).
                     lo, hi = edge_key(u, w)
                     self.counts.blocked += 1
+                    tri = (int(t[0]), int(t[1]), int(t[2]))
                     self.log.blocked(self._version, p, (x, y), tri, off, (int(lo), int(hi), s))
                     self._segs.append((lo, hi, s))
                     self._requeue(bad)
@@ -387,6 +416,7 @@ class Refiner:
         if encroached:
             # The paper's undo: go on from c, which persistence kept unchanged (the new version is not even built).
             self.counts.undos += 1
+            tri = (int(t[0]), int(t[1]), int(t[2]))
             cavity = tuple((int(a), int(b), int(e)) for (a, b, e), _ in cav.triangles.values() if min(a, b, e) >= 0)
             self.log.undone(
                 self._version, p, (x, y), tri, off, tuple((int(lo), int(hi), s) for lo, hi, s in encroached), cavity
@@ -431,7 +461,7 @@ class Refiner:
 
     def _requeue(self, bad: Bad) -> None:
         self._seq += 1
-        heapq.heappush(self._bad, (bad[0], self._seq, bad[2], bad[3], bad[4], bad[5], bad[6]))
+        self._enqueue((bad[0], self._seq, bad[2], bad[3], bad[4], bad[5], bad[6]))
 
     # -- the run ---------------------------------------------------------------------------
 
@@ -471,8 +501,8 @@ class Refiner:
                     c, p, gone = split
                     deleted.append(tuple(gone))
                     self.log.split(int(sub[0]), int(sub[1]), len(versions), deleted[-1])
-                elif self._bad:
-                    bad = heapq.heappop(self._bad)
+                elif self._buckets:
+                    bad = self._pop_bad()
                     if bad[3][0] in dead:
                         continue
                     where = bad[4]

@@ -176,14 +176,25 @@ def split_parameter(
         if solved is not None and other is not None:
             (r1, m1), (r2, m2) = sorted((solved, other), key=lambda rm: rm[1])
             if (r2 - r1) % m1 == 0:  # compatible: k ≡ r2 (mod m2), m1 dividing m2
-                s_star = (wanted - t_u) / (t_w - t_u) * G
-                k = r2 + m2 * round((s_star - r2) / m2)
+                # On integers: wanted − t_u = wide / (wd ud), t_w − t_u = span / (vd ud) (span > 0), so the wanted
+                # place is s* = G (wanted − t_u) / (t_w − t_u) = G wide vd / (wd span), and k the solution nearest it:
+                # k = r2 + m2 · round((s* − r2) / m2), rounding half to even as round() does.
+                un, ud = t_u.numerator, t_u.denominator
+                vn, vd = t_w.numerator, t_w.denominator
+                wn, wd = wanted.numerator, wanted.denominator
+                wide, span = wn * ud - un * wd, vn * ud - un * vd
+                q, rem = divmod(G * wide * vd - r2 * wd * span, m2 * wd * span)
+                twice, den = 2 * rem, m2 * wd * span
+                if twice > den or (twice == den and q & 1):
+                    q += 1
+                k = r2 + m2 * q
                 for cand in (k, k - m2, k + m2):
                     if 0 < cand < G:
-                        gx, gy = xu + cand * step_x, yu + cand * step_y
-                        x, y = math.ldexp(gx, m), math.ldexp(gy, m)
-                        if Fraction(x) == gx * _pow2(m) and Fraction(y) == gy * _pow2(m):
-                            return t_u + Fraction(cand, G) * (t_w - t_u), x, y
+                        fx = _dyadic_double(xu + cand * step_x, m)
+                        fy = _dyadic_double(yu + cand * step_y, m)
+                        if fx is not None and fy is not None:
+                            # t_u + (cand / G) (t_w − t_u), one normalisation.
+                            return Fraction(un * G * vd + cand * span, ud * G * vd), fx, fy
     return _dyadic_split(P, a, b, t_u, t_w, wanted)
 
 
