@@ -34,12 +34,19 @@ MODULES = (
     "persistri/impl/hull/conflicts.py",
     "persistri/impl/maps/red_black_tree.py",
     "persistri/impl/complex/vertex_lists.py",
+    "persistri/impl/geometry/kernel2d.py",
+    "persistri/impl/terrain/delaunay.py",
+    "persistri/impl/terrain/sectors.py",
+    "persistri/impl/terrain/greedy_run.py",
+    "persistri/impl/terrain/plane_errors.py",
 )
 """The modules compiled: the bulldozer's insertion loop and its conflict-list helpers, the predicate
 kernel it calls, and the inner functions of the persistent structures it changes — the red-black
 tree's node algorithms and the 2-complex's list functions — where a hull run spends most of its interpreted time
-(docs/performance.md).  The structures' public operations (``red_black.py``, ``two_complex.py``)
-stay interpreted: they raise the signature's errors for ill-typed arguments, where mypyc's entry
+(docs/performance.md); and for the terrain and the scattered Delaunay, the 2D kernel, the triangulator,
+the sector test, the greedy run's loop and its error measure.  The structures' public operations
+(``red_black.py``, ``two_complex.py``) and ``greedy_insertion`` (``terrain/greedy.py``) stay
+interpreted: they raise the signature's errors for ill-typed arguments, where mypyc's entry
 checks would raise its own.  The compiled ones type their nodes, entries and lists as tuples of any
 length so that mypyc keeps them boxed: each stays the one object that older versions share
 (mypyc would store a fixed-length tuple unboxed and box a new copy on the way out)."""

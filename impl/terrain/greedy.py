@@ -62,23 +62,23 @@ mirrors, so that world meshes are counterclockwise seen from above too.
 from __future__ import annotations
 
 import gc
-import heapq
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from itertools import chain
-from typing import Any, Final
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
-from persistri.impl.geometry.grid_predicates import GridPredicates2
 from persistri.impl.maps import backend as map_backend
 from persistri.impl.progress import progress_callback
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.check import root_mean_square
-from persistri.impl.terrain.delaunay import Insertion, TriDatum, Triangulator, canonical_triangles
+from persistri.impl.terrain.delaunay import TriDatum, canonical_triangles
+from persistri.impl.terrain.greedy_run import GreedyRun
+from persistri.impl.terrain.plane_errors import apex_first, fan_errors, grid_points, grid_xy, level_errors, plane_errors, ranks
 from persistri.impl.terrain.crs import Crs
 from persistri.impl.terrain.grids import GridTransform, as_heights, as_transform
 
@@ -86,157 +86,6 @@ __all__ = ["greedy_insertion", "Tin", "TinHistory", "plane_errors", "fan_errors"
 
 IntArray = NDArray[np.intp]
 FloatArray = NDArray[np.float64]
-
-
-def apex_first(tri: IntArray, rank: IntArray) -> IntArray:
-    """Each triangle rotated (orientation kept) to start at its *apex*, the vertex of largest rank.
-
-    ``rank`` is ``(k, 3)``: the insertion order of each vertex of ``tri`` (:func:`ranks`); the apex is the
-    vertex whose insertion made the triangle (every new triangle is in the fan of the new point).  O(m).
-    """
-    t = np.asarray(tri, dtype=np.intp).reshape(-1, 3)
-    k = np.argmax(np.asarray(rank).reshape(-1, 3), axis=1)
-    out: IntArray = np.take_along_axis(t, (k[:, None] + np.arange(3)[None, :]) % 3, axis=1)
-    return out
-
-
-def ranks(labels: IntArray, inserted: IntArray) -> IntArray:
-    """The position in ``inserted`` (the insertion order) of each of ``labels`` (all of them inserted).
-
-    By binary search over the sorted insertion order: O((k + len(labels)) log k), no array of the grid's size.
-    """
-    order = np.argsort(inserted, kind="stable")
-    out: IntArray = order[np.searchsorted(inserted[order], labels)]
-    return out
-
-
-def grid_points(shape: tuple[int, int]) -> FloatArray:
-    """The ``(rows·cols, 2)`` array of grid coordinates ``(x, y) = (col, row)`` in row-major order (float64)."""
-    rows, cols = shape
-    xy = np.empty((rows * cols, 2), dtype=np.float64)
-    xy[:, 0] = np.tile(np.arange(cols, dtype=np.float64), rows)
-    xy[:, 1] = np.repeat(np.arange(rows, dtype=np.float64), cols)
-    return xy
-
-
-def grid_xy(q: IntArray, cols: int) -> tuple[FloatArray, FloatArray]:
-    """The grid coordinates ``(x, y) = (q mod cols, q div cols)`` of samples ``q``, as float64 (exact). O(len(q))."""
-    y, x = np.divmod(q, cols)
-    return x.astype(np.float64), y.astype(np.float64)
-
-
-_CHUNK: Final = 1 << 18
-"""Samples per block where a whole grid's samples are measured at once (the first triangles, a level's
-errors): the temporaries stay a few megabytes whatever the grid."""
-
-
-def plane_errors(cols: int, z: FloatArray, tri: IntArray, counts: IntArray, samples: IntArray) -> FloatArray:
-    """Vertical errors ``|z[s] − plane(t)(x[s], y[s])|`` of samples grouped by triangle (float64).
-
-    Points are samples of a grid with ``cols`` columns (``x = s mod cols``,
-    ``y = s div cols``).  ``tri`` is ``(k, 3)`` vertex indices (nonzero area); the
-    first ``counts[0]`` entries of ``samples`` lie in ``tri[0]``, the next
-    ``counts[1]`` in ``tri[1]``, and so on.  Each row must start at the
-    triangle's apex (:func:`apex_first`), and the plane of ``(a, b, c)`` is
-    written around ``a``: ``z_a + g_x (x − x_a) + g_y (y − y_a)``, its gradient
-    ``g`` by Cramer's rule, computed once per triangle.  :func:`fan_errors`
-    performs the same operations in the same order for the fan of one
-    insertion, so the queue's errors and a mesh's reported errors agree bit for
-    bit (``check=True`` asserts it).  O(k + len(samples)), vectorised, in blocks
-    of :data:`_CHUNK` samples.
-    """
-    x, y = grid_xy(tri.ravel(), cols)
-    x, y = x.reshape(-1, 3), y.reshape(-1, 3)
-    zt = z[tri]
-    xa, ya, za = x[:, 0], y[:, 0], zt[:, 0]
-    dx1, dy1, dz1 = x[:, 1] - xa, y[:, 1] - ya, zt[:, 1] - za
-    dx2, dy2, dz2 = x[:, 2] - xa, y[:, 2] - ya, zt[:, 2] - za
-    det = dx1 * dy2 - dx2 * dy1
-    gx = (dz1 * dy2 - dz2 * dy1) / det
-    gy = (dx1 * dz2 - dx2 * dz1) / det
-    m = samples.size
-    err: FloatArray = np.empty(m, dtype=np.float64)
-    ends = np.cumsum(counts)
-    for lo in range(0, m, _CHUNK):
-        hi = min(m, lo + _CHUNK)
-        s = samples[lo:hi]
-        xs, ys = grid_xy(s, cols)
-        rep = np.searchsorted(ends, np.arange(lo, hi), side="right") if tri.shape[0] > 1 else np.zeros(hi - lo, dtype=np.intp)
-        np.abs(z[s] - (za[rep] + gx[rep] * (xs - xa[rep]) + gy[rep] * (ys - ya[rep])), out=err[lo:hi])
-    return err
-
-
-def fan_errors(cols: int, z: FloatArray, p: int, ring: IntArray, fan_index: IntArray, samples: IntArray) -> FloatArray:
-    """:func:`plane_errors` for the fan of one insertion: triangles ``(p, ring[i], ring[i+1])``, apex ``p``.
-
-    ``ring`` holds the ``k + 1`` boundary vertices in fan order (the last repeats
-    the first when the fan closes around ``p``); ``samples[j]`` lies in fan
-    triangle ``fan_index[j]``; the grid has ``cols`` columns.  The fan has a
-    handful of triangles, so their gradients are computed on Python floats — the
-    same IEEE operations in the same order as :func:`plane_errors`, so the same
-    floats — and only the per-sample work is vectorised (numpy calls on small
-    arrays cost more than the arithmetic).  O(k + len(samples)).
-    """
-    xy = [(float(v % cols), float(v // cols), z.item(v)) for v in (int(p), *map(int, ring))]
-    (xp, yp, zp), (x1, y1, z1) = xy[0], xy[1]
-    gxs: list[float] = []
-    gys: list[float] = []
-    for x2, y2, z2 in xy[2:]:
-        dx1, dy1, dz1 = x1 - xp, y1 - yp, z1 - zp
-        dx2, dy2, dz2 = x2 - xp, y2 - yp, z2 - zp
-        det = dx1 * dy2 - dx2 * dy1
-        gxs.append((dz1 * dy2 - dz2 * dy1) / det)
-        gys.append((dx1 * dz2 - dx2 * dz1) / det)
-        x1, y1, z1 = x2, y2, z2
-    return _fan_plane_errors(lambda q: grid_xy(q, cols), z, xp, yp, zp, gxs, gys, fan_index, samples)
-
-
-Coordinates = Callable[[IntArray], tuple[NDArray[Any], NDArray[Any]]]
-"""Samples to their ``(x, y)`` grid coordinates (:meth:`GridPredicates2.coordinates`, or :func:`grid_xy`)."""
-
-
-def _fan_plane_errors(
-    coordinates: Coordinates,
-    z: FloatArray,
-    xp: float,
-    yp: float,
-    zp: float,
-    gxs: list[float],
-    gys: list[float],
-    fan_index: IntArray | None,
-    samples: IntArray,
-) -> FloatArray:
-    """The per-sample half of :func:`fan_errors`: ``|z − (zp + gx (x − xp) + gy (y − yp))|`` by fan triangle.
-
-    ``fan_index`` may be None for one triangle.  In blocks of :data:`_CHUNK` samples (the first
-    insertions move millions): O(len(samples)).
-    """
-    m = samples.size
-    if m > _CHUNK:
-        err: FloatArray = np.empty(m, dtype=np.float64)
-        for lo in range(0, m, _CHUNK):
-            hi = min(m, lo + _CHUNK)
-            part = None if fan_index is None else fan_index[lo:hi]
-            err[lo:hi] = _fan_plane_errors(coordinates, z, xp, yp, zp, gxs, gys, part, samples[lo:hi])
-        return err
-    xs, ys = coordinates(samples)
-    if len(gxs) == 1:
-        # One triangle: its gradient is a scalar (no gather).
-        plane = xs - xp
-        plane *= gxs[0]
-        plane += zp
-        slope = ys - yp
-        slope *= gys[0]
-    else:
-        assert fan_index is not None, "several triangles need their samples' fan_index"
-        plane = np.array(gxs)[fan_index]
-        plane *= xs - xp
-        plane += zp
-        slope = np.array(gys)[fan_index]
-        slope *= ys - yp
-    plane += slope
-    out: FloatArray = np.abs(z[samples] - plane)
-    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -404,7 +253,7 @@ def _tin(
     rank = ranks(tri.ravel(), inserted).reshape(-1, 3)
     total = int(counts.sum())
     if total:
-        err = _level_errors(cols, z, apex_first(tri, rank), counts, lists, total)
+        err = level_errors(cols, z, apex_first(tri, rank), counts, lists, total)
         max_error = float(err.max())
         rms = root_mean_square(err, n_total)
     else:
@@ -426,25 +275,6 @@ def _tin(
     )
 
 
-def _level_errors(cols: int, z: FloatArray, apex: IntArray, counts: IntArray, lists: list[IntArray], total: int) -> FloatArray:
-    """The errors of every listed sample (:func:`plane_errors`), triangles taken in blocks of about
-    :data:`_CHUNK` samples, so that no list of the whole grid's samples is made. O(total)."""
-    err: FloatArray = np.empty(total, dtype=np.float64)
-    k = len(lists)
-    first = pos = 0
-    size = 0
-    for t in range(k + 1):
-        if t < k and size < _CHUNK:
-            size += int(counts[t])
-            continue
-        if size:
-            block = np.concatenate(lists[first:t]) if t - first > 1 else lists[first]
-            err[pos : pos + size] = plane_errors(cols, z, apex[first:t], counts[first:t], block)
-            pos += size
-        first, size = t, int(counts[t]) if t < k else 0
-    return err
-
-
 def _stop_criteria(max_error: Any, max_points: Any) -> tuple[float | None, int | None]:
     if max_error is None and max_points is None:
         raise ValueError("give max_error, max_points or both: greedy insertion needs to know when to stop")
@@ -463,174 +293,6 @@ def _stop_criteria(max_error: Any, max_points: Any) -> tuple[float | None, int |
         if k < 4:
             raise ValueError(f"max_points must be at least 4 (the grid's corners), got {k}")
     return e, k
-
-
-_PYTHON_ARGMAX: Final = 4096
-"""Up to this many new samples per insertion the candidates are chosen on a Python list; above it, by numpy per triangle.
-
-Late insertions move a few dozen samples, where a numpy call per triangle costs
-more than ``max`` and ``index`` on a list; the bound keeps the first insertions
-(10^5 samples) vectorised.  Both choose the same sample (the first of largest error).
-"""
-
-
-class _Greedy:
-    """One greedy-insertion run: the triangulator, the priority queue, the kept versions."""
-
-    def __init__(
-        self, z: FloatArray, shape: tuple[int, int], backend: str, stats: Stats | None, check: bool, stepwise: bool = False
-    ) -> None:
-        rows, cols = shape
-        self.z = z
-        self.pred = GridPredicates2(shape, stats=stats)
-        self.structure: TwoComplex[TriDatum] = TwoComplex(map_backend(backend), stats)
-        self.T = Triangulator(self.pred, self.structure, check=check, stepwise=stepwise)
-        self.heap: list[tuple[float, int, int]] = []
-        self.cols = cols
-        n = rows * cols
-        # Corners counterclockwise in (x, y): (0, 0), (cols-1, 0), (cols-1, rows-1), (0, rows-1).
-        a, b, c, d = 0, cols - 1, n - 1, n - cols
-        self.corners = (a, b, c, d)
-        P = self.pred
-        # The diagonal: the one that is Delaunay under the predicates' tie-breaking (the corners are cocircular).
-        if P.incircle(a, b, c, d) < 0:
-            t1, t2, u, w = (a, b, c), (a, c, d), a, c
-        else:
-            t1, t2, u, w = (b, c, d), (a, b, d), b, d
-        side = self._sides(u, w, shape)
-        # t1 is right of the diagonal u → w, t2 left of it (closed triangles: a sample on the diagonal goes by SoS).
-        self.T.begin([(t1, np.flatnonzero(side < 0)), (t2, np.flatnonzero(side > 0))])
-        del side
-        inserted = np.array(self.corners, dtype=np.intp)
-        for tid, tri in list(self.T.tri_of.items()):
-            if self.T.infinite in tri:
-                continue
-            found = self.structure.data(self.T.complex, tri)
-            assert found is not None
-            own = found[0][1]
-            if own.size:
-                t = np.array([tri], dtype=np.intp)
-                err = plane_errors(cols, self.z, apex_first(t, ranks(t.ravel(), inserted)), np.array([own.size]), own)
-                self._queue([tid], [own.size], own, err)
-
-    def _sides(self, u: int, w: int, shape: tuple[int, int]) -> NDArray[np.int8]:
-        """For every grid sample, the SoS side of the diagonal ``u → w`` (±1), and 0 at the four corners.
-
-        Exact: ``(w − u) × (q − u)`` on integer coordinates (int64: |coordinates| < 2^25), row blocks at a
-        time; the samples exactly on the diagonal take the predicates' SoS sign.  O(rows · cols), one byte each.
-        """
-        rows, cols = shape
-        n = rows * cols
-        uy, ux = divmod(u, cols)
-        wy, wx = divmod(w, cols)
-        ex, ey = wx - ux, wy - uy
-        side = np.empty(n, dtype=np.int8)
-        block = max(1, _CHUNK // cols)
-        xs = np.arange(cols, dtype=np.int64) - ux
-        for r0 in range(0, rows, block):
-            r1 = min(rows, r0 + block)
-            ys = np.arange(r0, r1, dtype=np.int64) - uy
-            cross = (ys * ex)[:, None] - ey * xs[None, :]
-            side[r0 * cols : r1 * cols] = np.sign(cross).ravel()
-        on = np.flatnonzero(side == 0)
-        on = on[(on != u) & (on != w)]
-        if on.size:
-            side[on] = self.pred.orient2d_batch(u, w, on)
-        side[list(self.corners)] = 0
-        return side
-
-    def _queue(self, tids: list[int], counts: list[int], samples: IntArray, err: FloatArray) -> None:
-        """Queue the candidate — the first sample of largest error — of each triangle with samples and error > 0."""
-        heap = self.heap
-        push = heapq.heappush
-        start = 0
-        if err.size <= _PYTHON_ARGMAX:
-            # Few samples (most insertions): Python's max and index on a list beat a numpy call per triangle.
-            errs = err.tolist()
-            sample = samples.item
-            for tid, cnt in zip(tids, counts):
-                if cnt:
-                    stop = start + cnt
-                    if cnt == 1:
-                        e = errs[start]
-                        if e > 0.0:
-                            push(heap, (-e, tid, sample(start)))
-                    else:
-                        seg = errs[start:stop]
-                        e = max(seg)
-                        if e > 0.0:
-                            push(heap, (-e, tid, sample(start + seg.index(e))))
-                    start = stop
-            return
-        for tid, cnt in zip(tids, counts):
-            if cnt:
-                part = err[start : start + cnt]
-                i = int(part.argmax())
-                e = float(part[i])
-                if e > 0.0:
-                    push(heap, (-e, tid, int(samples[start + i])))
-                start += cnt
-
-    def _assess(self, ins: Insertion) -> None:
-        """Measure the samples of the insertion's new triangles and queue their candidates (:func:`fan_errors`).
-
-        Vectorised over the whole fan; for a fan of very many samples (no pooled array: ``ins.samples``
-        is None), triangle by triangle.
-        """
-        samples = ins.samples
-        if samples is not None and not samples.size:
-            return
-        # The vertices' coordinates from the predicates' rows (made when the kernel first tested them).
-        xy, zitem, coords = self.pred.xy, self.z.item, self.pred.coordinates
-        p = ins.point
-        xp, yp = xy(p)
-        zp = zitem(p)
-        gxs: list[float] = []
-        gys: list[float] = []
-        rays = iter(ins.rays)
-        v = next(rays)
-        x1, y1 = xy(v)
-        z1 = zitem(v)
-        for v in rays:
-            x2, y2 = xy(v)
-            z2 = zitem(v)
-            dx1, dy1, dz1 = x1 - xp, y1 - yp, z1 - zp
-            dx2, dy2, dz2 = x2 - xp, y2 - yp, z2 - zp
-            det = dx1 * dy2 - dx2 * dy1
-            gxs.append((dz1 * dy2 - dz2 * dy1) / det)
-            gys.append((dx1 * dz2 - dx2 * dz1) / det)
-            x1, y1, z1 = x2, y2, z2
-        tids = [tid for tid, _ in ins.created]
-        if samples is None:
-            for tid, gx, gy, part in zip(tids, gxs, gys, ins.lists):
-                if part.size:
-                    self._queue([tid], [part.size], part, _fan_plane_errors(coords, self.z, xp, yp, zp, [gx], [gy], None, part))
-            return
-        err = _fan_plane_errors(coords, self.z, xp, yp, zp, gxs, gys, ins.fan_index, samples)
-        self._queue(tids, ins.counts, samples, err)
-
-    def current_error(self) -> float:
-        """The maximum error of the current mesh: the queue's top, once dead triangles are popped.
-
-        Entries of dead triangles stay in the queue until they surface (lazy invalidation); when they
-        outnumber the live triangles the queue is rebuilt without them, so that it stays within twice the
-        mesh's size (O(queue) then, O(1) amortised per entry).  Its order is a total one (error, then
-        triangle id), so the rebuilt queue pops exactly what the old one would have.
-        """
-        heap, alive = self.heap, self.T.tri_of
-        if len(heap) > 2 * len(alive) + 1024:
-            heap[:] = [entry for entry in heap if entry[1] in alive]
-            heapq.heapify(heap)
-        while heap and heap[0][1] not in alive:
-            heapq.heappop(heap)
-        return -heap[0][0] if heap else 0.0
-
-    def step(self) -> Insertion:
-        """Insert the current worst sample; return what the insertion did."""
-        _, tid, p = heapq.heappop(self.heap)
-        ins = self.T.insert(p, tid)
-        self._assess(ins)
-        return ins
 
 
 def greedy_insertion(
@@ -692,7 +354,7 @@ def greedy_insertion(
     collector = gc.isenabled()
     gc.disable()  # persistent nodes form no reference cycles: the cyclic collector only costs time here
     try:
-        run = _Greedy(z, shape, backend, stats, check, stepwise)
+        run = GreedyRun(z, shape, TwoComplex(map_backend(backend), stats), stats, check, stepwise)
         T = run.T
         versions: list[Complex[TriDatum]] = [T.complex]
         inserted: list[int] = list(run.corners)

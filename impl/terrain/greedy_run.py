@@ -1,0 +1,211 @@
+"""One greedy-insertion run (paper §5): the Delaunay triangulator, the priority queue of candidates, the assessment.
+
+:class:`GreedyRun` is the loop that :func:`~persistri.impl.terrain.greedy.greedy_insertion`
+drives: it lays the grid's first two triangles, and each :meth:`GreedyRun.step`
+inserts the worst sample (:meth:`~persistri.impl.terrain.delaunay.Triangulator.insert`),
+measures the new triangles' samples (:mod:`~persistri.impl.terrain.plane_errors`)
+and queues their candidates; :meth:`GreedyRun.current_error` pops the dead
+entries (lazy invalidation).  A module of its own because it is the terrain's
+per-insertion work: the compiled twin (docs/performance.md) compiles it with
+mypyc, while ``greedy_insertion``, which validates the caller's arguments and
+raises its own errors, stays interpreted.
+"""
+
+from __future__ import annotations
+
+import heapq
+from typing import Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from persistri.impl.geometry.grid_predicates import GridPredicates2
+from persistri.impl.complex.two_complex import TwoComplex
+from persistri.impl.stats import Stats
+from persistri.impl.terrain.delaunay import Insertion, TriDatum, Triangulator
+from persistri.impl.terrain.plane_errors import CHUNK, apex_first, fan_plane_errors, plane_errors, ranks
+
+__all__ = ["GreedyRun"]
+
+IntArray = NDArray[np.intp]
+FloatArray = NDArray[np.float64]
+
+
+_PYTHON_ARGMAX: Final = 4096
+"""Up to this many new samples per insertion the candidates are chosen on a Python list; above it, by numpy per triangle.
+
+Late insertions move a few dozen samples, where a numpy call per triangle costs
+more than ``max`` and ``index`` on a list; the bound keeps the first insertions
+(10^5 samples) vectorised.  Both choose the same sample (the first of largest error).
+"""
+
+
+class GreedyRun:
+    """One greedy-insertion run over the heights ``z`` of a ``shape`` grid: the triangulator and the priority queue.
+
+    ``structure`` is the 2-complex the versions are made in (its map backend chosen and checked by the
+    caller); ``stats``, ``check`` and ``stepwise`` as for
+    :func:`~persistri.impl.terrain.greedy.greedy_insertion`.  Laying the first two triangles is
+    O(rows · cols); each :meth:`step` is one insertion.
+    """
+
+    def __init__(
+        self,
+        z: FloatArray,
+        shape: tuple[int, int],
+        structure: TwoComplex[TriDatum],
+        stats: Stats | None,
+        check: bool,
+        stepwise: bool = False,
+    ) -> None:
+        rows, cols = shape
+        self.z = z
+        self.pred = GridPredicates2(shape, stats=stats)
+        self.structure = structure
+        self.T = Triangulator(self.pred, self.structure, check=check, stepwise=stepwise)
+        self.heap: list[tuple[float, int, int]] = []
+        self.cols = cols
+        n = rows * cols
+        # Corners counterclockwise in (x, y): (0, 0), (cols-1, 0), (cols-1, rows-1), (0, rows-1).
+        a, b, c, d = 0, cols - 1, n - 1, n - cols
+        self.corners = (a, b, c, d)
+        P = self.pred
+        # The diagonal: the one that is Delaunay under the predicates' tie-breaking (the corners are cocircular).
+        if P.incircle(a, b, c, d) < 0:
+            t1, t2, u, w = (a, b, c), (a, c, d), a, c
+        else:
+            t1, t2, u, w = (b, c, d), (a, b, d), b, d
+        side = self._sides(u, w, shape)
+        # t1 is right of the diagonal u → w, t2 left of it (closed triangles: a sample on the diagonal goes by SoS).
+        self.T.begin([(t1, np.flatnonzero(side < 0)), (t2, np.flatnonzero(side > 0))])
+        del side
+        inserted = np.array(self.corners, dtype=np.intp)
+        for tid, tri in list(self.T.tri_of.items()):
+            if self.T.infinite in tri:
+                continue
+            found = self.structure.data(self.T.complex, tri)
+            assert found is not None
+            own = found[0][1]
+            if own.size:
+                t = np.array([tri], dtype=np.intp)
+                err = plane_errors(cols, self.z, apex_first(t, ranks(t.ravel(), inserted)), np.array([own.size]), own)
+                self._queue([tid], [own.size], own, err)
+
+    def _sides(self, u: int, w: int, shape: tuple[int, int]) -> NDArray[np.int8]:
+        """For every grid sample, the SoS side of the diagonal ``u → w`` (±1), and 0 at the four corners.
+
+        Exact: ``(w − u) × (q − u)`` on integer coordinates (int64: |coordinates| < 2^25), row blocks at a
+        time; the samples exactly on the diagonal take the predicates' SoS sign.  O(rows · cols), one byte each.
+        """
+        rows, cols = shape
+        n = rows * cols
+        uy, ux = divmod(u, cols)
+        wy, wx = divmod(w, cols)
+        ex, ey = wx - ux, wy - uy
+        side = np.empty(n, dtype=np.int8)
+        block = max(1, CHUNK // cols)
+        xs = np.arange(cols, dtype=np.int64) - ux
+        for r0 in range(0, rows, block):
+            r1 = min(rows, r0 + block)
+            ys = np.arange(r0, r1, dtype=np.int64) - uy
+            cross = (ys * ex)[:, None] - ey * xs[None, :]
+            side[r0 * cols : r1 * cols] = np.sign(cross).ravel()
+        on = np.flatnonzero(side == 0)
+        on = on[(on != u) & (on != w)]
+        if on.size:
+            side[on] = self.pred.orient2d_batch(u, w, on)
+        side[list(self.corners)] = 0
+        return side
+
+    def _queue(self, tids: list[int], counts: list[int], samples: IntArray, err: FloatArray) -> None:
+        """Queue the candidate — the first sample of largest error — of each triangle with samples and error > 0."""
+        heap = self.heap
+        push = heapq.heappush
+        start = 0
+        if err.size <= _PYTHON_ARGMAX:
+            # Few samples (most insertions): Python's max and index on a list beat a numpy call per triangle.
+            errs = err.tolist()
+            sample = samples.item
+            for tid, cnt in zip(tids, counts):
+                if cnt:
+                    stop = start + cnt
+                    if cnt == 1:
+                        e = errs[start]
+                        if e > 0.0:
+                            push(heap, (-e, tid, sample(start)))
+                    else:
+                        seg = errs[start:stop]
+                        e = max(seg)
+                        if e > 0.0:
+                            push(heap, (-e, tid, sample(start + seg.index(e))))
+                    start = stop
+            return
+        for tid, cnt in zip(tids, counts):
+            if cnt:
+                part = err[start : start + cnt]
+                i = int(part.argmax())
+                e = float(part[i])
+                if e > 0.0:
+                    push(heap, (-e, tid, int(samples[start + i])))
+                start += cnt
+
+    def _assess(self, ins: Insertion) -> None:
+        """Measure the samples of the insertion's new triangles and queue their candidates (:func:`fan_errors`).
+
+        Vectorised over the whole fan; for a fan of very many samples (no pooled array: ``ins.samples``
+        is None), triangle by triangle.
+        """
+        samples = ins.samples
+        if samples is not None and not samples.size:
+            return
+        # The vertices' coordinates from the predicates' rows (made when the kernel first tested them).
+        xy, zitem, coords = self.pred.xy, self.z.item, self.pred.coordinates
+        p = ins.point
+        xp, yp = xy(p)
+        zp = zitem(p)
+        gxs: list[float] = []
+        gys: list[float] = []
+        rays = iter(ins.rays)
+        v = next(rays)
+        x1, y1 = xy(v)
+        z1 = zitem(v)
+        for v in rays:
+            x2, y2 = xy(v)
+            z2 = zitem(v)
+            dx1, dy1, dz1 = x1 - xp, y1 - yp, z1 - zp
+            dx2, dy2, dz2 = x2 - xp, y2 - yp, z2 - zp
+            det = dx1 * dy2 - dx2 * dy1
+            gxs.append((dz1 * dy2 - dz2 * dy1) / det)
+            gys.append((dx1 * dz2 - dx2 * dz1) / det)
+            x1, y1, z1 = x2, y2, z2
+        tids = [tid for tid, _ in ins.created]
+        if samples is None:
+            for tid, gx, gy, part in zip(tids, gxs, gys, ins.lists):
+                if part.size:
+                    self._queue([tid], [part.size], part, fan_plane_errors(coords, self.z, xp, yp, zp, [gx], [gy], None, part))
+            return
+        err = fan_plane_errors(coords, self.z, xp, yp, zp, gxs, gys, ins.fan_index, samples)
+        self._queue(tids, ins.counts, samples, err)
+
+    def current_error(self) -> float:
+        """The maximum error of the current mesh: the queue's top, once dead triangles are popped.
+
+        Entries of dead triangles stay in the queue until they surface (lazy invalidation); when they
+        outnumber the live triangles the queue is rebuilt without them, so that it stays within twice the
+        mesh's size (O(queue) then, O(1) amortised per entry).  Its order is a total one (error, then
+        triangle id), so the rebuilt queue pops exactly what the old one would have.
+        """
+        heap, alive = self.heap, self.T.tri_of
+        if len(heap) > 2 * len(alive) + 1024:
+            heap[:] = [entry for entry in heap if entry[1] in alive]
+            heapq.heapify(heap)
+        while heap and heap[0][1] not in alive:
+            heapq.heappop(heap)
+        return -heap[0][0] if heap else 0.0
+
+    def step(self) -> Insertion:
+        """Insert the current worst sample; return what the insertion did."""
+        _, tid, p = heapq.heappop(self.heap)
+        ins = self.T.insert(p, tid)
+        self._assess(ins)
+        return ins
