@@ -1,8 +1,11 @@
 """The specialised 2-complex the algorithms use (paper §2 and §4): per vertex, a list of triangles.
 
-One map of the ``ORD_MAP`` backend takes each vertex to an immutable tuple of
-entries ``(second vertex, third vertex, datum)``.  An oriented triangle
-``(a, b, c)`` with datum x is stored three times, once per rotation:
+One map of the ``ORD_MAP`` backend takes each vertex to an immutable list of
+entries ``(second vertex, third vertex, datum)``, one per triangle at the vertex,
+laid out flat in three blocks (:mod:`~persistri.impl.complex.vertex_lists`:
+``(b_0, …, b_{k-1}, c_0, …, c_{k-1}, x_0, …, x_{k-1})``, no tuple per entry).
+An oriented triangle ``(a, b, c)`` with datum x is stored three times, once per
+rotation:
 
     under a: ``(b, c, x)``     under b: ``(c, a, x)``     under c: ``(a, b, x)``
 
@@ -31,7 +34,8 @@ triangulated sphere; O(lg V) per map operation with the red-black backend):
 ==========================  ==================================================
 
 Persistence: a list is a tuple, replaced (never changed) when one of its
-entries is added, dropped or updated; the map is the backend's persistent map.
+entries is added, dropped or updated (the new tuple copies the kept entries'
+three pointers each); the map is the backend's persistent map.
 The hot operations validate their arguments in O(1) before touching the map,
 and the functions ``insertWith`` combines lists with are module-level (no
 closure per call; a counted structure wraps them to count the entries visited).
@@ -57,7 +61,6 @@ from persistri.impl.complex.vertex import Lineage, Vertex
 from persistri.impl.complex.vertex_lists import (
     Changes,
     Emptied,
-    Entry,
     Missing,
     Present,
     Unbatched,
@@ -66,7 +69,10 @@ from persistri.impl.complex.vertex_lists import (
     cat_new,
     drop,
     drop_add,
+    entries,
+    from_flat,
     group,
+    index,
     neighbours_in,
     put,
     replace_batched,
@@ -106,21 +112,19 @@ def _arguments(removed: Any, added: Any) -> tuple[Sequence[Any], Sequence[Any]]:
     return removed, added
 
 
-Combine = Callable[[tuple[Entry, ...], Any], tuple[Entry, ...]]
+Combine = Callable[[tuple[Any, ...], Any], tuple[Any, ...]]
 
 
 def _counting(stats: Stats, f: Combine) -> Combine:
     """``f`` that also adds the list entries it visits to ``stats.key_comparisons`` (counted structures only)."""
 
-    def counted(old: tuple[Entry, ...], arg: Any) -> tuple[Entry, ...]:
+    def counted(old: tuple[Any, ...], arg: Any) -> tuple[Any, ...]:
         if f is cat_first:
-            stats.key_comparisons += len(old)  # add scans the whole list, for either orientation
-        elif f is drop:
+            stats.key_comparisons += len(old) // 3  # add scans the whole list, for either orientation
+        elif f is drop or f is put:
             stats.key_comparisons += visited(old, arg[0], arg[1])
-        elif f is put:
-            stats.key_comparisons += visited(old, arg[0][0], arg[0][1])
         elif f is drop_add or f is cat_new:
-            stats.key_comparisons += len(old)  # replace scans the whole list once
+            stats.key_comparisons += len(old) // 3  # replace scans the whole list once
         return f(old, arg)
 
     return counted
@@ -194,14 +198,9 @@ class TwoComplex(ComplexStructure[D]):
         found = self._m.find(rep, a)
         if found is None:
             return None
-        if self._stats is not None:
-            lst = found[0]
-            i = self._scan(lst, b, cc)
-            return None if i < 0 else (lst[i][2],)
-        for e in found[0]:
-            if e[0] == b and e[1] == cc:
-                return (e[2],)
-        return None
+        lst = found[0]
+        i = self._scan(lst, b, cc) if self._stats is not None else index(lst, b, cc)
+        return None if i < 0 else (lst[len(lst) // 3 * 2 + i],)
 
     def find(self, c: Complex[D], s: Simplex, /) -> list[Triangle]:
         """``find (c, (u, w))``: the triangles ``(u, w, x)`` having the oriented edge ``(u, w)`` as a face.
@@ -224,9 +223,10 @@ class TwoComplex(ComplexStructure[D]):
         if found is None:
             return []
         lst = found[0]
+        k = len(lst) // 3
         if self._stats is not None:
-            self._stats.key_comparisons += len(lst)
-        return [(u, w, e[1]) for e in lst if e[0] == w]
+            self._stats.key_comparisons += k
+        return [(u, w, lst[k + i]) for i in range(k) if lst[i] == w]
 
     def findi(self, c: Complex[D], s: Simplex, /) -> list[tuple[Triangle, D]]:
         """``find`` with each triangle's datum: ``[((u, w, x), datum), …]``.  One map lookup."""
@@ -244,9 +244,10 @@ class TwoComplex(ComplexStructure[D]):
         if found is None:
             return []
         lst = found[0]
+        k = len(lst) // 3
         if self._stats is not None:
-            self._stats.key_comparisons += len(lst)
-        return [((u, w, e[1]), e[2]) for e in lst if e[0] == w]
+            self._stats.key_comparisons += k
+        return [((u, w, lst[k + i]), lst[2 * k + i]) for i in range(k) if lst[i] == w]
 
     def neighbour(self, c: Complex[D], s: Simplex, /) -> tuple[Triangle, D] | None:
         """The one triangle holding the directed edge ``s = (u, w)``, as ``((u, w, x), datum)``, or None.
@@ -274,20 +275,17 @@ class TwoComplex(ComplexStructure[D]):
         found = self._m.find(rep, u)
         if found is None:
             return None
-        if self._stats is None:
-            for e in found[0]:
-                if e[0] == w:
-                    return (u, w, e[1]), e[2]
+        lst = found[0]
+        k = len(lst) // 3
+        try:
+            i = lst.index(w, 0, k)
+        except ValueError:
+            if self._stats is not None:
+                self._stats.key_comparisons += k
             return None
-        st = self._stats
-        visited = 0
-        for e in found[0]:
-            visited += 1
-            if e[0] == w:
-                st.key_comparisons += visited
-                return (u, w, e[1]), e[2]
-        st.key_comparisons += visited
-        return None
+        if self._stats is not None:
+            self._stats.key_comparisons += i + 1
+        return (u, w, lst[k + i]), lst[2 * k + i]
 
     def neighbours(self, c: Complex[D], /) -> Callable[[Simplex], tuple[Triangle, D] | None]:
         """The function ``s ↦ neighbour(c, s)`` for the one version ``c``: for a walk that crosses many of its edges.
@@ -417,7 +415,7 @@ class TwoComplex(ComplexStructure[D]):
         n = m.numItems(rep)  # kept up to date: one numItems per vertex with drops, not two
         for v, change in changes.items():
             if not change[0]:
-                rep = m.insertWith(cat_new, rep, v, tuple(change[1] + change[2]))
+                rep = m.insertWith(cat_new, rep, v, from_flat(change[1] + change[2]))
                 n = m.numItems(rep)  # v may be new
                 continue
             try:
@@ -452,16 +450,12 @@ class TwoComplex(ComplexStructure[D]):
 
     # -- internal operations ----------------------------------------------------------
 
-    def _scan(self, lst: tuple[Entry, ...], b: Vertex, c: Vertex) -> int:
-        """The index of entry ``(b, c, _)`` in ``lst``, or -1; counts the entries visited."""
-        for i, e in enumerate(lst):
-            if e[0] == b and e[1] == c:
-                if self._stats is not None:
-                    self._stats.key_comparisons += i + 1
-                return i
+    def _scan(self, lst: tuple[Any, ...], b: Vertex, c: Vertex) -> int:
+        """The position of entry ``(b, c, _)`` in ``lst``, or -1; counts the entries visited."""
+        i = index(lst, b, c)
         if self._stats is not None:
-            self._stats.key_comparisons += len(lst)
-        return -1
+            self._stats.key_comparisons += len(lst) // 3 if i < 0 else i + 1
+        return i
 
     def _data(self, rep: Any, s: Simplex) -> Option[D]:
         a, b, c = s
@@ -470,7 +464,7 @@ class TwoComplex(ComplexStructure[D]):
             return None
         lst = found[0]
         i = self._scan(lst, b, c)
-        return None if i < 0 else (lst[i][2],)
+        return None if i < 0 else (lst[len(lst) // 3 * 2 + i],)
 
     def _find(self, rep: Any, f: Simplex) -> list[Triangle]:
         u, w = f
@@ -478,24 +472,29 @@ class TwoComplex(ComplexStructure[D]):
         if found is None:
             return []
         lst = found[0]
+        k = len(lst) // 3
         if self._stats is not None:
-            self._stats.key_comparisons += len(lst)
-        return [(u, w, t) for v, t, _ in lst if v == w]
+            self._stats.key_comparisons += k
+        return [(u, w, lst[k + i]) for i in range(k) if lst[i] == w]
 
     def _star(self, rep: Any, v: Vertex) -> list[Triangle]:
         found = self._m.find(rep, v)
         if found is None:
             return []
         lst = found[0]
+        k = len(lst) // 3
         if self._stats is not None:
-            self._stats.key_comparisons += len(lst)
-        return [(v, b, c) for b, c, _ in lst]
+            self._stats.key_comparisons += k
+        return [(v, lst[i], lst[k + i]) for i in range(k)]
 
     def _items(self, rep: Any) -> Iterator[tuple[Triangle, D]]:
         for a, lst in self._m.listItemsi(rep):
-            for b, c, x in lst:
+            k = len(lst) // 3
+            for i in range(k):
+                b = lst[i]
+                c = lst[k + i]
                 if a < b and a < c:
-                    yield (a, b, c), x
+                    yield (a, b, c), lst[2 * k + i]
 
     def _combiner(self, f: Combine) -> Combine:
         """``f`` itself, or a counting version of it when a Stats is attached."""
@@ -506,7 +505,7 @@ class TwoComplex(ComplexStructure[D]):
         m = self._m
         try:
             # The triangle, in either orientation, would be in a's list: (b, c) or (c, b).
-            rep = m.insertWith(self._cat_first, rep, a, ((b, c, x),))
+            rep = m.insertWith(self._cat_first, rep, a, (b, c, x))
         except Present as present:
             if present.opposite:
                 raise OppositeOrientationError(
@@ -514,8 +513,8 @@ class TwoComplex(ComplexStructure[D]):
                 ) from None
             raise DuplicateSimplexError(f"add: triangle {s!r} is already present") from None
         cat = self._cat
-        rep = m.insertWith(cat, rep, b, ((c, a, x),))
-        return m.insertWith(cat, rep, c, ((a, b, x),))
+        rep = m.insertWith(cat, rep, b, (c, a, x))
+        return m.insertWith(cat, rep, c, (a, b, x))
 
     def _change(self, rep: Any, key: Vertex, b: Vertex, c: Vertex, y: Any, drop: bool) -> Any:
         """Drop (or give datum ``y`` to) entry ``(b, c, _)`` of ``key``'s list: one ``insertWith``
@@ -526,7 +525,7 @@ class TwoComplex(ComplexStructure[D]):
             if drop:
                 out = m.insertWith(self._drop, rep, key, (b, c))
             else:
-                out = m.insertWith(self._put, rep, key, ((b, c, y),))
+                out = m.insertWith(self._put, rep, key, (b, c, y))
         except Emptied:
             return m.remove(rep, key)[0]
         except Missing:
@@ -535,7 +534,8 @@ class TwoComplex(ComplexStructure[D]):
             raise RepresentationError(f"2-complex: entry {(b, c)!r} missing from the list of {key!r}")
         return out
 
-    def _locate(self, rep: Any, s: Simplex, what: str) -> tuple[tuple[Entry, ...], int]:
+    def _locate(self, rep: Any, s: Simplex, what: str) -> tuple[tuple[Any, ...], int]:
+        """``(list of s[0], position of s's entry in it)``; AbsentSimplexError if ``s`` is not held."""
         a, b, c = s
         found = self._m.find(rep, a)
         if found is not None:
@@ -579,7 +579,7 @@ class TwoComplex(ComplexStructure[D]):
     def _update(self, rep: Any, s: Simplex, f: Callable[[D], D]) -> Any:
         a, b, c = s
         lst, i = self._locate(rep, s, "update")
-        y = f(lst[i][2])  # f may raise: nothing has been built yet
+        y = f(lst[len(lst) // 3 * 2 + i])  # f may raise: nothing has been built yet
         rep = self._change(rep, a, b, c, y, False)
         rep = self._change(rep, b, c, a, y, False)
         return self._change(rep, c, a, b, y, False)
@@ -588,12 +588,14 @@ class TwoComplex(ComplexStructure[D]):
         check = getattr(self._raw, "_check", None)
         if check is not None:
             check(rep)
-        table: dict[Vertex, tuple[Entry, ...]] = dict(self._raw.listItemsi(rep))
+        table: dict[Vertex, tuple[Any, ...]] = dict(self._raw.listItemsi(rep))
         for a, lst in table.items():
+            if type(lst) is not tuple or len(lst) % 3:
+                raise RepresentationError(f"2-complex: vertex {a!r} is mapped to {lst!r}, not a list of entries")
             if not lst:
                 raise RepresentationError(f"2-complex: vertex {a!r} is mapped to an empty list (it is in no triangle)")
             pairs: dict[tuple[Vertex, Vertex], int] = {}
-            for b, c, x in lst:
+            for b, c, x in entries(lst):
                 if len({a, b, c}) != 3:
                     raise RepresentationError(f"2-complex: the list of {a!r} holds {(b, c)!r}, a degenerate triangle")
                 if (b, c) in pairs:
@@ -604,7 +606,7 @@ class TwoComplex(ComplexStructure[D]):
                     )
                 pairs[(b, c)] = 1
                 for key, p, q in ((b, c, a), (c, a, b)):
-                    copies = [e for e in table.get(key, ()) if e[0] == p and e[1] == q]
+                    copies = [e for e in entries(table.get(key, ())) if e[0] == p and e[1] == q]
                     if len(copies) != 1:
                         raise RepresentationError(
                             f"2-complex: triangle {(a, b, c)!r} is in the list of {a!r} but "

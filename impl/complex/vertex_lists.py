@@ -1,10 +1,20 @@
 """The per-vertex lists of the specialised 2-complex (paper §4) and the functions that rebuild them.
 
-:class:`~persistri.impl.complex.two_complex.TwoComplex` maps each vertex to an
-immutable tuple of entries ``(second vertex, third vertex, datum)``, the
-paper's association list; its docstring describes the representation and the
-costs.  This module holds what works on those lists: the functions
-``insertWith`` combines a vertex's old list with (``add``, ``rem``, ``update``,
+:class:`~persistri.impl.complex.two_complex.TwoComplex` maps each vertex a to
+one flat, immutable tuple holding a's entries — one per triangle at a, the
+paper's association list — in three blocks of equal length k:
+
+    ``(b_0, …, b_{k-1},  c_0, …, c_{k-1},  x_0, …, x_{k-1})``
+
+entry i being the triangle ``(a, b_i, c_i)`` with datum ``x_i``.  A list with one
+entry is the 3-tuple ``(b, c, x)``.  Flat, because a tuple per entry (64 bytes)
+cost more memory than the three pointers it holds (24 bytes) even where the
+entry was shared by successive versions (docs/structures/complex.md); blocked,
+so that the entry with second vertex w is found by ``lst.index(w, 0, k)``, one
+C-level scan, and no datum is ever compared with a vertex.
+
+This module holds what works on those lists: the functions ``insertWith``
+combines a vertex's old list with (``add``, ``rem``, ``update``,
 ``replace``), the grouping of a ``replace`` by vertex, and the edge lookup of
 one version that the walks call (:func:`neighbours_in`).  They are a module of
 their own because the 2-complex spends its time here: the compiled twin
@@ -12,13 +22,13 @@ their own because the 2-complex spends its time here: the compiled twin
 :mod:`~persistri.impl.complex.two_complex`, which validates the public
 arguments and raises the signature's errors, stays interpreted.
 
-Entries and lists are typed as tuples of *any* length (``tuple[Any, ...]``):
-mypyc stores a fixed-length tuple type unboxed and boxes it again on the way
-out, so an entry kept by a rebuilt list would come back as a new, equal tuple,
-no longer shared with the older versions that hold it.  Typed this way each
-stays one object (``tests/test_complex_replace.py`` checks the kept entries,
-the untouched lists and the map's subtrees by identity).  Vertices are
-``Any`` here: the structure has validated them.
+Lists are typed as tuples of *any* length (``tuple[Any, ...]``): mypyc stores a
+fixed-length tuple type unboxed and boxes it again on the way out, so a list
+kept by a rebuilt map would come back as a new, equal tuple, no longer shared
+with the older versions that hold it.  Typed this way each stays one object
+(``tests/test_complex_replace.py`` checks the untouched lists and the map's
+subtrees by identity).  Vertices are ``Any`` here: the structure has
+validated them.
 
 The exceptions are signals between these functions and the structure, never
 seen by a caller of the 2-complex: the structure turns them into the
@@ -40,12 +50,16 @@ __all__ = [
     "Missing",
     "Unbatched",
     "Present",
+    "size",
+    "entries",
+    "from_entries",
+    "from_flat",
+    "index",
     "cat",
     "cat_first",
     "drop",
     "put",
     "drop_add",
-    "drop_add_general",
     "cat_new",
     "rebuild",
     "visited",
@@ -55,14 +69,16 @@ __all__ = [
 ]
 
 Entry: TypeAlias = tuple[Any, ...]
-"""``(second vertex, third vertex, datum)`` in the list of the first vertex (any length for mypyc: see above)."""
+"""``(second vertex, third vertex, datum)``: one entry, as :func:`entries` returns it (a list of one entry is
+this very tuple)."""
 
-VertexList: TypeAlias = tuple[Entry, ...]
-"""A vertex's list: its entries, one per triangle at the vertex."""
+VertexList: TypeAlias = tuple[Any, ...]
+"""A vertex's list: the blocks of second vertices, third vertices and data (module docstring)."""
 
-Change: TypeAlias = tuple[list[tuple[Any, Any]], list[Entry], list[Entry]]
-"""What ``replace`` does to one vertex's list: the pairs ``(b, c)`` to drop, the entries to add of the triangles
-that start at the vertex (checked against the list), and the other entries to add."""
+Change: TypeAlias = tuple[list[Any], list[Any], list[Any]]
+"""What ``replace`` does to one vertex's list, each part flat: the pairs ``b, c`` of the entries to drop, the
+triples ``b, c, x`` to add of the triangles that start at the vertex (checked against the list), and the other
+triples ``b, c, x`` to add."""
 
 
 class Emptied(Exception):
@@ -85,55 +101,134 @@ class Present(Exception):
         self.opposite = opposite
 
 
+# -- reading a list ---------------------------------------------------------------------
+
+
+def size(lst: VertexList) -> int:
+    """The number of entries of ``lst``.  O(1)."""
+    return len(lst) // 3
+
+
+def entries(lst: VertexList) -> list[Entry]:
+    """The entries ``(b, c, x)`` of ``lst``, in order.  O(k)."""
+    k = len(lst) // 3
+    return list(zip(lst[:k], lst[k : 2 * k], lst[2 * k :]))
+
+
+def from_entries(es: Sequence[Entry]) -> VertexList:
+    """The list of the entries ``es`` ``(b, c, x)``, in order (the inverse of :func:`entries`).  O(k)."""
+    return tuple([e[0] for e in es] + [e[1] for e in es] + [e[2] for e in es])
+
+
+def from_flat(flat: list[Any]) -> VertexList:
+    """The list of the triples ``b, c, x`` laid end to end in ``flat``, in order.  O(k)."""
+    return tuple(flat[0::3] + flat[1::3] + flat[2::3])
+
+
+def index(lst: VertexList, b: Any, c: Any) -> int:
+    """The position of entry ``(b, c, _)`` in ``lst`` (its datum is ``lst[2k + i]``), or -1.  O(k), in C."""
+    k = len(lst) // 3
+    i = 0
+    while True:
+        try:
+            i = lst.index(b, i, k)
+        except ValueError:
+            return -1
+        if lst[k + i] == c:
+            return i
+        i += 1
+
+
+def visited(old: VertexList, b: Any, c: Any) -> int:
+    """How many entries a scan of ``old`` for ``(b, c, _)`` visits (the paper's count: up to the hit, or all)."""
+    i = index(old, b, c)
+    return len(old) // 3 if i < 0 else i + 1
+
+
+def _holds(lst: list[Any] | VertexList, k: int, b: Any, c: Any) -> bool:
+    """Whether the first k entries of the blocked ``lst`` (blocks of length k) hold the triangle ``(b, c)``
+    or ``(c, b)``."""
+    for i in range(k):
+        e0 = lst[i]
+        if e0 == b:
+            if lst[k + i] == c:
+                return True
+        elif e0 == c and lst[k + i] == b:
+            return True
+    return False
+
+
 # The functions ``insertWith`` combines a vertex's old list with.  Module-level, so
 # no closure is made per operation: what they need travels in ``insertWith``'s
-# value argument (the new entry, or the (second, third) pair to find).
+# value argument (the new list of one entry, or the (second, third) pair to find).
+
+
+def _merged(out: list[Any], m: int, adds: list[Any] | VertexList) -> VertexList:
+    """The list of the m entries blocked in ``out`` (length 3m) followed by the triples ``adds`` (flat)."""
+    out += adds[2::3]
+    out[2 * m : 2 * m] = adds[1::3]
+    out[m:m] = adds[0::3]
+    return tuple(out)
+
+
+def _spliced(out: list[Any], m: int, adds: VertexList) -> VertexList:
+    """The list of the m entries blocked in ``out`` (length 3m) followed by the entries of the list ``adds``."""
+    j = len(adds) // 3
+    out += adds[2 * j :]
+    out[2 * m : 2 * m] = adds[j : 2 * j]
+    out[m:m] = adds[:j]
+    return tuple(out)
 
 
 def cat(old: VertexList, new: VertexList) -> VertexList:
-    return old + new
+    """``old`` followed by the entries of ``new`` (both lists)."""
+    return _spliced(list(old), len(old) // 3, new)
 
 
 def cat_first(old: VertexList, new: VertexList) -> VertexList:
-    """``old + new`` unless the triangle of ``new``'s entry (b, c) is in ``old`` in either orientation."""
-    b, c, _ = new[0]
-    for e in old:
-        e0 = e[0]
+    """``old`` plus ``new``'s one entry ``(b, c, x)`` unless its triangle is in ``old`` in either orientation."""
+    b, c, _ = new
+    k = len(old) // 3
+    for i in range(k):
+        e0 = old[i]
         if e0 == b:
-            if e[1] == c:
+            if old[k + i] == c:
                 raise Present(False)
-        elif e0 == c and e[1] == b:
+        elif e0 == c and old[k + i] == b:
             raise Present(True)
-    return old + new
+    return _spliced(list(old), k, new)
 
 
 def drop(old: VertexList, pair: tuple[Any, Any]) -> VertexList:
     """``old`` without its entry ``(b, c, _)`` for ``pair = (b, c)``; Emptied if that was the only one."""
-    b, c = pair
-    i = 0
-    for e in old:
-        if e[0] == b and e[1] == c:
-            if len(old) == 1:
-                raise Emptied
-            return old[:i] + old[i + 1 :]
-        i += 1
-    raise Missing
+    i = index(old, pair[0], pair[1])
+    if i < 0:
+        raise Missing
+    k = len(old) // 3
+    if k == 1:
+        raise Emptied
+    out = list(old)
+    del out[2 * k + i]
+    del out[k + i]
+    del out[i]
+    return tuple(out)
 
 
 def put(old: VertexList, new: VertexList) -> VertexList:
-    """``old`` with its entry ``(b, c, _)`` replaced by ``new``'s entry ``(b, c, y)``."""
-    b, c, _ = new[0]
-    i = 0
-    for e in old:
-        if e[0] == b and e[1] == c:
-            return old[:i] + new + old[i + 1 :]
-        i += 1
-    raise Missing
+    """``old`` with its entry ``(b, c, _)`` replaced by ``new``'s one entry ``(b, c, y)``."""
+    b, c, y = new
+    i = index(old, b, c)
+    if i < 0:
+        raise Missing
+    k = len(old) // 3
+    out = list(old)
+    out[i] = b
+    out[k + i] = c
+    out[2 * k + i] = y
+    return tuple(out)
 
 
-def drop_add(
-    old: VertexList, change: Change
-) -> VertexList:
+def drop_add(old: VertexList, change: Change) -> VertexList:
     """``old`` without the entries ``(b, c, _)`` for the pairs of ``change[0]``, plus the entries of
     ``change[1]`` and ``change[2]`` (``replace``).
 
@@ -141,77 +236,55 @@ def drop_add(
     list's: each is looked for in the kept entries, in either orientation (one
     vertex suffices, as for ``add``).  Missing if a pair to drop is not there (or
     is asked twice), Present if a triangle to add is kept, Emptied if nothing
-    is left.  One pass over ``old``: on a surface every vertex the change keeps
-    has exactly one checked entry (the new triangle that starts at it), and that
-    case drops and checks in the same loop.
+    is left.  Each entry to drop is found by a C-level scan of the first block,
+    and the new list is cut and spliced by list operations (no tuple per entry):
+    O(k) with few interpreted steps.
     """
     drops, checked, plain = change
-    n = len(drops)
-    if len(checked) != 1:
-        return drop_add_general(old, drops, checked, plain)
-    b0, c0, _ = checked[0]
-    kept: list[Entry] = []
-    append = kept.append
-    if n == 1:
-        ((b, c),) = drops
-        for e in old:
-            e0 = e[0]
-            e1 = e[1]
-            if e0 == b and e1 == c:
-                continue
-            if (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
-                raise Present(False)
-            append(e)
-    else:
-        gone = set(drops)
-        for e in old:
-            e0 = e[0]
-            e1 = e[1]
-            if (e0, e1) in gone:
-                continue
-            if (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
-                raise Present(False)
-            append(e)
-    if len(kept) + n != len(old):
-        raise Missing
-    append(checked[0])
-    kept += plain
-    return tuple(kept)
-
-
-def drop_add_general(
-    old: VertexList, drops: list[tuple[Any, Any]], checked: list[Entry], plain: list[Entry]
-) -> VertexList:
-    """:func:`drop_add` for no checked entry or several (a vertex left with nothing, or a change that is not a star's)."""
-    gone = set(drops)
-    kept = [e for e in old if (e[0], e[1]) not in gone]
-    if len(kept) + len(drops) != len(old):
-        raise Missing
-    for b, c, _ in checked:
-        for e in kept:
-            e0 = e[0]
-            if (e0 == b and e[1] == c) or (e0 == c and e[1] == b):
-                raise Present(False)
-    kept += checked
-    kept += plain
-    if not kept:
-        raise Emptied
-    return tuple(kept)
+    k = len(old) // 3
+    out = list(old)
+    nd = len(drops)
+    if nd == 2:  # one entry dropped (most vertices of a star replacement)
+        i = index(old, drops[0], drops[1])
+        if i < 0:
+            raise Missing
+        del out[2 * k + i]
+        del out[k + i]
+        del out[i]
+    elif nd:
+        gone: list[int] = []
+        for j in range(0, nd, 2):
+            i = index(old, drops[j], drops[j + 1])
+            if i < 0 or i in gone:  # absent, or asked twice
+                raise Missing
+            gone.append(i)
+        gone.sort(reverse=True)
+        for base in (2 * k, k, 0):  # the data block first: cutting it moves nothing before it
+            for i in gone:
+                del out[base + i]
+    m = k - nd // 2
+    for j in range(0, len(checked), 3):
+        if _holds(out, m, checked[j], checked[j + 1]):
+            raise Present(False)
+    if not checked and not plain:
+        if not m:
+            raise Emptied
+        return tuple(out)
+    return _merged(out, m, checked + plain)
 
 
 def cat_new(old: VertexList, adds: VertexList) -> VertexList:
-    """``old + adds``; Present if a triangle of ``adds`` is in ``old`` in either orientation (``replace``)."""
-    for e in old:
-        e0, e1 = e[0], e[1]
-        for b, c, _ in adds:
-            if (e0 == b and e1 == c) or (e0 == c and e1 == b):
-                raise Present(False)
-    return old + adds
+    """``old`` followed by the entries of the list ``adds``; Present if a triangle of ``adds`` is in ``old``
+    in either orientation (``replace``)."""
+    k = len(old) // 3
+    j = len(adds) // 3
+    for i in range(j):
+        if _holds(old, k, adds[i], adds[j + i]):
+            raise Present(False)
+    return _spliced(list(old), k, adds)
 
 
-def rebuild(
-    old: VertexList, arg: tuple[Change, Any, list[Any]]
-) -> VertexList:
+def rebuild(old: VertexList, arg: tuple[Change, Any, list[Any]]) -> VertexList:
     """``replace``'s combine for a batched update (``adjust_many``): ``arg = (change, v, emptied)``.
 
     The vertex's new list as ``cat_new`` or ``drop_add`` make it; when nothing is
@@ -220,20 +293,12 @@ def rebuild(
     """
     change, v, emptied = arg
     if not change[0]:
-        return cat_new(old, tuple(change[1] + change[2]))
+        return cat_new(old, from_flat(change[1] + change[2]))
     try:
         return drop_add(old, change)
     except Emptied:
         emptied.append(v)
         return ()
-
-
-def visited(old: VertexList, b: Any, c: Any) -> int:
-    """How many entries a scan of ``old`` for ``(b, c, _)`` visits."""
-    for i, e in enumerate(old):
-        if e[0] == b and e[1] == c:
-            return i + 1
-    return len(old)
 
 
 Changes: TypeAlias = dict[Any, Change]
@@ -263,19 +328,19 @@ def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Chang
             raise Unbatched
         ch = get(a)
         if ch is None:
-            changes[a] = ([(b, cc)], [], [])
+            changes[a] = ([b, cc], [], [])
         else:
-            ch[0].append((b, cc))
+            ch[0].extend((b, cc))
         ch = get(b)
         if ch is None:
-            changes[b] = ([(cc, a)], [], [])
+            changes[b] = ([cc, a], [], [])
         else:
-            ch[0].append((cc, a))
+            ch[0].extend((cc, a))
         ch = get(cc)
         if ch is None:
-            changes[cc] = ([(a, b)], [], [])
+            changes[cc] = ([a, b], [], [])
         else:
-            ch[0].append((a, b))
+            ch[0].extend((a, b))
     out_lin = lin
     for sx in added:
         s, x = sx
@@ -287,27 +352,27 @@ def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Chang
             raise Unbatched
         ch = get(a)
         if ch is None:
-            changes[a] = ([], [(b, cc, x)], [])
+            changes[a] = ([], [b, cc, x], [])
         else:
             # Added twice, or in both orientations: every triangle of the batch is already
             # under each of its vertices, so one test at the first vertex finds it.
-            for e in ch[1]:
-                if (e[0] == b and e[1] == cc) or (e[0] == cc and e[1] == b):
-                    raise Unbatched
-            for e in ch[2]:
-                if (e[0] == b and e[1] == cc) or (e[0] == cc and e[1] == b):
-                    raise Unbatched
-            ch[1].append((b, cc, x))
+            for part in (ch[1], ch[2]):
+                for j in range(0, len(part), 3):
+                    e0 = part[j]
+                    e1 = part[j + 1]
+                    if (e0 == b and e1 == cc) or (e0 == cc and e1 == b):
+                        raise Unbatched
+            ch[1].extend((b, cc, x))
         ch = get(b)
         if ch is None:
-            changes[b] = ([], [], [(cc, a, x)])
+            changes[b] = ([], [], [cc, a, x])
         else:
-            ch[2].append((cc, a, x))
+            ch[2].extend((cc, a, x))
         ch = get(cc)
         if ch is None:
-            changes[cc] = ([], [], [(a, b, x)])
+            changes[cc] = ([], [], [a, b, x])
         else:
-            ch[2].append((a, b, x))
+            ch[2].extend((a, b, x))
     return changes, out_lin
 
 
@@ -333,7 +398,7 @@ def replace_batched(
         change = item[1][0]
         if change[0]:  # the vertex had no list: a triangle to remove is absent
             raise Unbatched
-        rep = insert(rep, item[0], tuple(change[1] + change[2]))
+        rep = insert(rep, item[0], from_flat(change[1] + change[2]))
     for v in emptied:  # v is in no triangle any more
         rep = remove(rep, v)[0]
     return rep
@@ -350,7 +415,7 @@ def neighbours_in(
     lineage (it raises the signature's error, or answers as ``neighbour``
     does).  Each vertex's list is read from the map at most once (the version
     never changes, so a list read stays right).  O(lg V + δ) for a vertex met
-    first, O(δ) after.
+    first, O(δ) after (a C-level scan).
     """
     lists: dict[Any, VertexList] = {}
 
@@ -369,9 +434,11 @@ def neighbours_in(
             if found is None:
                 return None
             lst = lists[u] = found[0]
-        for e in lst:
-            if e[0] == w:
-                return (u, w, e[1]), e[2]
-        return None
+        k = len(lst) // 3
+        try:
+            i = lst.index(w, 0, k)
+        except ValueError:
+            return None
+        return (u, w, lst[k + i]), lst[2 * k + i]
 
     return neighbour_in_c
