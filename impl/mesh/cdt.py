@@ -122,6 +122,9 @@ class _Builder:
     def __init__(self, T: MeshTriangulation) -> None:
         self.T = T
         self.P = T.pred
+        # Segments already present as edges when they came: constrained in the regions' rebuild of every datum (one
+        # version for all of them, not one each), in the order they came: ``edge -> (segment, order)``.
+        self.marked: dict[tuple[int, int], tuple[int, int]] = {}
 
     def vertices(self, n: int) -> Complex[MeshDatum]:
         T, P = self.T, self.P
@@ -160,7 +163,8 @@ class _Builder:
         fwd = S.neighbour(cx, (va, vb))
         if fwd is not None:
             back = T.across(cx, va, vb)
-            return self._mark(cx, [fwd, back], (*edge_key(a, b), s))
+            self._mark([fwd, back], (*edge_key(a, b), s))
+            return cx
         # The triangle at a whose wedge holds the direction to b.
         start: tuple[Tri, MeshDatum] | None = None
         for t in S.grep(cx, 2, (va,)):
@@ -184,8 +188,11 @@ class _Builder:
         crossed = [start]
         left: list[Vertex] = [l]
         right: list[Vertex] = [r]
+        marked = self.marked
         while True:
             seg = constraint_of(dat, r, l) if dat[2] else -1
+            if seg < 0 and marked:
+                seg = marked.get(edge_key(r, l), (-1, 0))[0]
             if seg >= 0:
                 raise MeshError(
                     f"segment {s} (vertices {a}, {b}) crosses segment {seg} (near vertices {int(r)}, {int(l)})"
@@ -205,9 +212,15 @@ class _Builder:
                 r = z
                 right.append(z)
         constraints: dict[tuple[int, int], int] = {}
-        for _, cdat in crossed:
+        for ctri, cdat in crossed:
             for lo, hi, sg in cdat[2]:
                 constraints[(lo, hi)] = sg
+            if marked:
+                # A marked edge on the cavity's boundary goes into the new triangle's datum, as a datum would carry it.
+                for u, w in ((ctri[0], ctri[1]), (ctri[1], ctri[2]), (ctri[2], ctri[0])):
+                    found = marked.get(edge_key(u, w))
+                    if found is not None:
+                        constraints[edge_key(u, w)] = found[0]
         constraints[edge_key(a, b)] = s
         new: list[Tri] = []
         self._polygon(va, vb, left, new)
@@ -243,15 +256,30 @@ class _Builder:
             stack.append((a, c, chain[:i]))
             stack.append((c, b, chain[i + 1 :]))
 
-    def _mark(
-        self, cx: Complex[MeshDatum], tris: list[tuple[Tri, MeshDatum]], con: Constraint
-    ) -> Complex[MeshDatum]:
-        added = []
-        for t, (_, region, cons) in tris:
+    def _mark(self, tris: list[tuple[Tri, MeshDatum]], con: Constraint) -> None:
+        """Record the edge of ``tris`` (the two triangles beside it) as constrained by ``con``, unless it already is
+        (a repeated segment: the first keeps it).  The data change in :meth:`regions`' rebuild. O(1)."""
+        key = (con[0], con[1])
+        if key in self.marked:
+            return
+        for _, (_, _, cons) in tris:
             if any(c[0] == con[0] and c[1] == con[1] for c in cons):
-                return cx  # already constrained (a repeated segment): the first keeps it
-            added.append((t, self.T.new_datum(region, cons + (con,))))
-        return self.T.S.replace(cx, [t for t, _ in tris], added)
+                return
+        self.marked[key] = (con[2], len(self.marked))
+
+    def _with_marked(self, t: Tri, d: MeshDatum) -> MeshDatum:
+        """``d`` with the marked constraints on the edges of ``t`` it lacks, appended in the order they came."""
+        marked = self.marked
+        extra: list[tuple[int, Constraint]] = []
+        for u, w in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+            key = edge_key(u, w)
+            found = marked.get(key)
+            if found is not None and not any(c[0] == key[0] and c[1] == key[1] for c in d[2]):
+                extra.append((found[1], (key[0], key[1], found[0])))
+        if not extra:
+            return d
+        extra.sort()
+        return (d[0], d[1], d[2] + tuple(con for _, con in extra))
 
     # -- regions ---------------------------------------------------------------------------
 
@@ -265,9 +293,10 @@ class _Builder:
         by_edge: dict[tuple[Vertex, Vertex], int] = {}
         tris: list[Tri] = []
         datas: list[MeshDatum] = []
+        marked = self.marked
         for k, (t, d) in enumerate(items):
             tris.append(t)
-            datas.append(d)
+            datas.append(self._with_marked(t, d) if marked else d)
             by_edge[(t[0], t[1])] = k
             by_edge[(t[1], t[2])] = k
             by_edge[(t[2], t[0])] = k
