@@ -25,7 +25,7 @@ from persistri.impl.mesh.api import triangulate
 from persistri.impl.mesh.chains import in_tolerance_box
 from persistri.impl.mesh.domain import PSLG, DomainError, as_pslg
 from persistri.impl.mesh.splitting import near_segment, rounded_candidates
-from persistri.impl.mesh.steiner import PrecisionLimitError, _dyadic_double
+from persistri.impl.mesh.steiner import PrecisionLimitError, _dyadic_double, _dyadic_split
 from persistri.impl.mesh.verify import verify_mesh
 
 X0, Y0 = 512_345.0, 4_123_456.0
@@ -228,3 +228,92 @@ def test_dyadic_double_is_exact() -> None:
         assert (got is not None) == (Fraction(float(exact)) == exact if abs(exact) < 2**1024 else False)
         if got is not None:
             assert Fraction(got) == exact
+
+
+def _dyadic_split_rational(
+    P: GrowingPredicates2, a: int, b: int, t_lo: Fraction, t_hi: Fraction, wanted: Fraction
+) -> tuple[Fraction, float, float] | None:
+    """The dyadic fallback of ``split_parameter`` written plainly in rationals, every candidate tried (the reference)."""
+    delta = t_hi - t_lo
+    lo_ok, hi_ok = t_lo + delta / 4, t_hi - delta / 4
+    target = min(max(wanted, lo_ok), hi_ok)
+    k0 = 0
+    while Fraction(1, 1 << k0) > delta / 8:
+        k0 += 1
+    fine = min(k0 + 64, max(k0, target.denominator.bit_length() - 1))
+    (xa, ya), (xb, yb) = (Fraction(v) for v in P.xy(a)), (Fraction(v) for v in P.xy(b))
+    tried: set[Fraction] = set()
+    for k in range(fine, k0 - 1, -1):
+        unit = 1 << k
+        base = math.floor(target * unit)
+        for j in (base, base + 1) if target * unit - base <= Fraction(1, 2) else (base + 1, base):
+            t = Fraction(j, unit)
+            if t in tried or not lo_ok <= t <= hi_ok:
+                continue
+            tried.add(t)
+            x, y = xa + t * (xb - xa), ya + t * (yb - ya)
+            try:
+                fx, fy = float(x), float(y)
+            except OverflowError:
+                continue
+            if fx == x and fy == y:
+                return t, fx, fy
+    return None
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.floats(-1e6, 1e6), st.floats(-1e6, 1e6), st.floats(-1e6, 1e6), st.floats(-1e6, 1e6),
+    st.integers(0, 2**20), st.integers(1, 2**20), st.integers(0, 60), st.integers(0, 1000),
+)
+def test_dyadic_split_agrees_with_the_plain_search(
+    xa: float, ya: float, xb: float, yb: float, lo_num: int, width: int, shift: int, at: int
+) -> None:
+    """The dyadic fallback on integers, with its levels skipped where a coordinate cannot be a double, returns the
+    candidate the plain rational search returns (the first that is a pair of doubles), or fails where it fails."""
+    assume((xa, ya) != (xb, yb))
+    P = GrowingPredicates2(np.array([[xa, ya], [xb, yb]]))
+    denominator = 2**21 << shift
+    t_lo = Fraction(lo_num, denominator)
+    t_hi = t_lo + Fraction(width, denominator)
+    assume(t_hi <= 1)
+    wanted = t_lo + (t_hi - t_lo) * Fraction(at, 1000)
+    expected = _dyadic_split_rational(P, 0, 1, t_lo, t_hi, wanted)
+    if expected is None:
+        with pytest.raises(PrecisionLimitError):
+            _dyadic_split(P, 0, 1, t_lo, t_hi, wanted)
+    else:
+        assert _dyadic_split(P, 0, 1, t_lo, t_hi, wanted) == expected
+
+
+def test_dyadic_split_on_the_needle_agrees_with_the_plain_search(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every call the needle's refinement makes (coordinates not snapped, sides 1e-6 rad apart: the lattice of
+    doubles on a side is sparse, and the fallback runs), and the same intervals shifted along the sides."""
+    import persistri.impl.mesh.steiner as steiner
+    from persistri.impl.mesh.gallery import gallery_domain
+
+    calls: list[tuple[GrowingPredicates2, int, int, Fraction, Fraction, Fraction]] = []
+    real = steiner._dyadic_split
+
+    def spy(P: GrowingPredicates2, a: int, b: int, t_lo: Fraction, t_hi: Fraction, wanted: Fraction) -> tuple[Fraction, float, float]:
+        calls.append((P, a, b, t_lo, t_hi, wanted))
+        return real(P, a, b, t_lo, t_hi, wanted)
+
+    monkeypatch.setattr(steiner, "_dyadic_split", spy)
+    triangulate(gallery_domain("needle").pslg, min_angle=30)
+    assert len(calls) > 10
+    found = failed = 0
+    for P, a, b, t_lo, t_hi, wanted in calls:
+        for shift in (Fraction(0), (t_hi - t_lo) / 3, -(t_hi - t_lo) / 7):
+            lo, hi, w = t_lo + shift, t_hi + shift, wanted + shift
+            if not 0 <= lo < hi <= 1:
+                continue
+            expected = _dyadic_split_rational(P, a, b, lo, hi, w)
+            if expected is None:
+                with pytest.raises(PrecisionLimitError):
+                    real(P, a, b, lo, hi, w)
+                failed += 1
+            else:
+                assert real(P, a, b, lo, hi, w) == expected
+                found += 1
+    assert found >= 1 and failed > 10  # on the needle the search mostly fails: the split point is then rounded

@@ -237,6 +237,11 @@ def _dyadic_split(
     dx, dy = pb[0] - ax, pb[1] - ay
     tn, td = target.numerator, target.denominator
     lon, lod, hin, hid = lo_ok.numerator, lo_ok.denominator, hi_ok.numerator, hi_ok.denominator
+    # A level bound per axis (below): a candidate j / 2^k' in lowest terms with k' above it is no double.
+    bound = _dyadic_level_bound(ax, dx, lo_ok, hi_ok)
+    other = _dyadic_level_bound(ay, dy, lo_ok, hi_ok)
+    if bound is None or (other is not None and other < bound):
+        bound = other
     tried: set[tuple[int, int]] = set()
     for k in range(fine, k0 - 1, -1):
         unit = 1 << k
@@ -250,6 +255,8 @@ def _dyadic_split(
             if key in tried or not (lon * unit <= j * lod and j * hid <= hin * unit):
                 continue
             tried.add(key)
+            if bound is not None and key[1] > bound:
+                continue  # one coordinate has more significant bits than a double
             fx = _dyadic_double((ax << k) + j * dx, ex - k)
             if fx is None:
                 continue
@@ -261,6 +268,29 @@ def _dyadic_split(
         f"for parameters in ({float(t_lo)!r}, {float(t_hi)!r}): the subsegment is at the limit of double precision "
         "(round the input coordinates to fewer significant bits, or ask for a coarser mesh)"
     )
+
+
+def _dyadic_level_bound(a: int, d: int, lo: Fraction, hi: Fraction) -> int | None:
+    """A level ``K`` such that for no ``t = j / 2^k`` in lowest terms with ``k > K`` and ``lo <= t <= hi`` is
+    ``(a + t d) · 2^e`` a double, whatever ``e`` (None: no such bound found).
+
+    With ``v(·)`` the 2-adic valuation: ``v(t d) = v(d) − k``, which is below ``v(a)`` when ``k > v(d) − v(a)``, and
+    then ``v(a + t d) = v(d) − k``.  A double of binary exponent ``E`` is a multiple of ``2^(E − 52)`` (of
+    ``2^-1074`` below the normal range, a stronger condition), and ``E >= E_lo``, a lower bound of
+    ``floor(log2 |a + t d|)`` on ``[lo, hi]`` where the line does not cross 0 (from the bit lengths of the smaller
+    end's numerator and denominator).  So ``k > v(d) − E_lo + 52`` fails too.  O(1) on integers."""
+    if d == 0:
+        return None
+    x_lo, x_hi = a + lo * d, a + hi * d
+    if (x_lo <= 0) != (x_hi <= 0) or x_lo == 0 or x_hi == 0:
+        return None  # the line crosses 0 in the interval: points of any size
+    least = min(abs(x_lo), abs(x_hi))
+    e_lo = least.numerator.bit_length() - least.denominator.bit_length() - 1  # <= floor(log2(least))
+    vd = (d & -d).bit_length() - 1
+    bound = vd - e_lo + 52
+    if a != 0:
+        bound = max(bound, vd - ((a & -a).bit_length() - 1))
+    return bound
 
 
 def _dyadic_double(n: int, e: int) -> float | None:
