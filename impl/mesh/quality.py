@@ -318,22 +318,36 @@ class QualityTests:
         good = True
         if self.theta != 0.0:
             lo, hi = self._lo, self._hi
-            # The angle opposite each candidate edge (at c for ab, at a for bc, at b for ca); each is below about 60°.
-            for on, dot, n1, n2 in (
-                (on_ab, -(cax * bcx + cay * bcy), lca, lbc),
-                (on_bc, -(abx * cax + aby * cay), lab, lca),
-                (on_ca, -(bcx * abx + bcy * aby), lbc, lab),
-            ):
-                if not on:
-                    continue
-                den = n1 * n2
+            # The angle opposite each candidate edge (at c for ab, at a for bc, at b for ca); each is below about 60°:
+            # clearly above the bound (ratio < lo), clearly below it (ratio > hi, the shortest edge known), or exact.
+            # Unrolled (the same operations for each edge), and computed for the candidates only.
+            if on_ab:
+                dot = -(cax * bcx + cay * bcy)
+                den = lca * lbc
                 ratio = dot * dot / den if dot > 0.0 and den > 0.0 else math.nan
-                if ratio < lo:
-                    continue
-                if ratio > hi and unique:
-                    good = False
-                    continue
-                return self._assess_exact(a, b, c, region)
+                if not ratio < lo:
+                    if ratio > hi and unique:
+                        good = False
+                    else:
+                        return self._assess_exact(a, b, c, region)
+            if on_bc:
+                dot = -(abx * cax + aby * cay)
+                den = lab * lca
+                ratio = dot * dot / den if dot > 0.0 and den > 0.0 else math.nan
+                if not ratio < lo:
+                    if ratio > hi and unique:
+                        good = False
+                    else:
+                        return self._assess_exact(a, b, c, region)
+            if on_ca:
+                dot = -(bcx * abx + bcy * aby)
+                den = lbc * lab
+                ratio = dot * dot / den if dot > 0.0 and den > 0.0 else math.nan
+                if not ratio < lo:
+                    if ratio > hi and unique:
+                        good = False
+                    else:
+                        return self._assess_exact(a, b, c, region)
         limit = self._area.get(region) or self._area.get(-2)
         if good:
             if limit is None:

@@ -222,7 +222,11 @@ class Refiner:
     def _push_bad(self, t: Tri, d: MeshDatum, p: int, q: int, r: int, edge2: float) -> None:
         bucket = math.frexp(edge2)[1] if 0.0 < edge2 < math.inf else 0
         self._seq += 1
-        self._enqueue((bucket, self._seq, t, d, p, q, r))
+        queue = self._queues.get(bucket)  # self._enqueue, inlined
+        if queue is None:
+            queue = self._queues[bucket] = deque()
+            heapq.heappush(self._buckets, bucket)
+        queue.append((bucket, self._seq, t, d, p, q, r))
 
     def _enqueue(self, bad: Bad) -> None:
         """Queue ``bad`` last in its bucket. O(1), plus O(lg buckets) for a bucket that was empty."""
