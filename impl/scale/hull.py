@@ -44,12 +44,16 @@ single run's :class:`~persistri.impl.hull.errors.DegenerateInputError`, word for
 
 **The passes** (each a set of tasks, :mod:`persistri.impl.scale.tasks`):
 
-1. *scan* — each block is read and validated (the first bad row of the whole
-   input is named), its bounding box taken, its rows cut into buckets by hash;
-   each bucket's duplicates are found.  The only all-to-all exchange: 32 bytes
-   a point (coordinates and row), spread over the workers.
-2. *chunk hulls* — each block is read again, its later duplicates dropped, its
-   hull computed; only the vertices (coordinates and rows) travel on.
+1. *scan* — each block is read once and validated (the first bad row of the
+   whole input is named), its bounding box taken, its rows cut into buckets by
+   hash, and its points that are provably not hull vertices dropped by the
+   interior filter (:mod:`persistri.impl.scale.prefilter`: strictly inside a
+   polytope of the block's own points, proved exactly; for points uniform in a
+   ball all but a fraction of a per cent); each bucket's duplicates are found.
+   The only all-to-all exchange: 32 bytes a point (coordinates and row), spread
+   over the workers.  The filter's survivors come back to the client.
+2. *chunk hulls* — each block's survivors, its later duplicates dropped, hulled;
+   only the vertices (coordinates and rows) travel on.
 3. *merges* — groups of ``fan_in`` vertex sets, hull of their union, vertices
    on; level after level until at most ``fan_in`` sets remain.
 4. *final* — on the client: the hull of the union of those sets, with the full
@@ -58,11 +62,22 @@ single run's :class:`~persistri.impl.hull.errors.DegenerateInputError`, word for
    are then verified against it on the workers, exactly
    (:func:`~persistri.impl.hull.verify.verify_hull`).
 
-Cost for ``n`` points in ``C`` blocks on ``W`` workers: two reads of the input,
-O(n/W) hashing and O(n/W · lg(n/C)) expected hull work per worker, and a final
-hull over the surviving vertices — O(C · h(n/C)) points for chunk hulls of
-h(m) vertices: O(lg² m) for uniform points in a cube, O(√m) in a ball, all m
-on a sphere (where nothing is saved: the final run gets every point).
+The filter changes the work, never the result: a dropped point is strictly
+inside the hull of points of its own block, so it is not a vertex of any hull
+containing them, perturbed or not (the filter's docstring proves it) — in
+particular not of the hull of all points.  (The filter sees every row of its
+block, the chunk hull only the rows that are not repeats of earlier rows: a
+point of the block can be strictly inside the hull of the block's rows but on
+the hull of the chunk hull's, and is then dropped, rightly, as no vertex of
+the whole.)
+
+Cost for ``n`` points in ``C`` blocks on ``W`` workers: one read of the input
+(two with ``check``), O(n/W) hashing and filtering per worker, a chunk hull
+over each block's s survivors — s = O(h(m) + the filter's slack) for
+blocks of m points whose hulls have h(m) vertices: O(lg² m) for uniform points
+in a cube, O(√m) in a ball, all m on a sphere (where nothing is saved: the
+filter drops nothing and the final run gets every point) — and a final hull
+over the surviving vertices, O(C · h(n/C)) points.
 """
 
 from __future__ import annotations
@@ -80,6 +95,7 @@ from persistri.impl.hull.api import Hull, convex_hull
 from persistri.impl.hull.errors import DegenerateInputError
 from persistri.impl.hull.verify import HullVerificationError, verify_hull
 from persistri.impl.scale.sources import DEFAULT_CHUNK_ROWS, PointSource, points_source, read_block
+from persistri.impl.scale.prefilter import interior_filter
 from persistri.impl.scale.tasks import Task, run, task
 
 if TYPE_CHECKING:
@@ -110,13 +126,16 @@ _MIX = (np.uint64(0x9E3779B97F4A7C15), np.uint64(0xBF58476D1CE4E5B9), np.uint64(
 @dataclass(frozen=True)
 class ChunkReport:
     """What one block did: its rows ``start:stop``, its distinct first-occurrence points, the vertices it
-    passed on (``kept``), and whether its hull did not exist (``degenerate``: it passed every point on)."""
+    passed on (``kept``), whether its hull did not exist (``degenerate``: it passed every point on), and
+    the points the interior filter proved not to be vertices before the hull was built (``filtered``,
+    duplicates included: :mod:`persistri.impl.scale.prefilter`)."""
 
     start: int
     stop: int
     distinct: int
     kept: int
     degenerate: bool
+    filtered: int = 0
 
 
 @dataclass(frozen=True)
@@ -195,25 +214,31 @@ def _bucket_of(points: NDArray[np.float64], buckets: int) -> IntArray:
     return out
 
 
-def _scan(data: Any, start: int, stop: int, buckets: int, what: str) -> tuple[_Scan, tuple[tuple[Any, Any], ...]]:
-    """Pass 1 on one block: validate, bounding box, rows cut into hash buckets (coordinates, input rows)."""
+def _scan(
+    data: Any, start: int, stop: int, buckets: int, what: str, prefilter: bool
+) -> tuple[_Scan, tuple[tuple[Any, Any], ...], tuple[NDArray[np.float64], NDArray[np.int64]]]:
+    """Pass 1 on one block: validate, bounding box, rows cut into hash buckets (coordinates, input rows),
+    and the rows the interior filter keeps (coordinates, input rows) for the chunk hull."""
     empty = (np.zeros((0, 3)), np.zeros(0, dtype=np.int64))
     inf = np.full(3, np.inf)
     try:
         pts = read_block(data, start, what)
     except (ValueError, TypeError) as exc:
-        return _Scan(start, stop, inf, -inf, (type(exc).__name__, str(exc))), (empty,) * buckets
+        return _Scan(start, stop, inf, -inf, (type(exc).__name__, str(exc))), (empty,) * buckets, empty
     if pts.shape[0] != stop - start:
         message = f"a block of rows {start}:{stop} read {pts.shape[0]} rows (was the input changed while read?)"
-        return _Scan(start, stop, inf, -inf, ("ValueError", message)), (empty,) * buckets
+        return _Scan(start, stop, inf, -inf, ("ValueError", message)), (empty,) * buckets, empty
     if not pts.shape[0]:
-        return _Scan(start, stop, inf, -inf, None), (empty,) * buckets
+        return _Scan(start, stop, inf, -inf, None), (empty,) * buckets, empty
     rows = np.arange(start, stop, dtype=np.int64)
-    bucket = _bucket_of(pts, buckets)
+    # uint8 keys (at most MAX_BUCKETS buckets): numpy's stable sort is then a radix sort.
+    bucket = _bucket_of(pts, buckets).astype(np.uint8)
     order = np.argsort(bucket, kind="stable")  # stable: rows stay increasing within a bucket
     cuts = np.cumsum(np.bincount(bucket, minlength=buckets))[:-1]
     pieces = tuple(zip(np.split(pts[order], cuts), np.split(rows[order], cuts), strict=True))
-    return _Scan(start, stop, pts.min(axis=0), pts.max(axis=0), None), pieces
+    keep = interior_filter(pts).keep if prefilter else np.arange(pts.shape[0])
+    survivors = (np.take(pts, keep, axis=0), rows[keep])
+    return _Scan(start, stop, pts.min(axis=0), pts.max(axis=0), None), pieces, survivors
 
 
 def _item(x: Any, i: int) -> Any:
@@ -249,16 +274,20 @@ def _hull_candidates(pts: NDArray[np.float64], rows: NDArray[np.int64], box: Box
     return np.take(pts, keep, axis=0), rows[keep], False
 
 
-def _chunk_hull(data: Any, start: int, stop: int, later: NDArray[np.int64], box: Box, seed: int, backend: str) -> Candidates:
-    """Pass 2 on one block: its first-occurrence points' hull vertices (``later``: rows to leave out)."""
-    pts = read_block(data, start)
-    rows = np.arange(start, stop, dtype=np.int64)
+def _chunk_hull(
+    survivors: tuple[NDArray[np.float64], NDArray[np.int64]], start: int, stop: int, later: NDArray[np.int64],
+    box: Box, seed: int, backend: str,
+) -> Candidates:
+    """Pass 2 on one block: the hull vertices of its first-occurrence points, from the rows the interior
+    filter kept (``later``: the block's rows that repeat an earlier row, left out)."""
+    pts, rows = survivors
     if later.size:
-        keep = np.ones(rows.size, dtype=bool)
-        keep[later - start] = False
+        keep = ~np.isin(rows, later, assume_unique=True)
         pts, rows = pts[keep], rows[keep]
+    distinct = stop - start - int(later.size)
     out, out_rows, degenerate = _hull_candidates(pts, rows, box, seed, backend)
-    return Candidates(out, out_rows, (ChunkReport(start, stop, int(rows.size), int(out_rows.size), degenerate),))
+    filtered = stop - start - int(survivors[1].size)
+    return Candidates(out, out_rows, (ChunkReport(start, stop, distinct, int(out_rows.size), degenerate, filtered),))
 
 
 def _union(parts: Sequence[Candidates]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
@@ -337,6 +366,7 @@ def parallel_hull(
     history: bool = False,
     check: bool = False,
     progress: bool = False,
+    prefilter: bool = True,
 ) -> ParallelHull:
     """The exact convex hull of ``points``, chunk by chunk, on ``client``'s cluster (None: in this process).
 
@@ -348,7 +378,9 @@ def parallel_hull(
     ``history`` as for :func:`~persistri.impl.hull.api.convex_hull` (``history`` keeps the final
     run's versions); ``fan_in`` — vertex sets per merge; ``check`` — verify every point of the
     input against the result, exactly, block by block on the workers, and the final run's
-    theorems as ``convex_hull(check=True)`` does; ``progress`` — bars on stderr.
+    theorems as ``convex_hull(check=True)`` does; ``progress`` — bars on stderr; ``prefilter`` —
+    drop each block's points that are provably not vertices before its hull
+    (:func:`~persistri.impl.scale.prefilter.interior_filter`; the same result either way).
 
     The result's vertices, simplices and duplicates equal those of ``convex_hull`` on all the
     points, on every input (the module docstring says why).  Errors are ``convex_hull``'s, with
@@ -364,15 +396,15 @@ def parallel_hull(
         size = chunk_rows_for(source.n, _workers(client))
         if size != DEFAULT_CHUNK_ROWS:
             source = points_source(points, size)
-    scans, later = _first_pass(client, source, progress)
+    scans, later, survivors = _first_pass(client, source, progress, prefilter)
     box: Box = (np.min([s.lo for s in scans], axis=0), np.max([s.hi for s in scans], axis=0))
     if source.n == 0:
         box = (np.zeros(3), np.zeros(3))
     later_rows = np.sort(later[:, 0])
     level: list[Task] = []
-    for b in source.blocks:
+    for b, kept in zip(source.blocks, survivors, strict=True):
         lo, hi = np.searchsorted(later_rows, [b.start, b.stop])
-        level.append(task(_chunk_hull, b.data, b.start, b.stop, later_rows[lo:hi], box, seed, backend))
+        level.append(task(_chunk_hull, kept, b.start, b.stop, later_rows[lo:hi], box, seed, backend))
     while len(level) > fan_in:
         level = [task(_merge, box, seed, backend, *level[i : i + fan_in]) for i in range(0, len(level), fan_in)]
     parts: list[Candidates] = run(client, level, progress=progress, title="chunk hulls")
@@ -408,23 +440,28 @@ def _levels(parts: Sequence[Candidates]) -> tuple[tuple[int, int], ...]:
     )
 
 
-def _first_pass(client: Client | None, source: PointSource, progress: bool) -> tuple[list[_Scan], NDArray[np.int64]]:
-    """Pass 1: every block's scan, and every ``(row, first equal row)`` pair of the input, sorted by row."""
+def _first_pass(
+    client: Client | None, source: PointSource, progress: bool, prefilter: bool
+) -> tuple[list[_Scan], NDArray[np.int64], list[tuple[NDArray[np.float64], NDArray[np.int64]]]]:
+    """Pass 1: every block's scan, every ``(row, first equal row)`` pair of the input (sorted by row), and
+    every block's rows that the interior filter kept (they come to the client: a few per cent of a block)."""
     buckets = max(1, min(len(source.blocks), MAX_BUCKETS))
-    scans = [task(_scan, b.data, b.start, b.stop, buckets, source.what) for b in source.blocks]
+    scans = [task(_scan, b.data, b.start, b.stop, buckets, source.what, prefilter) for b in source.blocks]
     summaries = [task(_item, s, 0) for s in scans]
     pieces = [task(_item, s, 1) for s in scans]
+    kept = [task(_item, s, 2) for s in scans]
     dups = [task(_bucket_duplicates, *(task(_item, p, k) for p in pieces)) for k in range(buckets)]
-    done = run(client, [*summaries, *dups], progress=progress, title="scan")
-    found: list[_Scan] = done[: len(summaries)]
+    done = run(client, [*summaries, *kept, *dups], progress=progress, title="scan")
+    c = len(summaries)
+    found: list[_Scan] = done[:c]
     failed = [s for s in found if s.error is not None]
     if failed:
         kind, message = min(failed, key=lambda s: s.start).error or ("ValueError", "")
         raise (TypeError if kind == "TypeError" else ValueError)(message)
-    pairs = [p for p in done[len(summaries) :] if p.size]
+    pairs = [p for p in done[2 * c :] if p.size]
     later = np.concatenate(pairs) if pairs else np.zeros((0, 2), dtype=np.int64)
     later = later[np.argsort(later[:, 0], kind="stable")]
-    return found, later
+    return found, later, list(done[c : 2 * c])
 
 
 def _check(client: Client | None, source: PointSource, hull: Hull, progress: bool) -> None:
