@@ -24,6 +24,7 @@ from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.api import triangulate
 from persistri.impl.mesh.chains import in_tolerance_box
 from persistri.impl.mesh.domain import PSLG, DomainError, as_pslg
+from persistri.impl.mesh.precision import BAND_ULPS, clear_of_band
 from persistri.impl.mesh.splitting import near_segment, rounded_candidates
 from persistri.impl.mesh.steiner import PrecisionLimitError, _dyadic_double, _dyadic_split
 from persistri.impl.mesh.verify import verify_mesh
@@ -317,3 +318,35 @@ def test_dyadic_split_on_the_needle_agrees_with_the_plain_search(monkeypatch: py
                 assert real(P, a, b, lo, hi, w) == expected
                 found += 1
     assert found >= 1 and failed > 10  # on the needle the search mostly fails: the split point is then rounded
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.floats(-1e7, 1e7), st.floats(-1e7, 1e7), st.floats(-1e7, 1e7), st.floats(-1e7, 1e7), st.floats(-0.5, 1.5),
+    st.integers(-6, 6), st.integers(-6, 6), st.sampled_from([0.0, 1e-12, 1e-9, 1e-3, 1.0]),
+)
+def test_band_filter_never_clears_a_point_in_the_band(
+    xa: float, ya: float, xb: float, yb: float, t: float, sx: int, sy: int, away: float
+) -> None:
+    """``clear_of_band`` (the float filter before the exact tolerance-band test) says "outside" only where
+    ``near_segment`` says so too: points a few ulps off the segment, and farther off its line."""
+    assume((xa, ya) != (xb, yb))
+    x, y = xa + t * (xb - xa) - away * (yb - ya), ya + t * (yb - ya) + away * (xb - xa)
+    for _ in range(abs(sx)):
+        x = math.nextafter(x, math.copysign(math.inf, sx))
+    for _ in range(abs(sy)):
+        y = math.nextafter(y, math.copysign(math.inf, sy))
+    P = GrowingPredicates2(np.array([[xa, ya], [xb, yb], [x, y]]))
+    if clear_of_band(P, 0, 1, 2, xa, ya, xb, yb, x, y):
+        assert not near_segment(xa, ya, xb, yb, x, y, BAND_ULPS)
+
+
+def test_band_filter_decides_the_far_points() -> None:
+    """The filter is what the refiner meets first for every apex beside a subsegment: far apexes are cleared
+    without exact arithmetic, and an apex an ulp off a UTM segment is left to the exact test."""
+    P = GrowingPredicates2(np.array([A, B, (X0 + 20.0, Y0 + 9.0), (X0 + 20.005, Y0 + 5.015)]))
+    (xa, ya), (xb, yb) = A, B
+    assert clear_of_band(P, 0, 1, 2, xa, ya, xb, yb, *P.xy(2))
+    ex, ey = _exact_on(Fraction(1, 2))
+    near = GrowingPredicates2(np.array([A, B, (float(ex), float(ey))]))
+    assert not clear_of_band(near, 0, 1, 2, xa, ya, xb, yb, float(ex), float(ey))

@@ -36,12 +36,13 @@ from fractions import Fraction
 
 import numpy as np
 
+from persistri.impl.geometry.filter import ERRBOUND_ORIENT2D, orient2d_terms
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.cdt import SegmentGeometry
 from persistri.impl.mesh.splitting import near_segment
 from persistri.impl.mesh.triangulation import EXTERIOR, Insertion, constraint_of
 
-__all__ = ["BAND_ULPS", "crowded_apex", "valid_split", "nearest_features", "segment_distance2"]
+__all__ = ["BAND_ULPS", "clear_of_band", "crowded_apex", "valid_split", "nearest_features", "segment_distance2"]
 
 BAND_ULPS = 2.0
 """Half-width of the tolerance band around a segment, in units in the last place (``verify_mesh``'s default)."""
@@ -97,12 +98,49 @@ def crowded_apex(P: GrowingPredicates2, geo: SegmentGeometry, s: int, apex: int)
     on = geo.on_segment.get(apex)
     if on is not None and on[0] == s:
         return None
+    (ax, ay), (bx, by), (x, y) = P.xy(a), P.xy(b), P.xy(apex)
+    if clear_of_band(P, a, b, apex, ax, ay, bx, by, x, y):
+        return None
     if P.orient2d_sign(a, b, apex) == 0:
         return None
-    (ax, ay), (bx, by), (x, y) = P.xy(a), P.xy(b), P.xy(apex)
     if not near_segment(ax, ay, bx, by, x, y, BAND_ULPS):
         return None
     return _describe(P, geo, apex, s)
+
+
+_FAR_SLACK = 1.0 + 2.0**-30
+"""Relative slack over the few roundings of :func:`clear_of_band`'s threshold."""
+
+_TINY = 2.0**-400
+"""Below this the band's float filter is not used (its products could underflow)."""
+
+
+def clear_of_band(
+    P: GrowingPredicates2, a: int, b: int, v: int, ax: float, ay: float, bx: float, by: float, x: float, y: float
+) -> bool:
+    """True only if point ``v`` at ``(x, y)`` is certainly outside the tolerance band of segment ``ab`` (the
+    segment misses its box, :func:`~persistri.impl.mesh.splitting.near_segment` with ``BAND_ULPS``): a float
+    filter that decides the common case, far away, in O(1); False means "not decided".
+
+    The box ``[x ± h_x] × [y ± h_y]`` meets the *line* ``ab`` exactly when ``|orient2d(a, b, v)| <= |Δx| h_y +
+    |Δy| h_x`` (``Δ = b − a``: moving ``v`` by ``(e_x, e_y)`` moves the determinant by ``Δx e_y − Δy e_x``), and
+    the segment lies on the line.  On the predicates' scaled copies (where the error model of
+    :func:`~persistri.impl.geometry.filter.orient2d_terms` holds: its result is within ``ERRBOUND_ORIENT2D ·
+    permanent`` of the exact determinant) the test is decided when ``|det|`` exceeds that error plus the right side
+    by the slack.  NaN rows (no filter copy) and tiny values give False."""
+    rows = P.filter_rows
+    sax, say = rows[a]
+    sbx, sby = rows[b]
+    sx, sy = rows[v]
+    shift = P.shift
+    hx = math.ldexp(BAND_ULPS * math.ulp(max(abs(ax), abs(bx), abs(x))), shift)
+    hy = math.ldexp(BAND_ULPS * math.ulp(max(abs(ay), abs(by), abs(y))), shift)
+    dx, dy = abs(sbx - sax), abs(sby - say)
+    if not (hx >= _TINY and hy >= _TINY and (dx == 0.0 or dx >= _TINY) and (dy == 0.0 or dy >= _TINY)):
+        return False
+    det, perm = orient2d_terms(sax, say, sbx, sby, sx, sy)
+    reach = dx * hy + dy * hx
+    return abs(det) > (ERRBOUND_ORIENT2D * perm + reach) * _FAR_SLACK
 
 
 def valid_split(P: GrowingPredicates2, step: Insertion, lo: int, hi: int) -> bool:

@@ -288,15 +288,19 @@ class Refiner:
 
     # -- steps -----------------------------------------------------------------------------
 
-    def _delete_free(self, c: Complex[MeshDatum], lo: int, hi: int) -> tuple[Complex[MeshDatum], list[int]]:
+    def _delete_free(
+        self, c: Complex[MeshDatum], lo: int, hi: int, sides: list[tuple[Tri, MeshDatum] | None]
+    ) -> tuple[Complex[MeshDatum], list[int]]:
         """Chew's rule before a split: delete the free vertices inside the diametral circle of ``{lo, hi}`` that are
-        apexes of the triangles beside it (a side whose triangle has a second constrained edge is left alone)."""
+        apexes of the triangles beside it (a side whose triangle has a second constrained edge is left alone).
+
+        ``sides``: the triangles on ``(lo, hi)`` and on ``(hi, lo)`` in ``c``, kept up to date in place."""
         T, P, geo = self.T, self.P, self.geo
         deleted: list[int] = []
         vu, vw = T.vertex(lo), T.vertex(hi)
-        for edge in ((vu, vw), (vw, vu)):
+        for k, edge in enumerate(((vu, vw), (vw, vu))):
             while True:
-                side = self.S.neighbour(c, edge)
+                side = sides[k]
                 if side is None:
                     break
                 (_, _, apex), d = side
@@ -309,6 +313,7 @@ class Refiner:
                 deleted.append(int(apex))
                 self.counts.deletions += 1
                 self._adopt(step)
+                sides[0], sides[1] = self.S.neighbour(c, (vu, vw)), self.S.neighbour(c, (vw, vu))
         return c, deleted
 
     def _split(self, c: Complex[MeshDatum], sub: Constraint) -> tuple[Complex[MeshDatum], int, list[int]] | None:
@@ -321,9 +326,9 @@ class Refiner:
         if first is None or constraint_of(first[1], lo, hi) != s:
             return None
         deleted: list[int] = []
+        sides = [first, self.S.neighbour(c, (vw, vu))]
         if self.lens:
-            c, deleted = self._delete_free(c, lo, hi)
-        sides = [self.S.neighbour(c, (vu, vw)), self.S.neighbour(c, (vw, vu))]
+            c, deleted = self._delete_free(c, lo, hi, sides)
         start = next(side for side in sides if side is not None)
         for side in sides:
             crowded = None if side is None or side[1][1] == EXTERIOR else crowded_apex(P, geo, s, side[0][2])
