@@ -22,6 +22,7 @@ def test_bench_scale_small_as_json(tmp_path: Path) -> None:
     assert one["workers"] == 0 and one["candidates"] == 30_000 and one["speedup"] == 1.0
     assert two["workers"] == 2 and two["chunks"] == 4 and two["candidates"] < 30_000
     assert all(r["same"] for r in rows) and one["faces"] == two["faces"] > 0
+    assert one["filtered"] == 0 and 0.9 * 30_000 < two["filtered"] < 30_000  # the interior filter's drops
     for r in rows:  # measured in the workers: one figure per worker, a peak at least the baseline
         assert len(r["peak"]) == len(r["baseline"]) == max(1, r["workers"])
         assert all(p >= b > 0 for p, b in zip(r["peak"], r["baseline"], strict=True))

@@ -38,7 +38,7 @@ if TYPE_CHECKING:
     from persistri.impl.scale.terrain_bench import TerrainRow
 
 __all__ = [
-    "DEFAULT_POINTS", "HullRow", "hull_rows", "worker_cpu", "reset_peak_rss", "worker_peak_rss", "hull_table", "terrain_table",
+    "DEFAULT_POINTS", "RunRow", "HullRow", "hull_rows", "worker_cpu", "reset_peak_rss", "worker_peak_rss", "hull_table", "terrain_table",
     "terrain_available",
 ]
 
@@ -47,16 +47,12 @@ DEFAULT_POINTS: Final = 4_000_000
 
 
 @dataclass(frozen=True)
-class HullRow:
-    """One measured hull run.
+class RunRow:
+    """What every measured run of ``persistri bench scale`` reports, hull or tiled terrain.
 
-    ``workers`` is 0 for the one-process run; ``seconds`` wall time; ``speedup`` the
-    one-process time over this one; ``baseline``/``peak`` each worker's peak resident
-    memory in bytes after importing persistri / after the run; ``chunks`` and
-    ``candidates`` (the points that reached the final run; all ``n`` for one process);
-    ``faces``, ``vertices``; ``same`` whether the hull equals the one-process hull exactly;
-    ``cpu`` the CPU seconds each worker spent in the run and ``client_cpu`` this process's (the
-    final run happens here): less sensitive than the wall time to other load on the machine.
+    ``label`` names the run; ``workers`` is 0 for the one-process run; ``seconds`` wall
+    time; ``speedup`` the reference run's time over this one; ``baseline``/``peak`` each
+    worker's peak resident memory in bytes after importing persistri / after the run.
     """
 
     label: str
@@ -65,6 +61,19 @@ class HullRow:
     speedup: float
     baseline: tuple[int, ...]
     peak: tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class HullRow(RunRow):
+    """One measured hull run (:class:`RunRow`, the one-process run the reference), and:
+    ``chunks`` and ``candidates`` (the points that reached the final run; all ``n`` for one process);
+    ``faces``, ``vertices``; ``same`` whether the hull equals the one-process hull exactly;
+    ``cpu`` the CPU seconds each worker spent in the run and ``client_cpu`` this process's (the
+    final run happens here): less sensitive than the wall time to other load on the machine;
+    ``filtered`` the points the interior filter dropped before the chunk hulls
+    (:mod:`persistri.impl.scale.prefilter`; 0 for one process).
+    """
+
     chunks: int
     candidates: int
     faces: int
@@ -72,6 +81,7 @@ class HullRow:
     same: bool
     cpu: tuple[float, ...] = ()
     client_cpu: float = 0.0
+    filtered: int = 0
 
 
 def worker_cpu() -> float:
@@ -198,7 +208,7 @@ def hull_rows(
                 and got.duplicates == duplicates)
         rows.append(HullRow(f"{w} worker{'s' if w != 1 else ''}", w, seconds, one / seconds, tuple(base.values()),
                             tuple(peak.values()), len(got.chunks), got.candidates, len(got.simplices),
-                            len(got.vertices), same, cpu, mine))
+                            len(got.vertices), same, cpu, mine, sum(c.filtered for c in got.chunks)))
     return rows
 
 
@@ -213,12 +223,12 @@ def hull_table(rows: Sequence[HullRow], title: str) -> Any:
     table = Table(title=title)
     for name, justify in [("run", "left"), ("seconds", "right"), ("speed-up", "right"), ("CPU s per worker", "right"), ("client CPU s", "right"),
                           ("peak RSS per worker, MiB", "right"),
-                          ("after imports, MiB", "right"), ("chunks", "right"), ("final run points", "right"),
+                          ("after imports, MiB", "right"), ("chunks", "right"), ("filtered", "right"), ("final run points", "right"),
                           ("faces", "right"), ("same hull", "left")]:
         table.add_column(name, justify=justify)  # type: ignore[arg-type]
     for r in rows:
         table.add_row(r.label, f"{r.seconds:.1f}", f"{r.speedup:.2f}×", " / ".join(f"{c:.1f}" for c in r.cpu), f"{r.client_cpu:.1f}", _mib(r.peak), _mib(r.baseline), f"{r.chunks:,}",
-                      f"{r.candidates:,}", f"{r.faces:,}", "yes" if r.same else "NO")
+                      f"{r.filtered:,}", f"{r.candidates:,}", f"{r.faces:,}", "yes" if r.same else "NO")
     return table
 
 

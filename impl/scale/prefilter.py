@@ -121,6 +121,9 @@ GRID_MAX = 64
 _FIRST_LEVEL = 4
 """Cells per axis of the first level of the search."""
 
+_BATCH = 1 << 18
+"""Plane-side tests evaluated at once: bounds the filter's temporaries (a few MiB each)."""
+
 
 @dataclass(frozen=True)
 class Prefilter:
@@ -160,8 +163,17 @@ class _Faces:
     def count(self) -> int:
         return int(self.ax.size)
 
-    def inner_on_boxes(self, f: IntArray, bmin: FloatArray, bmax: FloatArray) -> BoolArray:
-        """For each pair ``(f[i], box i)``: is ``orient3d(a, b, c, q) > 0`` proved for every ``q`` of the box?"""
+    def inner_on_boxes(self, f: IntArray, cells: IntArray, bmin: FloatArray, bmax: FloatArray) -> BoolArray:
+        """For each pair ``(f[i], cells[i])``: is ``orient3d(a, b, c, q) > 0`` proved for every ``q`` of the
+        cell's box (``bmin``, ``bmax``: all the level's boxes)?  In batches of :data:`_BATCH` pairs."""
+        ok = np.empty(f.size, dtype=bool)
+        for lo in range(0, f.size, _BATCH):
+            part = slice(lo, lo + _BATCH)
+            c = cells[part]
+            ok[part] = self._inner_on_boxes(f[part], bmin[:, c], bmax[:, c])
+        return ok
+
+    def _inner_on_boxes(self, f: IntArray, bmin: FloatArray, bmax: FloatArray) -> BoolArray:
         nx, ny, nz = self.nx[f], self.ny[f], self.nz[f]
         ax, ay, az = self.ax[f], self.ay[f], self.az[f]
         # The corner farthest along the normal: where the determinant (a - q)·n is least.
@@ -381,7 +393,7 @@ def _search(faces: _Faces, boxes: dict[int, tuple[FloatArray, FloatArray]], grid
             j, k = np.divmod(rest, level)
             up = ((i // 2) * parent + j // 2) * parent + k // 2
             pc, pf = _expand(pc, pf, parent**3, occupied, up)
-        ok = faces.inner_on_boxes(pf, lmin[:, pc], lmax[:, pc])
+        ok = faces.inner_on_boxes(pf, pc, lmin, lmax)
         pc, pf = pc[~ok], pf[~ok]
         if level == grid:
             return pc, pf
@@ -410,15 +422,20 @@ def _inner_points(
     span = grain_span(q)
     if span is not None and (span[0] + shift < GRAIN_MIN or span[1] + shift > TOP_MAX):
         return np.zeros(q.shape[0], dtype=bool)  # outside the scale the filters hold for: decide nothing
-    s = np.ldexp(q, shift)
     count = np.bincount(pc, minlength=grid**3)
     start = np.cumsum(count) - count
-    n = count[qcell]  # at least 1: the cell was kept for a pair
-    total = int(n.sum())
-    point = np.repeat(np.arange(q.shape[0], dtype=np.intp), n)
-    offset = np.repeat(start[qcell] - (np.cumsum(n) - n), n) + np.arange(total, dtype=np.intp)
-    f = pf[offset]
-    det = plane_side_det(faces.nx[f], faces.ny[f], faces.nz[f], faces.ax[f], faces.ay[f], faces.az[f],
-                         s[point, 0], s[point, 1], s[point, 2])
-    inner: BoolArray = np.logical_and.reduceat(det > faces.threshold, np.cumsum(n) - n)
+    inner = np.empty(q.shape[0], dtype=bool)
+    step = max(1, _BATCH // max(1, int(count.max())))  # points per batch: at most _BATCH pairs
+    for lo in range(0, q.shape[0], step):
+        part = slice(lo, lo + step)
+        s = np.ldexp(q[part], shift)
+        qc = qcell[part]
+        n = count[qc]  # at least 1: the cell was kept for a pair
+        first = np.cumsum(n) - n
+        point = np.repeat(np.arange(s.shape[0], dtype=np.intp), n)
+        offset = np.repeat(start[qc] - first, n) + np.arange(int(n.sum()), dtype=np.intp)
+        f = pf[offset]
+        det = plane_side_det(faces.nx[f], faces.ny[f], faces.nz[f], faces.ax[f], faces.ay[f], faces.az[f],
+                             s[point, 0], s[point, 1], s[point, 2])
+        inner[part] = np.logical_and.reduceat(det > faces.threshold, first)
     return inner

@@ -28,6 +28,8 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from persistri.impl.bench.scale import RunRow
+
 __all__ = ["BUMPS", "write_bumps_dem", "TerrainRow", "bench_rows", "worker_memory"]
 
 BUMPS: Final = 4096
@@ -94,17 +96,10 @@ def worker_memory() -> int:
 
 
 @dataclass(frozen=True)
-class TerrainRow:
-    """One measured run: ``workers``, wall ``seconds``, ``speedup`` over the first row, each worker's peak RSS in
-    bytes before the run (``baseline``: after importing persistri) and after it (``peak``), and the mesh
-    (``points``, ``triangles``, ``max_error``)."""
+class TerrainRow(RunRow):
+    """One measured run (:class:`~persistri.impl.bench.scale.RunRow`, the first row the reference) and the
+    mesh: ``points``, ``triangles``, ``max_error``."""
 
-    label: str
-    workers: int
-    seconds: float
-    speedup: float
-    baseline: tuple[int, ...]
-    peak: tuple[int, ...]
     points: int
     triangles: int
     max_error: float
