@@ -287,10 +287,19 @@ def _pyramid(cmin: FloatArray, cmax: FloatArray) -> dict[int, tuple[FloatArray, 
     out = {grid: (cmin, cmax)}
     while grid > _FIRST_LEVEL:
         half = grid // 2
-        cmin = cmin.reshape(3, half, 2, half, 2, half, 2).min(axis=(2, 4, 6)).reshape(3, -1)
-        cmax = cmax.reshape(3, half, 2, half, 2, half, 2).max(axis=(2, 4, 6)).reshape(3, -1)
+        cmin, cmax = _halve(cmin, half, np.minimum), _halve(cmax, half, np.maximum)
         grid = half
         out[grid] = (cmin, cmax)
+    return out
+
+
+def _halve(a: FloatArray, half: int, op: np.ufunc) -> FloatArray:
+    """``op`` over each 2 × 2 × 2 block of cells: three elementwise passes (a reduction over the three
+    strided axes at once is several times slower)."""
+    b = a.reshape(3, half, 2, half, 2, half, 2)
+    b = op(b[:, :, 0], b[:, :, 1])  # (3, half, half, 2, half, 2)
+    b = op(b[:, :, :, 0], b[:, :, :, 1])  # (3, half, half, half, 2)
+    out: FloatArray = op(b[..., 0], b[..., 1]).reshape(3, -1)
     return out
 
 
