@@ -174,6 +174,7 @@ class Refiner:
         self._segs: deque[Constraint] = deque()
         self._exempt: set[int] = set()
         self._small: dict[tuple[int, int], bool] = {}
+        self._sharp: dict[tuple[int, int, int], bool] = {}
         self._placement: dict[int, tuple[tuple[int, float], ...]] = {}
         self._dead: set[int] = set()
         self.log = DropLog()
@@ -190,10 +191,7 @@ class Refiner:
         ends_p, ends_q = self.geo.ends[sp[0]], self.geo.ends[sq[0]]
         for o in set(ends_p) & set(ends_q):
             # Only at a small input angle (below 60°): elsewhere Ruppert's argument needs no exemption.
-            far_p, far_q = ends_p[1] if ends_p[0] == o else ends_p[0], ends_q[1] if ends_q[0] == o else ends_q[0]
-            (io, ip, iq), _ = self.P.integers(o, far_p, far_q)
-            d1, d2 = (ip[0] - io[0], ip[1] - io[1]), (iq[0] - io[0], iq[1] - io[1])
-            if angle_at_least(d1[0] * d2[0] + d1[1] * d2[1], d1[0] ** 2 + d1[1] ** 2, d2[0] ** 2 + d2[1] ** 2, 60.0):
+            if not self._sharp_pair(o, sp[0], sq[0]):
                 continue
             shp, shq = self.geo.shell.get(p), self.geo.shell.get(q)
             if shp is not None and shp == shq and shp[0] == o:
@@ -205,6 +203,20 @@ class Refiner:
             if 999 * dq < 1000 * dp < 1001 * dq:
                 return True
         return False
+
+    def _sharp_pair(self, o: int, s1: int, s2: int) -> bool:
+        """Whether segments ``s1`` and ``s2``, both ending at input vertex ``o``, meet there at less than 60° (exact;
+        memoised: a property of the input)."""
+        key = (int(o), s1, s2)
+        found = self._sharp.get(key)
+        if found is None:
+            e1, e2 = self.geo.ends[s1], self.geo.ends[s2]
+            far1, far2 = e1[1] if e1[0] == o else e1[0], e2[1] if e2[0] == o else e2[0]
+            (io, ip, iq), _ = self.P.integers(o, far1, far2)
+            d1, d2 = (ip[0] - io[0], ip[1] - io[1]), (iq[0] - io[0], iq[1] - io[1])
+            found = not angle_at_least(d1[0] * d2[0] + d1[1] * d2[1], d1[0] ** 2 + d1[1] ** 2, d2[0] ** 2 + d2[1] ** 2, 60.0)
+            self._sharp[key] = found
+        return found
 
     def _small_angle(self, o: int, s: int) -> bool:
         key = (int(o), s)
