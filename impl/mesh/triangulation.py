@@ -56,7 +56,7 @@ from typing import Final, Literal, NamedTuple
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Lineage, Vertex, VertexState
-from persistri.impl.geometry.filter import ERRBOUND_INCIRCLE, ERRBOUND_ORIENT2D, incircle_terms, orient2d_terms
+from persistri.impl.geometry.filter import ERRBOUND_INCIRCLE, ERRBOUND_ORIENT2D, orient2d_terms
 from persistri.impl.geometry.growing import GrowingPredicates2
 
 __all__ = [
@@ -279,7 +279,28 @@ class MeshTriangulation:
                     ax, ay = rows[x0]
                     bx, by = rows[x1]
                     cx, cy = rows[x2]
-                    det, perm = incircle_terms(ax, ay, bx, by, cx, cy, px, py)
+                    # incircle_terms(ax, ay, bx, by, cx, cy, px, py), operation for operation (its proved bound holds).
+                    adx = ax - px
+                    bdx = bx - px
+                    cdx = cx - px
+                    ady = ay - py
+                    bdy = by - py
+                    cdy = cy - py
+                    bdxcdy = bdx * cdy
+                    cdxbdy = cdx * bdy
+                    alift = adx * adx + ady * ady
+                    cdxady = cdx * ady
+                    adxcdy = adx * cdy
+                    blift = bdx * bdx + bdy * bdy
+                    adxbdy = adx * bdy
+                    bdxady = bdx * ady
+                    clift = cdx * cdx + cdy * cdy
+                    det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady)
+                    perm = (
+                        (abs(bdxcdy) + abs(cdxbdy)) * alift
+                        + (abs(cdxady) + abs(adxcdy)) * blift
+                        + (abs(adxbdy) + abs(bdxady)) * clift
+                    )
                     thr = ERRBOUND_INCIRCLE * perm
                     if det > thr:
                         inside = True
@@ -391,7 +412,7 @@ class MeshTriangulation:
         constraints: dict[tuple[int, int], int] = {}
         region = dat[1]
         first = t[1]
-        neighbour = self.S.neighbour
+        neighbour = self.S.neighbours(c)  # every lookup is from v: its list is read once
         for _ in range(1 << 16):
             if t[1] < 0 or t[2] < 0:
                 raise MeshError(f"internal: vertex {v} is on the hull; only free vertices are removed")
@@ -403,7 +424,7 @@ class MeshTriangulation:
                 constraints[(lo, hi)] = s
             star.append((t, dat))
             link.append(t[1])
-            found = neighbour(c, (vv, t[2]))
+            found = neighbour((vv, t[2]))
             assert found is not None, "a closed surface has a triangle beyond every edge"
             t, dat = found
             if t[1] == first:
