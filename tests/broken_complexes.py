@@ -81,8 +81,7 @@ class StaleRem(TwoComplex[Any]):
         a, b, c = s
         lst, i = self._locate(rep, s, "rem")
         m = self._m
-        k = len(lst) // 3  # the list's three blocks (vertex_lists): drop position i of each
-        rest = tuple(y for j, y in enumerate(lst) if j % k != i)
+        rest = lst[: 3 * i] + lst[3 * i + 3 :]  # entries laid end to end (vertex_lists)
         rep = m.insert(rep, a, rest) if rest else m.remove(rep, a)[0]
         return self._change(rep, b, c, a, None, True)
 

@@ -1,7 +1,7 @@
 """The flat vertex lists of the 2-complex (impl/complex/vertex_lists.py) against lists of entry tuples.
 
-A vertex's list is one tuple in three blocks — second vertices, third vertices,
-data — and each function that ``insertWith`` combines lists with is checked
+A vertex's list is one flat tuple, its entries ``b, c, x`` laid end to end,
+and each function that ``insertWith`` combines lists with is checked
 here against its definition over the list of entries ``(b, c, x)`` it stands
 for: ``entries``/``from_entries``/``from_flat`` are inverse, ``index`` finds the
 first entry of a pair, ``cat``, ``cat_first``, ``drop``, ``put`` and
@@ -44,7 +44,7 @@ def test_layout_round_trips(es: list[tuple[Any, Any, Any]]) -> None:
     assert len(lst) == 3 * len(es) and size(lst) == len(es)
     assert entries(lst) == es
     assert from_flat([y for e in es for y in e]) == lst
-    assert lst == tuple(e[0] for e in es) + tuple(e[1] for e in es) + tuple(e[2] for e in es)
+    assert lst == tuple(y for e in es for y in e)
     if len(es) == 1:
         assert lst == es[0]  # a list of one entry is that entry
 
@@ -56,8 +56,7 @@ def test_index_and_visited(es: list[tuple[Any, Any, Any]], b: int, c: int) -> No
     assert index(lst, b, c) == want
     assert visited(lst, b, c) == (len(es) if want < 0 else want + 1)
     if want >= 0:
-        k = len(es)
-        assert lst[2 * k + want] == es[want][2]
+        assert lst[3 * want + 2] == es[want][2]
 
 
 @given(st.lists(ENTRY, max_size=6), st.lists(ENTRY, min_size=1, max_size=3))

@@ -9,7 +9,7 @@ given is gone.
 It is the specialised 2-complex of :mod:`~persistri.impl.complex.two_complex`
 (paper §4) with one difference, the map: Python's mutable ``dict`` from each
 vertex to its immutable list of entries ``(second vertex, third vertex,
-datum)``, laid out flat as in :mod:`~persistri.impl.complex.vertex_lists`, instead of a persistent ``ORD_MAP``.  Everything else is the same —
+datum)``, laid end to end as in :mod:`~persistri.impl.complex.vertex_lists`, instead of a persistent ``ORD_MAP``.  Everything else is the same —
 the per-vertex lists, each triangle stored under its three vertices by
 rotation, the scans, and the argument validation (the same O(1) inline test on
 the hot operations, the same exceptions for bad input) — so the difference in
@@ -74,12 +74,10 @@ from persistri.impl.complex.vertex_lists import (
     Present,
     Unbatched,
     VertexList,
-    cat,
     cat_new,
     drop,
     drop_add,
     entries,
-    from_flat,
     group,
     index,
     put,
@@ -204,7 +202,7 @@ class EphemeralTwoComplex(TwoComplex[D]):
         if lst is None:
             return None
         i = index(lst, b, cc)
-        return None if i < 0 else (lst[len(lst) // 3 * 2 + i],)
+        return None if i < 0 else (lst[3 * i + 2],)
 
     def find(self, c: Complex[D], s: Simplex, /) -> list[Triangle]:
         """``find (c, (u, w))``: the triangles ``(u, w, x)``.  One dict lookup and a scan of u's list."""
@@ -226,10 +224,9 @@ class EphemeralTwoComplex(TwoComplex[D]):
             if self._stats is not None:
                 self._count(1, 0)
             return []
-        k = len(lst) // 3
         if self._stats is not None:
-            self._count(1, k)
-        return [(u, w, lst[k + i]) for i in range(k) if lst[i] == w]
+            self._count(1, len(lst) // 3)
+        return [(u, w, lst[j + 1]) for j in range(0, len(lst), 3) if lst[j] == w]
 
     def findi(self, c: Complex[D], s: Simplex, /) -> list[tuple[Triangle, D]]:
         """``find`` with each triangle's datum.  One dict lookup."""
@@ -251,10 +248,9 @@ class EphemeralTwoComplex(TwoComplex[D]):
             if self._stats is not None:
                 self._count(1, 0)
             return []
-        k = len(lst) // 3
         if self._stats is not None:
-            self._count(1, k)
-        return [((u, w, lst[k + i]), lst[2 * k + i]) for i in range(k) if lst[i] == w]
+            self._count(1, len(lst) // 3)
+        return [((u, w, lst[j + 1]), lst[j + 2]) for j in range(0, len(lst), 3) if lst[j] == w]
 
     def neighbour(self, c: Complex[D], s: Simplex, /) -> tuple[Triangle, D] | None:
         """``findi(c, s)[0]`` or None, as :meth:`TwoComplex.neighbour`: one dict lookup, a scan that stops at the hit.
@@ -280,16 +276,14 @@ class EphemeralTwoComplex(TwoComplex[D]):
             if self._stats is not None:
                 self._count(1, 0)
             return None
-        k = len(lst) // 3
-        try:
-            i = lst.index(w, 0, k)
-        except ValueError:
-            if self._stats is not None:
-                self._count(1, k)
-            return None
+        for j in range(0, len(lst), 3):
+            if lst[j] == w:
+                if self._stats is not None:
+                    self._count(1, j // 3 + 1)
+                return (u, w, lst[j + 1]), lst[j + 2]
         if self._stats is not None:
-            self._count(1, i + 1)
-        return (u, w, lst[k + i]), lst[2 * k + i]
+            self._count(1, len(lst) // 3)
+        return None
 
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
         """``add (c, s, x)``: the triangle ``s`` with datum ``x`` put in the table IN PLACE; ``c`` becomes stale.
@@ -329,22 +323,21 @@ class EphemeralTwoComplex(TwoComplex[D]):
             scanned = 0
         else:
             # The triangle, in either orientation, would be in a's list: (b, c) or (c, b).
-            k = len(old) // 3
-            for i in range(k):
-                e0 = old[i]
+            for j in range(0, len(old), 3):
+                e0 = old[j]
                 if e0 == b:
-                    if old[k + i] == cc:
+                    if old[j + 1] == cc:
                         raise DuplicateSimplexError(f"add: triangle {s!r} is already present")
-                elif e0 == cc and old[k + i] == b:
+                elif e0 == cc and old[j + 1] == b:
                     raise OppositeOrientationError(
                         f"add: triangle {s!r} is present with the opposite orientation {(a, cc, b)!r}"
                     )
-            lists[a] = cat(old, (b, cc, x))
-            scanned = k
+            lists[a] = old + (b, cc, x)
+            scanned = len(old) // 3
         old = lists.get(b)
-        lists[b] = (cc, a, x) if old is None else cat(old, (cc, a, x))
+        lists[b] = (cc, a, x) if old is None else old + (cc, a, x)
         old = lists.get(cc)
-        lists[cc] = (a, b, x) if old is None else cat(old, (a, b, x))
+        lists[cc] = (a, b, x) if old is None else old + (a, b, x)
         st = self._stats
         if st is not None:
             self._count(6, scanned)
@@ -437,12 +430,12 @@ class EphemeralTwoComplex(TwoComplex[D]):
                 if old is None:
                     if change[0]:
                         raise Unbatched
-                    new_lists.append((v, from_flat(change[1] + change[2])))
+                    new_lists.append((v, tuple(change[1] + change[2])))
                     continue
                 scanned += len(old) // 3
                 try:
                     new_lists.append(
-                        (v, drop_add(old, change) if change[0] else cat_new(old, from_flat(change[1] + change[2])))
+                        (v, drop_add(old, change) if change[0] else cat_new(old, tuple(change[1] + change[2])))
                     )
                 except Emptied:
                     new_lists.append((v, None))
@@ -498,7 +491,7 @@ class EphemeralTwoComplex(TwoComplex[D]):
         if lst is None:
             return None
         i = index(lst, b, c)
-        return None if i < 0 else (lst[len(lst) // 3 * 2 + i],)
+        return None if i < 0 else (lst[3 * i + 2],)
 
     def _find(self, rep: Any, f: Simplex) -> list[Triangle]:
         lists = self._live(rep, "find")
@@ -532,7 +525,7 @@ class EphemeralTwoComplex(TwoComplex[D]):
         if i < 0:
             raise AbsentSimplexError(f"update: triangle {s!r} is not in the complex (in this orientation)")
         assert la is not None
-        y = f(la[len(la) // 3 * 2 + i])  # f may raise: nothing has changed yet
+        y = f(la[3 * i + 2])  # f may raise: nothing has changed yet
         for key, p, q in ((a, b, c), (b, c, a), (c, a, b)):
             lists[key] = put(lists[key], (p, q, y))
         table: _Table = rep[0]

@@ -2,8 +2,8 @@
 
 One map of the ``ORD_MAP`` backend takes each vertex to an immutable list of
 entries ``(second vertex, third vertex, datum)``, one per triangle at the vertex,
-laid out flat in three blocks (:mod:`~persistri.impl.complex.vertex_lists`:
-``(b_0, …, b_{k-1}, c_0, …, c_{k-1}, x_0, …, x_{k-1})``, no tuple per entry).
+laid end to end in one flat tuple (:mod:`~persistri.impl.complex.vertex_lists`:
+``(b_0, c_0, x_0, b_1, c_1, x_1, …)``, no tuple per entry).
 An oriented triangle ``(a, b, c)`` with datum x is stored three times, once per
 rotation:
 
@@ -70,7 +70,6 @@ from persistri.impl.complex.vertex_lists import (
     drop,
     drop_add,
     entries,
-    from_flat,
     group,
     index,
     neighbours_in,
@@ -200,7 +199,7 @@ class TwoComplex(ComplexStructure[D]):
             return None
         lst = found[0]
         i = self._scan(lst, b, cc) if self._stats is not None else index(lst, b, cc)
-        return None if i < 0 else (lst[len(lst) // 3 * 2 + i],)
+        return None if i < 0 else (lst[3 * i + 2],)
 
     def find(self, c: Complex[D], s: Simplex, /) -> list[Triangle]:
         """``find (c, (u, w))``: the triangles ``(u, w, x)`` having the oriented edge ``(u, w)`` as a face.
@@ -223,10 +222,9 @@ class TwoComplex(ComplexStructure[D]):
         if found is None:
             return []
         lst = found[0]
-        k = len(lst) // 3
         if self._stats is not None:
-            self._stats.key_comparisons += k
-        return [(u, w, lst[k + i]) for i in range(k) if lst[i] == w]
+            self._stats.key_comparisons += len(lst) // 3
+        return [(u, w, lst[j + 1]) for j in range(0, len(lst), 3) if lst[j] == w]
 
     def findi(self, c: Complex[D], s: Simplex, /) -> list[tuple[Triangle, D]]:
         """``find`` with each triangle's datum: ``[((u, w, x), datum), …]``.  One map lookup."""
@@ -244,10 +242,9 @@ class TwoComplex(ComplexStructure[D]):
         if found is None:
             return []
         lst = found[0]
-        k = len(lst) // 3
         if self._stats is not None:
-            self._stats.key_comparisons += k
-        return [((u, w, lst[k + i]), lst[2 * k + i]) for i in range(k) if lst[i] == w]
+            self._stats.key_comparisons += len(lst) // 3
+        return [((u, w, lst[j + 1]), lst[j + 2]) for j in range(0, len(lst), 3) if lst[j] == w]
 
     def neighbour(self, c: Complex[D], s: Simplex, /) -> tuple[Triangle, D] | None:
         """The one triangle holding the directed edge ``s = (u, w)``, as ``((u, w, x), datum)``, or None.
@@ -276,16 +273,15 @@ class TwoComplex(ComplexStructure[D]):
         if found is None:
             return None
         lst = found[0]
-        k = len(lst) // 3
         try:
-            i = lst.index(w, 0, k)
+            i = lst[0::3].index(w)  # the second vertices: a C-level scan that never meets a datum
         except ValueError:
             if self._stats is not None:
-                self._stats.key_comparisons += k
+                self._stats.key_comparisons += len(lst) // 3
             return None
         if self._stats is not None:
             self._stats.key_comparisons += i + 1
-        return (u, w, lst[k + i]), lst[2 * k + i]
+        return (u, w, lst[3 * i + 1]), lst[3 * i + 2]
 
     def neighbours(self, c: Complex[D], /) -> Callable[[Simplex], tuple[Triangle, D] | None]:
         """The function ``s ↦ neighbour(c, s)`` for the one version ``c``: for a walk that crosses many of its edges.
@@ -415,7 +411,7 @@ class TwoComplex(ComplexStructure[D]):
         n = m.numItems(rep)  # kept up to date: one numItems per vertex with drops, not two
         for v, change in changes.items():
             if not change[0]:
-                rep = m.insertWith(cat_new, rep, v, from_flat(change[1] + change[2]))
+                rep = m.insertWith(cat_new, rep, v, tuple(change[1] + change[2]))
                 n = m.numItems(rep)  # v may be new
                 continue
             try:
@@ -464,7 +460,7 @@ class TwoComplex(ComplexStructure[D]):
             return None
         lst = found[0]
         i = self._scan(lst, b, c)
-        return None if i < 0 else (lst[len(lst) // 3 * 2 + i],)
+        return None if i < 0 else (lst[3 * i + 2],)
 
     def _find(self, rep: Any, f: Simplex) -> list[Triangle]:
         u, w = f
@@ -472,29 +468,26 @@ class TwoComplex(ComplexStructure[D]):
         if found is None:
             return []
         lst = found[0]
-        k = len(lst) // 3
         if self._stats is not None:
-            self._stats.key_comparisons += k
-        return [(u, w, lst[k + i]) for i in range(k) if lst[i] == w]
+            self._stats.key_comparisons += len(lst) // 3
+        return [(u, w, lst[j + 1]) for j in range(0, len(lst), 3) if lst[j] == w]
 
     def _star(self, rep: Any, v: Vertex) -> list[Triangle]:
         found = self._m.find(rep, v)
         if found is None:
             return []
         lst = found[0]
-        k = len(lst) // 3
         if self._stats is not None:
-            self._stats.key_comparisons += k
-        return [(v, lst[i], lst[k + i]) for i in range(k)]
+            self._stats.key_comparisons += len(lst) // 3
+        return [(v, lst[j], lst[j + 1]) for j in range(0, len(lst), 3)]
 
     def _items(self, rep: Any) -> Iterator[tuple[Triangle, D]]:
         for a, lst in self._m.listItemsi(rep):
-            k = len(lst) // 3
-            for i in range(k):
-                b = lst[i]
-                c = lst[k + i]
+            for j in range(0, len(lst), 3):
+                b = lst[j]
+                c = lst[j + 1]
                 if a < b and a < c:
-                    yield (a, b, c), lst[2 * k + i]
+                    yield (a, b, c), lst[j + 2]
 
     def _combiner(self, f: Combine) -> Combine:
         """``f`` itself, or a counting version of it when a Stats is attached."""
@@ -579,7 +572,7 @@ class TwoComplex(ComplexStructure[D]):
     def _update(self, rep: Any, s: Simplex, f: Callable[[D], D]) -> Any:
         a, b, c = s
         lst, i = self._locate(rep, s, "update")
-        y = f(lst[len(lst) // 3 * 2 + i])  # f may raise: nothing has been built yet
+        y = f(lst[3 * i + 2])  # f may raise: nothing has been built yet
         rep = self._change(rep, a, b, c, y, False)
         rep = self._change(rep, b, c, a, y, False)
         return self._change(rep, c, a, b, y, False)
