@@ -30,7 +30,6 @@ from typing import Any, ClassVar
 from persistri.impl.complex import complex_structure
 from persistri.impl.complex.simplex import Simplex
 from persistri.impl.complex.two_complex import TwoComplex
-from persistri.impl.complex.vertex_lists import entries
 from persistri.impl.maps.assoc_list import assoc_list
 from persistri.spec.option import Option
 from persistri.spec.order import NATURAL_ORDER, NaturalOrder
@@ -61,7 +60,7 @@ class OrientationBlindFind(TwoComplex[Any]):
         if found is None:
             return []
         out: list[Simplex] = []
-        for v, t, _ in entries(found[0]):
+        for v, t, _ in found[0]:
             if v == w:
                 out.append((u, w, t))
             elif t == w:
@@ -81,7 +80,7 @@ class StaleRem(TwoComplex[Any]):
         a, b, c = s
         lst, i = self._locate(rep, s, "rem")
         m = self._m
-        rest = lst[: 3 * i] + lst[3 * i + 3 :]  # entries laid end to end (vertex_lists)
+        rest = lst[:i] + lst[i + 1 :]
         rep = m.insert(rep, a, rest) if rest else m.remove(rep, a)[0]
         return self._change(rep, b, c, a, None, True)
 

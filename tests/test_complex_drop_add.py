@@ -1,16 +1,12 @@
 """``replace``'s list rebuild (``drop_add`` of impl/complex/vertex_lists.py) against its definition.
 
-``da(old, (drops, checked, plain))`` is one vertex's list after a
+``drop_add(old, (drops, checked, plain))`` is one vertex's list after a
 ``replace``: ``old`` without the entries of the pairs ``drops``, then the
 entries ``checked`` (refused if their triangle is kept, in either orientation)
 and ``plain``.  Its fast path (exactly one checked entry: every vertex a star
 replacement keeps) and its general path are checked here against a direct
 transcription of that definition on random lists, including pairs that are
 absent or asked twice, triangles already present and lists left empty.
-
-The definition is written over lists of entry tuples; ``drop_add`` works on
-the flat lists of vertex_lists (three blocks; the change's parts flat too),
-so :func:`da` converts both ways.
 """
 
 from __future__ import annotations
@@ -20,14 +16,7 @@ from typing import Any
 from hypothesis import given
 from hypothesis import strategies as st
 
-from persistri.impl.complex.vertex_lists import Emptied, Missing, Present, drop_add, entries, from_entries
-
-
-def da(old: tuple[Any, ...], change: tuple[list[Any], list[Any], list[Any]]) -> tuple[Any, ...]:
-    """``drop_add`` on lists of entry tuples: its flat arguments made from them, its flat result read back."""
-    drops, checked, plain = change
-    flat = ([y for p in drops for y in p], [y for e in checked for y in e], [y for e in plain for y in e])
-    return tuple(entries(drop_add(from_entries(old), flat)))
+from persistri.impl.complex.vertex_lists import Emptied, Missing, Present, drop_add
 
 LABELS = st.integers(0, 6)
 
@@ -47,7 +36,7 @@ def reference(old: tuple[Any, ...], drops: list[Any], checked: list[Any], plain:
 
 def run(old: tuple[Any, ...], drops: list[Any], checked: list[Any], plain: list[Any]) -> tuple[str, Any]:
     try:
-        return "ok", da(old, (list(drops), list(checked), list(plain)))
+        return "ok", drop_add(old, (list(drops), list(checked), list(plain)))
     except Missing:
         return "missing", None
     except Present:
@@ -91,30 +80,30 @@ def test_drop_add_is_its_definition(case: tuple[tuple[Any, ...], list[Any], list
 def test_the_paths_by_hand() -> None:
     old = ((1, 2, "a"), (2, 3, "b"), (3, 4, "c"))
     # One drop, one checked (the fast path), one plain.
-    assert da(old, ([(2, 3)], [(5, 6, "n")], [(6, 7, "p")])) == ((1, 2, "a"), (3, 4, "c"), (5, 6, "n"), (6, 7, "p"))
+    assert drop_add(old, ([(2, 3)], [(5, 6, "n")], [(6, 7, "p")])) == ((1, 2, "a"), (3, 4, "c"), (5, 6, "n"), (6, 7, "p"))
     # Two drops: the set path.
-    assert da(old, ([(3, 4), (1, 2)], [(5, 6, "n")], [])) == ((2, 3, "b"), (5, 6, "n"))
+    assert drop_add(old, ([(3, 4), (1, 2)], [(5, 6, "n")], [])) == ((2, 3, "b"), (5, 6, "n"))
     for bad in ([(2, 9)], [(2, 3), (2, 3)]):
         try:
-            da(old, (bad, [(5, 6, "n")], []))
+            drop_add(old, (bad, [(5, 6, "n")], []))
         except Missing:
             pass
         else:
             raise AssertionError(f"{bad} should be missing")
     for checked in ([(4, 3, "n")], [(1, 2, "n")], [(5, 6, "n"), (4, 3, "n")]):  # kept, in either orientation
         try:
-            da(old, ([(2, 3)], checked, []))
+            drop_add(old, ([(2, 3)], checked, []))
         except Present:
             pass
         else:
             raise AssertionError(f"{checked} should be present")
     # The dropped triangle itself may come back (removed, then added: the fold's order).
-    assert da(old, ([(2, 3)], [(3, 2, "n")], [])) == ((1, 2, "a"), (3, 4, "c"), (3, 2, "n"))
+    assert drop_add(old, ([(2, 3)], [(3, 2, "n")], [])) == ((1, 2, "a"), (3, 4, "c"), (3, 2, "n"))
     # No checked entry: the general path, which can empty the list.
     try:
-        da(old, ([(1, 2), (2, 3), (3, 4)], [], []))
+        drop_add(old, ([(1, 2), (2, 3), (3, 4)], [], []))
     except Emptied:
         pass
     else:
         raise AssertionError("the list should be emptied")
-    assert da(old, ([(1, 2), (2, 3), (3, 4)], [], [(9, 8, "p")])) == ((9, 8, "p"),)
+    assert drop_add(old, ([(1, 2), (2, 3), (3, 4)], [], [(9, 8, "p")])) == ((9, 8, "p"),)

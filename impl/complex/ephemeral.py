@@ -8,8 +8,8 @@ given is gone.
 
 It is the specialised 2-complex of :mod:`~persistri.impl.complex.two_complex`
 (paper §4) with one difference, the map: Python's mutable ``dict`` from each
-vertex to its immutable list of entries ``(second vertex, third vertex,
-datum)``, laid end to end as in :mod:`~persistri.impl.complex.vertex_lists`, instead of a persistent ``ORD_MAP``.  Everything else is the same —
+vertex to its immutable tuple of entries ``(second vertex, third vertex,
+datum)``, instead of a persistent ``ORD_MAP``.  Everything else is the same —
 the per-vertex lists, each triangle stored under its three vertices by
 rotation, the scans, and the argument validation (the same O(1) inline test on
 the hot operations, the same exceptions for bad input) — so the difference in
@@ -68,20 +68,7 @@ from persistri.impl.complex.errors import (
 from persistri.impl.complex.simplex import Simplex
 from persistri.impl.complex.structure import Complex, Family, same_datum
 from persistri.impl.complex.two_complex import Triangle, TwoComplex, _arguments
-from persistri.impl.complex.vertex_lists import (
-    Emptied,
-    Missing,
-    Present,
-    Unbatched,
-    VertexList,
-    cat_new,
-    drop,
-    drop_add,
-    entries,
-    group,
-    index,
-    put,
-)
+from persistri.impl.complex.vertex_lists import Emptied, Entry, Missing, Present, Unbatched, cat_new, drop_add, group
 from persistri.impl.complex.vertex import Vertex
 from persistri.impl.stats import Stats
 from persistri.spec.option import Option
@@ -119,7 +106,7 @@ class _Table:
 
     __slots__ = ("lists", "current")
 
-    lists: dict[Vertex, VertexList]
+    lists: dict[Vertex, tuple[Entry, ...]]
     current: tuple[_Table]
 
     def __init__(self) -> None:
@@ -157,7 +144,7 @@ class EphemeralTwoComplex(TwoComplex[D]):
     # -- versions -----------------------------------------------------------------------
 
     @staticmethod
-    def _live(rep: Any, what: str) -> dict[Vertex, VertexList]:
+    def _live(rep: Any, what: str) -> dict[Vertex, tuple[Entry, ...]]:
         """The table of ``rep`` if ``rep`` is its current version; StaleVersionError otherwise."""
         table: _Table = rep[0]
         if table.current is not rep:
@@ -198,11 +185,13 @@ class EphemeralTwoComplex(TwoComplex[D]):
             raise _stale("data")
         lst = table.lists.get(a)
         if self._stats is not None:
-            self._count(1, 0 if lst is None else len(lst) // 3)
+            self._count(1, 0 if lst is None else len(lst))
         if lst is None:
             return None
-        i = index(lst, b, cc)
-        return None if i < 0 else (lst[3 * i + 2],)
+        for e in lst:
+            if e[0] == b and e[1] == cc:
+                return (e[2],)
+        return None
 
     def find(self, c: Complex[D], s: Simplex, /) -> list[Triangle]:
         """``find (c, (u, w))``: the triangles ``(u, w, x)``.  One dict lookup and a scan of u's list."""
@@ -225,8 +214,8 @@ class EphemeralTwoComplex(TwoComplex[D]):
                 self._count(1, 0)
             return []
         if self._stats is not None:
-            self._count(1, len(lst) // 3)
-        return [(u, w, lst[j + 1]) for j in range(0, len(lst), 3) if lst[j] == w]
+            self._count(1, len(lst))
+        return [(u, w, e[1]) for e in lst if e[0] == w]
 
     def findi(self, c: Complex[D], s: Simplex, /) -> list[tuple[Triangle, D]]:
         """``find`` with each triangle's datum.  One dict lookup."""
@@ -249,8 +238,8 @@ class EphemeralTwoComplex(TwoComplex[D]):
                 self._count(1, 0)
             return []
         if self._stats is not None:
-            self._count(1, len(lst) // 3)
-        return [((u, w, lst[j + 1]), lst[j + 2]) for j in range(0, len(lst), 3) if lst[j] == w]
+            self._count(1, len(lst))
+        return [((u, w, e[1]), e[2]) for e in lst if e[0] == w]
 
     def neighbour(self, c: Complex[D], s: Simplex, /) -> tuple[Triangle, D] | None:
         """``findi(c, s)[0]`` or None, as :meth:`TwoComplex.neighbour`: one dict lookup, a scan that stops at the hit.
@@ -276,13 +265,15 @@ class EphemeralTwoComplex(TwoComplex[D]):
             if self._stats is not None:
                 self._count(1, 0)
             return None
-        for j in range(0, len(lst), 3):
-            if lst[j] == w:
+        visited = 0
+        for e in lst:
+            visited += 1
+            if e[0] == w:
                 if self._stats is not None:
-                    self._count(1, j // 3 + 1)
-                return (u, w, lst[j + 1]), lst[j + 2]
+                    self._count(1, visited)
+                return (u, w, e[1]), e[2]
         if self._stats is not None:
-            self._count(1, len(lst) // 3)
+            self._count(1, visited)
         return None
 
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
@@ -319,25 +310,25 @@ class EphemeralTwoComplex(TwoComplex[D]):
         lists = table.lists
         old = lists.get(a)
         if old is None:
-            lists[a] = (b, cc, x)
+            lists[a] = ((b, cc, x),)
             scanned = 0
         else:
             # The triangle, in either orientation, would be in a's list: (b, c) or (c, b).
-            for j in range(0, len(old), 3):
-                e0 = old[j]
+            for e in old:
+                e0 = e[0]
                 if e0 == b:
-                    if old[j + 1] == cc:
+                    if e[1] == cc:
                         raise DuplicateSimplexError(f"add: triangle {s!r} is already present")
-                elif e0 == cc and old[j + 1] == b:
+                elif e0 == cc and e[1] == b:
                     raise OppositeOrientationError(
                         f"add: triangle {s!r} is present with the opposite orientation {(a, cc, b)!r}"
                     )
-            lists[a] = old + (b, cc, x)
-            scanned = len(old) // 3
+            lists[a] = old + ((b, cc, x),)
+            scanned = len(old)
         old = lists.get(b)
-        lists[b] = (cc, a, x) if old is None else old + (cc, a, x)
+        lists[b] = ((cc, a, x),) if old is None else old + ((cc, a, x),)
         old = lists.get(cc)
-        lists[cc] = (a, b, x) if old is None else old + (a, b, x)
+        lists[cc] = ((a, b, x),) if old is None else old + ((a, b, x),)
         st = self._stats
         if st is not None:
             self._count(6, scanned)
@@ -381,25 +372,46 @@ class EphemeralTwoComplex(TwoComplex[D]):
         table.current = new
         return _new_complex(Complex, (self.family, new, lin))
 
-    def _take_out(self, lists: dict[Vertex, VertexList], a: Vertex, b: Vertex, c: Vertex, what: str) -> None:
+    def _take_out(self, lists: dict[Vertex, tuple[Entry, ...]], a: Vertex, b: Vertex, c: Vertex, what: str) -> None:
         """Take triangle (a, b, c) out of the three lists; every entry is located before the first change."""
+        # Scans inlined (this is the baseline: it must not pay for calls the persistent complex avoids).
         la = lists.get(a)
-        i = -1 if la is None else index(la, b, c)
-        if i < 0:
+        i = 0
+        if la is not None:
+            for e in la:
+                if e[0] == b and e[1] == c:
+                    break
+                i += 1
+        if la is None or i == len(la):
             raise AbsentSimplexError(f"{what}: triangle {(a, b, c)!r} is not in the complex (in this orientation)")
         lb = lists.get(b)
-        j = -1 if lb is None else index(lb, c, a)
+        j = 0
+        if lb is not None:
+            for e in lb:
+                if e[0] == c and e[1] == a:
+                    break
+                j += 1
         lc = lists.get(c)
-        k = -1 if lc is None else index(lc, a, b)
-        if lb is None or lc is None or j < 0 or k < 0:
+        k = 0
+        if lc is not None:
+            for e in lc:
+                if e[0] == a and e[1] == b:
+                    break
+                k += 1
+        if lb is None or lc is None or j == len(lb) or k == len(lc):
             raise RepresentationError(f"ephemeral 2-complex: triangle {(a, b, c)!r} is missing from a vertex list")
-        assert la is not None
-        lst: VertexList
-        for key, lst, pair in ((a, la, (b, c)), (b, lb, (c, a)), (c, lc, (a, b))):
-            if len(lst) == 3:
-                del lists[key]
-            else:
-                lists[key] = drop(lst, pair)
+        if len(la) == 1:
+            del lists[a]
+        else:
+            lists[a] = la[:i] + la[i + 1 :]
+        if len(lb) == 1:
+            del lists[b]
+        else:
+            lists[b] = lb[:j] + lb[j + 1 :]
+        if len(lc) == 1:
+            del lists[c]
+        else:
+            lists[c] = lc[:k] + lc[k + 1 :]
         if self._stats is not None:
             self._count(6, i + j + k + 3)
 
@@ -423,7 +435,7 @@ class EphemeralTwoComplex(TwoComplex[D]):
                 raise _stale("replace")
             lists = table.lists
             changes, out_lin = group(removed, added, lin)
-            new_lists: list[tuple[Vertex, VertexList | None]] = []
+            new_lists: list[tuple[Vertex, tuple[Entry, ...] | None]] = []
             scanned = 0
             for v, change in changes.items():
                 old = lists.get(v)
@@ -432,7 +444,7 @@ class EphemeralTwoComplex(TwoComplex[D]):
                         raise Unbatched
                     new_lists.append((v, tuple(change[1] + change[2])))
                     continue
-                scanned += len(old) // 3
+                scanned += len(old)
                 try:
                     new_lists.append(
                         (v, drop_add(old, change) if change[0] else cat_new(old, tuple(change[1] + change[2])))
@@ -490,23 +502,23 @@ class EphemeralTwoComplex(TwoComplex[D]):
         lst = lists.get(a)
         if lst is None:
             return None
-        i = index(lst, b, c)
-        return None if i < 0 else (lst[3 * i + 2],)
+        i = _index(lst, b, c)
+        return None if i < 0 else (lst[i][2],)
 
     def _find(self, rep: Any, f: Simplex) -> list[Triangle]:
         lists = self._live(rep, "find")
         u, w = f
-        return [(u, w, t) for v, t, _ in entries(lists.get(u, ())) if v == w]
+        return [(u, w, t) for v, t, _ in lists.get(u, ()) if v == w]
 
     def _star(self, rep: Any, v: Vertex) -> list[Triangle]:
         lists = self._live(rep, "grep")
-        return [(v, b, c) for b, c, _ in entries(lists.get(v, ()))]
+        return [(v, b, c) for b, c, _ in lists.get(v, ())]
 
     def _items(self, rep: Any) -> Iterator[tuple[Triangle, D]]:
         lists = self._live(rep, "items")
         out: list[tuple[Triangle, D]] = []
         for a in sorted(lists):
-            for b, c, x in entries(lists[a]):
+            for b, c, x in lists[a]:
                 if a < b and a < c:
                     out.append(((a, b, c), x))
         return iter(out)
@@ -521,13 +533,15 @@ class EphemeralTwoComplex(TwoComplex[D]):
         lists = self._live(rep, "update")
         a, b, c = s
         la = lists.get(a)
-        i = -1 if la is None else index(la, b, c)
+        i = -1 if la is None else _index(la, b, c)
         if i < 0:
             raise AbsentSimplexError(f"update: triangle {s!r} is not in the complex (in this orientation)")
         assert la is not None
-        y = f(la[3 * i + 2])  # f may raise: nothing has changed yet
+        y = f(la[i][2])  # f may raise: nothing has changed yet
         for key, p, q in ((a, b, c), (b, c, a), (c, a, b)):
-            lists[key] = put(lists[key], (p, q, y))
+            lst = lists[key]
+            j = _index(lst, p, q)
+            lists[key] = lst[:j] + ((p, q, y),) + lst[j + 1 :]
         table: _Table = rep[0]
         new = (table,)
         table.current = new
@@ -536,12 +550,10 @@ class EphemeralTwoComplex(TwoComplex[D]):
     def _check_rep(self, rep: Any) -> None:
         lists = self._live(rep, "check")
         for a, lst in lists.items():
-            if type(lst) is not tuple or len(lst) % 3:
-                raise RepresentationError(f"ephemeral 2-complex: vertex {a!r} is mapped to {lst!r}, not a list of entries")
             if not lst:
                 raise RepresentationError(f"ephemeral 2-complex: vertex {a!r} is mapped to an empty list")
             pairs: set[tuple[Vertex, Vertex]] = set()
-            for b, c, x in entries(lst):
+            for b, c, x in lst:
                 if len({a, b, c}) != 3:
                     raise RepresentationError(f"ephemeral 2-complex: the list of {a!r} holds {(b, c)!r}, a degenerate triangle")
                 if (b, c) in pairs:
@@ -550,10 +562,17 @@ class EphemeralTwoComplex(TwoComplex[D]):
                     raise OrientationError(f"ephemeral 2-complex: triangle {(a, b, c)!r} is held in both orientations")
                 pairs.add((b, c))
                 for key, p, q in ((b, c, a), (c, a, b)):
-                    copies = [e for e in entries(lists.get(key, ())) if e[0] == p and e[1] == q]
+                    copies = [e for e in lists.get(key, ()) if e[0] == p and e[1] == q]
                     if len(copies) != 1 or not same_datum(copies[0][2], x):
                         raise RepresentationError(
                             f"ephemeral 2-complex: triangle {(a, b, c)!r} is not held exactly once, with its datum, "
                             f"in the list of {key!r}"
                         )
 
+
+def _index(lst: tuple[Entry, ...], b: Vertex, c: Vertex) -> int:
+    """The index of entry ``(b, c, _)`` in ``lst``, or -1."""
+    for i, e in enumerate(lst):
+        if e[0] == b and e[1] == c:
+            return i
+    return -1

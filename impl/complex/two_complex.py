@@ -1,11 +1,8 @@
 """The specialised 2-complex the algorithms use (paper §2 and §4): per vertex, a list of triangles.
 
-One map of the ``ORD_MAP`` backend takes each vertex to an immutable list of
-entries ``(second vertex, third vertex, datum)``, one per triangle at the vertex,
-laid end to end in one flat tuple (:mod:`~persistri.impl.complex.vertex_lists`:
-``(b_0, c_0, x_0, b_1, c_1, x_1, …)``, no tuple per entry).
-An oriented triangle ``(a, b, c)`` with datum x is stored three times, once per
-rotation:
+One map of the ``ORD_MAP`` backend takes each vertex to an immutable tuple of
+entries ``(second vertex, third vertex, datum)``.  An oriented triangle
+``(a, b, c)`` with datum x is stored three times, once per rotation:
 
     under a: ``(b, c, x)``     under b: ``(c, a, x)``     under c: ``(a, b, x)``
 
@@ -34,8 +31,7 @@ triangulated sphere; O(lg V) per map operation with the red-black backend):
 ==========================  ==================================================
 
 Persistence: a list is a tuple, replaced (never changed) when one of its
-entries is added, dropped or updated (the new tuple copies the kept entries'
-three pointers each); the map is the backend's persistent map.
+entries is added, dropped or updated; the map is the backend's persistent map.
 The hot operations validate their arguments in O(1) before touching the map,
 and the functions ``insertWith`` combines lists with are module-level (no
 closure per call; a counted structure wraps them to count the entries visited).
@@ -61,6 +57,7 @@ from persistri.impl.complex.vertex import Lineage, Vertex
 from persistri.impl.complex.vertex_lists import (
     Changes,
     Emptied,
+    Entry,
     Missing,
     Present,
     Unbatched,
@@ -69,9 +66,7 @@ from persistri.impl.complex.vertex_lists import (
     cat_new,
     drop,
     drop_add,
-    entries,
     group,
-    index,
     neighbours_in,
     put,
     replace_batched,
@@ -111,19 +106,21 @@ def _arguments(removed: Any, added: Any) -> tuple[Sequence[Any], Sequence[Any]]:
     return removed, added
 
 
-Combine = Callable[[tuple[Any, ...], Any], tuple[Any, ...]]
+Combine = Callable[[tuple[Entry, ...], Any], tuple[Entry, ...]]
 
 
 def _counting(stats: Stats, f: Combine) -> Combine:
     """``f`` that also adds the list entries it visits to ``stats.key_comparisons`` (counted structures only)."""
 
-    def counted(old: tuple[Any, ...], arg: Any) -> tuple[Any, ...]:
+    def counted(old: tuple[Entry, ...], arg: Any) -> tuple[Entry, ...]:
         if f is cat_first:
-            stats.key_comparisons += len(old) // 3  # add scans the whole list, for either orientation
-        elif f is drop or f is put:
+            stats.key_comparisons += len(old)  # add scans the whole list, for either orientation
+        elif f is drop:
             stats.key_comparisons += visited(old, arg[0], arg[1])
+        elif f is put:
+            stats.key_comparisons += visited(old, arg[0][0], arg[0][1])
         elif f is drop_add or f is cat_new:
-            stats.key_comparisons += len(old) // 3  # replace scans the whole list once
+            stats.key_comparisons += len(old)  # replace scans the whole list once
         return f(old, arg)
 
     return counted
@@ -197,9 +194,14 @@ class TwoComplex(ComplexStructure[D]):
         found = self._m.find(rep, a)
         if found is None:
             return None
-        lst = found[0]
-        i = self._scan(lst, b, cc) if self._stats is not None else index(lst, b, cc)
-        return None if i < 0 else (lst[3 * i + 2],)
+        if self._stats is not None:
+            lst = found[0]
+            i = self._scan(lst, b, cc)
+            return None if i < 0 else (lst[i][2],)
+        for e in found[0]:
+            if e[0] == b and e[1] == cc:
+                return (e[2],)
+        return None
 
     def find(self, c: Complex[D], s: Simplex, /) -> list[Triangle]:
         """``find (c, (u, w))``: the triangles ``(u, w, x)`` having the oriented edge ``(u, w)`` as a face.
@@ -223,8 +225,8 @@ class TwoComplex(ComplexStructure[D]):
             return []
         lst = found[0]
         if self._stats is not None:
-            self._stats.key_comparisons += len(lst) // 3
-        return [(u, w, lst[j + 1]) for j in range(0, len(lst), 3) if lst[j] == w]
+            self._stats.key_comparisons += len(lst)
+        return [(u, w, e[1]) for e in lst if e[0] == w]
 
     def findi(self, c: Complex[D], s: Simplex, /) -> list[tuple[Triangle, D]]:
         """``find`` with each triangle's datum: ``[((u, w, x), datum), …]``.  One map lookup."""
@@ -243,8 +245,8 @@ class TwoComplex(ComplexStructure[D]):
             return []
         lst = found[0]
         if self._stats is not None:
-            self._stats.key_comparisons += len(lst) // 3
-        return [((u, w, lst[j + 1]), lst[j + 2]) for j in range(0, len(lst), 3) if lst[j] == w]
+            self._stats.key_comparisons += len(lst)
+        return [((u, w, e[1]), e[2]) for e in lst if e[0] == w]
 
     def neighbour(self, c: Complex[D], s: Simplex, /) -> tuple[Triangle, D] | None:
         """The one triangle holding the directed edge ``s = (u, w)``, as ``((u, w, x), datum)``, or None.
@@ -272,16 +274,20 @@ class TwoComplex(ComplexStructure[D]):
         found = self._m.find(rep, u)
         if found is None:
             return None
-        lst = found[0]
-        try:
-            i = lst[0::3].index(w)  # the second vertices: a C-level scan that never meets a datum
-        except ValueError:
-            if self._stats is not None:
-                self._stats.key_comparisons += len(lst) // 3
+        if self._stats is None:
+            for e in found[0]:
+                if e[0] == w:
+                    return (u, w, e[1]), e[2]
             return None
-        if self._stats is not None:
-            self._stats.key_comparisons += i + 1
-        return (u, w, lst[3 * i + 1]), lst[3 * i + 2]
+        st = self._stats
+        visited = 0
+        for e in found[0]:
+            visited += 1
+            if e[0] == w:
+                st.key_comparisons += visited
+                return (u, w, e[1]), e[2]
+        st.key_comparisons += visited
+        return None
 
     def neighbours(self, c: Complex[D], /) -> Callable[[Simplex], tuple[Triangle, D] | None]:
         """The function ``s ↦ neighbour(c, s)`` for the one version ``c``: for a walk that crosses many of its edges.
@@ -446,12 +452,16 @@ class TwoComplex(ComplexStructure[D]):
 
     # -- internal operations ----------------------------------------------------------
 
-    def _scan(self, lst: tuple[Any, ...], b: Vertex, c: Vertex) -> int:
-        """The position of entry ``(b, c, _)`` in ``lst``, or -1; counts the entries visited."""
-        i = index(lst, b, c)
+    def _scan(self, lst: tuple[Entry, ...], b: Vertex, c: Vertex) -> int:
+        """The index of entry ``(b, c, _)`` in ``lst``, or -1; counts the entries visited."""
+        for i, e in enumerate(lst):
+            if e[0] == b and e[1] == c:
+                if self._stats is not None:
+                    self._stats.key_comparisons += i + 1
+                return i
         if self._stats is not None:
-            self._stats.key_comparisons += len(lst) // 3 if i < 0 else i + 1
-        return i
+            self._stats.key_comparisons += len(lst)
+        return -1
 
     def _data(self, rep: Any, s: Simplex) -> Option[D]:
         a, b, c = s
@@ -460,7 +470,7 @@ class TwoComplex(ComplexStructure[D]):
             return None
         lst = found[0]
         i = self._scan(lst, b, c)
-        return None if i < 0 else (lst[3 * i + 2],)
+        return None if i < 0 else (lst[i][2],)
 
     def _find(self, rep: Any, f: Simplex) -> list[Triangle]:
         u, w = f
@@ -469,8 +479,8 @@ class TwoComplex(ComplexStructure[D]):
             return []
         lst = found[0]
         if self._stats is not None:
-            self._stats.key_comparisons += len(lst) // 3
-        return [(u, w, lst[j + 1]) for j in range(0, len(lst), 3) if lst[j] == w]
+            self._stats.key_comparisons += len(lst)
+        return [(u, w, t) for v, t, _ in lst if v == w]
 
     def _star(self, rep: Any, v: Vertex) -> list[Triangle]:
         found = self._m.find(rep, v)
@@ -478,16 +488,14 @@ class TwoComplex(ComplexStructure[D]):
             return []
         lst = found[0]
         if self._stats is not None:
-            self._stats.key_comparisons += len(lst) // 3
-        return [(v, lst[j], lst[j + 1]) for j in range(0, len(lst), 3)]
+            self._stats.key_comparisons += len(lst)
+        return [(v, b, c) for b, c, _ in lst]
 
     def _items(self, rep: Any) -> Iterator[tuple[Triangle, D]]:
         for a, lst in self._m.listItemsi(rep):
-            for j in range(0, len(lst), 3):
-                b = lst[j]
-                c = lst[j + 1]
+            for b, c, x in lst:
                 if a < b and a < c:
-                    yield (a, b, c), lst[j + 2]
+                    yield (a, b, c), x
 
     def _combiner(self, f: Combine) -> Combine:
         """``f`` itself, or a counting version of it when a Stats is attached."""
@@ -498,7 +506,7 @@ class TwoComplex(ComplexStructure[D]):
         m = self._m
         try:
             # The triangle, in either orientation, would be in a's list: (b, c) or (c, b).
-            rep = m.insertWith(self._cat_first, rep, a, (b, c, x))
+            rep = m.insertWith(self._cat_first, rep, a, ((b, c, x),))
         except Present as present:
             if present.opposite:
                 raise OppositeOrientationError(
@@ -506,8 +514,8 @@ class TwoComplex(ComplexStructure[D]):
                 ) from None
             raise DuplicateSimplexError(f"add: triangle {s!r} is already present") from None
         cat = self._cat
-        rep = m.insertWith(cat, rep, b, (c, a, x))
-        return m.insertWith(cat, rep, c, (a, b, x))
+        rep = m.insertWith(cat, rep, b, ((c, a, x),))
+        return m.insertWith(cat, rep, c, ((a, b, x),))
 
     def _change(self, rep: Any, key: Vertex, b: Vertex, c: Vertex, y: Any, drop: bool) -> Any:
         """Drop (or give datum ``y`` to) entry ``(b, c, _)`` of ``key``'s list: one ``insertWith``
@@ -518,7 +526,7 @@ class TwoComplex(ComplexStructure[D]):
             if drop:
                 out = m.insertWith(self._drop, rep, key, (b, c))
             else:
-                out = m.insertWith(self._put, rep, key, (b, c, y))
+                out = m.insertWith(self._put, rep, key, ((b, c, y),))
         except Emptied:
             return m.remove(rep, key)[0]
         except Missing:
@@ -527,8 +535,7 @@ class TwoComplex(ComplexStructure[D]):
             raise RepresentationError(f"2-complex: entry {(b, c)!r} missing from the list of {key!r}")
         return out
 
-    def _locate(self, rep: Any, s: Simplex, what: str) -> tuple[tuple[Any, ...], int]:
-        """``(list of s[0], position of s's entry in it)``; AbsentSimplexError if ``s`` is not held."""
+    def _locate(self, rep: Any, s: Simplex, what: str) -> tuple[tuple[Entry, ...], int]:
         a, b, c = s
         found = self._m.find(rep, a)
         if found is not None:
@@ -572,7 +579,7 @@ class TwoComplex(ComplexStructure[D]):
     def _update(self, rep: Any, s: Simplex, f: Callable[[D], D]) -> Any:
         a, b, c = s
         lst, i = self._locate(rep, s, "update")
-        y = f(lst[3 * i + 2])  # f may raise: nothing has been built yet
+        y = f(lst[i][2])  # f may raise: nothing has been built yet
         rep = self._change(rep, a, b, c, y, False)
         rep = self._change(rep, b, c, a, y, False)
         return self._change(rep, c, a, b, y, False)
@@ -581,14 +588,12 @@ class TwoComplex(ComplexStructure[D]):
         check = getattr(self._raw, "_check", None)
         if check is not None:
             check(rep)
-        table: dict[Vertex, tuple[Any, ...]] = dict(self._raw.listItemsi(rep))
+        table: dict[Vertex, tuple[Entry, ...]] = dict(self._raw.listItemsi(rep))
         for a, lst in table.items():
-            if type(lst) is not tuple or len(lst) % 3:
-                raise RepresentationError(f"2-complex: vertex {a!r} is mapped to {lst!r}, not a list of entries")
             if not lst:
                 raise RepresentationError(f"2-complex: vertex {a!r} is mapped to an empty list (it is in no triangle)")
             pairs: dict[tuple[Vertex, Vertex], int] = {}
-            for b, c, x in entries(lst):
+            for b, c, x in lst:
                 if len({a, b, c}) != 3:
                     raise RepresentationError(f"2-complex: the list of {a!r} holds {(b, c)!r}, a degenerate triangle")
                 if (b, c) in pairs:
@@ -599,7 +604,7 @@ class TwoComplex(ComplexStructure[D]):
                     )
                 pairs[(b, c)] = 1
                 for key, p, q in ((b, c, a), (c, a, b)):
-                    copies = [e for e in entries(table.get(key, ())) if e[0] == p and e[1] == q]
+                    copies = [e for e in table.get(key, ()) if e[0] == p and e[1] == q]
                     if len(copies) != 1:
                         raise RepresentationError(
                             f"2-complex: triangle {(a, b, c)!r} is in the list of {a!r} but "

@@ -1,23 +1,10 @@
 """The per-vertex lists of the specialised 2-complex (paper §4) and the functions that rebuild them.
 
-:class:`~persistri.impl.complex.two_complex.TwoComplex` maps each vertex a to
-one flat, immutable tuple holding a's entries — one per triangle at a, the
-paper's association list — laid end to end:
-
-    ``(b_0, c_0, x_0,  b_1, c_1, x_1,  …)``
-
-entry i being the triangle ``(a, b_i, c_i)`` with datum ``x_i``; a list with one
-entry is the 3-tuple ``(b, c, x)``.  Flat, because a tuple per entry (64 bytes)
-held three references (24 bytes): even where successive versions shared the
-entry objects, the flat lists keep less (docs/structures/complex.md).  Scans
-step by three and compare only the vertices, never a datum.  (A layout in three
-blocks, ``b…, c…, x…``, which lets ``tuple.index`` scan the second vertices in
-C, was measured too: its rebuilds, cut and spliced in three places, cost
-CPython about 60% more instructions than these, which are one cut and one
-concatenation.)
-
-This module holds what works on those lists: the functions ``insertWith``
-combines a vertex's old list with (``add``, ``rem``, ``update``,
+:class:`~persistri.impl.complex.two_complex.TwoComplex` maps each vertex to an
+immutable tuple of entries ``(second vertex, third vertex, datum)``, the
+paper's association list; its docstring describes the representation and the
+costs.  This module holds what works on those lists: the functions
+``insertWith`` combines a vertex's old list with (``add``, ``rem``, ``update``,
 ``replace``), the grouping of a ``replace`` by vertex, and the edge lookup of
 one version that the walks call (:func:`neighbours_in`).  They are a module of
 their own because the 2-complex spends its time here: the compiled twin
@@ -25,13 +12,21 @@ their own because the 2-complex spends its time here: the compiled twin
 :mod:`~persistri.impl.complex.two_complex`, which validates the public
 arguments and raises the signature's errors, stays interpreted.
 
-Lists are typed as tuples of *any* length (``tuple[Any, ...]``): mypyc stores a
-fixed-length tuple type unboxed and boxes it again on the way out, so a list
-kept by a rebuilt map would come back as a new, equal tuple, no longer shared
-with the older versions that hold it.  Typed this way each stays one object
-(``tests/test_complex_replace.py`` checks the untouched lists and the map's
-subtrees by identity).  Vertices are ``Any`` here: the structure has
-validated them.
+Entries and lists are typed as tuples of *any* length (``tuple[Any, ...]``):
+mypyc stores a fixed-length tuple type unboxed and boxes it again on the way
+out, so an entry kept by a rebuilt list would come back as a new, equal tuple,
+no longer shared with the older versions that hold it.  Typed this way each
+stays one object (``tests/test_complex_replace.py`` checks the kept entries,
+the untouched lists and the map's subtrees by identity).  Vertices are
+``Any`` here: the structure has validated them.
+
+Why a tuple per entry, when a flat list (``b, c, x`` end to end, or in three
+blocks) would keep less: measured on a full hull history (InBall 16K), flat
+lists keep 4,685 bytes per inserted point instead of 5,111 (−8%), but CPython
+scans and rebuilds them with index arithmetic where it now unpacks an entry with
+constant subscripts, and an OnSphere 8K hull then executes 8% more
+instructions (13% with blocks; valgrind, same source otherwise).  The lists
+stay tuples of entries (commits 1a610ba, 3a4dbcb hold the flat versions).
 
 The exceptions are signals between these functions and the structure, never
 seen by a caller of the 2-complex: the structure turns them into the
@@ -53,16 +48,12 @@ __all__ = [
     "Missing",
     "Unbatched",
     "Present",
-    "size",
-    "entries",
-    "from_entries",
-    "from_flat",
-    "index",
     "cat",
     "cat_first",
     "drop",
     "put",
     "drop_add",
+    "drop_add_general",
     "cat_new",
     "rebuild",
     "visited",
@@ -72,16 +63,14 @@ __all__ = [
 ]
 
 Entry: TypeAlias = tuple[Any, ...]
-"""``(second vertex, third vertex, datum)``: one entry, as :func:`entries` returns it (a list of one entry is
-this very tuple)."""
+"""``(second vertex, third vertex, datum)`` in the list of the first vertex (any length for mypyc: see above)."""
 
-VertexList: TypeAlias = tuple[Any, ...]
-"""A vertex's list: the blocks of second vertices, third vertices and data (module docstring)."""
+VertexList: TypeAlias = tuple[Entry, ...]
+"""A vertex's list: its entries, one per triangle at the vertex."""
 
-Change: TypeAlias = tuple[list[Any], list[Any], list[Any]]
-"""What ``replace`` does to one vertex's list, each part flat: the pairs ``b, c`` of the entries to drop, the
-triples ``b, c, x`` to add of the triangles that start at the vertex (checked against the list), and the other
-triples ``b, c, x`` to add."""
+Change: TypeAlias = tuple[list[tuple[Any, Any]], list[Entry], list[Entry]]
+"""What ``replace`` does to one vertex's list: the pairs ``(b, c)`` to drop, the entries to add of the triangles
+that start at the vertex (checked against the list), and the other entries to add."""
 
 
 class Emptied(Exception):
@@ -104,100 +93,55 @@ class Present(Exception):
         self.opposite = opposite
 
 
-# -- reading a list ---------------------------------------------------------------------
-
-
-def size(lst: VertexList) -> int:
-    """The number of entries of ``lst``.  O(1)."""
-    return len(lst) // 3
-
-
-def entries(lst: VertexList) -> list[Entry]:
-    """The entries ``(b, c, x)`` of ``lst``, in order.  O(k)."""
-    return list(zip(lst[0::3], lst[1::3], lst[2::3]))
-
-
-def from_entries(es: Sequence[Entry]) -> VertexList:
-    """The list of the entries ``es`` ``(b, c, x)``, in order (the inverse of :func:`entries`).  O(k)."""
-    return tuple([y for e in es for y in e])
-
-
-def from_flat(flat: list[Any]) -> VertexList:
-    """The list of the triples ``b, c, x`` laid end to end in ``flat`` (the list itself, as a tuple).  O(k)."""
-    return tuple(flat)
-
-
-def index(lst: VertexList, b: Any, c: Any) -> int:
-    """The index i of entry ``(b, c, _)`` in ``lst`` (its datum is ``lst[3i + 2]``), or -1.  O(k)."""
-    for j in range(0, len(lst), 3):
-        if lst[j] == b and lst[j + 1] == c:
-            return j // 3
-    return -1
-
-
-def visited(old: VertexList, b: Any, c: Any) -> int:
-    """How many entries a scan of ``old`` for ``(b, c, _)`` visits (the paper's count: up to the hit, or all)."""
-    i = index(old, b, c)
-    return len(old) // 3 if i < 0 else i + 1
-
-
-def _holds(lst: VertexList, b: Any, c: Any) -> bool:
-    """Whether ``lst`` holds the triangle ``(b, c)`` or ``(c, b)``."""
-    for j in range(0, len(lst), 3):
-        e0 = lst[j]
-        if e0 == b:
-            if lst[j + 1] == c:
-                return True
-        elif e0 == c and lst[j + 1] == b:
-            return True
-    return False
-
-
 # The functions ``insertWith`` combines a vertex's old list with.  Module-level, so
 # no closure is made per operation: what they need travels in ``insertWith``'s
-# value argument (the new list of one entry, or the (second, third) pair to find).
+# value argument (the new entry, or the (second, third) pair to find).
 
 
 def cat(old: VertexList, new: VertexList) -> VertexList:
-    """``old`` followed by the entries of ``new`` (both lists)."""
     return old + new
 
 
 def cat_first(old: VertexList, new: VertexList) -> VertexList:
-    """``old`` plus ``new``'s one entry ``(b, c, x)`` unless its triangle is in ``old`` in either orientation."""
-    b = new[0]
-    c = new[1]
-    for j in range(0, len(old), 3):
-        e0 = old[j]
+    """``old + new`` unless the triangle of ``new``'s entry (b, c) is in ``old`` in either orientation."""
+    b, c, _ = new[0]
+    for e in old:
+        e0 = e[0]
         if e0 == b:
-            if old[j + 1] == c:
+            if e[1] == c:
                 raise Present(False)
-        elif e0 == c and old[j + 1] == b:
+        elif e0 == c and e[1] == b:
             raise Present(True)
     return old + new
 
 
 def drop(old: VertexList, pair: tuple[Any, Any]) -> VertexList:
     """``old`` without its entry ``(b, c, _)`` for ``pair = (b, c)``; Emptied if that was the only one."""
-    i = index(old, pair[0], pair[1])
-    if i < 0:
-        raise Missing
-    if len(old) == 3:
-        raise Emptied
-    j = 3 * i
-    return old[:j] + old[j + 3 :]
+    b, c = pair
+    i = 0
+    for e in old:
+        if e[0] == b and e[1] == c:
+            if len(old) == 1:
+                raise Emptied
+            return old[:i] + old[i + 1 :]
+        i += 1
+    raise Missing
 
 
 def put(old: VertexList, new: VertexList) -> VertexList:
-    """``old`` with its entry ``(b, c, _)`` replaced by ``new``'s one entry ``(b, c, y)``."""
-    i = index(old, new[0], new[1])
-    if i < 0:
-        raise Missing
-    j = 3 * i
-    return old[:j] + new + old[j + 3 :]
+    """``old`` with its entry ``(b, c, _)`` replaced by ``new``'s entry ``(b, c, y)``."""
+    b, c, _ = new[0]
+    i = 0
+    for e in old:
+        if e[0] == b and e[1] == c:
+            return old[:i] + new + old[i + 1 :]
+        i += 1
+    raise Missing
 
 
-def drop_add(old: VertexList, change: Change) -> VertexList:
+def drop_add(
+    old: VertexList, change: Change
+) -> VertexList:
     """``old`` without the entries ``(b, c, _)`` for the pairs of ``change[0]``, plus the entries of
     ``change[1]`` and ``change[2]`` (``replace``).
 
@@ -207,89 +151,75 @@ def drop_add(old: VertexList, change: Change) -> VertexList:
     is asked twice), Present if a triangle to add is kept, Emptied if nothing
     is left.  One pass over ``old``: on a surface every vertex the change keeps
     has exactly one checked entry (the new triangle that starts at it), and that
-    case drops and checks in the same loop, then cuts the dropped entries out of
-    a copy of ``old`` and appends the new ones.
+    case drops and checks in the same loop.
     """
     drops, checked, plain = change
-    if len(checked) != 3:
-        return _drop_add_general(old, drops, checked, plain)
-    b0 = checked[0]
-    c0 = checked[1]
-    nd = len(drops)
-    bs = old[0::3]
-    cs = old[1::3]
-    if nd == 2:
-        b = drops[0]
-        c = drops[1]
-        try:
-            i = bs.index(b)
-            while cs[i] != c:
-                i = bs.index(b, i + 1)
-        except ValueError:
-            raise Missing from None
-        if b0 in bs or c0 in bs:  # else the triangle cannot be kept (a C-level test)
-            j = 0
-            for e0, e1 in zip(bs, cs):
-                if j != i and ((e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0)):
-                    raise Present(False)
-                j += 1
-        out = list(old)
-        del out[3 * i : 3 * i + 3]
-    else:
-        gone: set[tuple[Any, Any]] = set()
-        for j in range(0, nd, 2):
-            gone.add((drops[j], drops[j + 1]))
-        ats: list[int] = []
-        j = 0
-        for e0, e1 in zip(bs, cs):
-            if (e0, e1) in gone:
-                ats.append(j)
-            elif (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
+    n = len(drops)
+    if len(checked) != 1:
+        return drop_add_general(old, drops, checked, plain)
+    b0, c0, _ = checked[0]
+    kept: list[Entry] = []
+    append = kept.append
+    if n == 1:
+        ((b, c),) = drops
+        for e in old:
+            e0 = e[0]
+            e1 = e[1]
+            if e0 == b and e1 == c:
+                continue
+            if (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
                 raise Present(False)
-            j += 3
-        if 2 * len(ats) != nd:  # a pair absent, or asked twice
-            raise Missing
-        out = list(old)
-        for at in reversed(ats):
-            del out[at : at + 3]
-    out += checked
-    out += plain
-    return tuple(out)
-
-
-def _drop_add_general(old: VertexList, drops: list[Any], checked: list[Any], plain: list[Any]) -> VertexList:
-    """:func:`drop_add` for no checked entry or several (a vertex left with nothing, or a change that is not a
-    star's)."""
-    gone: set[tuple[Any, Any]] = set()
-    for j in range(0, len(drops), 2):
-        gone.add((drops[j], drops[j + 1]))
-    out: list[Any] = []
-    for j in range(0, len(old), 3):
-        if (old[j], old[j + 1]) not in gone:
-            out += old[j : j + 3]
-    if len(gone) != len(drops) // 2 or len(out) + 3 * len(gone) != len(old):  # asked twice, or absent
+            append(e)
+    else:
+        gone = set(drops)
+        for e in old:
+            e0 = e[0]
+            e1 = e[1]
+            if (e0, e1) in gone:
+                continue
+            if (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
+                raise Present(False)
+            append(e)
+    if len(kept) + n != len(old):
         raise Missing
-    kept = tuple(out)
-    for j in range(0, len(checked), 3):
-        if _holds(kept, checked[j], checked[j + 1]):
-            raise Present(False)
-    out += checked
-    out += plain
-    if not out:
+    append(checked[0])
+    kept += plain
+    return tuple(kept)
+
+
+def drop_add_general(
+    old: VertexList, drops: list[tuple[Any, Any]], checked: list[Entry], plain: list[Entry]
+) -> VertexList:
+    """:func:`drop_add` for no checked entry or several (a vertex left with nothing, or a change that is not a star's)."""
+    gone = set(drops)
+    kept = [e for e in old if (e[0], e[1]) not in gone]
+    if len(kept) + len(drops) != len(old):
+        raise Missing
+    for b, c, _ in checked:
+        for e in kept:
+            e0 = e[0]
+            if (e0 == b and e[1] == c) or (e0 == c and e[1] == b):
+                raise Present(False)
+    kept += checked
+    kept += plain
+    if not kept:
         raise Emptied
-    return tuple(out)
+    return tuple(kept)
 
 
 def cat_new(old: VertexList, adds: VertexList) -> VertexList:
-    """``old`` followed by the entries of the list ``adds``; Present if a triangle of ``adds`` is in ``old``
-    in either orientation (``replace``)."""
-    for j in range(0, len(adds), 3):
-        if _holds(old, adds[j], adds[j + 1]):
-            raise Present(False)
+    """``old + adds``; Present if a triangle of ``adds`` is in ``old`` in either orientation (``replace``)."""
+    for e in old:
+        e0, e1 = e[0], e[1]
+        for b, c, _ in adds:
+            if (e0 == b and e1 == c) or (e0 == c and e1 == b):
+                raise Present(False)
     return old + adds
 
 
-def rebuild(old: VertexList, arg: tuple[Change, Any, list[Any]]) -> VertexList:
+def rebuild(
+    old: VertexList, arg: tuple[Change, Any, list[Any]]
+) -> VertexList:
     """``replace``'s combine for a batched update (``adjust_many``): ``arg = (change, v, emptied)``.
 
     The vertex's new list as ``cat_new`` or ``drop_add`` make it; when nothing is
@@ -304,6 +234,14 @@ def rebuild(old: VertexList, arg: tuple[Change, Any, list[Any]]) -> VertexList:
     except Emptied:
         emptied.append(v)
         return ()
+
+
+def visited(old: VertexList, b: Any, c: Any) -> int:
+    """How many entries a scan of ``old`` for ``(b, c, _)`` visits."""
+    for i, e in enumerate(old):
+        if e[0] == b and e[1] == c:
+            return i + 1
+    return len(old)
 
 
 Changes: TypeAlias = dict[Any, Change]
@@ -333,19 +271,19 @@ def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Chang
             raise Unbatched
         ch = get(a)
         if ch is None:
-            changes[a] = ([b, cc], [], [])
+            changes[a] = ([(b, cc)], [], [])
         else:
-            ch[0].extend((b, cc))
+            ch[0].append((b, cc))
         ch = get(b)
         if ch is None:
-            changes[b] = ([cc, a], [], [])
+            changes[b] = ([(cc, a)], [], [])
         else:
-            ch[0].extend((cc, a))
+            ch[0].append((cc, a))
         ch = get(cc)
         if ch is None:
-            changes[cc] = ([a, b], [], [])
+            changes[cc] = ([(a, b)], [], [])
         else:
-            ch[0].extend((a, b))
+            ch[0].append((a, b))
     out_lin = lin
     for sx in added:
         s, x = sx
@@ -357,27 +295,27 @@ def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Chang
             raise Unbatched
         ch = get(a)
         if ch is None:
-            changes[a] = ([], [b, cc, x], [])
+            changes[a] = ([], [(b, cc, x)], [])
         else:
             # Added twice, or in both orientations: every triangle of the batch is already
             # under each of its vertices, so one test at the first vertex finds it.
-            for part in (ch[1], ch[2]):
-                for j in range(0, len(part), 3):
-                    e0 = part[j]
-                    e1 = part[j + 1]
-                    if (e0 == b and e1 == cc) or (e0 == cc and e1 == b):
-                        raise Unbatched
-            ch[1].extend((b, cc, x))
+            for e in ch[1]:
+                if (e[0] == b and e[1] == cc) or (e[0] == cc and e[1] == b):
+                    raise Unbatched
+            for e in ch[2]:
+                if (e[0] == b and e[1] == cc) or (e[0] == cc and e[1] == b):
+                    raise Unbatched
+            ch[1].append((b, cc, x))
         ch = get(b)
         if ch is None:
-            changes[b] = ([], [], [cc, a, x])
+            changes[b] = ([], [], [(cc, a, x)])
         else:
-            ch[2].extend((cc, a, x))
+            ch[2].append((cc, a, x))
         ch = get(cc)
         if ch is None:
-            changes[cc] = ([], [], [a, b, x])
+            changes[cc] = ([], [], [(a, b, x)])
         else:
-            ch[2].extend((a, b, x))
+            ch[2].append((a, b, x))
     return changes, out_lin
 
 
@@ -439,10 +377,9 @@ def neighbours_in(
             if found is None:
                 return None
             lst = lists[u] = found[0]
-        try:
-            j = 3 * lst[0::3].index(w)  # the second vertices: a C-level scan that never meets a datum
-        except ValueError:
-            return None
-        return (u, w, lst[j + 1]), lst[j + 2]
+        for e in lst:
+            if e[0] == w:
+                return (u, w, e[1]), e[2]
+        return None
 
     return neighbour_in_c
