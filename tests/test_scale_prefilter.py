@@ -72,6 +72,7 @@ def test_on_a_sphere_every_vertex_stays() -> None:
     want = convex_hull(pts)
     assert np.isin(want.vertices, got.keep).all()
     assert got.dropped <= pts.shape[0] - want.vertices.size
+    assert got.faces == 0 and got.dropped == 0  # the sample says nothing would go: no search at all
 
 
 def test_small_flat_or_failed_inputs_drop_nothing(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -189,6 +190,7 @@ def test_a_non_convex_surface_still_drops_only_inner_points(monkeypatch: pytest.
 
     real = prefilter._surface
     monkeypatch.setattr(prefilter, "_surface", dented)
+    monkeypatch.setattr(prefilter, "_WORTH", 0.0)  # search whatever the sample says: the dent cuts deep
     got = interior_filter(pts)
     assert got.dropped > 0
     assert_keeps_the_hull(pts, got)
