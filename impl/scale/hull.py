@@ -95,7 +95,7 @@ from persistri.impl.hull.api import Hull, convex_hull
 from persistri.impl.hull.errors import DegenerateInputError
 from persistri.impl.hull.verify import HullVerificationError, verify_hull
 from persistri.impl.scale.sources import DEFAULT_CHUNK_ROWS, PointSource, points_source, read_block
-from persistri.impl.scale.prefilter import interior_filter
+from persistri.impl.scale.prefilter import column_extremes, interior_filter
 from persistri.impl.scale.tasks import Task, run, task
 
 if TYPE_CHECKING:
@@ -238,7 +238,7 @@ def _scan(
     pieces = tuple(zip(np.split(pts[order], cuts), np.split(rows[order], cuts), strict=True))
     keep = interior_filter(pts).keep if prefilter else np.arange(pts.shape[0])
     survivors = (np.take(pts, keep, axis=0), rows[keep])
-    return _Scan(start, stop, pts.min(axis=0), pts.max(axis=0), None), pieces, survivors
+    return _Scan(start, stop, *column_extremes(pts), None), pieces, survivors
 
 
 def _item(x: Any, i: int) -> Any:
