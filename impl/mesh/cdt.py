@@ -33,9 +33,17 @@ of the other (exact ``incircle``; ties among cocircular points decided by SoS,
 so the exact sign there is 0).  Inputs at large offsets (UTM metres) are exact
 like any others: every test is on the doubles' exact values.
 
-Costs: expected O(n log n) complex operations for the vertices; a segment
+Steps 1 and 2 run on a mutable scratch triangulation
+(:class:`~persistri.impl.mesh.scratch.ScratchComplex`, through
+:meth:`~persistri.impl.mesh.triangulation.MeshTriangulation.with_structure`): their
+intermediate states are no versions anyone reads, and a version of the persistent
+complex for each vertex cost most of a small domain's time.  Step 3 writes the
+result into the persistent complex with one ``replace``: the CDT is one version,
+``history[0]`` of every refinement from it.
+
+Costs: expected O(n log n) scratch operations (O(1) each) for the vertices; a segment
 crossing ``k`` triangles O(k²) ``incircle`` tests in the worst case (Anglada)
-and O(k) complex operations; the regions O(N).
+and O(k) scratch operations; the regions O(N) and one ``replace`` of N triangles.
 """
 
 from __future__ import annotations
@@ -49,7 +57,9 @@ from numpy.typing import NDArray
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.vertex import Vertex
 from persistri.impl.geometry.growing import GrowingPredicates2
+from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.mesh.domain import PSLG
+from persistri.impl.mesh.scratch import ScratchComplex
 from persistri.impl.mesh.triangulation import (
     EXTERIOR,
     Constraint,
@@ -284,9 +294,10 @@ class _Builder:
     # -- regions ---------------------------------------------------------------------------
 
     def regions(
-        self, cx: Complex[MeshDatum], holes: NDArray[np.float64], regions: NDArray[np.float64]
+        self, cx: Complex[MeshDatum], holes: NDArray[np.float64], regions: NDArray[np.float64], target: TwoComplex[MeshDatum]
     ) -> Complex[MeshDatum]:
-        """``cx`` with every triangle's region set (module docstring): one rebuild of all data."""
+        """``cx`` with every triangle's region set (module docstring), as one new version of ``target`` made by one
+        ``replace`` from the empty complex, its triangles in order (each from its smallest vertex, sorted)."""
         T, S = self.T, self.T.S
         inf = T.infinite
         items = S.items(cx)
@@ -336,7 +347,8 @@ class _Builder:
                 if region[k] == -2:
                     flood([k], code)
         added = [(t, (d[0], region[k] if region[k] != -2 else 0, d[2])) for k, (t, d) in enumerate(zip(tris, datas))]
-        return S.replace(S.new(2), [], added)
+        added.sort(key=lambda item: (item[0][0], item[0][1], item[0][2]))
+        return target.replace(target.new(2), [], added)
 
 
 def constrained_delaunay(
@@ -352,7 +364,10 @@ def constrained_delaunay(
     n = domain.vertices.shape[0]
     if n < 3:
         raise MeshError(f"{n} vertices: a domain needs at least 3 not on one line")
-    builder = _Builder(T)
+    # The vertices and segments go into a mutable scratch triangulation (their steps are no versions anyone reads);
+    # the regions' rebuild then makes the CDT one version of T's persistent complex.
+    scratch = T.with_structure(ScratchComplex())
+    builder = _Builder(scratch)
     cx = builder.vertices(n)
     segs = np.asarray(domain.segments, dtype=np.intp).reshape(-1, 2)
     incident = [0] * n
@@ -362,7 +377,8 @@ def constrained_delaunay(
         incident[a] += 1
         incident[b] += 1
         cx = builder.segment(cx, a, b, s)
-    cx = builder.regions(cx, domain.holes, domain.regions)
+    cx = builder.regions(cx, domain.holes, domain.regions, T.S)
+    T.take_ids_from(scratch)
     geo = SegmentGeometry(
         ends=[(int(a), int(b)) for a, b in segs.tolist()], on_segment={}, shell={}, n_input=n, incident=incident
     )

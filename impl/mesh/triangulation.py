@@ -51,7 +51,7 @@ deletion of a vertex of degree ``k`` ``O(k²)`` predicates; a walk ``O(length)``
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Final, Literal, NamedTuple
+from typing import Any, Final, Literal, NamedTuple
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
@@ -154,6 +154,24 @@ class MeshTriangulation:
             v = Vertex(i, None, self.lineage)
             self._verts[i] = v
         return v
+
+    def with_structure(self, structure: Any) -> MeshTriangulation:
+        """A triangulation over the same points, the same vertices and the same datum ids, on another structure
+        (the CDT's :class:`~persistri.impl.mesh.scratch.ScratchComplex`).  Ids it hands out are taken back with
+        :meth:`take_ids_from`. O(1)."""
+        other = MeshTriangulation.__new__(MeshTriangulation)
+        other.pred = self.pred
+        other.S = structure
+        other.check = self.check
+        other.lineage = self.lineage
+        other._verts = self._verts
+        other.infinite = self.infinite
+        other._next_id = self._next_id
+        return other
+
+    def take_ids_from(self, other: MeshTriangulation) -> None:
+        """Continue numbering data after the ids ``other`` (made by :meth:`with_structure`) handed out. O(1)."""
+        self._next_id = max(self._next_id, other._next_id)
 
     def new_datum(self, region: int, constraints: tuple[Constraint, ...] = ()) -> MeshDatum:
         """A datum with a fresh id."""
