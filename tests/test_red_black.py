@@ -462,6 +462,36 @@ def test_adjust_many_errors() -> None:
     assert S.adjust_many(f, m, []) == (m, [])
 
 
+@given(st.lists(st.integers(0, 500), max_size=200), st.lists(st.integers(-20, 520), max_size=40, unique=True))
+def test_adjust_sorted_is_adjust_many(keys: list[int], probe: list[int]) -> None:
+    """The unchecked form the 2-complex's ``replace`` uses: the same map (the same new nodes, by count) and
+    the same absent items as ``adjust_many`` on strictly increasing keys; the argument unchanged."""
+    m: RBMap[int, tuple[int, ...]] = S.empty()
+    for k in keys:
+        m = S.insert(m, k, (k,))
+    before = S.listItemsi(m)
+    items = [(k, (-k,)) for k in sorted(probe)]
+    out, absent = S.adjust_sorted(lambda old, new: old + new, m, items)
+    want, want_absent = S.adjust_many(lambda old, new: old + new, m, items)
+    S._check(out)
+    assert S.listItemsi(out) == S.listItemsi(want) and absent == want_absent
+    assert S.listItemsi(m) == before
+    old = {id(x) for x in nodes(m[1])}
+    assert sum(id(x) not in old for x in nodes(out[1])) == sum(id(x) not in old for x in nodes(want[1]))
+
+
+def test_adjust_sorted_lets_f_raise() -> None:
+    m = _int_map()
+
+    def f(old: int, new: int) -> int:
+        raise KeyError("f says no")
+
+    with pytest.raises(KeyError, match="f says no"):
+        S.adjust_sorted(f, m, [(1, 0), (3, 0)])
+    assert S.adjust_sorted(f, m, [(-5, 1)]) == (m, [(-5, 1)])
+    assert S.adjust_sorted(f, S.empty(), [(1, 2)]) == (S.empty(), [(1, 2)])
+
+
 @given(st.lists(st.integers(0, 200), max_size=100), st.lists(st.integers(-10, 210), max_size=30))
 def test_find_unchecked_is_find(keys: list[int], probes: list[int]) -> None:
     """The unchecked find the 2-complex's walks use answers as ``find`` (keys ordered with the map's)."""

@@ -148,7 +148,10 @@ class TwoComplex(ComplexStructure[D]):
         self._cat_new = self._combiner(cat_new)
         # A backend that updates several keys in one descent (red-black's adjust_many; uncounted only:
         # the counting wrapper has none, so counted runs make the per-vertex insertWith the paper counts).
-        self._adjust_many: Callable[..., tuple[Any, list[Any]]] | None = getattr(self._m, "adjust_many", None)
+        # Its unchecked form if it has one: replace sorts the vertices itself, and they are validated.
+        self._adjust_many: Callable[..., tuple[Any, list[Any]]] | None = getattr(
+            self._m, "adjust_sorted", None
+        ) or getattr(self._m, "adjust_many", None)
         if stats is None:
             self.family = Family(self.kind, 2, backend, None, self)
         else:

@@ -170,6 +170,16 @@ def drop_add(
             if (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
                 raise Present(False)
             append(e)
+    elif n == 2:  # a vertex that loses two triangles (common where the visible region is several faces)
+        (b, c), (b2, c2) = drops
+        for e in old:
+            e0 = e[0]
+            e1 = e[1]
+            if (e0 == b and e1 == c) or (e0 == b2 and e1 == c2):
+                continue
+            if (e0 == b0 and e1 == c0) or (e0 == c0 and e1 == b0):
+                raise Present(False)
+            append(e)
     else:
         gone = set(drops)
         for e in old:

@@ -48,7 +48,8 @@ insert                 O(lg n)     O(lg n) new nodes; a present key costs two de
 insertWith             O(lg n)     one descent when the key is present (path copied
                                    back up), else a search and an insert
 adjust_many             O(k lg n)   k present keys in one descent; shared path
-                                   nodes copied once (persistri's addition)
+                                   nodes copied once (persistri's addition;
+                                   ``adjust_sorted``: the same, keys unchecked)
 remove                 O(lg n)     one search for the value, then Kahrs' delete
 numItems, isEmpty      O(1)        the size is stored
 listItemsi, foldli     O(n)        iterative in-order walk
@@ -221,6 +222,26 @@ class RedBlackMap(Generic[K, V]):
             raise failed.exc from None
         except TypeError as exc:
             raise _key_error(items[0][0], exc) from None
+        return (n, new), absent
+
+    def adjust_sorted(
+        self, f: Callable[[V, V], V], m: RBMap[K, V], items: list[tuple[K, V]], /
+    ) -> tuple[RBMap[K, V], list[tuple[K, V]]]:
+        """:meth:`adjust_many` for items whose keys are known to be strictly increasing and ordered with the
+        map's: nothing is checked (a comparison's TypeError is not reworded).
+
+        persistri's addition, for the 2-complex's ``replace``, which sorts the
+        vertices it touches itself (one pass of k − 1 comparisons fewer).
+        Exceptions raised by ``f`` propagate unchanged.  O(k + new nodes).
+        """
+        n, t = m
+        if t is None or not items:
+            return m, list(items)
+        absent: list[tuple[K, V]] = []
+        try:
+            new = _tree.adjust(t, items, 0, len(items), f, absent)
+        except FailedWith as failed:
+            raise failed.exc from None
         return (n, new), absent
 
     def find(self, m: RBMap[K, V], k: K, /) -> Option[V]:

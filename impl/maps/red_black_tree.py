@@ -199,11 +199,13 @@ def adjust(
     One descent for the whole slice: at each node the slice splits into the
     keys below it, its own key, and the keys above it, and only the subtrees
     that hold keys of the slice are rebuilt, so paths are copied once where
-    they are shared.  Keys that end at a leaf are appended to ``absent``;
-    a subtree holding none of the present keys is returned as it is (nothing
-    is built for the absent ones).  Shape and colours are kept.
+    they are shared.  A subtree left with one key of the slice is handed to
+    :func:`update`, the single-key descent (called here, not through another
+    ``adjust``).  Keys that end at a leaf are appended to ``absent``; a subtree
+    holding none of the present keys is returned as it is (nothing is built for
+    the absent ones).  Shape and colours are kept.
     """
-    if hi - lo == 1:  # one key left: the single-key descent
+    if hi - lo == 1:  # one key: the single-key descent
         k, v = items[lo]
         try:
             return update(t, k, f, v)
@@ -219,7 +221,15 @@ def adjust(
         if a is None:
             absent.extend(items[lo:i])
         else:
-            a2 = adjust(a, items, lo, i, f, absent)
+            if i - lo == 1:
+                k, v = items[lo]
+                try:
+                    a2 = update(a, k, f, v)
+                except Absent:
+                    absent.append(items[lo])
+                    a2 = a
+            else:
+                a2 = adjust(a, items, lo, i, f, absent)
             changed = a2 is not a
             a = a2
     if i < hi and not y < items[i][0]:  # items[i] is y's key
@@ -233,7 +243,15 @@ def adjust(
         if b is None:
             absent.extend(items[i:hi])
         else:
-            b2 = adjust(b, items, i, hi, f, absent)
+            if hi - i == 1:
+                k, v = items[i]
+                try:
+                    b2 = update(b, k, f, v)
+                except Absent:
+                    absent.append(items[i])
+                    b2 = b
+            else:
+                b2 = adjust(b, items, i, hi, f, absent)
             changed = changed or b2 is not b
             b = b2
     return (c, a, y, yv, b) if changed else t
