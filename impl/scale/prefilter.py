@@ -91,7 +91,7 @@ Cost for ``m`` points: O(m) vectorised (cells, boxes, candidates, the points
 tested one by one), Qhull on O(G²) candidates, and per level O(pairs) plane
 tests — about ``64·F`` at the first level for a surface of ``F`` triangles,
 then the pairs near the surface.  Measured on 2M points uniform in a ball: about
-half a second, 99.4 % of the points dropped (12,744 kept for 6,318 hull vertices;
+0.4 s of CPU, 99.4 % of the points dropped (12,744 kept for 6,318 hull vertices;
 ``docs/scale-out.md``).
 """
 
