@@ -25,7 +25,7 @@ from persistri.impl.mesh.api import triangulate
 from persistri.impl.mesh.chains import in_tolerance_box
 from persistri.impl.mesh.domain import PSLG, DomainError, as_pslg
 from persistri.impl.mesh.precision import BAND_ULPS, clear_of_band
-from persistri.impl.mesh.splitting import near_segment, rounded_candidates
+from persistri.impl.mesh.splitting import _candidate_parameters, near_segment, rounded_candidates
 from persistri.impl.mesh.steiner import PrecisionLimitError, _dyadic_double, _dyadic_split
 from persistri.impl.mesh.verify import verify_mesh
 
@@ -350,3 +350,13 @@ def test_band_filter_decides_the_far_points() -> None:
     ex, ey = _exact_on(Fraction(1, 2))
     near = GrowingPredicates2(np.array([A, B, (float(ex), float(ey))]))
     assert not clear_of_band(near, 0, 1, 2, xa, ya, xb, yb, float(ex), float(ey))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.fractions(0, 1), st.fractions(Fraction(1, 10**30), 1), st.fractions(0, 1))
+def test_candidate_parameters_in_the_order_of_their_distance(tu: Fraction, delta: Fraction, at: Fraction) -> None:
+    """The parameters after the first come nearest it first (ties: the smaller), as a plain sort of the rationals
+    orders them — the order is computed on integers, the parameters' denominators can be long."""
+    first = min(max(tu + delta * at, tu + delta / 4), tu + delta - delta / 4)
+    plain = [t for t in sorted((tu + delta * k / 16 for k in range(4, 13)), key=lambda t: (abs(t - first), t)) if t != first]
+    assert list(_candidate_parameters(first, tu, delta)) == [first, *plain]

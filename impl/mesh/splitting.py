@@ -291,10 +291,13 @@ def _candidate_parameters(first: Fraction, tu: Fraction, delta: Fraction) -> Ite
     """:func:`rounded_candidates`' parameters: ``first``, then ``tu + k · delta / 16`` for ``k = 4 … 12``, nearest
     ``first`` first (computed only if the caller asks beyond the first)."""
     yield first
-    others = sorted((tu + delta * k / 16 for k in range(4, 13)), key=lambda t: (abs(t - first), t))
-    for t in others:
-        if t != first:
-            yield t
+    # |t_k − first| = (delta / 16) |k − c| with c = 16 (first − tu) / delta = cn / cd: the order of |k cd − cn|, on
+    # integers (the parameters' denominators can be long), then of k (t_k grows with k); t_k = first when k = c.
+    c = 16 * (first - tu) / delta
+    cn, cd = c.numerator, c.denominator
+    for k in sorted(range(4, 13), key=lambda k: (abs(k * cd - cn), k)):
+        if k * cd != cn:
+            yield tu + delta * k / 16
 
 
 _WINDOW: Final[int] = 3
