@@ -476,7 +476,7 @@ def mesh(domains: str | None, angles: tuple[float, ...], max_area: float | None,
 @bench.command("scale")
 @click.option("-n", "--points", "n", type=click.IntRange(min=4), default=4_000_000, show_default=True, help="Points of the hull.")
 @click.option("--dist", default="InBall", show_default=True, help="Their §4 distribution.")
-@click.option("--chunk-size", "chunk_rows", type=click.IntRange(min=1), default=None, help="Points per chunk.  [default: 262,144]")
+@click.option("--chunk-size", "chunk_rows", type=click.IntRange(min=1), default=None, help="Points per chunk.  [default: one chunk per worker, 262,144 to 2,097,152 (chunk_rows_for)]")
 @click.option("--workers", "worker_counts", default="1,2", show_default=True, callback=_sizes_option, help="Worker counts to measure, separated by commas.")
 @click.option("--terrain-size", type=click.IntRange(min=0), default=8000, show_default=True, help="Side of the synthetic DEM of the tiled-terrain rows (0: none).")
 @click.option("--dir", "directory", type=click.Path(path_type=Path), default=None, help="Where the points and DEM files are written (and reused).  [default: a temporary directory]")
