@@ -80,7 +80,7 @@ from collections.abc import Callable
 from typing import Any, Final, Generic, Optional, TypeAlias, TypeVar
 
 from persistri.impl.maps import red_black_tree as _tree
-from persistri.impl.maps.red_black_tree import BLACK, RED, Absent, FailedWith
+from persistri.impl.maps.red_black_tree import BLACK, RED, FailedWith
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound
 from persistri.spec.order import NATURAL_ORDER, Comparable, NaturalOrder
@@ -181,12 +181,12 @@ class RedBlackMap(Generic[K, V]):
             return self.insert(m, k, v)
         try:
             new = _tree.update(t, k, f, v)
-        except Absent:
-            return self.insert(m, k, v)
         except FailedWith as failed:
             raise failed.exc from None
         except TypeError as exc:
             raise _key_error(k, exc) from None
+        if new is None:
+            return self.insert(m, k, v)
         return (n, new)
 
     def adjust_many(

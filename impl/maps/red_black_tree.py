@@ -28,7 +28,6 @@ __all__ = [
     "BLACK",
     "Node",
     "Tree",
-    "Absent",
     "FailedWith",
     "search",
     "find",
@@ -150,10 +149,6 @@ def replace(t: Tree, k: Any, v: Any) -> Node:
     return (c, a, k, v, b)
 
 
-class Absent(Exception):
-    """Raised by :func:`update` when its descent reaches a leaf: the key is not in the tree."""
-
-
 class FailedWith(Exception):
     """Carries an exception raised by ``insertWith``'s function out of :func:`update`.
 
@@ -167,10 +162,13 @@ class FailedWith(Exception):
         self.exc = exc
 
 
-def update(t: Node, k: Any, f: Combine, v: Any) -> Node:
+def update(t: Node, k: Any, f: Combine, v: Any) -> Node | None:
     """``t`` with the value ``x`` of the present key ``k`` replaced by ``f(x, v)``: path copying.
 
-    Raises :class:`Absent` if ``k`` is not in ``t`` (nothing has been built).
+    None if ``k`` is not in ``t`` (the descent reached a leaf; nothing has been
+    built, ``f`` not called) — a result, not an exception: absent keys are routine
+    (every new vertex of a 2-complex's ``replace``), and an exception unwinding the
+    recursion costs a traceback entry per level, in the compiled twin most of all.
     Recursive, depth at most the tree height: measured on CPython 3.11 at 50K
     keys, a quarter faster than an explicit stack of the path (the interpreter's
     frames are cheaper than a list of nodes unpacked twice).
@@ -178,12 +176,14 @@ def update(t: Node, k: Any, f: Combine, v: Any) -> Node:
     c, a, y, yv, b = t
     if k < y:
         if a is None:
-            raise Absent
-        return (c, update(a, k, f, v), y, yv, b)
+            return None
+        a2 = update(a, k, f, v)
+        return None if a2 is None else (c, a2, y, yv, b)
     if y < k:
         if b is None:
-            raise Absent
-        return (c, a, y, yv, update(b, k, f, v))
+            return None
+        b2 = update(b, k, f, v)
+        return None if b2 is None else (c, a, y, yv, b2)
     try:
         x = f(yv, v)
     except Exception as exc:
@@ -207,11 +207,11 @@ def adjust(
     """
     if hi - lo == 1:  # one key: the single-key descent
         k, v = items[lo]
-        try:
-            return update(t, k, f, v)
-        except Absent:
+        new = update(t, k, f, v)
+        if new is None:
             absent.append(items[lo])
             return t
+        return new
     c, a, y, yv, b = t
     i = lo
     while i < hi and items[i][0] < y:
@@ -223,11 +223,12 @@ def adjust(
         else:
             if i - lo == 1:
                 k, v = items[lo]
-                try:
-                    a2 = update(a, k, f, v)
-                except Absent:
+                a1 = update(a, k, f, v)
+                if a1 is None:
                     absent.append(items[lo])
                     a2 = a
+                else:
+                    a2 = a1
             else:
                 a2 = adjust(a, items, lo, i, f, absent)
             changed = a2 is not a
@@ -245,11 +246,12 @@ def adjust(
         else:
             if hi - i == 1:
                 k, v = items[i]
-                try:
-                    b2 = update(b, k, f, v)
-                except Absent:
+                b1 = update(b, k, f, v)
+                if b1 is None:
                     absent.append(items[i])
                     b2 = b
+                else:
+                    b2 = b1
             else:
                 b2 = adjust(b, items, i, hi, f, absent)
             changed = changed or b2 is not b
