@@ -27,7 +27,10 @@ of a PSLG (:mod:`persistri.impl.mesh.cdt`):
    or its area above ``max_area`` (or its region's bound), decided exactly
    (:mod:`~persistri.impl.mesh.quality`).  Bad triangles are taken shortest
    shortest-edge first (Triangle's order: buckets by the binary exponent of the
-   squared shortest edge, first in first out within one), and each is split by
+   squared shortest edge, first in first out within one.  Triangle's
+   ``enqueuebadtriang()`` uses half exponents; measured, that moves the counts at
+   small-angle clusters both ways, so it is not copied: docs/meshing.md, "The
+   order of the work"), and each is split by
    its circumcentre or, when nearer, its off-centre (:mod:`~persistri.impl.mesh.steiner`).
 3. **The undo.**  The new point ``c``'s cavity is found in the current
    version (its conflict search).  If ``c`` encroaches a subsegment on the
