@@ -52,6 +52,9 @@ __all__ = [
     "verify_tin",
     "mesh_errors",
     "root_mean_square",
+    "ScaledSquares",
+    "largest_magnitude",
+    "RMS_BLOCK",
     "exact_hull",
 ]
 
@@ -224,25 +227,90 @@ def _same_cycle(a: list[int], b: list[int]) -> bool:
     return b[k:] + b[:k] == a
 
 
+RMS_BLOCK: Final = 1 << 18
+"""Errors per block of :func:`root_mean_square`'s sum (blocks start at multiples of it): 2 MB of squares at a time."""
+
+
+class ScaledSquares:
+    """The sum of ``(e / largest)²`` over errors given a part at a time, as :func:`root_mean_square` sums them.
+
+    ``add`` takes the next errors in order; the sum is made :data:`RMS_BLOCK` errors at a time, blocks
+    starting at multiples of it in the whole sequence, each one ``float(np.dot(scaled, scaled))``, so
+    that the total is bit for bit :func:`root_mean_square`'s over the concatenated errors whatever the
+    parts (a whole block comes from the part itself, a block across parts is gathered into a buffer
+    of its own).  Memory O(RMS_BLOCK); O(size) in all.
+    """
+
+    __slots__ = ("largest", "total", "_buf", "_fill")
+
+    def __init__(self, largest: float) -> None:
+        self.largest = largest
+        self.total = 0.0
+        self._buf: FloatArray | None = None
+        self._fill = 0
+
+    def add(self, errors: FloatArray) -> None:
+        """Add the next errors (in the order of the whole sequence). O(len(errors))."""
+        i, m = 0, errors.size
+        while i < m:
+            if not self._fill and m - i >= RMS_BLOCK:
+                self._square(errors[i : i + RMS_BLOCK])
+                i += RMS_BLOCK
+                continue
+            buf = self._buf
+            if buf is None:
+                buf = self._buf = np.empty(RMS_BLOCK, dtype=np.float64)
+            take = min(RMS_BLOCK - self._fill, m - i)
+            buf[self._fill : self._fill + take] = errors[i : i + take]
+            self._fill += take
+            i += take
+            if self._fill == RMS_BLOCK:
+                self._flush()
+
+    def _square(self, block: FloatArray) -> None:
+        scaled = block / self.largest
+        self.total += float(np.dot(scaled, scaled))
+
+    def _flush(self) -> None:
+        if self._fill and self._buf is not None:
+            self._square(self._buf[: self._fill])
+            self._fill = 0
+
+    def rms(self, count: int) -> float:
+        """``largest · sqrt(total / count)`` once every error is added (the last, partial block summed now)."""
+        self._flush()
+        return self.largest * float(np.sqrt(self.total / count))
+
+
+def largest_magnitude(errors: FloatArray) -> float:
+    """``max(|errors|)`` as ``np.max(np.abs(errors))`` gives it (NaN if one is; 0 for none), a block at a time:
+    no temporary of the errors' size. O(size)."""
+    out = 0.0
+    for lo in range(0, errors.size, RMS_BLOCK):
+        v = float(np.max(np.abs(errors[lo : lo + RMS_BLOCK])))
+        if v != v:
+            return v
+        if v > out:
+            out = v
+    return out
+
+
 def root_mean_square(errors: FloatArray, count: int) -> float:
     """``sqrt(sum(errors²) / count)`` without overflow or underflow: the errors are scaled by the largest first.
 
     (Squaring overflows for errors beyond about 1e154 and flushes subnormal ones
     to zero; the scaled form holds for every finite error.)  ``count`` may exceed
-    ``errors.size`` (samples with no error).  O(size).
+    ``errors.size`` (samples with no error).  In blocks (:class:`ScaledSquares`): the
+    squares of a whole grid's errors would double its memory for a moment.  O(size).
     """
     if errors.size == 0 or count <= 0:
         return 0.0
-    largest = float(np.max(np.abs(errors)))
+    largest = largest_magnitude(errors)
     if largest == 0.0 or not np.isfinite(largest):
         return largest
-    # In blocks: the squares of a whole grid's errors would double its memory for a moment.
-    total = 0.0
-    block = 1 << 18
-    for lo in range(0, errors.size, block):
-        scaled = errors[lo : lo + block] / largest
-        total += float(np.dot(scaled, scaled))
-    return largest * float(np.sqrt(total / count))
+    acc = ScaledSquares(largest)
+    acc.add(errors)
+    return acc.rms(count)
 
 
 def mesh_errors(heights: ArrayLike, vertices: ArrayLike, triangles: ArrayLike) -> tuple[FloatArray, IntArray]:

@@ -14,7 +14,7 @@ Grid convention: sample ``i`` of a grid with ``cols`` columns is the point
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any, Final
 
 import numpy as np
@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 __all__ = [
     "apex_first", "ranks", "grid_points", "grid_xy", "plane_errors", "fan_errors", "fan_plane_errors", "level_errors",
-    "Coordinates", "CHUNK",
+    "level_error_blocks", "Coordinates", "CHUNK",
 ]
 
 IntArray = NDArray[np.intp]
@@ -180,12 +180,12 @@ def fan_plane_errors(
     return out
 
 
-def level_errors(cols: int, z: FloatArray, apex: IntArray, counts: IntArray, lists: list[IntArray], total: int) -> FloatArray:
-    """The errors of every listed sample (:func:`plane_errors`), triangles taken in blocks of about
-    :data:`CHUNK` samples, so that no list of the whole grid's samples is made. O(total)."""
-    err: FloatArray = np.empty(total, dtype=np.float64)
+def level_error_blocks(cols: int, z: FloatArray, apex: IntArray, counts: IntArray, lists: list[IntArray]) -> Iterator[FloatArray]:
+    """The errors of every listed sample (:func:`plane_errors`), in order, as consecutive blocks: triangles
+    taken together until they hold at least :data:`CHUNK` samples, so that no list or error array of the
+    whole grid's samples is made. O(total)."""
     k = len(lists)
-    first = pos = 0
+    first = 0
     size = 0
     for t in range(k + 1):
         if t < k and size < CHUNK:
@@ -193,7 +193,15 @@ def level_errors(cols: int, z: FloatArray, apex: IntArray, counts: IntArray, lis
             continue
         if size:
             block = np.concatenate(lists[first:t]) if t - first > 1 else lists[first]
-            err[pos : pos + size] = plane_errors(cols, z, apex[first:t], counts[first:t], block)
-            pos += size
+            yield plane_errors(cols, z, apex[first:t], counts[first:t], block)
         first, size = t, int(counts[t]) if t < k else 0
+
+
+def level_errors(cols: int, z: FloatArray, apex: IntArray, counts: IntArray, lists: list[IntArray], total: int) -> FloatArray:
+    """The errors of every listed sample (:func:`level_error_blocks`, ``total`` of them) as one array. O(total)."""
+    err: FloatArray = np.empty(total, dtype=np.float64)
+    pos = 0
+    for block in level_error_blocks(cols, z, apex, counts, lists):
+        err[pos : pos + block.size] = block
+        pos += block.size
     return err

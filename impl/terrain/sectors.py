@@ -34,6 +34,7 @@ filtered predicate call per test; for any other point set the signs come from
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any, Final
 
 import numpy as np
@@ -206,35 +207,75 @@ def fan_lists(
     pred: Predicates2,
     p: int,
     rays: IntArray,
-    samples: IntArray,
+    samples: Sequence[IntArray],
     closed: bool,
     *,
     exact_floats: bool,
     stats: Stats | None = None,
     check: bool = False,
+    block: int = SECTOR_BLOCK,
 ) -> list[IntArray]:
-    """The samples of each fan triangle, as one array per triangle (each in the order of ``samples``).
+    """The samples of each fan triangle, as one array per triangle, from a pool given as several arrays.
 
-    The same answers and counts as :func:`fan_sectors` (``samples[order]`` cut at the
-    sector boundaries), for large ``samples``: the exact float path runs in blocks of
-    :data:`SECTOR_BLOCK` samples (a ``(rays, samples)`` array of millions of samples
-    would take hundreds of megabytes) and no permutation of the whole is made;
-    each triangle's list is gathered by one comparison of the sectors.
-    O(len(samples) · len(rays)).
+    The pool is the arrays of ``samples`` one after the other (a cavity's sample lists), without ``p``
+    itself wherever it occurs; each triangle's array keeps the pool's order and its dtype.  The same
+    answers and counts as :func:`fan_sectors` on the concatenated pool cut at the sector
+    boundaries, for large pools: the exact float path runs over ``block`` samples at a time
+    (default :data:`SECTOR_BLOCK`) and makes neither the concatenated pool nor a permutation of
+    it — a ``(rays, samples)`` array of millions of samples would take hundreds of megabytes, and
+    the pool, once without ``p``, would be two more copies of the samples.  It keeps the sector
+    of each sample (2 bytes) and then fills each triangle's array block by block: the only arrays of
+    the pool's size are the result and the sectors.  O(pool size · len(rays)).
     """
     k = rays.size - 1
-    if not exact_floats or samples.size <= SECTOR_BLOCK:
-        order, sector = fan_sectors(pred, p, rays, samples, closed, exact_floats=exact_floats, stats=stats, check=check)
+    total = sum(int(s.size) for s in samples)
+    if not exact_floats or total <= block:
+        joined = np.concatenate(list(samples)) if len(samples) != 1 else samples[0]
+        pooled = joined[joined != p]
+        order, sector = fan_sectors(pred, p, rays, pooled, closed, exact_floats=exact_floats, stats=stats, check=check)
         ends = np.searchsorted(sector, np.arange(k + 1))
-        ordered = samples[order]
+        ordered = pooled[order]
         return [ordered[ends[i] : ends[i + 1]].copy() for i in range(k)]
-    m = samples.size
+    kind = np.int16 if k < 2**15 else np.intp
+    found: list[NDArray[np.integer[Any]]] = []
+    counts = np.zeros(k, dtype=np.intp)
+    m = 0
+    for s in samples:
+        # The sector of each sample of this array, and −1 at p (in no sector).
+        f: NDArray[np.integer[Any]] = np.empty(s.size, dtype=kind)
+        for lo in range(0, s.size, block):
+            hi = min(s.size, lo + block)
+            part = s[lo:hi]
+            keep = part != p
+            kept = part if bool(keep.all()) else part[keep]
+            part_order, part_sector = _fan_block(pred, p, rays, kept, closed, None)
+            into = f[lo:hi]
+            if kept is part:
+                into[part_order] = part_sector
+            else:
+                at = np.flatnonzero(keep)
+                into[~keep] = -1
+                into[at[part_order]] = part_sector
+            counts += np.bincount(part_sector, minlength=k)
+            m += kept.size
+        found.append(f)
     tested = k if closed else k - 1
     if stats is not None:
         stats.plane_side_tests += m * tested
         stats.flops += FLOPS_SECTOR_TEST * m * tested
-    found = _blocked_sectors(pred, p, rays, samples, closed, None)
-    return [samples[found == i] for i in range(k)]
+    dtype = samples[0].dtype if samples else np.dtype(np.intp)
+    out: list[IntArray] = [np.empty(int(c), dtype=dtype) for c in counts]
+    filled = [0] * k
+    for s, f in zip(samples, found):
+        for lo in range(0, s.size, block):
+            hi = min(s.size, lo + block)
+            part, where = s[lo:hi], f[lo:hi]
+            for i in range(k):
+                got = part[where == i]
+                if got.size:
+                    out[i][filled[i] : filled[i] + got.size] = got
+                    filled[i] += got.size
+    return out
 
 
 def _blocked_sectors(

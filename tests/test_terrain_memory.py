@@ -1,0 +1,120 @@
+"""What greedy insertion keeps per sample, and the block-wise paths that keep its peak memory down (issue 17).
+
+The memory properties are counted in bytes of the arrays the mesher keeps, never measured as resident
+memory: every sample list owns exactly its samples (no view holding a larger pool alive), and the
+block-wise computations (the fan's lists of a large cavity, a level's maximum and RMS error) give bit
+for bit what the whole-array computations give.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from numpy.typing import NDArray
+
+from persistri.impl.geometry.grid_predicates import GridPredicates2
+from persistri.impl.stats import Stats
+from persistri.impl.terrain.check import RMS_BLOCK, ScaledSquares, largest_magnitude, root_mean_square
+from persistri.impl.terrain.greedy import Tin, _level_summary, greedy_insertion
+from persistri.impl.terrain.plane_errors import apex_first, level_errors, ranks
+from persistri.impl.terrain.sectors import fan_lists, fan_sectors
+
+
+def _terrain(rows: int, cols: int, seed: int) -> NDArray[np.float64]:
+    rng = np.random.default_rng(seed)
+    return np.cumsum(np.cumsum(rng.normal(size=(rows, cols)), axis=0), axis=1)
+
+
+def _lists(tin: Tin) -> list[NDArray[np.integer[Any]]]:
+    """The sample lists of the mesh's triangles that hold samples (the ghosts' and the empty ones share one array)."""
+    return [d[1] for _, d in tin.structure.items(tin.complex) if d[1].size]
+
+
+@pytest.mark.parametrize("history", [False, True])
+def test_every_sample_list_owns_exactly_its_samples(history: bool) -> None:
+    heights = _terrain(70, 90, 3)
+    tin = greedy_insertion(heights, max_points=400, history=history)
+    lists = _lists(tin)
+    listed = sum(a.size for a in lists)
+    assert listed == heights.size - tin.n_points  # every sample but the vertices, once
+    # No list is a view: a view would keep the whole pool it was cut from alive.
+    assert all(a.base is None and a.flags.owndata and not a.flags.writeable for a in lists)
+    itemsize = lists[0].itemsize
+    assert all(a.itemsize == itemsize for a in lists)
+    assert sum(a.nbytes for a in lists) == itemsize * listed
+    if history:
+        # The older versions' lists own their samples too (each kept list is one pool's part).
+        h = tin.history
+        assert h is not None
+        old = [d[1] for _, d in h.structure.items(h.versions[50]) if d[1].size]
+        assert all(a.base is None for a in old)
+
+
+def _fan_case(n: int) -> tuple[GridPredicates2, int, NDArray[np.intp], bool, NDArray[np.intp]]:
+    """The centre sample of an ``n × n`` grid, a ring of samples round it, and every other sample (centre included)."""
+    pred = GridPredicates2((n, n))
+    c = n // 2
+    p = c * n + c
+    ring_rc = [(0, 0), (0, c), (0, n - 1), (c, n - 1), (n - 1, n - 1), (n - 1, c), (n - 1, 0), (c, 0)]
+    # Counterclockwise in (x, y) = (col, row): along row 0 to the right, then up the rows.
+    ring = [r * n + cc for r, cc in ring_rc]
+    rays = np.array(ring + ring[:1], dtype=np.intp)
+    others = np.setdiff1d(np.arange(n * n, dtype=np.intp), rays)
+    return pred, p, rays, True, others
+
+
+@pytest.mark.parametrize("block", [7, 64, 1 << 18])
+@pytest.mark.parametrize("dtype", [np.intp, np.int32])
+def test_fan_lists_from_several_arrays_equal_fan_sectors_of_the_pool(block: int, dtype: type) -> None:
+    pred, p, rays, closed, others = _fan_case(21)
+    rng = np.random.default_rng(5)
+    pool = rng.permutation(others).astype(dtype)  # p among them, once
+    cuts = np.sort(rng.choice(np.arange(1, pool.size), 3, replace=False))
+    arrays = np.split(pool, cuts)
+    joined = pool[pool != p]
+    expect_stats, stats = Stats(), Stats()
+    order, sector = fan_sectors(pred, p, rays, joined, closed, exact_floats=True, stats=expect_stats)
+    ends = np.searchsorted(sector, np.arange(rays.size))
+    expect = [joined[order][ends[i] : ends[i + 1]] for i in range(rays.size - 1)]
+    got = fan_lists(pred, p, rays, arrays, closed, exact_floats=True, stats=stats, block=block)
+    assert len(got) == len(expect)
+    for a, b in zip(got, expect):
+        assert a.dtype == np.dtype(dtype) and np.array_equal(a, b)
+    assert (stats.plane_side_tests, stats.flops) == (expect_stats.plane_side_tests, expect_stats.flops)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(1, 3 * RMS_BLOCK + 5), st.lists(st.integers(0, 3 * RMS_BLOCK + 5), max_size=6), st.integers(0, 2**32 - 1))
+def test_scaled_squares_in_parts_equal_root_mean_square(size: int, cuts: list[int], seed: int) -> None:
+    errors = np.abs(np.random.default_rng(seed).normal(scale=10.0, size=size))
+    largest = largest_magnitude(errors)
+    assert largest == float(np.max(np.abs(errors)))
+    acc = ScaledSquares(largest)
+    for part in np.split(errors, sorted(c for c in cuts if c < size)):
+        acc.add(part)
+    count = size + 17  # samples with no error count too
+    assert acc.rms(count) == root_mean_square(errors, count)
+
+
+def test_a_level_summary_equals_the_errors_of_the_whole_level() -> None:
+    heights = _terrain(60, 50, 11)
+    tin = greedy_insertion(heights, max_points=300)
+    h = tin.history
+    assert h is not None
+    inf = h.infinite
+    items = [(t, d) for t, d in h.structure.items(tin.complex) if inf not in t]
+    tri = np.array([[int(v) for v in t] for t, _ in items], dtype=np.intp).reshape(-1, 3)
+    lists = [d[1] for _, d in items]
+    counts = np.array([a.size for a in lists], dtype=np.intp)
+    apex = apex_first(tri, ranks(tri.ravel(), h.inserted).reshape(-1, 3))
+    z = heights.ravel()
+    err = level_errors(heights.shape[1], z, apex, counts, lists, int(counts.sum()))
+    whole = (float(err.max()), root_mean_square(err, z.size))
+    assert (tin.max_error, tin.rms_error) == whole
+    # The queue's maximum as the scale (one pass), none (two passes), a wrong one (a second pass): the same floats.
+    for expected in (tin.max_error, None, 2.0 * tin.max_error, 0.0):
+        assert _level_summary(heights.shape[1], z, apex, counts, lists, z.size, expected) == whole
