@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 from persistri.impl.geometry.grid_predicates import GridPredicates2
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.check import RMS_BLOCK, ScaledSquares, largest_magnitude, root_mean_square
+from persistri.impl.terrain.delaunay import sample_dtype
 from persistri.impl.terrain.greedy import Tin, _level_summary, greedy_insertion
 from persistri.impl.terrain.plane_errors import apex_first, level_errors, ranks
 from persistri.impl.terrain.sectors import fan_lists, fan_sectors
@@ -43,15 +44,21 @@ def test_every_sample_list_owns_exactly_its_samples(history: bool) -> None:
     assert listed == heights.size - tin.n_points  # every sample but the vertices, once
     # No list is a view: a view would keep the whole pool it was cut from alive.
     assert all(a.base is None and a.flags.owndata and not a.flags.writeable for a in lists)
-    itemsize = lists[0].itemsize
-    assert all(a.itemsize == itemsize for a in lists)
-    assert sum(a.nbytes for a in lists) == itemsize * listed
+    # 4 bytes a listed sample: int32 indices (the grid has fewer than 2^31 samples).
+    assert all(a.dtype == np.int32 for a in lists)
+    assert sum(a.nbytes for a in lists) == 4 * listed
     if history:
         # The older versions' lists own their samples too (each kept list is one pool's part).
         h = tin.history
         assert h is not None
         old = [d[1] for _, d in h.structure.items(h.versions[50]) if d[1].size]
         assert all(a.base is None for a in old)
+
+
+def test_sample_lists_are_int32_while_every_index_fits() -> None:
+    assert sample_dtype(2**31) == np.dtype(np.int32)
+    assert sample_dtype(2**31 + 1) == np.dtype(np.intp)
+    assert np.iinfo(sample_dtype(2**31)).max == 2**31 - 1
 
 
 def _fan_case(n: int) -> tuple[GridPredicates2, int, NDArray[np.intp], bool, NDArray[np.intp]]:

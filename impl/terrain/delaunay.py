@@ -82,20 +82,35 @@ __all__ = [
     "Triangulator",
     "TriangulationCheckError",
     "EMPTY",
+    "Samples",
+    "sample_dtype",
     "canonical_triangles",
 ]
 
 IntArray = NDArray[np.intp]
+Samples = NDArray[np.signedinteger[Any]]
+"""A read-only array of point indices: ``int32`` when every index fits (:func:`sample_dtype`), else ``intp``."""
 Triangle = tuple[Vertex, Vertex, Vertex]
-TriDatum = tuple[int, IntArray]
-"""The datum of a triangle: ``(triangle id, samples)``; the samples are a read-only array of point indices."""
+TriDatum = tuple[int, Samples]
+"""The datum of a triangle: ``(triangle id, samples)``; the samples are a read-only array of point indices
+(:data:`Samples`)."""
+
+
+def sample_dtype(n: int) -> np.dtype[np.signedinteger[Any]]:
+    """The dtype of sample lists over points ``0 … n − 1``: ``int32`` (4 bytes a sample) when every index fits
+    (``n ≤ 2^31``), else ``intp``.
+
+    A height grid's samples are all in some triangle's list at every moment, so their dtype is the
+    mesher's memory per sample: half of ``intp``'s.  The values are the same either way.  O(1).
+    """
+    return np.dtype(np.int32) if n - 1 <= np.iinfo(np.int32).max else np.dtype(np.intp)
 
 LARGE_FAN: Final[int] = 1 << 16
 """Above this many pooled samples an insertion sorts them into one array per fan triangle
 (:func:`~persistri.impl.terrain.sectors.fan_lists`, in blocks, from the cavity's lists without pooling them)
 and reports no pooled array; below it, one sorted pooled array whose slices are copied (fewer numpy calls)."""
 
-EMPTY: Final[IntArray] = np.zeros(0, dtype=np.intp)
+EMPTY: Final[Samples] = np.zeros(0, dtype=np.intp)
 """The empty (read-only) sample list of ghosts and of triangles without samples."""
 EMPTY.setflags(write=False)
 
@@ -158,12 +173,12 @@ class Insertion:
         version: Complex[TriDatum],
         removed: list[int],
         created: list[tuple[int, Triangle]],
-        samples: IntArray | None,
+        samples: Samples | None,
         counts: list[int],
         hull_vertex: bool,
         rays: list[Vertex],
         fan_index: IntArray | None,
-        lists: list[IntArray],
+        lists: list[Samples],
     ) -> None:
         self.point = point
         self.version = version
@@ -191,7 +206,10 @@ def canonical_triangles(tris: IntArray) -> IntArray:
     return out
 
 
-def _frozen(a: IntArray) -> IntArray:
+_A = TypeVar("_A", bound=NDArray[Any])
+
+
+def _frozen(a: _A) -> _A:
     a.setflags(write=False)
     return a
 
@@ -209,7 +227,8 @@ class Triangulator:
 
     ``tri_of`` maps the id of every live triangle (ghosts included) to its
     vertices; it is the run's scratch index, not part of any version (a version
-    is read through the complex alone).
+    is read through the complex alone).  Sample lists are read-only arrays of
+    :attr:`sample_dtype` (:func:`sample_dtype`: ``int32`` up to 2^31 points).
 
     Each insertion changes the complex once, replacing the cavity by the fan
     (:meth:`~persistri.impl.complex.two_complex.TwoComplex.replace`: one map
@@ -226,6 +245,8 @@ class Triangulator:
         self.check = check
         self.stepwise = stepwise
         self.n = len(pred)
+        # The dtype of every sample list (begin converts the first ones; the rest are cut from them).
+        self.sample_dtype = sample_dtype(self.n)
         # Vertices are made when first used: a height grid has 10^5 samples and only a
         # few thousand become vertices.  Vertex i has label i (its point index) and is
         # made once (memoised), so labels are unique in the lineage — the vertices the
@@ -256,14 +277,15 @@ class Triangulator:
         self.tri_of[tid] = tri
         return tid
 
-    def begin(self, triangles: list[tuple[tuple[int, int, int], IntArray]]) -> Complex[TriDatum]:
+    def begin(self, triangles: list[tuple[tuple[int, int, int], Samples]]) -> Complex[TriDatum]:
         """Lay the first triangulation: finite counterclockwise triangles with their samples, plus the ghosts.
 
         ``triangles`` must triangulate a convex polygon and be Delaunay (the
         caller's duty: the callers lay one triangle, or a rectangle split along its
         Delaunay diagonal); :class:`ValueError` for a triangle that is not strictly
         counterclockwise (exact).  A ghost ``(w, u, ∞)`` is added on every boundary edge
-        ``(u, w)``.  Returns the first version.  O(size).
+        ``(u, w)``.  The samples are copied into arrays of :attr:`sample_dtype`.  Returns the first
+        version.  O(size).
         """
         if self.tri_of:
             raise ValueError("begin: the triangulation has already begun")
@@ -274,7 +296,7 @@ class Triangulator:
             if P.orient2d_sign(a, b, c) <= 0:
                 raise ValueError(f"begin: triangle {(a, b, c)} is not strictly counterclockwise")
             tri = (V(a), V(b), V(c))
-            cx = S.add(cx, tri, (self._new_id(tri), _frozen(np.array(samples, dtype=np.intp))))
+            cx = S.add(cx, tri, (self._new_id(tri), _frozen(np.array(samples, dtype=self.sample_dtype))))
             edges.update(((a, b), (b, c), (c, a)))
         for u, w in sorted(edges):
             if (w, u) not in edges:
@@ -407,14 +429,14 @@ class Triangulator:
         # Pool the samples of the removed finite triangles and sort them into the fan's sectors.
         sized = [s for s in lists if s.size]
         total = sum([s.size for s in sized])
-        parts: list[IntArray] | None = None
+        parts: list[Samples] | None = None
         sector: IntArray | None = None
         if nfan > 1 and (total > LARGE_FAN + 1 or (total == LARGE_FAN + 1 and not any([bool((s == p).any()) for s in sized]))):
             # Millions of samples (a large grid's first insertions): one array per triangle, made in blocks
             # from the cavity's lists without pooling them (fan_lists: no array of the pool's size but the result).
             parts = self._into_sectors(fan_lists, p, ring, closed, sized)
             counts = [part.size for part in parts]
-            samples: IntArray | None = None
+            samples: Samples | None = None
             pooled = EMPTY
         else:
             pooled = sized[0] if len(sized) == 1 else (np.concatenate(sized) if sized else EMPTY)
@@ -444,7 +466,7 @@ class Triangulator:
         # pools held 92 MB for 32 MB of live samples at the end of the run, measured); a copy costs about
         # 0.1 µs more than a view.
         whole = pooled.size
-        own: list[IntArray] = []
+        own: list[Samples] = []
         for i in range(nfan):
             w = ring[i + 1]
             tri: Any = (u, w, vp)

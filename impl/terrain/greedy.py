@@ -76,7 +76,7 @@ from persistri.impl.maps import backend as map_backend
 from persistri.impl.progress import progress_callback
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.check import ScaledSquares, largest_magnitude
-from persistri.impl.terrain.delaunay import TriDatum, canonical_triangles
+from persistri.impl.terrain.delaunay import Samples, TriDatum, canonical_triangles
 from persistri.impl.terrain.greedy_run import GreedyRun
 from persistri.impl.terrain.plane_errors import apex_first, fan_errors, grid_points, grid_xy, level_error_blocks, plane_errors, ranks
 from persistri.impl.terrain.crs import Crs
@@ -277,7 +277,7 @@ def _tin(
 
 
 def _level_summary(
-    cols: int, z: FloatArray, apex: IntArray, counts: IntArray, lists: list[IntArray], n_total: int, expected: float | None
+    cols: int, z: FloatArray, apex: IntArray, counts: IntArray, lists: list[Samples], n_total: int, expected: float | None
 ) -> tuple[float, float]:
     """The maximum and the RMS error of a level's listed samples — ``err.max()`` and
     :func:`~persistri.impl.terrain.check.root_mean_square` of their errors, bit for bit — without an
