@@ -98,12 +98,11 @@ def sector_sides(
         for i in range(k):
             out[:, i] = pred.orient2d_sign_batch(int(p), int(ring[i]), samples) >= 0
         return out
-    x, y = pred.coordinate_columns() if columns is None else columns
-    px, py = float(x[p]), float(y[p])
-    rx = x[ring] - px
-    ry = y[ring] - py
-    qx = x[samples] - px
-    qy = y[samples] - py
+    xr, yr, xq, yq, px, py = _coordinates(pred, p, ring, samples, columns)
+    rx = xr - px
+    ry = yr - py
+    qx = xq - px
+    qy = yq - py
     # orient2d(p, r, q) = (r - p) × (q - p) = rx·qy − ry·qx, exact here.
     det = np.multiply.outer(qy, rx)
     det -= np.multiply.outer(qx, ry)
@@ -301,6 +300,24 @@ def _blocked_sectors(
     return found
 
 
+def _coordinates(
+    pred: Predicates2,
+    p: int,
+    rays: IntArray,
+    samples: Samples,
+    columns: tuple[NDArray[np.float64], NDArray[np.float64]] | None,
+) -> tuple[NDArray[Any], NDArray[Any], NDArray[Any], NDArray[Any], float, float]:
+    """The coordinates of ``rays`` and ``samples`` (gathered from ``columns`` when given, else the predicates'
+    :meth:`~persistri.impl.geometry.predicates.Predicates2.coordinates`) and ``p``'s as floats."""
+    if columns is not None:
+        x, y = columns
+        return x[rays], y[rays], x[samples], y[samples], float(x[p]), float(y[p])
+    xr, yr = pred.coordinates(rays)
+    xq, yq = pred.coordinates(samples)
+    px, py = pred.xy(p)
+    return xr, yr, xq, yq, float(px), float(py)
+
+
 def _fan_block(
     pred: Predicates2,
     p: int,
@@ -312,14 +329,13 @@ def _fan_block(
     """:func:`fan_sectors`' exact float path on one block of samples (nothing counted here)."""
     k = rays.size - 1
     m = samples.size
-    # The predicates' coordinate columns (a grid's are small integers): p's as Python floats, so that every
-    # difference is float64 whatever the columns' type (exact: module docstring).
-    x, y = pred.coordinate_columns() if columns is None else columns
-    px, py = float(x[p]), float(y[p])
-    rx = x[rays] - px
-    ry = y[rays] - py
-    qx = x[samples] - px
-    qy = y[samples] - py
+    # The predicates' coordinates (a grid's are small integers): p's as Python floats, so that every
+    # difference is float64 whatever the coordinates' type (exact: module docstring).
+    xr, yr, xq, yq, px, py = _coordinates(pred, p, rays, samples, columns)
+    rx = xr - px
+    ry = yr - py
+    qx = xq - px
+    qy = yq - py
     # orient2d(p, r, q) = (r − p) × (q − p) = rx·qy − ry·qx, exact here (module docstring).
     det = np.multiply.outer(rx, qy)
     det -= np.multiply.outer(ry, qx)
