@@ -139,7 +139,7 @@ class GridPredicates2(Predicates2):
                 c.setflags(write=False)
         return cols
 
-    def coordinates(self, q: IntArray) -> tuple[NDArray[Any], NDArray[Any]]:
+    def coordinates(self, q: NDArray[np.signedinteger[Any]]) -> tuple[NDArray[Any], NDArray[Any]]:
         """``(x, y)`` of points ``q``: ``(q mod cols, q div cols)``, as integers of ``q``'s dtype. O(len(q)).
 
         Divided, not gathered from :meth:`coordinate_columns`: the columns would take 4 bytes a sample
