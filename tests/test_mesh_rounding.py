@@ -169,19 +169,8 @@ def test_utm_lots_with_holes_refine_to_verified_meshes(domain: PSLG, angle: floa
 
 
 def _near_segment_rational(ax: float, ay: float, bx: float, by: float, x: float, y: float, ulps: float) -> bool:
-    """The tolerance-box clipping of :func:`near_segment`, written plainly in rationals (the reference)."""
-    lower, upper = Fraction(0), Fraction(1)
-    for a, b, c in ((ax, bx, x), (ay, by, y)):
-        h = Fraction(ulps) * Fraction(math.ulp(max(abs(a), abs(b), abs(c))))
-        lo, hi = Fraction(c) - h, Fraction(c) + h
-        fa, d = Fraction(a), Fraction(b) - Fraction(a)
-        if d == 0:
-            if not lo <= fa <= hi:
-                return False
-            continue
-        t1, t2 = (lo - fa) / d, (hi - fa) / d
-        lower, upper = max(lower, min(t1, t2)), min(upper, max(t1, t2))
-    return lower <= upper
+    """The tolerance-box clipping of :func:`near_segment`, in rationals: the checker's reference, ``in_tolerance_box``."""
+    return in_tolerance_box(np.array([x, y]), np.array([ax, ay]), np.array([bx, by]), ulps)
 
 
 _any_double = st.one_of(
