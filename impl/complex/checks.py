@@ -30,6 +30,7 @@ Both are O(N) map reads plus O(N · 2^(n+1)) set operations for N n-simplices.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from itertools import combinations
 from typing import Any
@@ -46,10 +47,10 @@ from persistri.impl.complex.errors import (
     VertexLinkError,
 )
 from persistri.impl.complex.simplex import Simplex, canonical
-from persistri.impl.complex.structure import Complex, ComplexStructure, Family
+from persistri.impl.complex.structure import Complex, ComplexStructure, Family, same_datum
 from persistri.impl.complex.vertex import Vertex
 
-__all__ = ["check_complex", "check_closed_surface", "SurfaceReport"]
+__all__ = ["check_complex", "check_closed_surface", "check_vertex_lists", "SurfaceReport"]
 
 
 def _plain(c: Any, what: str) -> tuple[ComplexStructure[Any], Complex[Any]]:
@@ -243,3 +244,36 @@ def check_closed_surface(c: Complex[Any], *, sphere: bool = True) -> SurfaceRepo
             f"closed surface of {report.components} components of genera {genera!r}, not one sphere", genera
         )
     return report
+
+
+def check_vertex_lists(table: Mapping[Vertex, tuple[tuple[Any, ...], ...]], name: str) -> None:
+    """The per-vertex lists of a specialised 2-complex (§4) hold each triangle once per vertex, consistently.
+
+    ``table`` maps each vertex a to its entries ``(b, c, datum)``, one per
+    triangle ``(a, b, c)``; ``name`` ("2-complex", "ephemeral 2-complex") starts
+    each message.  Raises RepresentationError for an empty list, a degenerate
+    entry, or a triangle not held exactly once, with the same datum, under each
+    of its other two vertices; OrientationError for a triangle held twice or in
+    both orientations.  O(Σ δ²) for lists of length δ (about 6).
+    """
+    for a, lst in table.items():
+        if not lst:
+            raise RepresentationError(f"{name}: vertex {a!r} is mapped to an empty list (it is in no triangle)")
+        pairs: set[tuple[Vertex, Vertex]] = set()
+        for b, c, x in lst:
+            if len({a, b, c}) != 3:
+                raise RepresentationError(f"{name}: the list of {a!r} holds {(b, c)!r}, a degenerate triangle")
+            if (b, c) in pairs:
+                raise OrientationError(f"{name}: triangle {(a, b, c)!r} is held twice in the list of {a!r}")
+            if (c, b) in pairs:
+                raise OrientationError(f"{name}: triangle {(a, b, c)!r} is held in both orientations ({(a, c, b)!r} too)")
+            pairs.add((b, c))
+            for key, p, q in ((b, c, a), (c, a, b)):
+                copies = [e for e in table.get(key, ()) if e[0] == p and e[1] == q]
+                if len(copies) != 1:
+                    raise RepresentationError(
+                        f"{name}: triangle {(a, b, c)!r} is in the list of {a!r} but "
+                        f"{len(copies)} times in the list of {key!r} (as {(p, q)!r})"
+                    )
+                if not same_datum(copies[0][2], x):
+                    raise RepresentationError(f"{name}: triangle {(a, b, c)!r} carries different data under {a!r} and {key!r}")

@@ -61,13 +61,14 @@ from persistri.impl.complex.errors import (
     AbsentSimplexError,
     DuplicateSimplexError,
     OppositeOrientationError,
-    OrientationError,
     RepresentationError,
     StaleVersionError,
 )
 from persistri.impl.complex.simplex import Simplex
-from persistri.impl.complex.structure import Complex, Family, same_datum
-from persistri.impl.complex.two_complex import Triangle, TwoComplex, _arguments
+from persistri.impl.complex.checks import check_vertex_lists
+from persistri.impl.complex.replace import arguments
+from persistri.impl.complex.structure import Complex, Family
+from persistri.impl.complex.two_complex import Triangle, TwoComplex
 from persistri.impl.complex.vertex_lists import Emptied, Entry, Missing, Present, Unbatched, cat_new, drop_add, group
 from persistri.impl.complex.vertex import Vertex
 from persistri.impl.stats import Stats
@@ -425,7 +426,7 @@ class EphemeralTwoComplex(TwoComplex[D]):
         write, so bad input (what the fold of ``rem`` and ``add`` would raise,
         decided on a copy of the table) changes nothing.
         """
-        removed, added = _arguments(removed, added)
+        removed, added = arguments(removed, added)
         try:
             fam, rep, lin = c
             if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex
@@ -548,26 +549,7 @@ class EphemeralTwoComplex(TwoComplex[D]):
         return new
 
     def _check_rep(self, rep: Any) -> None:
-        lists = self._live(rep, "check")
-        for a, lst in lists.items():
-            if not lst:
-                raise RepresentationError(f"ephemeral 2-complex: vertex {a!r} is mapped to an empty list")
-            pairs: set[tuple[Vertex, Vertex]] = set()
-            for b, c, x in lst:
-                if len({a, b, c}) != 3:
-                    raise RepresentationError(f"ephemeral 2-complex: the list of {a!r} holds {(b, c)!r}, a degenerate triangle")
-                if (b, c) in pairs:
-                    raise OrientationError(f"ephemeral 2-complex: triangle {(a, b, c)!r} is held twice")
-                if (c, b) in pairs:
-                    raise OrientationError(f"ephemeral 2-complex: triangle {(a, b, c)!r} is held in both orientations")
-                pairs.add((b, c))
-                for key, p, q in ((b, c, a), (c, a, b)):
-                    copies = [e for e in lists.get(key, ()) if e[0] == p and e[1] == q]
-                    if len(copies) != 1 or not same_datum(copies[0][2], x):
-                        raise RepresentationError(
-                            f"ephemeral 2-complex: triangle {(a, b, c)!r} is not held exactly once, with its datum, "
-                            f"in the list of {key!r}"
-                        )
+        check_vertex_lists(self._live(rep, "check"), "ephemeral 2-complex")
 
 
 def _index(lst: tuple[Entry, ...], b: Vertex, c: Vertex) -> int:

@@ -34,7 +34,7 @@ specialised, only; it exists to measure what persistence costs.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any, Generic, TypeVar
 
 from persistri.impl.complex.bootstrap import Bootstrap
@@ -188,6 +188,10 @@ class SimpComp(Generic[D]):
     def items(self, c: Complex[D], /) -> Sequence[tuple[_Simplex, D]]:
         """Each n-simplex once with its datum (persistri's addition)."""
         return self._of(c, "items").items(c)
+
+    def iter_items(self, c: Complex[D], /) -> Iterator[tuple[_Simplex, D]]:
+        """``items`` one at a time, without a list of them all (persistri's addition)."""
+        return self._of(c, "items").iter_items(c)
 
     def add(self, c: Complex[D], s: _Simplex, x: D, /) -> Complex[D]:
         """``add (c, s, x)``."""

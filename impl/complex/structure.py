@@ -35,7 +35,7 @@ Orientation semantics (the laws are in :mod:`persistri.spec.simpcomp_laws`):
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from itertools import combinations
 from typing import Any, Generic, NamedTuple, TypeAlias, TypeVar
 
@@ -232,6 +232,16 @@ class ComplexStructure(Generic[D]):
         """Each n-simplex once, with its datum (persistri's addition to SIMPCOMP).  O(N)."""
         rep, _ = self._open(c, "items")
         return list(self._items(rep))
+
+    def iter_items(self, c: Complex[D], /) -> Iterator[tuple[_Simplex, D]]:
+        """``items`` one at a time, in the same order, without a list of them all (persistri's addition).
+
+        For reading a large final complex into arrays: the list ``items``
+        builds holds a pair and a simplex tuple per n-simplex at once.  O(1) to
+        start, O(N) in all.
+        """
+        rep, _ = self._open(c, "items")
+        return iter(self._items(rep))
 
     def data(self, c: Complex[D], s: _Simplex, /) -> Option[D]:
         """``data (c, s)``: ``(x,)`` if the n-simplex ``s`` is held in this orientation with datum x, else None."""

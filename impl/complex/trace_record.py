@@ -10,7 +10,7 @@ order they were made; the recorder remembers the last ``window`` of them.
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any, TypeVar
 
 import numpy as np
@@ -186,6 +186,10 @@ class TracingTwoComplex(TwoComplex[D]):
         out = self.inner.simplices(c, d)
         self._record(SIMPLICES, src, None, d, len(out))
         return out
+
+    def iter_items(self, c: Complex[D], /) -> Iterator[tuple[Triangle, D]]:
+        """``items``, recorded as one ``items`` event (so a replay sees the same operations)."""
+        return iter(self.items(c))
 
     def items(self, c: Complex[D], /) -> list[tuple[Triangle, D]]:
         """Each triangle with its datum, recorded."""

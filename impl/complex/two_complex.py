@@ -44,18 +44,20 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any, TypeAlias, TypeVar
 
+from persistri.impl.complex.checks import check_vertex_lists
 from persistri.impl.complex.errors import (
     AbsentSimplexError,
     DuplicateSimplexError,
     OppositeOrientationError,
-    OrientationError,
     RepresentationError,
 )
+from persistri.impl.complex.replace import arguments, replace_per_vertex
 from persistri.impl.complex.simplex import Simplex
-from persistri.impl.complex.structure import Complex, ComplexStructure, Family, same_datum
+from persistri.impl.complex.structure import Complex, ComplexStructure, Family
 from persistri.impl.complex.vertex import Lineage, Vertex
 from persistri.impl.complex.vertex_lists import (
     Changes,
+    Combine,
     Emptied,
     Entry,
     Missing,
@@ -87,26 +89,6 @@ Edge: TypeAlias = tuple[Vertex, Vertex]
 
 
 _new_complex = tuple.__new__
-
-
-def _sequence(xs: Any, what: str) -> list[Any]:
-    """``xs`` as a list (``replace`` reads its arguments twice on its error path); TypeError if not iterable."""
-    try:
-        return list(xs)
-    except TypeError:
-        raise TypeError(f"replace: {what} must be an iterable of triangles, got {type(xs).__name__}") from None
-
-
-def _arguments(removed: Any, added: Any) -> tuple[Sequence[Any], Sequence[Any]]:
-    """``replace``'s two arguments as sequences (lists and tuples as they are; read twice on the error path)."""
-    if type(removed) is not list and type(removed) is not tuple:
-        removed = _sequence(removed, "removed")
-    if type(added) is not list and type(added) is not tuple:
-        added = _sequence(added, "added")
-    return removed, added
-
-
-Combine = Callable[[tuple[Entry, ...], Any], tuple[Entry, ...]]
 
 
 def _counting(stats: Stats, f: Combine) -> Combine:
@@ -382,17 +364,11 @@ class TwoComplex(ComplexStructure[D]):
         step: an insertion replaces a star (the visible faces by the tent, §3;
         a triangle's star by the new vertex's, §5).
 
-        Done here in one map operation per vertex touched instead of three per
-        triangle: the changes are grouped by vertex, then each vertex's list is
-        rebuilt once (one ``insertWith``, or ``remove`` when the vertex loses its
-        last triangle).  A bulldozer insertion that replaces 4 faces by 6 touches
-        7 vertices: 7 map updates where ``rem`` and ``add`` make 30.  A backend
-        with ``adjust_many`` (the uncounted red-black tree) rebuilds all the
-        present vertices' lists in one descent instead, copying the tree nodes
-        their search paths share once.  O(V_t·lg V + Σ δ) with V_t the vertices
-        touched and δ their list lengths.
+        Done in one map operation per vertex touched instead of three per
+        triangle (:mod:`~persistri.impl.complex.replace`): O(V_t·lg V + Σ δ)
+        with V_t the vertices touched and δ their list lengths.
         """
-        removed, added = _arguments(removed, added)
+        removed, added = arguments(removed, added)
         try:
             fam, rep, lin = c
             if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex
@@ -412,27 +388,8 @@ class TwoComplex(ComplexStructure[D]):
         return _new_complex(Complex, (self.family, rep, out_lin))
 
     def _replace_per_vertex(self, rep: Any, changes: Changes) -> Any:
-        """``replace``'s map changes one vertex at a time: an ``insertWith`` per vertex (``remove`` for an
-        emptied one).  Raises what the combining functions raise (Missing, Present; Unbatched for a
-        triangle to remove at a vertex with no list)."""
-        m = self._m
-        drop_add, cat_new = self._drop_add, self._cat_new
-        n = m.numItems(rep)  # kept up to date: one numItems per vertex with drops, not two
-        for v, change in changes.items():
-            if not change[0]:
-                rep = m.insertWith(cat_new, rep, v, tuple(change[1] + change[2]))
-                n = m.numItems(rep)  # v may be new
-                continue
-            try:
-                out = m.insertWith(drop_add, rep, v, change)
-            except Emptied:  # v is in no triangle any more
-                rep = m.remove(rep, v)[0]
-                n -= 1
-                continue
-            if m.numItems(out) != n:  # v had no list: a triangle to remove is absent
-                raise Unbatched
-            rep = out
-        return rep
+        """``replace``'s map changes one vertex at a time (:func:`~persistri.impl.complex.replace.replace_per_vertex`)."""
+        return replace_per_vertex(self._m, rep, changes, self._drop_add, self._cat_new)
 
     def _replace_batched(self, rep: Any, changes: Changes) -> Any:
         """``replace``'s map changes through the backend's ``adjust_many``
@@ -591,29 +548,4 @@ class TwoComplex(ComplexStructure[D]):
         check = getattr(self._raw, "_check", None)
         if check is not None:
             check(rep)
-        table: dict[Vertex, tuple[Entry, ...]] = dict(self._raw.listItemsi(rep))
-        for a, lst in table.items():
-            if not lst:
-                raise RepresentationError(f"2-complex: vertex {a!r} is mapped to an empty list (it is in no triangle)")
-            pairs: dict[tuple[Vertex, Vertex], int] = {}
-            for b, c, x in lst:
-                if len({a, b, c}) != 3:
-                    raise RepresentationError(f"2-complex: the list of {a!r} holds {(b, c)!r}, a degenerate triangle")
-                if (b, c) in pairs:
-                    raise OrientationError(f"2-complex: triangle {(a, b, c)!r} is held twice in the list of {a!r}")
-                if (c, b) in pairs:
-                    raise OrientationError(
-                        f"2-complex: triangle {(a, b, c)!r} is held in both orientations ({(a, c, b)!r} too)"
-                    )
-                pairs[(b, c)] = 1
-                for key, p, q in ((b, c, a), (c, a, b)):
-                    copies = [e for e in table.get(key, ()) if e[0] == p and e[1] == q]
-                    if len(copies) != 1:
-                        raise RepresentationError(
-                            f"2-complex: triangle {(a, b, c)!r} is in the list of {a!r} but "
-                            f"{len(copies)} times in the list of {key!r} (as {(p, q)!r})"
-                        )
-                    if not same_datum(copies[0][2], x):
-                        raise RepresentationError(
-                            f"2-complex: triangle {(a, b, c)!r} carries different data under {a!r} and {key!r}"
-                        )
+        check_vertex_lists(dict(self._raw.listItemsi(rep)), "2-complex")

@@ -44,6 +44,7 @@ __all__ = [
     "VertexList",
     "Change",
     "Changes",
+    "Combine",
     "Emptied",
     "Missing",
     "Unbatched",
@@ -71,6 +72,10 @@ VertexList: TypeAlias = tuple[Entry, ...]
 Change: TypeAlias = tuple[list[tuple[Any, Any]], list[Entry], list[Entry]]
 """What ``replace`` does to one vertex's list: the pairs ``(b, c)`` to drop, the entries to add of the triangles
 that start at the vertex (checked against the list), and the other entries to add."""
+
+
+Combine: TypeAlias = Callable[[VertexList, Any], VertexList]
+"""A function ``insertWith`` combines a vertex's old list with: ``(old list, argument) -> new list``."""
 
 
 class Emptied(Exception):
