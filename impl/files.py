@@ -39,6 +39,7 @@ __all__ = [
     "InputFileError",
     "read_points",
     "read_npy",
+    "read_text_table",
     "write_mesh",
     "compact_mesh",
     "unit_normals",
@@ -156,19 +157,21 @@ def _first_bad(lines: Sequence[str], delimiter: str | None, width: int) -> int:
     return lo
 
 
-def _read_text(path: Path, columns: Sequence[int] | None) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
-    """The rows of a text point file and, for each, its 1-based line number in the file."""
+def _read_text(
+    path: Path, columns: Sequence[int] | None, what: str = "points"
+) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
+    """The rows of a text file of numbers and, for each, its 1-based line number in the file (``what`` names its content)."""
     text = _decode(path, path.read_bytes())
     lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
     content = [i for i, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#")]
     if not content:
-        raise InputFileError(path, "no points: the file is empty" if not text.strip() else "no points: only comments")
+        raise InputFileError(path, f"no {what}: the file is empty" if not text.strip() else f"no {what}: only comments")
     headers = 0
     while headers < len(content) and _is_header(lines[content[headers]]):
         headers += 1
     if headers == len(content):
-        what = "a header line" if headers == 1 else f"{headers} lines of text"
-        raise InputFileError(path, f"no points: {what} and no row of numbers")
+        shown = "a header line" if headers == 1 else f"{headers} lines of text"
+        raise InputFileError(path, f"no {what}: {shown} and no row of numbers")
     numbers = content[headers:]
     data = [lines[i] for i in numbers]
     delimiter = _delimiter(data[0])
@@ -186,6 +189,28 @@ def _read_text(path: Path, columns: Sequence[int] | None) -> tuple[NDArray[np.fl
         raise InputFileError(path, _what_is_wrong(data[bad], delimiter, width), line=numbers[bad] + 1) from None
     line_numbers: NDArray[np.intp] = np.asarray(numbers, dtype=np.intp) + 1
     return arr, line_numbers
+
+
+def read_text_table(path: str | Path, what: str) -> NDArray[np.float64]:
+    """The rows of numbers of a text file, all of one width (``what`` names the content in messages).
+
+    The same text rules as the point files (delimiters, headers, comments, line
+    ends; module docstring).  NaN and infinities are returned as read: the
+    caller decides what they mean.  Raises :class:`InputFileError` naming the
+    file, and the line, for an unreadable or empty file, a bad field or a
+    ragged row.  O(size).
+    """
+    p = Path(path)
+    try:
+        return _read_text(p, None, what)[0]
+    except FileNotFoundError:
+        raise InputFileError(p, "no such file") from None
+    except IsADirectoryError:
+        raise InputFileError(p, "a directory, not a file") from None
+    except PermissionError:
+        raise InputFileError(p, "cannot read it (permission denied)") from None
+    except OSError as exc:
+        raise InputFileError(p, f"cannot read it ({exc.strerror or exc})") from None
 
 
 # -- binary ----------------------------------------------------------------------------------

@@ -110,7 +110,7 @@ def terrain(
 ) -> None:
     """Approximate the height grid INPUT by a Delaunay TIN, greedily (Garland–Heckbert).
 
-    INPUT is a grid file (.npy, .npz, .asc, .tif/.tiff) or the word jacksboro
+    INPUT is a grid file (.npy, .npz, .asc, .csv/.txt rows of heights, .tif/.tiff) or the word jacksboro
     (the DEM shipped with matplotlib).  Give --max-error, --max-points or both.
 
     Vertices are x = column, y = row, z = height (row 0 is the grid's first row),

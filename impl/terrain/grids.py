@@ -21,6 +21,12 @@ Inputs (:func:`read_grid`):
   ``xllcenter``, ``yllcorner`` or ``yllcenter``, ``cellsize`` or ``dx``/``dy``,
   optional ``NODATA_value``; rows from north to south, which become rows 0, 1, …),
   and its CRS from the ``.prj`` file of the same name beside it, if there is one;
+* ``.csv`` / ``.txt`` — text, one row of heights per line, every row as long
+  (the text rules of the point files, :mod:`persistri.impl.files`: commas,
+  semicolons, tabs or spaces; header lines, ``#`` comments; ``nan`` is no-data).
+  A ragged row is an error naming its line.  A table of exactly three columns
+  is refused as what it almost always is, ``x y z`` points (mesh those with
+  ``persistri delaunay``); no georeferencing;
 * ``.tif`` / ``.tiff`` — a GeoTIFF, compressed or not, through ``tifffile`` (the
   optional extra ``persistri[geotiff]``): its transform, CRS and ``GDAL_NODATA``
   (:mod:`persistri.impl.terrain.geotiff`);
@@ -58,7 +64,7 @@ __all__ = [
     "write_asc",
 ]
 
-GRID_FORMATS: Final = (".npy", ".npz", ".asc", ".tif", ".tiff")
+GRID_FORMATS: Final = (".npy", ".npz", ".asc", ".csv", ".txt", ".tif", ".tiff")
 """The file extensions :func:`read_grid` reads (and the word ``jacksboro``)."""
 
 NODATA_RULES: Final = ("error", "fill", "min")
@@ -381,6 +387,8 @@ def read_grid(source: str | Path) -> HeightGrid:
         grid = _read_npz(path)
     elif suffix == ".asc":
         grid = _read_asc(path)
+    elif suffix in (".csv", ".txt"):
+        grid = _read_text_grid(path)
     elif suffix in (".tif", ".tiff"):
         from persistri.impl.terrain.geotiff import read_geotiff  # grids is imported by geotiff: import late
 
@@ -394,6 +402,19 @@ def read_grid(source: str | Path) -> HeightGrid:
         raise ValueError(f"{path}: unknown grid format {suffix or '(no extension)'}; use one of {', '.join(GRID_FORMATS)} or jacksboro")
     _check_grid(grid, path)
     return grid
+
+
+def _read_text_grid(path: Path) -> HeightGrid:
+    """The grid of a text table of heights (module docstring); no transform."""
+    from persistri.impl.files import read_text_table
+
+    heights = read_text_table(path, "heights")
+    if heights.shape[1] == 3 and heights.shape[0] > 3:
+        raise ValueError(
+            f"{path}: {heights.shape[0]} rows of 3 numbers look like x y z points, not a grid of heights: "
+            "triangulate them with `persistri delaunay`, or give the grid as rows of heights (.csv, .asc, .npy)"
+        )
+    return HeightGrid(heights, None, str(path))
 
 
 def _read_npz(path: Path) -> HeightGrid:
