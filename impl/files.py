@@ -191,6 +191,17 @@ def _read_text(
     return arr, line_numbers
 
 
+def _os_error(p: Path, exc: OSError) -> InputFileError:
+    """The one-line error for a file the system would not let us read."""
+    if isinstance(exc, FileNotFoundError):
+        return InputFileError(p, "no such file")
+    if isinstance(exc, IsADirectoryError):
+        return InputFileError(p, "a directory, not a file")
+    if isinstance(exc, PermissionError):
+        return InputFileError(p, "cannot read it (permission denied)")
+    return InputFileError(p, f"cannot read it ({exc.strerror or exc})")
+
+
 def read_text_table(path: str | Path, what: str) -> NDArray[np.float64]:
     """The rows of numbers of a text file, all of one width (``what`` names the content in messages).
 
@@ -203,14 +214,8 @@ def read_text_table(path: str | Path, what: str) -> NDArray[np.float64]:
     p = Path(path)
     try:
         return _read_text(p, None, what)[0]
-    except FileNotFoundError:
-        raise InputFileError(p, "no such file") from None
-    except IsADirectoryError:
-        raise InputFileError(p, "a directory, not a file") from None
-    except PermissionError:
-        raise InputFileError(p, "cannot read it (permission denied)") from None
     except OSError as exc:
-        raise InputFileError(p, f"cannot read it ({exc.strerror or exc})") from None
+        raise _os_error(p, exc) from None
 
 
 # -- binary ----------------------------------------------------------------------------------
@@ -316,16 +321,8 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None) -> NDArr
             out: NDArray[np.float64] = arr + 0.0  # -0.0 becomes 0.0
             return out
         raw = read_npy(p) if suffix == ".npy" else _read_ply(p)
-    except FileNotFoundError:
-        raise InputFileError(p, "no such file") from None
-    except IsADirectoryError:
-        raise InputFileError(p, "a directory, not a file") from None
-    except PermissionError:
-        raise InputFileError(p, "cannot read it (permission denied)") from None
-    except InputFileError:
-        raise
     except OSError as exc:
-        raise InputFileError(p, f"cannot read it ({exc.strerror or exc})") from None
+        raise _os_error(p, exc) from None
     _check_shape(p, raw.shape, columns)
     try:
         return as_points(raw, raw.shape[1], what=str(p))
