@@ -12,6 +12,7 @@ from click.testing import CliRunner
 from persistri.impl.bench import maps as bench_maps
 from persistri.impl.bench.maps import RECORD_FIELDS, SUBJECTS, MapSubject, run_map_bench
 from persistri.impl.bench.maps_report import maps_text
+from persistri.impl.bench.maps_subjects import ord_map_driver
 from persistri.impl.cli.main import main
 from persistri.impl.maps import BACKENDS, UnknownBackendError, backend
 from persistri.impl.maps.assoc_list import assoc_list
@@ -132,7 +133,7 @@ def _load_missing() -> Any:
 
 def test_failing_and_missing_maps_are_reported_and_the_rest_still_run(monkeypatch: pytest.MonkeyPatch) -> None:
     extra = (
-        MapSubject("forgetful", "persistri", "a broken map", lambda: bench_maps._ord_map_driver(_ForgetfulRemove())),
+        MapSubject("forgetful", "persistri", "a broken map", lambda: ord_map_driver(_ForgetfulRemove())),
         MapSubject("missing", "peer", "a map that is not installed", _load_missing),
     )
     monkeypatch.setattr(bench_maps, "SUBJECTS", SUBJECTS + extra)
