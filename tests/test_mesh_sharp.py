@@ -11,6 +11,8 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 import triangle as tr
 
 import persistri.impl.mesh.ruppert as ruppert
@@ -19,7 +21,7 @@ from persistri.impl.mesh.api import QualityMesh, triangulate
 from persistri.impl.mesh.cdt import SegmentGeometry
 from persistri.impl.mesh.domain import PSLG, as_pslg
 from persistri.impl.mesh.gallery import fan, gallery_domain, needle
-from persistri.impl.mesh.splitting import placed_well, placement_tolerances
+from persistri.impl.mesh.splitting import _placed_well_at_ends, placed_well, placement_tolerances
 from persistri.impl.mesh.verify import verify_mesh
 
 TIPS = {"1deg": math.radians(1.0), "0.1deg": math.radians(0.1), "1e-3rad": 1e-3, "1e-6rad": 1e-6}
@@ -116,7 +118,7 @@ def test_without_the_placement_rule_the_needle_splits_on() -> None:
     assert m.min_angle_reached and m.triangles.shape[0] == 41
     patch = pytest.MonkeyPatch()
     try:
-        patch.setattr(ruppert, "placement_tolerances", lambda P, geo, s: ())
+        patch.setattr(ruppert, "placement_tolerances", lambda P, geo, s, small=None: ())
         stuck = triangulate(d, min_angle=30, max_steiner=400)
     finally:
         patch.undo()
@@ -150,6 +152,22 @@ def test_placed_well_is_relative_to_the_distance_from_the_apex() -> None:
     assert not placed_well(wanted + Fraction(1, 2000), wanted, [(Fraction(1), 1e-3)])
     assert placed_well(wanted, wanted, [(Fraction(0), 0.0), (Fraction(1), 0.0)])
     assert placed_well(Fraction(1, 3), wanted, [])
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.fractions(min_value=Fraction(-1, 4), max_value=Fraction(5, 4), max_denominator=1 << 40),
+    st.fractions(min_value=Fraction(1, 1 << 30), max_value=1 - Fraction(1, 1 << 30), max_denominator=1 << 40),
+    st.lists(st.tuples(st.sampled_from([7, 9]), st.sampled_from([0.0, 2.0**-12, 1e-3, 2.5e-13, 0.25])), max_size=2),
+)
+def test_placed_well_on_integers_is_placed_well(t: Fraction, wanted: Fraction, near: list[tuple[int, float]]) -> None:
+    # The splitter's integer form (ends by vertex: 7 is the segment's first end, at t = 0) against the rational one,
+    # at the boundary too (t exactly tau * r away).
+    ends = [(Fraction(0) if o == 7 else Fraction(1), tau) for o, tau in near]
+    assert _placed_well_at_ends(t, wanted, 7, near) == placed_well(t, wanted, ends)
+    for o, tau in near:
+        edge = wanted + Fraction(tau) * abs(wanted - (0 if o == 7 else 1))
+        assert _placed_well_at_ends(edge, wanted, 7, near) == placed_well(edge, wanted, ends)
 
 
 def test_strict_segments_never_round_near_a_sharp_angle() -> None:

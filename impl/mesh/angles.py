@@ -44,6 +44,9 @@ EXACT_COS2: dict[float, Fraction] = {
 }
 """The bounds (degrees) whose squared cosine is rational, and its value."""
 
+_EXACT_RATIO: dict[float, tuple[int, int]] = {t: (c.numerator, c.denominator) for t, c in EXACT_COS2.items()}
+""":data:`EXACT_COS2` as ``(numerator, denominator)`` pairs of ints (no ``Fraction`` property per test)."""
+
 
 def _atan_inv(k: int, terms: int) -> tuple[Fraction, Fraction]:
     """Rational bounds on ``atan(1/k)`` (k >= 2) from ``terms`` terms of its alternating series."""
@@ -109,6 +112,10 @@ def angle_at_least(dot: int, norm_u: int, norm_v: int, theta: float) -> bool:
         return True
     lhs = dot * dot
     rhs = norm_u * norm_v
+    exact = _EXACT_RATIO.get(theta)
+    if exact is not None:
+        # A rational cos²θ = n / d (60°: the small-angle tests): one comparison of integers.
+        return lhs * exact[1] <= exact[0] * rhs
     bits = 128
     while True:
         lo, hi = cos2_bounds(theta, bits)

@@ -50,6 +50,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -59,7 +60,7 @@ from persistri.impl.complex.vertex import Vertex
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.mesh.domain import PSLG
-from persistri.impl.mesh.scratch import ScratchComplex
+from persistri.impl.mesh.scratch import ScratchComplex, insert_vertex
 from persistri.impl.mesh.triangulation import (
     EXTERIOR,
     Constraint,
@@ -99,15 +100,34 @@ class SegmentGeometry:
     incident: list[int]
     """The number of segments at each input vertex."""
     off_segment: set[int] = field(default_factory=set)
+    _at: dict[int, tuple[int, ...]] | None = field(default=None, repr=False, compare=False)
+
+    def segments_at(self, o: int) -> tuple[int, ...]:
+        """The segments with an end at input vertex ``o`` (none twice, zero-length ones left out), by index.  The
+        table is built on the first call, O(segments); then O(1)."""
+        at = self._at
+        if at is None:
+            table: dict[int, list[int]] = {}
+            for t, (c, d) in enumerate(self.ends):
+                if c == d:
+                    continue
+                table.setdefault(c, []).append(t)
+                table.setdefault(d, []).append(t)
+            at = self._at = {v: tuple(ts) for v, ts in table.items()}
+        return at.get(o, ())
+
+
+_ZERO: Final = Fraction(0)
+_ONE: Final = Fraction(1)
 
 
 def param_on_segment(P: GrowingPredicates2, geo: SegmentGeometry, s: int, v: int) -> Fraction:
     """The parameter ``t`` of vertex ``v`` on segment ``s``: ``v = A + t (B − A)``, exactly. O(1)."""
     a, b = geo.ends[s]
     if v == a:
-        return Fraction(0)
+        return _ZERO
     if v == b:
-        return Fraction(1)
+        return _ONE
     found = geo.on_segment.get(v)
     if found is not None and found[0] == s:
         return found[1]
@@ -129,9 +149,11 @@ def _first_triangle(P: GrowingPredicates2, order: list[int]) -> tuple[int, int, 
 class _Builder:
     """The CDT construction over one :class:`MeshTriangulation` (module docstring)."""
 
-    def __init__(self, T: MeshTriangulation) -> None:
+    def __init__(self, T: MeshTriangulation, *, on_scratch: bool = False) -> None:
         self.T = T
         self.P = T.pred
+        # T's structure is a ScratchComplex: vertices are inserted on its dictionary directly (scratch.insert_vertex).
+        self.on_scratch = on_scratch
         # Segments already present as edges when they came: constrained in the regions' rebuild of every datum (one
         # version for all of them, not one each), in the order they came: ``edge -> (segment, order)``.
         self.marked: dict[tuple[int, int], tuple[int, int]] = {}
@@ -153,8 +175,13 @@ class _Builder:
         assert found is not None, "the first triangle was just added"
         hint: tuple[Tri, MeshDatum] = (tri, found[0])
         done = {a, b, c}
+        fast = self.on_scratch and P.stats is None and not T.check
         for q in order:
             if q in done:
+                continue
+            if fast:
+                # T.locate and T.insert on the scratch dictionary, step for step (scratch.insert_vertex).
+                hint = insert_vertex(T, cx, q, hint)
                 continue
             start = T.locate(cx, q, hint)
             ins = T.insert(cx, q, start)
@@ -277,19 +304,23 @@ class _Builder:
                 return
         self.marked[key] = (con[2], len(self.marked))
 
-    def _with_marked(self, t: Tri, d: MeshDatum) -> MeshDatum:
-        """``d`` with the marked constraints on the edges of ``t`` it lacks, appended in the order they came."""
-        marked = self.marked
-        extra: list[tuple[int, Constraint]] = []
-        for u, w in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
-            key = edge_key(u, w)
-            found = marked.get(key)
-            if found is not None and not any(c[0] == key[0] and c[1] == key[1] for c in d[2]):
-                extra.append((found[1], (key[0], key[1], found[0])))
-        if not extra:
-            return d
-        extra.sort()
-        return (d[0], d[1], d[2] + tuple(con for _, con in extra))
+    def _apply_marked(self, by_edge: dict[tuple[int, int], int], datas: list[MeshDatum]) -> None:
+        """Give each triangle the marked constraints on its edges that its datum lacks, appended in the order they
+        came (``by_edge``: directed edge -> index in ``datas``, changed in place).  O(marked edges)."""
+        extra: dict[int, list[tuple[int, Constraint]]] = {}
+        for (lo, hi), (seg, order) in self.marked.items():
+            for key in ((lo, hi), (hi, lo)):
+                k = by_edge.get(key)  # int labels: equal to their Vertex, hashed alike
+                if k is None:
+                    continue
+                cons = datas[k][2]
+                if cons and any(c[0] == lo and c[1] == hi for c in cons):
+                    continue
+                extra.setdefault(k, []).append((order, (lo, hi, seg)))
+        for k, found in extra.items():
+            found.sort()
+            d = datas[k]
+            datas[k] = (d[0], d[1], d[2] + tuple(con for _, con in found))
 
     # -- regions ---------------------------------------------------------------------------
 
@@ -301,16 +332,17 @@ class _Builder:
         T, S = self.T, self.T.S
         inf = T.infinite
         items = S.items(cx)
-        by_edge: dict[tuple[Vertex, Vertex], int] = {}
+        by_edge: dict[tuple[int, int], int] = {}
         tris: list[Tri] = []
         datas: list[MeshDatum] = []
-        marked = self.marked
         for k, (t, d) in enumerate(items):
             tris.append(t)
-            datas.append(self._with_marked(t, d) if marked else d)
+            datas.append(d)
             by_edge[(t[0], t[1])] = k
             by_edge[(t[1], t[2])] = k
             by_edge[(t[2], t[0])] = k
+        if self.marked:
+            self._apply_marked(by_edge, datas)
         region = [EXTERIOR if inf in t else -2 for t in tris]  # -2: not reached yet
 
         def flood(seeds: list[int], code: int) -> None:
@@ -367,7 +399,7 @@ def constrained_delaunay(
     # The vertices and segments go into a mutable scratch triangulation (their steps are no versions anyone reads);
     # the regions' rebuild then makes the CDT one version of T's persistent complex.
     scratch = T.with_structure(ScratchComplex())
-    builder = _Builder(scratch)
+    builder = _Builder(scratch, on_scratch=True)
     cx = builder.vertices(n)
     segs = np.asarray(domain.segments, dtype=np.intp).reshape(-1, 2)
     incident = [0] * n

@@ -179,6 +179,7 @@ class Refiner:
         self._small: dict[tuple[int, int], bool] = {}
         self._sharp: dict[tuple[int, int, int], bool] = {}
         self._placement: dict[int, tuple[tuple[int, float], ...]] = {}
+        self._n_input = geo.n_input
         self._dead: set[int] = set()
         self.log = DropLog()
         self._version = 0  # the history index of the version the run stands at
@@ -222,6 +223,10 @@ class Refiner:
         return found
 
     def _small_angle(self, o: int, s: int) -> bool:
+        """:func:`~persistri.impl.mesh.splitting.small_angle_at`, memoised (a Steiner vertex is no input vertex:
+        False at once)."""
+        if o >= self._n_input:
+            return False
         key = (int(o), s)
         found = self._small.get(key)
         if found is None:
@@ -231,7 +236,7 @@ class Refiner:
     def _tolerances(self, s: int) -> tuple[tuple[int, float], ...]:
         found = self._placement.get(s)
         if found is None:
-            found = self._placement[s] = placement_tolerances(self.P, self.geo, s)
+            found = self._placement[s] = placement_tolerances(self.P, self.geo, s, small=self._small_angle)
         return found
 
     def _push_bad(self, t: Tri, d: MeshDatum, p: int, q: int, r: int, edge2: float) -> None:

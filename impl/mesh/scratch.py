@@ -28,9 +28,10 @@ from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 from persistri.impl.complex.vertex import Vertex
-from persistri.impl.mesh.triangulation import MeshDatum, MeshError, Tri
+from persistri.impl.geometry.filter import ERRBOUND_INCIRCLE, ERRBOUND_ORIENT2D
+from persistri.impl.mesh.triangulation import EXTERIOR, MeshDatum, MeshError, MeshTriangulation, Tri
 
-__all__ = ["ScratchComplex"]
+__all__ = ["ScratchComplex", "insert_vertex"]
 
 Edges = dict[tuple[Vertex, Vertex], tuple[Vertex, MeshDatum]]
 
@@ -134,3 +135,162 @@ class ScratchComplex:
                 raise MeshError(f"internal: the scratch edge {(int(u), int(w))} is already in a triangle")
             edges[(u, w)] = (y, x)
             out[u] = (u, w)
+
+
+def insert_vertex(T: MeshTriangulation, c: Any, p: int, hint: tuple[Tri, MeshDatum]) -> tuple[Tri, MeshDatum]:
+    """Insert point ``p`` into the scratch triangulation ``c`` of ``T`` (``T.S`` a :class:`ScratchComplex`) before any
+    segment is (no constraint anywhere): ``T.locate`` from ``hint``, then ``T.insert``, step for step — the same walk,
+    the same conflict search, the same fan and data ids, the same dictionary operations in the same order — on the
+    dictionary itself, with the predicates' orient2d and incircle filters inlined (the same operations as
+    :func:`~persistri.impl.geometry.filter.orient2d_terms` and ``incircle_terms``, so their proved bounds hold; the
+    predicates decide exactly whenever a filter cannot).  Returns a finite triangle of the fan (the next walk's
+    hint).  O(walk + cavity).
+    """
+    pred = T.pred
+    rows = pred.filter_rows
+    edges: Edges = c.edges
+    out = c.out
+    inf = T.infinite
+    px, py = rows[p]
+    # -- T.locate: the visibility walk (a ghost reached is in conflict unless p is beyond its hull edge's line).
+    tri, dat = hint
+    came: tuple[Vertex, Vertex] | None = None
+    turn = 0
+    located = False
+    for _ in range(1 << 22):
+        if inf in tri:
+            if T.conflicts(tri, p):
+                located = True
+            break
+        a, b, cc = tri
+        turn += 1
+        for j in range(3):
+            k = (turn + j) % 3
+            u, w = (a, b) if k == 0 else (b, cc) if k == 1 else (cc, a)
+            if came is not None and came[0] == u and came[1] == w:
+                continue
+            ux, uy = rows[u]
+            wx, wy = rows[w]
+            # orient2d_terms(ux, uy, wx, wy, px, py), operation for operation.
+            acx = ux - px
+            bcx = wx - px
+            acy = uy - py
+            bcy = wy - py
+            detleft = acx * bcy
+            detright = acy * bcx
+            det = detleft - detright
+            thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
+            if det < -thr:
+                below = True
+            elif det > thr:
+                below = False
+            else:
+                below = pred.orient2d(u, w, p) < 0
+            if below:
+                found = edges.get((w, u))
+                if found is None:
+                    raise MeshError(f"internal: no triangle holds the edge {(int(w), int(u))}: the complex is not closed")
+                tri, dat = (w, u, found[0]), found[1]
+                came = (w, u)
+                break
+        else:
+            located = True
+            break
+    if not located:
+        for t, d in ScratchComplex().items(c):
+            if T.conflicts(t, p):
+                tri, dat = t, d
+                break
+        else:
+            raise MeshError(f"internal: no triangle is in conflict with point {p}")
+    # -- T.cavity: the triangles in conflict with p, reached from the located one (no edge is constrained yet).
+    cavity: dict[int, tuple[Tri, MeshDatum]] = {dat[0]: (tri, dat)}
+    rejected: set[int] = set()
+    boundary: list[tuple[Vertex, Vertex, int]] = []
+    a, b, cc = tri
+    stack = [(a, b, dat), (b, cc, dat), (cc, a, dat)]
+    while stack:
+        u, w, sdat = stack.pop()
+        found = edges.get((w, u))
+        if found is None:
+            raise MeshError("internal: a closed surface has a triangle beyond every edge")
+        x, ndat = found
+        nid = ndat[0]
+        if nid in cavity:
+            continue
+        if nid not in rejected:
+            if w < 0 or u < 0 or x < 0:
+                inside = T.conflicts((w, u, x), p)
+            else:
+                ax, ay = rows[w]
+                bx, by = rows[u]
+                cx, cy = rows[x]
+                # incircle_terms(ax, ay, bx, by, cx, cy, px, py), operation for operation (its proved bound holds).
+                adx = ax - px
+                bdx = bx - px
+                cdx = cx - px
+                ady = ay - py
+                bdy = by - py
+                cdy = cy - py
+                bdxcdy = bdx * cdy
+                cdxbdy = cdx * bdy
+                alift = adx * adx + ady * ady
+                cdxady = cdx * ady
+                adxcdy = adx * cdy
+                blift = bdx * bdx + bdy * bdy
+                adxbdy = adx * bdy
+                bdxady = bdx * ady
+                clift = cdx * cdx + cdy * cdy
+                det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady)
+                perm = (
+                    (abs(bdxcdy) + abs(cdxbdy)) * alift
+                    + (abs(cdxady) + abs(adxcdy)) * blift
+                    + (abs(adxbdy) + abs(bdxady)) * clift
+                )
+                thr = ERRBOUND_INCIRCLE * perm
+                if det > thr:
+                    inside = True
+                elif det < -thr:
+                    inside = False
+                else:
+                    inside = pred.incircle(w, u, x, p) > 0
+            if inside:
+                cavity[nid] = ((w, u, x), ndat)
+                stack.append((u, x, ndat))
+                stack.append((x, w, ndat))
+                continue
+        rejected.add(nid)
+        boundary.append((u, w, sdat[1]))
+    # -- T.build and ScratchComplex.replace: the fan from p, the cavity's edges popped, the fan's edges put.
+    vp = T.vertex(p)
+    succ = {u: (w, region) for u, w, region in boundary}
+    if len(succ) != len(boundary):
+        raise MeshError(f"internal: the cavity of point {p} is not a disc")
+    first = succ[inf][0] if inf in succ else boundary[0][0]
+    created: list[tuple[Tri, MeshDatum]] = []
+    u = first
+    new_datum = T.new_datum
+    while True:
+        w, region = succ[u]
+        if w == inf:
+            break
+        created.append(((u, w, vp), new_datum(region)))
+        u = w
+        if u == first:
+            break
+    if inf in succ:
+        # An open fan: p is on the hull; two ghosts close it, on the new hull edges (p, u) and (first, p).
+        created.append(((u, inf, vp), new_datum(EXTERIOR)))
+        created.append(((inf, first, vp), new_datum(EXTERIOR)))
+    for (ta, tb, tc), _ in cavity.values():
+        for eu, ew, ey in ((ta, tb, tc), (tb, tc, ta), (tc, ta, tb)):
+            gone = edges.pop((eu, ew), None)
+            if gone is None or gone[0] != ey:
+                raise MeshError(f"internal: the scratch triangulation holds no triangle {(eu, ew, ey)}")
+    for (ta, tb, tc), d in created:
+        for eu, ew, ey in ((ta, tb, tc), (tb, tc, ta), (tc, ta, tb)):
+            if (eu, ew) in edges:
+                raise MeshError(f"internal: the scratch edge {(int(eu), int(ew))} is already in a triangle")
+            edges[(eu, ew)] = (ey, d)
+            out[eu] = (eu, ew)
+    return next((t, d) for t, d in created if inf not in t)

@@ -29,7 +29,7 @@ parameter on ``AB``:
   doubles (and other parameters) in order of preference, for the refiner to
   insert in turn until the new version is valid (decided exactly).
 
-Costs: O(1) exact operations, plus O(segments) once per pair (vertex, segment)
+Costs: O(1) exact operations, plus O(segments at the vertex) once per pair (vertex, segment)
 for the small-angle test (memoised by the caller).
 """
 
@@ -65,7 +65,7 @@ None) and whether it was rounded off the subsegment."""
 def small_angle_at(P: GrowingPredicates2, geo: SegmentGeometry, o: int, s: int) -> bool:
     """Whether input vertex ``o`` is an end of segment ``s`` where another segment meets ``s`` at less than 60° (exact).
 
-    O(segments): the caller memoises it."""
+    O(segments at ``o``): the caller memoises it."""
     if o >= geo.n_input or geo.incident[o] < 2:
         return False
     for d1, d2 in _arms(P, geo, o, s):
@@ -75,18 +75,23 @@ def small_angle_at(P: GrowingPredicates2, geo: SegmentGeometry, o: int, s: int) 
 
 
 def _arms(P: GrowingPredicates2, geo: SegmentGeometry, o: int, s: int) -> Iterator[tuple[tuple[int, int], tuple[int, int]]]:
-    """For every other segment at ``o``: the exact integer vectors from ``o`` along ``s`` and along it. O(segments)."""
+    """For every other segment at ``o``: the exact integer vectors from ``o`` along ``s`` and along it. O(segments at
+    ``o``)."""
     a, b = geo.ends[s]
     far = b if a == o else a
-    for t, (c, d) in enumerate(geo.ends):
-        if t == s or o not in (c, d) or c == d:
+    ends = geo.ends
+    for t in geo.segments_at(o):
+        if t == s:
             continue
+        c, d = ends[t]
         other = d if c == o else c
         (io, ip, iq), _ = P.integers(o, far, other)
         yield (ip[0] - io[0], ip[1] - io[1]), (iq[0] - io[0], iq[1] - io[1])
 
 
-def placement_tolerances(P: GrowingPredicates2, geo: SegmentGeometry, s: int) -> tuple[tuple[int, float], ...]:
+def placement_tolerances(
+    P: GrowingPredicates2, geo: SegmentGeometry, s: int, small: Callable[[int, int], bool] | None = None
+) -> tuple[tuple[int, float], ...]:
     """For each end ``o`` of segment ``s`` where another segment meets it at less than 60°: ``(o, τ)`` with
     ``τ = min(α² / 4, 2^-12)``, ``α`` the smallest such angle in radians (a float: it sets a tolerance, decides no
     predicate).  A split point of ``s`` is *placed well* when it lies within ``τ · r`` of its wanted place, ``r``
@@ -99,11 +104,14 @@ def placement_tolerances(P: GrowingPredicates2, geo: SegmentGeometry, s: int) ->
     than that, ``δ / r`` below about ``α² / 2``.  Triangle's exemption asks the two distances to agree within a
     factor 1.001 on their squares, 5e-4 on the distances.  ``τ`` keeps both, with a margin.  On a needle of 1e-6
     rad the doubles lying exactly on a segment can be 5e-4 apart, relatively: the nearest one is then not placed
-    well.  O(segments): the caller memoises it.
+    well.  ``small(o, s)``: a memoised :func:`small_angle_at` (None: computed here).  O(segments at its ends): the
+    caller memoises it.
     """
     out: list[tuple[int, float]] = []
     for o in geo.ends[s]:
-        if o >= geo.n_input or geo.incident[o] < 2 or not small_angle_at(P, geo, o, s):
+        if o >= geo.n_input or geo.incident[o] < 2:
+            continue
+        if not (small_angle_at(P, geo, o, s) if small is None else small(o, s)):
             continue
         smallest = math.pi
         for d1, d2 in _arms(P, geo, o, s):
@@ -121,6 +129,21 @@ def placed_well(t: Fraction, wanted: Fraction, ends: Sequence[tuple[Fraction, fl
     :func:`placement_tolerances` asks (exact, on rationals). O(1)."""
     off = abs(t - wanted)
     return all(off <= Fraction(tau) * abs(wanted - t_o) for t_o, tau in ends)
+
+
+def _placed_well_at_ends(t: Fraction, wanted: Fraction, a: int, near: Sequence[tuple[int, float]]) -> bool:
+    """:func:`placed_well` for ``near`` as :func:`placement_tolerances` gives it (``(o, τ)``, ``o`` the segment's
+    first end ``a``, at parameter 0, or its second, at 1), on integers: ``|t − wanted| <= τ · r`` with ``r =
+    |wanted|`` or ``|1 − wanted|``, cross-multiplied over positive denominators. O(1)."""
+    on, od = (t - wanted).as_integer_ratio()
+    on = abs(on)
+    wn, wd = wanted.as_integer_ratio()
+    for o, tau in near:
+        tn, td = tau.as_integer_ratio()
+        rn = abs(wn) if o == a else abs(wd - wn)  # r = |wanted − t_o| = rn / wd
+        if on * td * wd > tn * rn * od:
+            return False
+    return True
 
 
 def shell_exponent(length: float) -> int:
@@ -174,8 +197,10 @@ def split_point(
     or when even the rounded point falls on an end.  O(1).
     """
     tu, tw = param_on_segment(P, geo, s, lo), param_on_segment(P, geo, s, hi)
-    first, second = (lo, hi) if tu < tw else (hi, lo)
-    t_first, t_second = min(tu, tw), max(tu, tw)
+    if tu < tw:
+        first, second, t_first, t_second = lo, hi, tu, tw
+    else:
+        first, second, t_first, t_second = hi, lo, tw, tu
     a, b = geo.ends[s]
     small_lo, small_hi = small(lo, s), small(hi, s)
     if small_lo != small_hi:
@@ -183,7 +208,7 @@ def split_point(
     else:
         at_lo, at_hi = _corner_ends(lo, hi, sides)
         centre = hi if at_hi else lo if at_lo else None
-    wanted = (t_first + t_second) / 2
+    wanted: Fraction | None = None
     shell: tuple[int, int] | None = None
     if centre is not None:
         other = hi if centre == lo else lo
@@ -194,16 +219,17 @@ def split_point(
         if length > 0 and total > 0 and math.isfinite(length) and math.isfinite(total):
             k = shell_exponent(length)
             dt = Fraction(2.0**k / total)
-            t_o = param_on_segment(P, geo, s, centre)
-            wanted = t_o + dt if t_o == t_first else t_o - dt
+            # The shell's centre is an end of the subsegment: its parameter is tu or tw.
+            wanted = t_first + dt if centre == first else t_second - dt
             shell = (centre, k)
+    if wanted is None:
+        wanted = (t_first + t_second) / 2
     try:
         t, x, y = split_parameter(P, a, b, first, second, t_first, t_second, wanted)
         near = () if tolerances is None else tolerances(s)
         if exact_segments or not near:
             return t, x, y, shell, False
-        ends = [(Fraction(0) if o == a else Fraction(1), tau) for o, tau in near]
-        if placed_well(t, wanted, ends):
+        if _placed_well_at_ends(t, wanted, a, near):
             return t, x, y, shell, False
         # The doubles exactly on the segment are too sparse here: the nearest is farther from the shell than a
         # small input angle tolerates, and the refinement would split on forever.  Rounded, as Triangle's are.

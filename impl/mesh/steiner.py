@@ -164,7 +164,8 @@ def split_parameter(
     # Per axis, the grid 2^(top - 53) of the binade bounding both ends; units 2^m fine enough for both grids.
     grids = (max(math.frexp(ux)[1], math.frexp(wx)[1]) - 53, max(math.frexp(uy)[1], math.frexp(wy)[1]) - 53)
     m = min(ex, *grids)
-    xu, yu, xw, yw = (v << (ex - m) for v in (pu[0], pu[1], pw[0], pw[1]))
+    sh = ex - m
+    xu, yu, xw, yw = pu[0] << sh, pu[1] << sh, pw[0] << sh, pw[1] << sh
     dx, dy = xw - xu, yw - yu
     G = math.gcd(dx, dy)
     if G >= 2:
@@ -174,14 +175,14 @@ def split_parameter(
         solved = _congruence(xu, step_x, grids[0] - m)
         other = _congruence(yu, step_y, grids[1] - m)
         if solved is not None and other is not None:
-            (r1, m1), (r2, m2) = sorted((solved, other), key=lambda rm: rm[1])
+            (r1, m1), (r2, m2) = (solved, other) if solved[1] <= other[1] else (other, solved)
             if (r2 - r1) % m1 == 0:  # compatible: k ≡ r2 (mod m2), m1 dividing m2
                 # On integers: wanted − t_u = wide / (wd ud), t_w − t_u = span / (vd ud) (span > 0), so the wanted
                 # place is s* = G (wanted − t_u) / (t_w − t_u) = G wide vd / (wd span), and k the solution nearest it:
                 # k = r2 + m2 · round((s* − r2) / m2), rounding half to even as round() does.
-                un, ud = t_u.numerator, t_u.denominator
-                vn, vd = t_w.numerator, t_w.denominator
-                wn, wd = wanted.numerator, wanted.denominator
+                un, ud = t_u.as_integer_ratio()
+                vn, vd = t_w.as_integer_ratio()
+                wn, wd = wanted.as_integer_ratio()
                 wide, span = wn * ud - un * wd, vn * ud - un * vd
                 q, rem = divmod(G * wide * vd - r2 * wd * span, m2 * wd * span)
                 twice, den = 2 * rem, m2 * wd * span
