@@ -12,9 +12,17 @@ from persistri.impl.complex.checks import check_closed_surface
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.check import exact_hull, verify_triangulation
-from persistri.impl.terrain.delaunay import canonical_triangles
+from persistri.impl.complex.two_complex import TwoComplex
+from persistri.impl.maps import backend as map_backend
+from persistri.impl.terrain.delaunay import EMPTY, Triangulator, canonical_triangles
 from persistri.impl.terrain.errors import DegenerateInputError
-from persistri.impl.terrain.scattered import DelaunayTriangulation, delaunay, hilbert_keys, insertion_order
+from persistri.impl.terrain.scattered import (
+    DelaunayTriangulation,
+    _first_triangle,
+    delaunay,
+    hilbert_keys,
+    insertion_order,
+)
 
 
 def qhull_ccw(points: NDArray[np.float64]) -> NDArray[np.intp]:
@@ -168,3 +176,55 @@ def test_all_points_cocircular() -> None:
     d = delaunay(with_centre, check=True)
     assert_exact_delaunay(d)
     assert len(d.triangles) == len(circle)  # the fan from the centre
+
+
+def _triangulator_after(pts: NDArray[np.float64], seed: int) -> tuple[Triangulator, list[int]]:
+    """A Triangulator with the first triangle of ``pts``'s insertion order laid, and the rest of that order."""
+    pred = Predicates2(pts)
+    T = Triangulator(pred, TwoComplex(map_backend("red_black")), check=True)
+    order = insertion_order(pts, seed)
+    first = _first_triangle(pred, order)
+    T.begin([(first, EMPTY)])
+    return T, [q for q in order.tolist() if q not in first]
+
+
+@given(integer_clouds(), st.integers(0, 3))
+def test_locate_after_finds_a_triangle_in_conflict(pts: NDArray[np.float64], seed: int) -> None:
+    # From the fan of every insertion (interior and hull points, cocircular and collinear ones), the walk
+    # ends in a live triangle in conflict with the next point, the one the cavity grows from.
+    pts = np.unique(pts, axis=0)
+    distinct = pts
+    if len(distinct) < 3 or all(
+        (b[0] - distinct[0][0]) * (distinct[-1][1] - distinct[0][1]) == (b[1] - distinct[0][1]) * (distinct[-1][0] - distinct[0][0])
+        for b in distinct
+    ):
+        return
+    T, rest = _triangulator_after(pts, seed)
+    last = None
+    for q in rest:
+        tid = T.locate(q, next(iter(T.tri_of))) if last is None else T.locate_after(q, last)
+        assert tid in T.tri_of and T.conflicts(T.tri_of[tid], q)
+        last = T.insert(q, tid)
+
+
+def test_locate_after_walks_the_fan_without_reading_the_complex() -> None:
+    # A point inside a triangle of the last fan is found by orient2d tests alone: no look-up in the complex.
+    pts = np.array([[0.0, 0.0], [4.0, 0.0], [0.0, 4.0], [1.0, 1.0], [1.5, 0.5], [3.0, 0.5]])
+    T = Triangulator(Predicates2(pts), TwoComplex(map_backend("red_black")))
+    T.begin([((0, 1, 2), EMPTY)])
+    last = T.insert(3, T.locate(3, 0))
+    assert not last.hull_vertex and len(last.created) == 3
+    reads: list[object] = []
+    lookup = T.neighbours()
+
+    def counted(s: object) -> object:
+        reads.append(s)
+        return lookup(s)
+
+    T._read = counted
+    tid = T.locate_after(4, last)
+    assert reads == [] and tid in [t for t, _ in last.created] and T.conflicts(T.tri_of[tid], 4)
+    # A stale insertion (its version no longer the current one): the walk from its first triangle, still right.
+    T.insert(4, tid)
+    tid = T.locate_after(5, last)
+    assert tid in T.tri_of and T.conflicts(T.tri_of[tid], 5)

@@ -62,6 +62,7 @@ Points are indices into the predicates' point array; each is a
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any, Final, Protocol, TypeVar
 
 import numpy as np
@@ -257,11 +258,27 @@ class Triangulator:
         self.tri_of: dict[int, Triangle] = {}
         self._next_id = 0
         self.complex: Complex[TriDatum] = structure.new(2)
+        # The neighbour function of one version (TwoComplex.neighbours), kept while that version is current:
+        # the walk that locates a point and the insertion that follows read one version, so they share the
+        # vertex lists it has read from the map (a lookup of a list already read is a scan, not a tree search).
+        self._read_version: Complex[TriDatum] | None = None
+        self._read: Callable[[Any], Any] | None = None
         self.kernel = pred.kernel()
         # The sector test's float path is exact when orient2d's is (docs of kernel2d and sectors).
         self.small_integers = self.kernel.exact_orient2d
 
     # -- construction ------------------------------------------------------------------
+
+    def neighbours(self) -> Callable[[Any], Any]:
+        """``s ↦ neighbour(c, s)`` for the current version ``c`` (:meth:`TwoComplex.neighbours`), made once
+        per version: :meth:`locate` and the :meth:`insert` after it share it, and with it the vertex lists
+        already read from the map.  O(1)."""
+        cx = self.complex
+        read = self._read
+        if read is None or self._read_version is not cx:
+            read = self._read = self.S.neighbours(cx)
+            self._read_version = cx
+        return read
 
     def vertex(self, i: int) -> Vertex:
         """The vertex of point ``i`` (label ``i``; ``i = n`` is the symbolic infinite vertex, point None). O(1)."""
@@ -351,8 +368,9 @@ class Triangulator:
         """
         S = self.S
         cx = self.complex
-        # The walk reads one version only: its neighbour function reads each vertex's list from the map once.
-        neighbour = S.neighbours(cx)
+        # The walk reads one version only: its neighbour function reads each vertex's list from the map once
+        # (shared with the locate before it).
+        neighbour = self.neighbours()
         vp = self.vertex(p)
         # Triangles and neighbour records are typed Any in this loop: compiled by mypyc (the twin), a local of
         # a fixed-length tuple type is unboxed and every store of it (tri_of, the fan, the removed list) boxes a
@@ -542,38 +560,87 @@ class Triangulator:
         A ghost it reaches is in conflict unless ``p`` lies exactly on the line of
         that hull edge and outside it; then, and if the walk were ever to exceed
         a linear number of steps, every live triangle is tested (O(n), never
-        needed on inputs in general position).
+        needed on inputs in general position).  Each step is one ``neighbour``
+        look-up in the current version and at most three ``orient2d`` tests.
         """
+        return self._walk(p, hint, self.tri_of[hint], False, seed)
+
+    def locate_after(self, p: int, last: Insertion) -> int:
+        """:meth:`locate`, starting around the point of ``last``, the insertion that made the current version.
+
+        For a point ``p`` near ``q = last.point`` (successive points of a
+        space-filling-curve order): the fan around ``q`` is known from ``last``
+        without reading the complex, so the walk starts in the fan triangle
+        ``(r_i, r_{i+1}, q)`` whose angle at ``q`` holds ``p`` — ``orient2d(q,
+        r_i, p) = +1`` and ``orient2d(q, r_{i+1}, p) = −1`` (SoS: exactly one
+        such ``i`` around a closed fan) — and continues as :meth:`locate` only
+        if ``p`` is beyond that triangle's outer edge.  The same walk as
+        ``locate`` from there, with the steps across the fan done by at most
+        ``len(last.created) + 1`` ``orient2d`` tests instead of look-ups in the
+        complex.  When ``q`` is on the hull (an open fan) or ``last`` did not
+        make the current version, it is :meth:`locate` from ``last``'s first
+        new triangle.  Any triangle in conflict with ``p`` gives the same
+        insertion (the cavity is every triangle in conflict): only the walk's
+        length depends on where it starts.
+        """
+        created = last.created
+        if last.hull_vertex or last.version is not self.complex:
+            return self.locate(p, created[0][0])
         orient2d = self.kernel.orient2d
-        neighbour = self.S.neighbours(self.complex)
+        rays: Any = last.rays
+        q = last.point
+        before = orient2d(q, rays[0], p)
+        for i in range(len(created)):
+            after = orient2d(q, rays[i + 1], p)
+            if before > 0 and after < 0:
+                u = rays[i]
+                w = rays[i + 1]
+                if orient2d(u, w, p) > 0:
+                    tid: int = created[i][0]
+                    return tid
+                nb: Any = self.neighbours()((w, u))
+                assert nb is not None, "a closed surface: every oriented edge has its reverse"
+                return self._walk(p, nb[1][0], nb[0], True, 0)
+            before = after
+        # Not reached (the fan's angles cover the plane around q); kept safe all the same.
+        return self.locate(p, created[0][0])
+
+    def _walk(self, p: int, tid: int, tri: Any, entered: bool, turn: int) -> int:
+        """:meth:`locate`'s walk from triangle ``tri`` (id ``tid``); ``entered``: the walk came into ``tri``
+        across its first edge (a triangle found by ``neighbour((w, u))`` is ``(w, u, x)``), which it does not
+        test again."""
+        orient2d = self.kernel.orient2d
+        neighbour = self.neighbours()
         inf = self.infinite
-        tri = self.tri_of[hint]
-        tid = hint
-        came: tuple[Vertex, Vertex] | None = None
         limit = 4 * len(self.tri_of) + 16
-        turn = seed
         for _ in range(limit):
             if inf in tri:
                 if self.conflicts(tri, p):
                     return tid
                 break
             a, b, c = tri
-            edges = ((a, b), (b, c), (c, a))
             turn += 1
+            k = turn % 3
+            u, w = a, b
             moved = False
-            for j in range(3):
-                u, w = edges[(turn + j) % 3]
-                if came is not None and came == (u, w):
-                    continue
-                if orient2d(u, w, p) < 0:
-                    nb = neighbour((w, u))
-                    assert nb is not None, "a closed surface: every oriented edge has its reverse"
-                    tri, (tid, _) = nb
-                    came = (w, u)
+            for _j in range(3):
+                if k == 0:
+                    u, w = a, b
+                elif k == 1:
+                    u, w = b, c
+                else:
+                    u, w = c, a
+                if (k or not entered) and orient2d(u, w, p) < 0:
                     moved = True
                     break
+                k = k + 1 if k < 2 else 0
             if not moved:
                 return tid
+            nb: Any = neighbour((w, u))
+            assert nb is not None, "a closed surface: every oriented edge has its reverse"
+            tri = nb[0]
+            tid = nb[1][0]
+            entered = True
         for tid, tri in self.tri_of.items():
             if self.conflicts(tri, p):
                 return tid

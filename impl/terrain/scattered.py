@@ -4,10 +4,11 @@ The same machinery as the terrain: the incremental Delaunay triangulation of
 :mod:`persistri.impl.terrain.delaunay` on the persistent 2-complex, every test
 an exact predicate (``incircle`` through the lifting map, ``orient2d``), ties
 among cocircular points broken by Simulation of Simplicity.  Here the points
-have no conflict lists; each is located by a walk from the triangle made by the
-previous insertion, in a *biased randomised insertion order* (Amenta, Choi and
-Rote's BRIO: rounds of doubling size in random order, each round sorted along a
-Hilbert curve), which keeps the walks short and the expected work O(n log n).
+have no conflict lists; each is located by a walk from the fan of the previous
+insertion (:meth:`~persistri.impl.terrain.delaunay.Triangulator.locate_after`),
+in a *biased randomised insertion order* (Amenta, Choi and Rote's BRIO: rounds
+of doubling size in random order, each round sorted along a Hilbert curve),
+which keeps the walks short and the expected work O(n log n).
 
 Exactness is what this adds over floating-point triangulators: at real-world
 coordinates (UTM eastings near 5·10^5 m, northings near 4·10^6 m, points
@@ -38,7 +39,7 @@ from persistri.impl.geometry.points import as_points, unique_rows
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.maps import backend as map_backend
 from persistri.impl.stats import Stats
-from persistri.impl.terrain.delaunay import EMPTY, TriDatum, Triangulator, canonical_triangles
+from persistri.impl.terrain.delaunay import EMPTY, Insertion, TriDatum, Triangulator, canonical_triangles
 from persistri.impl.terrain.errors import DegenerateInputError
 
 __all__ = ["delaunay", "DelaunayTriangulation", "insertion_order", "hilbert_keys"]
@@ -196,12 +197,12 @@ def delaunay(
         T.begin([(first, EMPTY)])
         hint = next(tid for tid, tri in T.tri_of.items() if T.infinite not in tri)
         done = set(first)
+        ins: Insertion | None = None
         for q in order.tolist():
             if q in done:
                 continue
-            tid = T.locate(q, hint)
-            ins = T.insert(q, tid)
-            hint = ins.created[0][0]
+            # Each walk starts in the fan of the previous point, its predecessor along the curve.
+            ins = T.insert(q, T.locate(q, hint) if ins is None else T.locate_after(q, ins))
         inf = T.infinite
         items = structure.items(T.complex)
         tris = np.array([t for t, _ in items if inf not in t], dtype=np.intp).reshape(-1, 3)
