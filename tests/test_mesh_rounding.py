@@ -349,3 +349,64 @@ def test_candidate_parameters_in_the_order_of_their_distance(tu: Fraction, delta
     first = min(max(tu + delta * at, tu + delta / 4), tu + delta - delta / 4)
     plain = [t for t in sorted((tu + delta * k / 16 for k in range(4, 13)), key=lambda t: (abs(t - first), t)) if t != first]
     assert list(_candidate_parameters(first, tu, delta)) == [first, *plain]
+
+
+def _reference_candidates(
+    P: GrowingPredicates2, a: int, b: int, u: int, w: int, tu: Fraction, tw: Fraction, wanted: Fraction
+) -> list[tuple[Fraction, float, float]]:
+    """``rounded_candidates`` written plainly in rationals: for each parameter, the window of doubles around the
+    exact point, those strictly between u and w, nearest first, that pass the box test."""
+    delta = tw - tu
+    first = min(max(wanted, tu + delta / 4), tw - delta / 4)
+    (ax, ay), (bx, by), (ux, uy), (wx, wy) = ([Fraction(v) for v in P.xy(i)] for i in (a, b, u, w))
+    seen: set[tuple[float, float]] = set()
+    out: list[tuple[Fraction, float, float]] = []
+    for t in _candidate_parameters(first, tu, delta):
+        px, py = ax + t * (bx - ax), ay + t * (by - ay)
+        xs, ys = [float(px)], [float(py)]  # Fraction -> float rounds to nearest
+        for v in (xs, ys):
+            for step in (-math.inf, math.inf):
+                f = v[0]
+                for _ in range(3):
+                    f = math.nextafter(f, step)
+                    v.append(f)
+        near = []
+        for x in sorted(xs):
+            for y in sorted(ys):
+                if (x, y) in seen:
+                    continue
+                seen.add((x, y))
+                along = (Fraction(x) - ux) * (wx - ux) + (Fraction(y) - uy) * (wy - uy)
+                if 0 < along < (wx - ux) ** 2 + (wy - uy) ** 2:
+                    near.append(((Fraction(x) - px) ** 2 + (Fraction(y) - py) ** 2, x, y))
+        near.sort()
+        fa, fb = P.xy(a), P.xy(b)
+        out += [(t, x, y) for _, x, y in near if near_segment(fa[0], fa[1], fb[0], fb[1], x, y)]
+    return out
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    st.integers(-50, 50), st.integers(-50, 50), st.integers(-50, 50), st.integers(-50, 50),
+    st.sampled_from([1.0, 3.0, 1e5, 4e6]), st.integers(1, 15), st.integers(1, 15),
+)
+def test_rounded_candidates_agree_with_the_plain_search(
+    i: int, j: int, k: int, m: int, base: float, num: int, den_bits: int
+) -> None:
+    # Ends a few ulps apart at several magnitudes, and dyadic parameters: exact points that are doubles, midpoints
+    # between two doubles (ties of the nearest) and neither.  The whole sequence must agree, not only the first.
+    ulp = math.ulp(base)
+    A_, B_ = (base + i * ulp, base + j * ulp), (base + (k + 400) * ulp, base + (m + 900) * ulp)
+    P = GrowingPredicates2(np.array([A_, B_]))
+    wanted = Fraction(num % (1 << den_bits) or 1, 1 << den_bits)
+    assert list(rounded_candidates(P, 0, 1, 0, 1, Fraction(0), Fraction(1), wanted)) == _reference_candidates(
+        P, 0, 1, 0, 1, Fraction(0), Fraction(1), wanted
+    )
+
+
+def test_rounded_candidates_agree_on_the_gallery_utm_edge() -> None:
+    P = GrowingPredicates2(np.array([A, B]))
+    for wanted in (Fraction(1, 2), Fraction(1, 3), Fraction(5, 8), Fraction(1, 2) + Fraction(1, 1 << 60)):
+        assert list(rounded_candidates(P, 0, 1, 0, 1, Fraction(0), Fraction(1), wanted)) == _reference_candidates(
+            P, 0, 1, 0, 1, Fraction(0), Fraction(1), wanted
+        )

@@ -84,14 +84,17 @@ def _arrays(run: _Run, c: Complex[MeshDatum]) -> MeshArrays:
     """Version ``c`` as arrays: the input vertices first (rows kept), then the Steiner vertices present, by index."""
     items = run.T.S.items(c)
     n = run.geo.n_input
-    steiner = sorted({int(v) for t, _ in items for v in t if int(v) >= n})
+    steiner = sorted(int(v) for v in {v for t, _ in items for v in t} if v >= n)
     points = np.array(list(range(n)) + steiner, dtype=np.intp)
     index = np.full(len(run.T.pred), -1, dtype=np.intp)
     index[points] = np.arange(points.size)
-    tris = [t for t, d in items if d[1] != EXTERIOR]
-    regions = [d[1] for t, d in items if d[1] != EXTERIOR]
+    tris = []
+    regions = []
     segs: dict[tuple[int, int], int] = {}
-    for _, d in items:
+    for t, d in items:
+        if d[1] != EXTERIOR:
+            tris.append(t)
+            regions.append(d[1])
         for lo, hi, s in d[2]:
             segs[(lo, hi)] = s
     seg_rows = sorted(segs.items(), key=lambda kv: (kv[1], kv[0]))

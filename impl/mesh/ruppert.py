@@ -466,15 +466,19 @@ class Refiner:
         (around the boundary from its first edge, as :meth:`~persistri.impl.mesh.triangulation.MeshTriangulation.build`
         walks it). O(k)."""
         boundary = cav.boundary
-        for edge in boundary:
-            if edge[3] >= 0:
-                break
-        else:
-            return []
+        encroaches = self.tests.encroaches
+        # The tests are pure: made in boundary order, they are put in the fan's order only when two or more succeed.
+        hits: list[Constraint] = []
+        for u, w, _, seg in boundary:
+            if seg >= 0:
+                lo, hi = edge_key(u, w)
+                if encroaches(lo, hi, p):
+                    hits.append((lo, hi, seg))
+        if len(hits) <= 1:
+            return hits
         succ = {u: (w, seg) for u, w, _, seg in boundary}
         inf = self.T.infinite
         first = succ[inf][0] if inf in succ else boundary[0][0]
-        encroaches = self.tests.encroaches
         out: list[Constraint] = []
         u = first
         for _ in range(len(boundary)):
@@ -503,16 +507,26 @@ class Refiner:
         inserted: list[int] = []
         deleted: list[tuple[int, ...]] = []
         c = start
-        seen: set[tuple[int, int]] = set()
         encroaches = self.tests.encroaches
+        # Each subsegment once, at its first domain triangle, if the apex of a domain triangle beside it encroaches
+        # it: both such triangles are among the items (:meth:`_encroached`, read off them instead of looked up).
+        subsegments: dict[tuple[int, int], list[Any]] = {}
         for t, d in self.S.items(c):
             if d[1] == EXTERIOR:
                 continue
             self._judge(t, d)
-            for lo, hi, s in d[2]:
-                if (lo, hi) not in seen and self._encroached(c, lo, hi, encroaches):
-                    seen.add((lo, hi))
-                    self._segs.append((lo, hi, s))
+            if d[2]:
+                a, b, cc = t
+                for lo, hi, s in d[2]:
+                    apex = a if a != lo and a != hi else b if b != lo and b != hi else cc
+                    entry = subsegments.get((lo, hi))
+                    if entry is None:
+                        subsegments[(lo, hi)] = [s, apex >= 0 and encroaches(lo, hi, apex)]
+                    elif not entry[1] and apex >= 0 and encroaches(lo, hi, apex):
+                        entry[1] = True
+        for (lo, hi), (s, hit) in subsegments.items():
+            if hit:
+                self._segs.append((lo, hi, s))
         dead = self._dead
         finished = False
         where = -1

@@ -280,10 +280,25 @@ def rounded_candidates(
     seen: set[tuple[float, float]] = set()
     for t in _candidate_parameters(first, tu, delta):
         # The exact point a + t (b − a) = (nx, ny) / t.den · 2^ex, and its nearest doubles (int / int rounds once).
-        tn, td = t.numerator, t.denominator
+        tn, td = t.as_integer_ratio()
         nx = ia[0] * td + tn * (ib[0] - ia[0])
         ny = ia[1] * td + tn * (ib[1] - ia[1])
-        xs, ys = _window(_to_double(nx, td, ex)), _window(_to_double(ny, td, ex))
+        x0, y0 = _to_double(nx, td, ex), _to_double(ny, td, ex)
+        skip: tuple[float, float] | None = None
+        if not seen and _uniquely_nearest(nx, td, ex, x0) and _uniquely_nearest(ny, td, ex, y0):
+            # (x0, y0) is then the strict minimum of the squared distance below, hence first in its order: when it
+            # passes both tests it is the first candidate yielded, and the window is only needed if more are asked.
+            r0x, r0y = x0.as_integer_ratio(), y0.as_integer_ratio()
+            den0 = max(r0x[1], r0y[1], 1 << max(0, -ex))
+            up0 = den0.bit_length() - 1 + ex
+            along0 = ((r0x[0] * (den0 // r0x[1])) - (iu[0] << up0)) * ((iw[0] - iu[0]) << up0) + (
+                (r0y[0] * (den0 // r0y[1])) - (iu[1] << up0)
+            ) * ((iw[1] - iu[1]) << up0)
+            span0 = ((iw[0] - iu[0]) << up0) ** 2 + ((iw[1] - iu[1]) << up0) ** 2
+            if 0 < along0 < span0 and near_segment(fax, fay, fbx, fby, x0, y0):
+                yield t, x0, y0
+                skip = (x0, y0)
+        xs, ys = _window(x0), _window(y0)
         # Everything in integer units 2^-J, J large enough for the window's doubles and for 2^ex.
         ratios_x = [v.as_integer_ratio() for v in xs]
         ratios_y = [v.as_integer_ratio() for v in ys]
@@ -309,8 +324,28 @@ def rounded_candidates(
         near.sort()
         # The box test is the costly one: run it lazily, nearest first (the caller usually takes the first).
         for _, x, y in near:
+            if skip is not None and (x, y) == skip:
+                continue  # yielded above (the first of this order that passes)
             if near_segment(fax, fay, fbx, fby, x, y):
                 yield t, x, y
+
+
+def _uniquely_nearest(num: int, den: int, e: int, f: float) -> bool:
+    """Whether the double ``f`` (the rounding of ``num / den · 2^e``, ``den > 0``) is strictly nearer to that value
+    than both its neighbours: the value is no midpoint between ``f`` and one of them (exact, on integers). O(1)."""
+    fn, fd = f.as_integer_ratio()
+    for g in (math.nextafter(f, -math.inf), math.nextafter(f, math.inf)):
+        if not math.isfinite(g):
+            return False  # not decided here (the caller's window meets the same limit)
+        gn, gd = g.as_integer_ratio()
+        d = max(fd, gd)  # powers of two
+        mid2 = fn * (d // fd) + gn * (d // gd)  # (f + g) = mid2 / d; a tie is 2 · num / den · 2^e = mid2 / d
+        if e >= 0:
+            if 2 * num * d << e == mid2 * den:
+                return False
+        elif 2 * num * d == (mid2 * den) << -e:
+            return False
+    return True
 
 
 def _candidate_parameters(first: Fraction, tu: Fraction, delta: Fraction) -> Iterator[Fraction]:

@@ -272,15 +272,18 @@ class MeshTriangulation:
         while stack:
             u, w, dat = stack.pop()
             forced = False
+            seg = -1
             if dat[2]:
-                seg = constraint_of(dat, u, w)
+                lo, hi = (u, w) if u < w else (w, u)
+                for ca, cb, cs in dat[2]:  # constraint_of(dat, u, w), inlined
+                    if ca == lo and cb == hi:
+                        seg = cs
+                        break
                 if seg >= 0:
-                    if ((u, w) if u < w else (w, u)) != crossing:
+                    if (lo, hi) != crossing:
                         boundary.append((u, w, dat[1], seg))
                         continue
                     forced = True  # the subsegment split: both triangles beside it go
-            else:
-                seg = -1
             found = neighbour((w, u))
             assert found is not None, "a closed surface has a triangle beyond every edge"
             ntri, ndat = found
@@ -354,10 +357,9 @@ class MeshTriangulation:
         if len(succ) != len(boundary):
             raise MeshError(f"internal: the cavity of point {p} is not a disc")
         first = succ[inf][0] if inf in succ else boundary[0][0]
-        new_constraints: dict[tuple[int, int], int] = {}
-        if split is not None:
-            new_constraints[edge_key(split[0], p)] = split[2]
-            new_constraints[edge_key(p, split[1])] = split[2]
+        # A split makes the edges from p to the subsegment's ends {s0, s1} constrained (segment sseg): the fan edge
+        # from p to a boundary vertex x is one of them exactly when x is s0 or s1.
+        s0, s1, sseg = split if split is not None else (-2, -2, -1)
         created: list[tuple[Tri, MeshDatum]] = []
         u = first
         check = self.check
@@ -369,14 +371,16 @@ class MeshTriangulation:
             tri = (u, w, vp)
             if check and pred.orient2d_sign(u, w, p) <= 0:
                 raise MeshError(f"internal: point {p} makes the flat or inverted triangle {tri}")
-            if seg >= 0 or new_constraints:
+            if seg >= 0 or sseg >= 0:
                 cons: list[Constraint] = []
                 if seg >= 0:
                     cons.append((u, w, seg) if u < w else (w, u, seg))
-                for x, y in ((w, vp), (vp, u)):
-                    s2 = new_constraints.get(edge_key(x, y), -1)
-                    if s2 >= 0:
-                        cons.append((*edge_key(x, y), s2))
+                if sseg >= 0:
+                    # The edges (w, p) and (p, u), in this order.
+                    if w == s0 or w == s1:
+                        cons.append((w, vp, sseg) if w < vp else (vp, w, sseg))
+                    if u == s0 or u == s1:
+                        cons.append((u, vp, sseg) if u < vp else (vp, u, sseg))
                 created.append((tri, (tid, region, tuple(cons))))
             else:
                 created.append((tri, (tid, region, ())))
@@ -387,9 +391,10 @@ class MeshTriangulation:
         self._next_id = tid
         if inf in succ:
             # An open fan: p is on the hull; two ghosts close it, on the new hull edges (p, u) and (first, p).
-            for g, (x, y) in (((u, inf, vp), (vp, u)), ((inf, first, vp), (first, vp))):
-                s2 = new_constraints.get(edge_key(x, y), -1)
-                cons2: tuple[Constraint, ...] = ((*edge_key(x, y), s2),) if s2 >= 0 else ()
+            for g, x in (((u, inf, vp), u), ((inf, first, vp), first)):
+                cons2: tuple[Constraint, ...] = ()
+                if sseg >= 0 and (x == s0 or x == s1):
+                    cons2 = ((x, vp, sseg) if x < vp else (vp, x, sseg),)
                 created.append((g, self.new_datum(EXTERIOR, cons2)))
         removed = tuple(cav.triangles.values())
         if beyond is not None:
