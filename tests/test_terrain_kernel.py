@@ -127,17 +127,20 @@ def _kernel2d_function(name: str) -> ast.FunctionDef:
     return found[0]
 
 
-@pytest.mark.parametrize(("kernel_fn", "filter_fn"), [("incircle", fp.incircle_terms), ("orient_det", fp.orient2d_terms)])
+@pytest.mark.parametrize(
+    ("kernel_fn", "filter_fn"),
+    [("incircle", fp.incircle_terms), ("orient2d", fp.orient2d_terms), ("orient2d_sign", fp.orient2d_terms)],
+)
 def test_the_kernels_written_out_filter_is_the_proved_function(kernel_fn: str, filter_fn: object) -> None:
     """The kernel writes the filter expressions out in place: the same statements in the same order as the
     functions proofs/proof_predicates.py analyses, so that they round alike (the permanent of orient2d is
-    completed by its callers: ``abs(detleft) + abs(detright)``, the proved function's last statement)."""
+    completed only when the box threshold does not decide: ``abs(detleft) + abs(detright)``, the proved
+    function's last statement)."""
     run, _ = _filter_body(filter_fn)  # type: ignore[arg-type]
-    if kernel_fn == "orient_det":
+    if kernel_fn != "incircle":
         run = run[:-1]
         completed = ast.dump(ast.parse("thr = o2_errbound * (abs(detleft) + abs(detright))").body[0])
-        for caller in ("orient2d", "orient2d_sign"):
-            assert completed in _dumps([n for n in ast.walk(_kernel2d_function(caller)) if isinstance(n, ast.stmt)])
+        assert completed in _dumps([n for n in ast.walk(_kernel2d_function(kernel_fn)) if isinstance(n, ast.stmt)])
     assert _contains_in_order(_kernel2d_function(kernel_fn), run)
 
 

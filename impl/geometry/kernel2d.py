@@ -209,14 +209,19 @@ class Delaunay2Kernel:
                 return -1
             return exact_incircle(a, b, c, d, True)
 
-        def orient_det(a: int, b: int, c: int) -> tuple[float, float, float]:
+        # orient2d and orient2d_sign each write the determinant out (a helper returning it would box a
+        # tuple of three floats per test when compiled).
+
+        def orient2d(a: int, b: int, c: int) -> int:
+            if pred.stats is not None:
+                return checked_o(a, b, c)
             try:
                 ax, ay = rows[a]
                 bx, by = rows[b]
                 cx, cy = rows[c]
             except ValueError:
                 (ax, ay), (bx, by), (cx, cy) = row(a), row(b), row(c)
-            # filter.orient2d_terms:
+            # filter.orient2d_terms (the permanent is computed below when needed):
             acx = ax - cx
             bcx = bx - cx
             acy = ay - cy
@@ -224,13 +229,7 @@ class Delaunay2Kernel:
             detleft = acx * bcy
             detright = acy * bcx
             det = detleft - detright
-            # end of filter.orient2d_terms (the permanent is computed by the caller when needed)
-            return det, detleft, detright
-
-        def orient2d(a: int, b: int, c: int) -> int:
-            if pred.stats is not None:
-                return checked_o(a, b, c)
-            det, detleft, detright = orient_det(a, b, c)
+            # end of filter.orient2d_terms
             if det > o2_static:
                 return 1
             if det < -o2_static:
@@ -251,7 +250,21 @@ class Delaunay2Kernel:
         def orient2d_sign(a: int, b: int, c: int) -> int:
             if pred.stats is not None:
                 return checked_sign(a, b, c)
-            det, detleft, detright = orient_det(a, b, c)
+            try:
+                ax, ay = rows[a]
+                bx, by = rows[b]
+                cx, cy = rows[c]
+            except ValueError:
+                (ax, ay), (bx, by), (cx, cy) = row(a), row(b), row(c)
+            # filter.orient2d_terms (the permanent is computed below when needed):
+            acx = ax - cx
+            bcx = bx - cx
+            acy = ay - cy
+            bcy = by - cy
+            detleft = acx * bcy
+            detright = acy * bcx
+            det = detleft - detright
+            # end of filter.orient2d_terms
             if det > o2_static:
                 return 1
             if det < -o2_static:

@@ -115,6 +115,10 @@ EMPTY: Final[Samples] = np.zeros(0, dtype=np.intp)
 """The empty (read-only) sample list of ghosts and of triangles without samples."""
 EMPTY.setflags(write=False)
 
+NO_SECTOR: Final[IntArray] = np.zeros(0, dtype=np.intp)
+"""The (read-only) ``fan_index`` of an insertion without samples (scattered points have none)."""
+NO_SECTOR.setflags(write=False)
+
 
 _R = TypeVar("_R")
 _R_co = TypeVar("_R_co", covariant=True)
@@ -465,10 +469,10 @@ class Triangulator:
                 pooled = pooled[order]
                 counts = np.bincount(sector, minlength=nfan).tolist()
             else:
-                sector = np.zeros(pooled.size, dtype=np.intp)
+                sector = np.zeros(pooled.size, dtype=np.intp) if pooled.size else NO_SECTOR
                 counts = [0] * nfan
                 counts[0] = pooled.size
-            samples = _frozen(pooled)
+            samples = pooled if pooled is EMPTY else _frozen(pooled)
 
         # The new version: the cavity removed, the fan added (one replace, or the paper's rem and add each).
         tri_of = self.tri_of
@@ -519,7 +523,8 @@ class Triangulator:
             cx = S.replace(cx, removed_tris, fan)
         self.complex = cx
         return Insertion(
-            p, cx, removed, created, samples, counts, not closed, ring, None if sector is None else _frozen(sector), own
+            p, cx, removed, created, samples, counts, not closed, ring,
+            sector if sector is None or sector is NO_SECTOR else _frozen(sector), own,
         )
 
     def _into_sectors(self, sort: FanSort[_S, _R], p: int, ring: list[Vertex], closed: bool, pooled: _S) -> _R:
