@@ -382,3 +382,29 @@ def test_survey_lots_mesh_by_default(n: int, seed: int, angle: float, area: floa
     report = verify_mesh(d, m.vertices, m.triangles, min_angle=angle, max_area=area, exact_segments=m.rounded_splits == 0)
     assert report.ok, report.problems[:2]
     assert report.rounded_split_vertices == m.rounded_splits
+
+
+def _equidistant_exact(pts: np.ndarray) -> bool:
+    (ox, oy), (px, py), (qx, qy) = ([Fraction(v) for v in row] for row in pts.tolist())
+    dp, dq = (px - ox) ** 2 + (py - oy) ** 2, (qx - ox) ** 2 + (qy - oy) ** 2
+    return 999 * dq < 1000 * dp < 1001 * dq
+
+
+@settings(max_examples=400, deadline=None)
+@given(
+    st.floats(-1e6, 1e6), st.floats(-1e6, 1e6), st.floats(1e-9, 1e3), st.floats(0, 2 * math.pi),
+    st.floats(0, 2 * math.pi), st.sampled_from([1.0, 1000 / 1001, 1001 / 1000, 999 / 1000, 1000 / 999, 0.9, 1.1]),
+    st.integers(-3, 3),
+)
+def test_equal_distance_filter_equals_the_exact_test(
+    ox: float, oy: float, r: float, a: float, b: float, ratio: float, nudge: int
+) -> None:
+    # Triangle's 1.001 rule with its float stage against rationals, at and near both boundaries of the factor.
+    from persistri.impl.mesh.quality import equidistant
+
+    rq = r * math.sqrt(ratio)
+    q = (ox + rq * math.cos(b), oy + rq * math.sin(b))
+    q = (q[0], q[1] + nudge * math.ulp(q[1]))
+    pts = np.array([(ox, oy), (ox + r * math.cos(a), oy + r * math.sin(a)), q])
+    assume(not np.array_equal(pts[0], pts[1]) and not np.array_equal(pts[0], pts[2]))
+    assert equidistant(GrowingPredicates2(pts), 0, 1, 2) == _equidistant_exact(pts)

@@ -43,7 +43,17 @@ from persistri.impl.geometry.filter import ERRBOUND_ORIENT2D, orient2d_terms
 from persistri.impl.geometry.growing import ERRBOUND_DOT, GrowingPredicates2
 from persistri.impl.mesh.angles import EXACT_COS2, angle_at_least, cos2_bounds
 
-__all__ = ["AngleBound", "Shape", "shape", "area_exceeds", "twice_area", "inside_lens", "at_least", "QualityTests"]
+__all__ = [
+    "AngleBound",
+    "Shape",
+    "shape",
+    "area_exceeds",
+    "twice_area",
+    "inside_lens",
+    "at_least",
+    "equidistant",
+    "QualityTests",
+]
 
 _MARGIN = 1e-9
 """The float stage of :func:`at_least` decides only outside ``cos²θ · (1 ± _MARGIN)``."""
@@ -202,6 +212,45 @@ _SLACK: Final[float] = 2.0**-40
 
 _LENS_MARGIN: Final[float] = 1e-9
 """Absolute margin on a cosine in the float lens test (its error is below 2e-15)."""
+
+def equidistant(P: GrowingPredicates2, o: int, p: int, q: int) -> bool:
+    """Triangle's equal-distance test (``testtriangle()``, Miller–Pav–Walkington's exemption): whether the squared
+    distances ``dp = |p − o|²`` and ``dq = |q − o|²`` satisfy ``999 dq < 1000 dp < 1001 dq``.  Exact. O(1).
+
+    **Float stage**, on the predicates' filter copy (:class:`QualityTests`' setting: the model ``fl(x ∘ y) = (x ∘
+    y)(1 + δ)``, ``|δ| <= u = 2^-53``, holds there): the computed squared lengths ``Dp``, ``Dq`` are within
+    ``4.01u`` of the exact ones, relatively (:class:`QualityTests`), and ``fl(k · D)`` for ``k`` in {999, 1000, 1001}
+    adds one rounding, so each side of either comparison is within ``(1 + u)^5 − 1 < 5.1u`` of its exact value,
+    relatively (squares below ``2^502`` and above ``2^-480`` on the filter copy: no overflow, no subnormal).
+    ``L < fl(R · (1 − 2^-40))`` for the computed sides then proves ``L < R`` for the exact ones, since ``(1 − 2^-40)
+    (1 + u) (1 + 5.1u) / (1 − 5.1u) < 1``, and ``L > fl(R · (1 + 2^-40))`` proves ``L > R`` likewise; both
+    comparisons proved true decide, one proved false decides, anything else (a near tie, a point without a filter
+    copy: NaN compares false) is decided on integers.
+    """
+    rows = P.filter_rows
+    ox, oy = rows[o]
+    px, py = rows[p]
+    qx, qy = rows[q]
+    dpx, dpy, dqx, dqy = px - ox, py - oy, qx - ox, qy - oy
+    dp = dpx * dpx + dpy * dpy
+    dq = dqx * dqx + dqy * dqy
+    upper = 1000.0 * dp  # the middle term
+    low, high = 999.0 * dq, 1001.0 * dq
+    if upper > high * _WIDE or low > upper * _WIDE:
+        return False  # 1000 dp >= 1001 dq, or 999 dq >= 1000 dp
+    if low < upper * _NARROW and upper < high * _NARROW:
+        return True
+    (io, ip, iq), _ = P.integers(o, p, q)
+    ep = (ip[0] - io[0]) ** 2 + (ip[1] - io[1]) ** 2
+    eq = (iq[0] - io[0]) ** 2 + (iq[1] - io[1]) ** 2
+    return 999 * eq < 1000 * ep < 1001 * eq
+
+
+_NARROW: Final[float] = 1.0 - 2.0**-40
+"""``L < R · _NARROW`` on :func:`equidistant`'s computed sides proves ``L < R`` exactly."""
+
+_WIDE: Final[float] = 1.0 + 2.0**-40
+"""``L > R · _WIDE`` on :func:`equidistant`'s computed sides proves ``L > R`` exactly."""
 
 BadShape = tuple[int, int, int, float, bool]
 """``(p, q, r, edge2, good_angle)`` as in :class:`Shape`: the triangle rotated to its shortest edge ``pq``."""

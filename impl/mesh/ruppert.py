@@ -108,7 +108,7 @@ from persistri.impl.complex.structure import Complex
 from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
 from persistri.impl.mesh.angles import angle_at_least
 from persistri.impl.mesh.precision import crowded_apex, nearest_features, valid_split
-from persistri.impl.mesh.quality import AngleBound, BadShape, QualityTests
+from persistri.impl.mesh.quality import AngleBound, BadShape, QualityTests, equidistant
 from persistri.impl.mesh.record import Counts, DropLog, Refinement
 from persistri.impl.mesh.splitting import placement_tolerances, rounded_candidates, small_angle_at, split_point
 from persistri.impl.mesh.steiner import PrecisionLimitError, steiner_point
@@ -180,6 +180,7 @@ class Refiner:
         self._sharp: dict[tuple[int, int, int], bool] = {}
         self._placement: dict[int, tuple[tuple[int, float], ...]] = {}
         self._n_input = geo.n_input
+        self._exempt_memo: dict[tuple[int, int], bool] = {}
         self._dead: set[int] = set()
         self.log = DropLog()
         self._version = 0  # the history index of the version the run stands at
@@ -187,24 +188,34 @@ class Refiner:
     # -- tests -----------------------------------------------------------------------------
 
     def _exempt_edge(self, p: int, q: int) -> bool:
-        """Whether edge ``pq`` joins two split points on different segments, equidistant from their common endpoint."""
+        """Whether edge ``pq`` joins two split points on different segments, equidistant from their common endpoint.
+
+        Memoised: the answer depends on ``p`` and ``q`` alone (their segments and shells are recorded when they are
+        made, before any triangle of theirs is judged, and never change)."""
         on = self.geo.on_segment
         sp, sq = on.get(p), on.get(q)
         if sp is None or sq is None or sp[0] == sq[0]:
             return False
-        ends_p, ends_q = self.geo.ends[sp[0]], self.geo.ends[sq[0]]
-        for o in set(ends_p) & set(ends_q):
+        key = (int(p), int(q))
+        found = self._exempt_memo.get(key)
+        if found is None:
+            found = self._exempt_memo[key] = self._exempt_split_points(p, q, sp[0], sq[0])
+        return found
+
+    def _exempt_split_points(self, p: int, q: int, s1: int, s2: int) -> bool:
+        """:meth:`_exempt_edge` for split points ``p`` on segment ``s1`` and ``q`` on segment ``s2 != s1``."""
+        ends_p, ends_q = self.geo.ends[s1], self.geo.ends[s2]
+        for o in ends_p:
+            if o not in ends_q:
+                continue
             # Only at a small input angle (below 60°): elsewhere Ruppert's argument needs no exemption.
-            if not self._sharp_pair(o, sp[0], sq[0]):
+            if not self._sharp_pair(o, s1, s2):
                 continue
             shp, shq = self.geo.shell.get(p), self.geo.shell.get(q)
             if shp is not None and shp == shq and shp[0] == o:
                 return True
-            (po, pp, pq), _ = self.P.integers(o, p, q)
-            dp = (pp[0] - po[0]) ** 2 + (pp[1] - po[1]) ** 2
-            dq = (pq[0] - po[0]) ** 2 + (pq[1] - po[1]) ** 2
-            # Triangle's test, decided on integers: squared distances within a factor 1.001 of each other.
-            if 999 * dq < 1000 * dp < 1001 * dq:
+            # Triangle's test, decided exactly (float stage first): squared distances within a factor 1.001.
+            if equidistant(self.P, o, p, q):
                 return True
         return False
 

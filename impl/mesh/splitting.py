@@ -197,7 +197,8 @@ def split_point(
     or when even the rounded point falls on an end.  O(1).
     """
     tu, tw = param_on_segment(P, geo, s, lo), param_on_segment(P, geo, s, hi)
-    if tu < tw:
+    (un, ud), (wn, wd) = tu.as_integer_ratio(), tw.as_integer_ratio()
+    if un * wd < wn * ud:  # tu < tw (positive denominators)
         first, second, t_first, t_second = lo, hi, tu, tw
     else:
         first, second, t_first, t_second = hi, lo, tw, tu
@@ -223,7 +224,8 @@ def split_point(
             wanted = t_first + dt if centre == first else t_second - dt
             shell = (centre, k)
     if wanted is None:
-        wanted = (t_first + t_second) / 2
+        # (t_first + t_second) / 2, normalised once.
+        wanted = Fraction(un * wd + wn * ud, 2 * ud * wd)
     try:
         t, x, y = split_parameter(P, a, b, first, second, t_first, t_second, wanted)
         near = () if tolerances is None else tolerances(s)
