@@ -22,7 +22,8 @@ from hypothesis import strategies as st
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.scale.terrain import TiledTin, tiled_terrain, write_tile_meshes
 from persistri.impl.scale.terrain_seams import Tiling, seam_vertices
-from persistri.impl.scale.terrain_source import NodataRule, NpySource, filled_window, open_dem
+from persistri.impl.scale.terrain_nodata import NodataRule, filled_window
+from persistri.impl.scale.terrain_source import NpySource, open_dem
 from persistri.impl.scale.terrain_tile import mesh_tile
 from persistri.impl.terrain.check import ERROR_RTOL, verify_triangulation
 from persistri.impl.terrain.synthetic import synthetic_dem

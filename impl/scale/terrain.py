@@ -78,7 +78,8 @@ from numpy.typing import NDArray
 
 from persistri.impl.scale.tasks import Task, run, task
 from persistri.impl.scale.terrain_seams import Seam, Tiling, seam_vertices
-from persistri.impl.scale.terrain_source import ArraySource, Dem, DemSource, NodataRule, filled_window, open_dem, survey
+from persistri.impl.scale.terrain_nodata import NodataRule, filled_window, survey
+from persistri.impl.scale.terrain_source import ArraySource, Dem, DemSource, open_dem
 from persistri.impl.scale.terrain_tile import mesh_tile
 from persistri.impl.terrain.crs import Crs
 from persistri.impl.terrain.delaunay import canonical_triangles
@@ -299,7 +300,7 @@ def tiled_terrain(
     * ``keep_tiles`` — keep each tile's mesh (:attr:`TiledTin.pieces`, for :func:`write_tile_meshes`).
 
     Errors: :class:`ValueError`/:class:`TypeError`, one line naming the grid, for
-    an unreadable or invalid grid (checked by :func:`~persistri.impl.scale.terrain_source.survey`
+    an unreadable or invalid grid (checked by :func:`~persistri.impl.scale.terrain_nodata.survey`
     before any meshing), a bad ``max_error`` or ``tile``; an error inside a task
     is raised here.
     """
