@@ -29,6 +29,8 @@ from __future__ import annotations
 
 import gc
 from dataclasses import dataclass, field
+from itertools import chain
+from operator import itemgetter
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -203,16 +205,18 @@ def delaunay(
                 continue
             # Each walk starts in the fan of the previous point, its predecessor along the curve.
             ins = T.insert(q, T.locate(q, hint) if ins is None else T.locate_after(q, ins))
-        inf = T.infinite
-        items = structure.items(T.complex)
-        tris = np.array([t for t, _ in items if inf not in t], dtype=np.intp).reshape(-1, 3)
+        # The final version's triangles, ghosts included, read into one array (vertex labels are point indices).
+        every = np.fromiter(
+            chain.from_iterable(map(itemgetter(0), structure.iter_items(T.complex))), dtype=np.intp
+        ).reshape(-1, 3)
+        at_inf = every == int(T.infinite)
+        ghost = at_inf.any(axis=1)
+        tris = every[~ghost]
         # A ghost (u, w, ∞) sits on the hull edge (w, u) of the finite triangle beside it (counterclockwise).
-        succ: dict[int, int] = {}
-        for t, _ in items:
-            if inf in t:
-                k = t.index(inf)
-                u, w = t[(k + 1) % 3], t[(k + 2) % 3]
-                succ[int(w)] = int(u)
+        k = np.argmax(at_inf[ghost], axis=1)
+        ghosts = every[ghost]
+        rows_g = np.arange(ghosts.shape[0])
+        succ: dict[int, int] = dict(zip(ghosts[rows_g, (k + 2) % 3].tolist(), ghosts[rows_g, (k + 1) % 3].tolist()))
     finally:
         if collector:
             # Promote what the run made to the oldest generation (freeze, unfreeze: two list splices):
