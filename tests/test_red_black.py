@@ -462,19 +462,29 @@ def test_adjust_many_errors() -> None:
     assert S.adjust_many(f, m, []) == (m, [])
 
 
+def _add_or_empty(old: tuple[int, ...], new: tuple[int, ...]) -> tuple[int, ...]:
+    """A combine that empties the value when given ``()``: what the 2-complex's ``replace`` does to a vertex."""
+    return old + new if new else ()
+
+
 @given(st.lists(st.integers(0, 500), max_size=200), st.lists(st.integers(-20, 520), max_size=40, unique=True))
 def test_adjust_sorted_is_adjust_many(keys: list[int], probe: list[int]) -> None:
     """The unchecked form the 2-complex's ``replace`` uses: the same map (the same new nodes, by count) and
-    the same absent items as ``adjust_many`` on strictly increasing keys; the argument unchanged."""
+    the same absent items as ``adjust_many`` on strictly increasing keys, by index; the indices of the
+    values it emptied; the argument unchanged."""
     m: RBMap[int, tuple[int, ...]] = S.empty()
     for k in keys:
         m = S.insert(m, k, (k,))
     before = S.listItemsi(m)
-    items = [(k, (-k,)) for k in sorted(probe)]
-    out, absent = S.adjust_sorted(lambda old, new: old + new, m, items)
-    want, want_absent = S.adjust_many(lambda old, new: old + new, m, items)
+    ks = sorted(probe)
+    vs: list[tuple[int, ...]] = [(-k,) if k % 3 else () for k in ks]
+    out, absent, emptied = S.adjust_sorted(_add_or_empty, m, ks, vs)
+    want, want_absent = S.adjust_many(_add_or_empty, m, list(zip(ks, vs)))
     S._check(out)
-    assert S.listItemsi(out) == S.listItemsi(want) and absent == want_absent
+    assert S.listItemsi(out) == S.listItemsi(want) and [(ks[i], vs[i]) for i in absent] == want_absent
+    assert absent == sorted(absent) and emptied == sorted(emptied)
+    assert emptied == [i for i, k in enumerate(ks) if S.inDomain(m, k) and not vs[i]]
+    assert all(S.lookup(out, ks[i]) == () for i in emptied)
     assert S.listItemsi(m) == before
     old = {id(x) for x in nodes(m[1])}
     assert sum(id(x) not in old for x in nodes(out[1])) == sum(id(x) not in old for x in nodes(want[1]))
@@ -487,9 +497,9 @@ def test_adjust_sorted_lets_f_raise() -> None:
         raise KeyError("f says no")
 
     with pytest.raises(KeyError, match="f says no"):
-        S.adjust_sorted(f, m, [(1, 0), (3, 0)])
-    assert S.adjust_sorted(f, m, [(-5, 1)]) == (m, [(-5, 1)])
-    assert S.adjust_sorted(f, S.empty(), [(1, 2)]) == (S.empty(), [(1, 2)])
+        S.adjust_sorted(f, m, [1, 3], [0, 0])
+    assert S.adjust_sorted(f, m, [-5], [1]) == (m, [0], [])
+    assert S.adjust_sorted(f, S.empty(), [1], [2]) == (S.empty(), [0], [])
 
 
 @given(st.lists(st.integers(0, 200), max_size=100), st.lists(st.integers(-10, 210), max_size=30))

@@ -69,7 +69,7 @@ from persistri.impl.complex.checks import check_vertex_lists
 from persistri.impl.complex.replace import arguments
 from persistri.impl.complex.structure import Complex, Family
 from persistri.impl.complex.two_complex import Triangle, TwoComplex
-from persistri.impl.complex.vertex_lists import Emptied, Entry, Missing, Present, Unbatched, cat_new, drop_add, group
+from persistri.impl.complex.vertex_lists import Entry, Missing, Present, Unbatched, group, rebuild
 from persistri.impl.complex.vertex import Vertex
 from persistri.impl.stats import Stats
 from persistri.spec.option import Option
@@ -446,12 +446,8 @@ class EphemeralTwoComplex(TwoComplex[D]):
                     new_lists.append((v, tuple(change[1] + change[2])))
                     continue
                 scanned += len(old)
-                try:
-                    new_lists.append(
-                        (v, drop_add(old, change) if change[0] else cat_new(old, tuple(change[1] + change[2])))
-                    )
-                except Emptied:
-                    new_lists.append((v, None))
+                rebuilt = rebuild(old, change)
+                new_lists.append((v, rebuilt if rebuilt else None))
         except (Unbatched, Missing, Present, TypeError, ValueError, AttributeError):
             return self._replace_on_copy(c, removed, added)
         for v, lst in new_lists:

@@ -17,7 +17,7 @@ Two ways to make those updates, both here or in
   vertex left in no triangle), through any ``ORD_MAP`` backend.  Counted
   structures use it, so the counts are those of the paper's operations;
 * :func:`~persistri.impl.complex.vertex_lists.replace_batched` — the
-  red-black map's ``adjust_sorted``/``adjust_many`` rebuilds every present
+  red-black map's ``adjust_sorted`` rebuilds every present
   vertex's list in one descent, copying the tree nodes their search paths
   share once.
 

@@ -128,12 +128,12 @@ class TwoComplex(ComplexStructure[D]):
         self._put = self._combiner(put)
         self._drop_add = self._combiner(drop_add)
         self._cat_new = self._combiner(cat_new)
-        # A backend that updates several keys in one descent (red-black's adjust_many; uncounted only:
+        # A backend that updates several keys in one descent (red-black's adjust_sorted; uncounted only:
         # the counting wrapper has none, so counted runs make the per-vertex insertWith the paper counts).
-        # Its unchecked form if it has one: replace sorts the vertices itself, and they are validated.
-        self._adjust_many: Callable[..., tuple[Any, list[Any]]] | None = getattr(
+        # Unchecked: replace sorts the vertices itself, and they are validated.
+        self._adjust_sorted: Callable[..., tuple[Any, list[int], list[int]]] | None = getattr(
             self._m, "adjust_sorted", None
-        ) or getattr(self._m, "adjust_many", None)
+        )
         if stats is None:
             self.family = Family(self.kind, 2, backend, None, self)
         else:
@@ -374,7 +374,7 @@ class TwoComplex(ComplexStructure[D]):
             if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex
                 raise Unbatched
             changes, out_lin = group(removed, added, lin)
-            if self._adjust_many is not None:
+            if self._adjust_sorted is not None:
                 rep = self._replace_batched(rep, changes)
             else:
                 rep = self._replace_per_vertex(rep, changes)
@@ -392,11 +392,11 @@ class TwoComplex(ComplexStructure[D]):
         return replace_per_vertex(self._m, rep, changes, self._drop_add, self._cat_new)
 
     def _replace_batched(self, rep: Any, changes: Changes) -> Any:
-        """``replace``'s map changes through the backend's ``adjust_many``
+        """``replace``'s map changes through the backend's ``adjust_sorted``
         (:func:`~persistri.impl.complex.vertex_lists.replace_batched`)."""
         m = self._m
-        assert self._adjust_many is not None
-        return replace_batched(rep, changes, self._adjust_many, m.insert, m.remove)
+        assert self._adjust_sorted is not None
+        return replace_batched(rep, changes, self._adjust_sorted, m.insert, m.remove)
 
     def _unpack(self, c: Any, what: str) -> tuple[Any, Lineage | None]:
         if type(c) is Complex:

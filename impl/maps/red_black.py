@@ -30,7 +30,8 @@ nodes.
 
 Algorithms
 ----------
-* Search is the ordinary binary-tree descent, iterative.
+* Search is the binary-tree descent, iterative, with one ``<`` per level
+  (Andersson's: the last node not above the key is checked at the leaf).
 * Insertion is Okasaki's (*Red-black trees in a functional setting*, JFP 9(4),
   1999): insert a red leaf, then on the way back up repair a red node with a
   red child under a black grandparent by one local rewrite, ``balance``.
@@ -213,36 +214,41 @@ class RedBlackMap(Generic[K, V]):
             if not ordered:
                 raise ValueError(f"{_NAME}: adjust_many needs strictly increasing keys, got {items[j - 1][0]!r} "
                                  f"before {items[j][0]!r}")
-        absent: list[tuple[K, V]] = []
         if t is None or not items:
             return m, list(items)
+        keys = [k for k, _ in items]
+        vals = [v for _, v in items]
+        absent: list[int] = []
         try:
-            new = _tree.adjust(t, items, 0, len(items), f, absent)
+            new = _tree.adjust(t, keys, vals, 0, len(keys), f, absent, [])
         except FailedWith as failed:
             raise failed.exc from None
         except TypeError as exc:
             raise _key_error(items[0][0], exc) from None
-        return (n, new), absent
+        return (n, new), [items[i] for i in absent]
 
     def adjust_sorted(
-        self, f: Callable[[V, V], V], m: RBMap[K, V], items: list[tuple[K, V]], /
-    ) -> tuple[RBMap[K, V], list[tuple[K, V]]]:
-        """:meth:`adjust_many` for items whose keys are known to be strictly increasing and ordered with the
-        map's: nothing is checked (a comparison's TypeError is not reworded).
+        self, f: Callable[[V, V], V], m: RBMap[K, V], keys: list[K], vals: list[V], /
+    ) -> tuple[RBMap[K, V], list[int], list[int]]:
+        """``(m', absent, emptied)``: :meth:`adjust_many` of the items ``(keys[i], vals[i])``, for keys known to be
+        strictly increasing and ordered with the map's: nothing is checked (a comparison's TypeError is not
+        reworded).  ``absent``: the indices of the keys not in ``m``; ``emptied``: those whose new value
+        ``f(old, vals[i])`` is falsy (an emptied collection, which the caller may then remove).
 
         persistri's addition, for the 2-complex's ``replace``, which sorts the
-        vertices it touches itself (one pass of k − 1 comparisons fewer).
+        vertices it touches itself and removes a vertex whose list it emptied.
         Exceptions raised by ``f`` propagate unchanged.  O(k + new nodes).
         """
         n, t = m
-        if t is None or not items:
-            return m, list(items)
-        absent: list[tuple[K, V]] = []
+        if t is None or not keys:
+            return m, list(range(len(keys))), []
+        absent: list[int] = []
+        emptied: list[int] = []
         try:
-            new = _tree.adjust(t, items, 0, len(items), f, absent)
+            new = _tree.adjust(t, keys, vals, 0, len(keys), f, absent, emptied)
         except FailedWith as failed:
             raise failed.exc from None
-        return (n, new), absent
+        return (n, new), absent, emptied
 
     def find(self, m: RBMap[K, V], k: K, /) -> Option[V]:
         """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``. O(lg n)."""

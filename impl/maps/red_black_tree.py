@@ -35,6 +35,7 @@ __all__ = [
     "replace",
     "update",
     "adjust",
+    "adjust_one",
     "balance",
     "balleft",
     "balright",
@@ -64,30 +65,42 @@ _NAME: Final = "red_black"
 
 
 def search(t: Tree, k: Any) -> Tree:
-    """The node holding ``k`` in ``t``, or None; comparisons may raise TypeError."""
+    """The node holding ``k`` in ``t``, or None; comparisons may raise TypeError.
+
+    One ``<`` per level (Andersson's descent): the last node whose key is not
+    above ``k`` is the candidate, and one more comparison at the leaf says
+    whether it holds ``k`` (the order is total).  The descent always reaches a
+    leaf, about one level more than stopping at the node, but a right turn no
+    longer costs a second comparison: measured on 8,192 vertex keys (an ``int``
+    subclass, whose ``<`` CPython 3.11 does not specialise), 18 % fewer
+    instructions per search than ``<`` then ``>`` at every level.
+    """
+    cand: Tree = None
     while t is not None:
-        y = t[2]
-        if k < y:
+        if k < t[2]:
             t = t[1]
-        elif y < k:
-            t = t[4]
         else:
-            return t
+            cand = t
+            t = t[4]
+    if cand is not None and not cand[2] < k:
+        return cand
     return None
 
 
 def find(m: tuple[Any, ...], k: Any) -> tuple[Any, ...] | None:
     """``find`` of the map ``m = (size, tree)``: ``(v,)`` if ``k ↦ v`` is in it, else None; for a key known to be
-    ordered with the map's keys (a comparison's TypeError is not reworded).  O(lg n)."""
+    ordered with the map's keys (a comparison's TypeError is not reworded).  O(lg n), one ``<`` per level
+    (as :func:`search`)."""
     t: Tree = m[1]
+    cand: Tree = None
     while t is not None:
-        y = t[2]
-        if k < y:
+        if k < t[2]:
             t = t[1]
-        elif y < k:
-            t = t[4]
         else:
-            return (t[3],)
+            cand = t
+            t = t[4]
+    if cand is not None and not cand[2] < k:
+        return (cand[3],)
     return None
 
 
@@ -192,71 +205,105 @@ def update(t: Node, k: Any, f: Combine, v: Any) -> Node | None:
 
 
 def adjust(
-    t: Node, items: list[tuple[Any, Any]], lo: int, hi: int, f: Combine, absent: list[tuple[Any, Any]]
+    t: Node, keys: list[Any], vals: list[Any], lo: int, hi: int, f: Combine, absent: list[int], emptied: list[int]
 ) -> Node:
-    """``t`` with ``x ↦ f(x, v)`` at each present key of ``items[lo:hi]`` (increasing keys): path copying.
+    """``t`` with ``x ↦ f(x, vals[i])`` at each present key ``keys[i]``, ``lo ≤ i < hi`` (increasing keys):
+    path copying.
 
-    One descent for the whole slice: at each node the slice splits into the
-    keys below it, its own key, and the keys above it, and only the subtrees
-    that hold keys of the slice are rebuilt, so paths are copied once where
-    they are shared.  A subtree left with one key of the slice is handed to
-    :func:`update`, the single-key descent (called here, not through another
-    ``adjust``).  Keys that end at a leaf are appended to ``absent``; a subtree
-    holding none of the present keys is returned as it is (nothing is built for
-    the absent ones).  Shape and colours are kept.
+    One descent for the whole slice: while every key of the slice is on one
+    side of a node (one comparison with its last key, or two with its first and
+    last) the descent goes on there; where the slice straddles a node it splits
+    into the keys below it, its own key, and the keys above it.  Only subtrees
+    that hold keys of the slice are rebuilt, so paths are copied once where they
+    are shared; a part left with one key goes to :func:`adjust_one`, the
+    single-key descent.  The indices of keys that end at a leaf are appended to
+    ``absent``, those whose new value is falsy (an emptied collection) to
+    ``emptied``; a subtree holding none of the present keys is returned as it
+    is.  Shape and colours are kept, and so are the key objects of the tree.
+    Requires ``hi - lo ≥ 1``.  O(hi − lo + new nodes).
     """
-    if hi - lo == 1:  # one key: the single-key descent
-        k, v = items[lo]
-        new = update(t, k, f, v)
-        if new is None:
-            absent.append(items[lo])
-            return t
-        return new
     c, a, y, yv, b = t
+    last = hi - 1
+    if keys[last] < y:  # the whole slice is below y
+        if a is None:
+            absent.extend(range(lo, hi))
+            return t
+        a2 = adjust_one(a, keys[lo], vals[lo], f, lo, absent, emptied) if lo == last else adjust(
+            a, keys, vals, lo, hi, f, absent, emptied
+        )
+        return t if a2 is a else (c, a2, y, yv, b)
+    if y < keys[lo]:  # the whole slice is above y
+        if b is None:
+            absent.extend(range(lo, hi))
+            return t
+        b2 = adjust_one(b, keys[lo], vals[lo], f, lo, absent, emptied) if lo == last else adjust(
+            b, keys, vals, lo, hi, f, absent, emptied
+        )
+        return t if b2 is b else (c, a, y, yv, b2)
+    # keys[lo] <= y <= keys[last]: the scan below stops at the first key not below y.
     i = lo
-    while i < hi and items[i][0] < y:
+    while keys[i] < y:
         i += 1
     changed = False
     if i > lo:
         if a is None:
-            absent.extend(items[lo:i])
+            absent.extend(range(lo, i))
         else:
-            if i - lo == 1:
-                k, v = items[lo]
-                a1 = update(a, k, f, v)
-                if a1 is None:
-                    absent.append(items[lo])
-                    a2 = a
-                else:
-                    a2 = a1
-            else:
-                a2 = adjust(a, items, lo, i, f, absent)
-            changed = a2 is not a
-            a = a2
-    if i < hi and not y < items[i][0]:  # items[i] is y's key
+            a2 = adjust_one(a, keys[lo], vals[lo], f, lo, absent, emptied) if i - lo == 1 else adjust(
+                a, keys, vals, lo, i, f, absent, emptied
+            )
+            if a2 is not a:
+                changed = True
+                a = a2
+    if not y < keys[i]:  # keys[i] is y's key
         try:
-            yv = f(yv, items[i][1])
+            yv = f(yv, vals[i])
         except Exception as exc:
             raise FailedWith(exc) from None
+        if not yv:
+            emptied.append(i)
         changed = True
         i += 1
     if i < hi:
         if b is None:
-            absent.extend(items[i:hi])
+            absent.extend(range(i, hi))
         else:
-            if hi - i == 1:
-                k, v = items[i]
-                b1 = update(b, k, f, v)
-                if b1 is None:
-                    absent.append(items[i])
-                    b2 = b
-                else:
-                    b2 = b1
-            else:
-                b2 = adjust(b, items, i, hi, f, absent)
-            changed = changed or b2 is not b
-            b = b2
+            b2 = adjust_one(b, keys[i], vals[i], f, i, absent, emptied) if i == last else adjust(
+                b, keys, vals, i, hi, f, absent, emptied
+            )
+            if b2 is not b:
+                changed = True
+                b = b2
     return (c, a, y, yv, b) if changed else t
+
+
+def adjust_one(t: Node, k: Any, v: Any, f: Combine, i: int, absent: list[int], emptied: list[int]) -> Node:
+    """:func:`adjust` for the one key ``k`` (index ``i``) with argument ``v``: ``t`` with ``x ↦ f(x, v)`` at ``k``,
+    or ``t`` itself with ``i`` appended to ``absent`` when ``k`` is not in ``t``.
+
+    The single-key descent, two comparisons a level; ``i`` goes to ``emptied``
+    when the new value is falsy.  Recursive, depth at most the tree height.
+    """
+    c, a, y, yv, b = t
+    if k < y:
+        if a is None:
+            absent.append(i)
+            return t
+        a2 = adjust_one(a, k, v, f, i, absent, emptied)
+        return t if a2 is a else (c, a2, y, yv, b)
+    if y < k:
+        if b is None:
+            absent.append(i)
+            return t
+        b2 = adjust_one(b, k, v, f, i, absent, emptied)
+        return t if b2 is b else (c, a, y, yv, b2)
+    try:
+        x = f(yv, v)
+    except Exception as exc:
+        raise FailedWith(exc) from None
+    if not x:
+        emptied.append(i)
+    return (c, a, y, x, b)
 
 
 # -- deletion (Kahrs 2001) ---------------------------------------------------------
