@@ -510,3 +510,22 @@ def test_find_unchecked_is_find(keys: list[int], probes: list[int]) -> None:
         m = S.insert(m, k, -k)
     for k in probes:
         assert S.find_unchecked(m, k) == S.find(m, k)
+
+
+@given(st.lists(st.integers(0, 300), max_size=150), st.lists(st.integers(-10, 310), max_size=30, unique=True))
+def test_insert_absent_is_insert_of_an_absent_key(keys: list[int], probes: list[int]) -> None:
+    """The unchecked insertion ``replace`` uses for new vertices: the same tree as ``insert`` (shape, colours,
+    the same number of new nodes) for every absent key; the argument unchanged."""
+    m: RBMap[int, int] = S.empty()
+    for k in keys:
+        m = S.insert(m, k, k)
+    before = S.listItemsi(m)
+    old = {id(x) for x in nodes(m[1])}
+    for k in probes:
+        if S.inDomain(m, k):
+            continue
+        got, want = S.insert_absent(m, k, -k), S.insert(m, k, -k)
+        check_all(got)
+        assert _preorder(got[1]) == _preorder(want[1]) and S.numItems(got) == S.numItems(want)
+        assert sum(id(x) not in old for x in nodes(got[1])) == sum(id(x) not in old for x in nodes(want[1]))
+    assert S.listItemsi(m) == before

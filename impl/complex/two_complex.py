@@ -396,7 +396,9 @@ class TwoComplex(ComplexStructure[D]):
         (:func:`~persistri.impl.complex.vertex_lists.replace_batched`)."""
         m = self._m
         assert self._adjust_sorted is not None
-        return replace_batched(rep, changes, self._adjust_sorted, m.insert, m.remove)
+        # The new vertices are known absent (adjust_sorted found them so): the backend's unchecked insert.
+        insert = getattr(m, "insert_absent", None) or m.insert
+        return replace_batched(rep, changes, self._adjust_sorted, insert, m.remove)
 
     def _unpack(self, c: Any, what: str) -> tuple[Any, Lineage | None]:
         if type(c) is Complex:

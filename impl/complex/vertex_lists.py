@@ -350,7 +350,7 @@ def replace_batched(
     with no list).
     """
     keys = sorted(changes)
-    vals = [changes[v] for v in keys]
+    vals = list(map(changes.__getitem__, keys))
     rep, absent, emptied = adjust_sorted(rebuild, rep, keys, vals)
     for i in absent:
         change = vals[i]

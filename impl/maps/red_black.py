@@ -46,6 +46,7 @@ operation              time        notes
 =====================  ==========  ==============================================
 find, lookup, inDomain O(lg n)     at most ``2·log2(n+1)`` nodes visited
 insert                 O(lg n)     O(lg n) new nodes; a present key costs two descents
+insert_absent          O(lg n)     for a key known absent: one comparison a level
 insertWith             O(lg n)     one descent when the key is present (path copied
                                    back up), else a search and an insert
 adjust_many             O(k lg n)   k present keys in one descent; shared path
@@ -165,6 +166,20 @@ class RedBlackMap(Generic[K, V]):
             raise _key_error(k, exc) from None
         if new is None:
             return (n, _tree.replace(t, k, v))
+        if new[0] is RED:
+            new = (BLACK, new[1], new[2], new[3], new[4])
+        return (n + 1, new)
+
+    def insert_absent(self, m: RBMap[K, V], k: K, v: V, /) -> RBMap[K, V]:
+        """``m`` with ``k ↦ v`` for a key known not to be in ``m`` and ordered with its keys: nothing is checked.
+
+        persistri's addition, for the 2-complex's ``replace``, which inserts the
+        vertices ``adjust_sorted`` has just reported absent: Okasaki's insertion
+        with one comparison a level (:func:`~persistri.impl.maps.red_black_tree.ins_absent`).
+        A present key would be stored twice.  O(lg n).
+        """
+        n, t = m
+        new = _tree.ins_absent(t, k, v)
         if new[0] is RED:
             new = (BLACK, new[1], new[2], new[3], new[4])
         return (n + 1, new)

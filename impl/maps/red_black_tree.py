@@ -32,6 +32,7 @@ __all__ = [
     "search",
     "find",
     "ins",
+    "ins_absent",
     "replace",
     "update",
     "adjust",
@@ -147,6 +148,41 @@ def ins(t: Tree, k: Any, v: Any) -> Node | None:
                 return (RED, (BLACK, a, y, yv, nl), n[2], n[3], (BLACK, nr[1], nr[2], nr[3], nr[4]))
         return (c, a, y, yv, n)
     return None
+
+
+def ins_absent(t: Tree, k: Any, v: Any) -> Node:
+    """:func:`ins` of a key known not to be in ``t``: one ``<`` a level (a key not below ``y`` is above it).
+
+    For the 2-complex's ``replace``, whose new vertices the batched update has
+    just found absent.  A present ``k`` would be added a second time: callers
+    must know.  Same rewrites, same result as :func:`ins` on an absent key.
+    """
+    if t is None:
+        return (RED, None, k, v, None)
+    c, a, y, yv, b = t
+    if k < y:
+        n = ins_absent(a, k, v)
+        if c is BLACK and n[0] is RED:
+            nl = n[1]
+            if nl is not None and nl[0] is RED:
+                # balance B (T R (T R a x b) y c) z d = T R (T B a x b) y (T B c z d)
+                return (RED, (BLACK, nl[1], nl[2], nl[3], nl[4]), n[2], n[3], (BLACK, n[4], y, yv, b))
+            nr = n[4]
+            if nr is not None and nr[0] is RED:
+                # balance B (T R a x (T R b y c)) z d = T R (T B a x b) y (T B c z d)
+                return (RED, (BLACK, nl, n[2], n[3], nr[1]), nr[2], nr[3], (BLACK, nr[4], y, yv, b))
+        return (c, n, y, yv, b)
+    n = ins_absent(b, k, v)
+    if c is BLACK and n[0] is RED:
+        nl = n[1]
+        if nl is not None and nl[0] is RED:
+            # balance B a x (T R (T R b y c) z d) = T R (T B a x b) y (T B c z d)
+            return (RED, (BLACK, a, y, yv, nl[1]), nl[2], nl[3], (BLACK, nl[4], n[2], n[3], n[4]))
+        nr = n[4]
+        if nr is not None and nr[0] is RED:
+            # balance B a x (T R b y (T R c z d)) = T R (T B a x b) y (T B c z d)
+            return (RED, (BLACK, a, y, yv, nl), n[2], n[3], (BLACK, nr[1], nr[2], nr[3], nr[4]))
+    return (c, a, y, yv, n)
 
 
 def replace(t: Tree, k: Any, v: Any) -> Node:
