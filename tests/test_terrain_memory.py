@@ -16,11 +16,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.typing import NDArray
 
+from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.geometry.grid_predicates import GridPredicates2
+from persistri.impl.maps import backend as map_backend
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.check import RMS_BLOCK, ScaledSquares, largest_magnitude, root_mean_square
 from persistri.impl.terrain.delaunay import sample_dtype
-from persistri.impl.terrain.greedy import Tin, _level_summary, greedy_insertion
+from persistri.impl.terrain.greedy import Tin, _finite_triangles, _level_summary, greedy_insertion
+from persistri.impl.terrain.greedy_run import ID_BITS, GreedyRun, QueueKeys
 from persistri.impl.terrain.plane_errors import apex_first, level_errors, ranks
 from persistri.impl.terrain.sectors import fan_lists, fan_sectors
 
@@ -79,7 +82,7 @@ def _fan_case(n: int) -> tuple[GridPredicates2, int, NDArray[np.intp], bool, NDA
 def test_fan_lists_from_several_arrays_equal_fan_sectors_of_the_pool(block: int, dtype: type) -> None:
     pred, p, rays, closed, others = _fan_case(21)
     rng = np.random.default_rng(5)
-    pool = rng.permutation(others).astype(dtype)  # p among them, once
+    pool: NDArray[Any] = rng.permutation(others).astype(dtype)  # p among them, once
     cuts = np.sort(rng.choice(np.arange(1, pool.size), 3, replace=False))
     arrays = np.split(pool, cuts)
     joined = pool[pool != p]
@@ -125,3 +128,79 @@ def test_a_level_summary_equals_the_errors_of_the_whole_level() -> None:
     # The queue's maximum as the scale (one pass), none (two passes), a wrong one (a second pass): the same floats.
     for expected in (tin.max_error, None, 2.0 * tin.max_error, 0.0):
         assert _level_summary(heights.shape[1], z, apex, counts, lists, z.size, expected) == whole
+
+
+_POSITIVE = st.floats(min_value=5e-324, max_value=float("inf"), allow_nan=False)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(_POSITIVE, st.integers(0, 2**64 - 1), st.integers(0, 2**22 - 1)), max_size=40), st.data())
+def test_queue_keys_order_as_the_tuples_and_give_back_their_fields(
+    entries: list[tuple[float, int, int]], data: st.DataObject
+) -> None:
+    # Ties in the error, as the mesher makes them (equal floats from different triangles).
+    if entries:
+        e = data.draw(st.sampled_from([e for e, _, _ in entries]))
+        entries = entries + [(e, t + 1 if t < 2**64 - 1 else 0, s) for _, t, s in entries[:3]]
+    keys = QueueKeys(2**22)
+    packed = {keys.key(QueueKeys.bits(e), t, s): (e, t, s) for e, t, s in entries}
+    for key, (e, t, s) in packed.items():
+        assert type(key) is int
+        assert keys.error(key) == e and keys.tid(key) == t and keys.sample(key) == s
+        assert key.bit_length() <= 63 + ID_BITS + 22  # 48 bytes as a CPython int (5 or 6 digits of 30 bits)
+    assert [packed[k] for k in sorted(packed)] == sorted(set(entries), key=lambda x: (-x[0], x[1], x[2]))
+
+
+def test_queue_key_bits_are_the_float64_bits() -> None:
+    errors = np.array([5e-324, 1e-300, 0.5, 1.0, 1.0000000000000002, 3.0, 1e300, np.inf])
+    bits = errors.view(np.int64).tolist()
+    assert bits == [QueueKeys.bits(float(e)) for e in errors]
+    assert bits == sorted(bits) and len(set(bits)) == len(bits)
+
+
+def test_the_queue_holds_one_integer_per_live_candidate() -> None:
+    heights = _terrain(64, 80, 7)
+    run = GreedyRun(heights.ravel().copy(), heights.shape, TwoComplex(map_backend("red_black"), None), None, False)
+    for _ in range(300):
+        run.current_error()
+        run.step()
+    top = run.current_error()
+    assert run.heap and all(type(k) is int for k in run.heap)
+    alive = run.T.tri_of
+    live = [k for k in run.heap if run.keys.tid(k) in alive]
+    # Each live entry is its triangle's candidate: the first sample of largest error, at that error.
+    structure, cx = run.structure, run.T.complex
+    for key in live[:50]:
+        tri = alive[run.keys.tid(key)]
+        found = structure.data(cx, tri)
+        assert found is not None
+        own = found[0][1]
+        assert int(run.keys.sample(key)) in own.tolist()
+    assert top == max(run.keys.error(k) for k in live)
+    assert len(live) == len({run.keys.tid(k) for k in live})  # one entry per triangle
+
+
+def test_reading_a_mesh_makes_no_list_of_its_items() -> None:
+    heights = _terrain(50, 40, 2)
+    tin = greedy_insertion(heights, max_points=200, history=False)
+    inf = heights.size  # the symbolic vertex's label
+    tri, lists = _finite_triangles(tin.structure, tin.complex, inf)
+    items = [(t, d) for t, d in tin.structure.items(tin.complex) if inf not in t]
+    assert tri.dtype == np.intp and tri.shape == (len(items), 3)
+    assert tri.tolist() == [[int(v) for v in t] for t, _ in items]
+    assert len(lists) == len(items) and all(a is d[1] for a, (_, d) in zip(lists, items))
+
+
+def test_grid_rows_share_their_floats_and_keys() -> None:
+    rows, cols = 30, 40
+    pred = GridPredicates2((rows, cols))
+    rng = np.random.default_rng(4)
+    points = [int(i) for i in rng.choice(rows * cols, 500, replace=False)]
+    for q in points:
+        assert pred.xy(q) == (float(q % cols), float(q // cols))
+    table = pred._rows
+    assert isinstance(table, dict) and len(table) == len(points)
+    floats = {id(f) for row in table.values() for f in row}
+    assert len(floats) <= rows + cols  # one float object per distinct coordinate, not two per point
+    keys = {id(k) for k in table}
+    assert keys == {id(q) for q in points}  # kept under the integers asked for, not copies

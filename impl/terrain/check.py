@@ -34,7 +34,7 @@ range: the error is a measurement in floating point, not a predicate.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Final
+from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -402,11 +402,18 @@ def verify_tin(tin: Tin, heights: ArrayLike, *, report: CheckReport | None = Non
 
     # Every sample: a vertex, or in exactly one conflict list, inside that closed triangle.
     inf = n  # the symbolic vertex's label
-    items = [(t, d) for t, d in tin.structure.items(tin.complex) if inf not in t]
-    ghost_lists = [d[1].size for t, d in tin.structure.items(tin.complex) if inf in t]
-    if any(ghost_lists):
+    # One pass over the complex (iter_items: no list of its (triangle, datum) pairs).
+    labels: list[int] = []
+    lists: list[NDArray[np.integer[Any]]] = []
+    ghost_samples = False
+    for t, d in tin.structure.iter_items(tin.complex):
+        if inf in t:
+            ghost_samples = ghost_samples or d[1].size > 0
+        else:
+            labels.extend(t)
+            lists.append(d[1])
+    if ghost_samples:
         rep.fail("a ghost triangle holds samples")
-    lists = [d[1] for _, d in items]
     counts = np.array([s.size for s in lists], dtype=np.intp)
     listed = np.concatenate(lists) if lists else np.zeros(0, dtype=np.intp)
     seen = np.bincount(np.concatenate([listed, samples]), minlength=n)
@@ -418,7 +425,7 @@ def verify_tin(tin: Tin, heights: ArrayLike, *, report: CheckReport | None = Non
             f"{never.size} in none (e.g. {never[:_SHOWN].tolist()})"
         )
     if listed.size:
-        owner = np.repeat(np.array([t for t, _ in items], dtype=np.intp).reshape(-1, 3), counts, axis=0)
+        owner = np.repeat(np.fromiter(labels, dtype=np.intp, count=len(labels)).reshape(-1, 3), counts, axis=0)
         outside: list[int] = []
         for k in range(3):
             u, w = owner[:, k], owner[:, (k + 1) % 3]

@@ -5,7 +5,9 @@ drives: it lays the grid's first two triangles, and each :meth:`GreedyRun.step`
 inserts the worst sample (:meth:`~persistri.impl.terrain.delaunay.Triangulator.insert`),
 measures the new triangles' samples (:mod:`~persistri.impl.terrain.plane_errors`)
 and queues their candidates; :meth:`GreedyRun.current_error` pops the dead
-entries (lazy invalidation).  A module of its own because it is the terrain's
+entries (lazy invalidation).  Each queue entry is one Python integer (:class:`QueueKeys`):
+the run's largest structure after the complex, it costs 48 bytes an entry where a tuple of
+an error, a triangle id and a sample cost 128–160.  A module of its own because it is the terrain's
 per-insertion work: the compiled twin (docs/performance.md) compiles it with
 mypyc, while ``greedy_insertion``, which validates the caller's arguments and
 raises its own errors, stays interpreted.
@@ -14,6 +16,7 @@ raises its own errors, stays interpreted.
 from __future__ import annotations
 
 import heapq
+import struct
 from collections.abc import Callable
 from typing import Any, Final
 
@@ -26,7 +29,7 @@ from persistri.impl.stats import Stats
 from persistri.impl.terrain.delaunay import Insertion, Samples, TriDatum, Triangulator
 from persistri.impl.terrain.plane_errors import CHUNK, apex_first, fan_plane_errors, plane_errors, ranks
 
-__all__ = ["GreedyRun"]
+__all__ = ["GreedyRun", "QueueKeys"]
 
 IntArray = NDArray[np.intp]
 FloatArray = NDArray[np.float64]
@@ -49,6 +52,62 @@ def _where(side: NDArray[np.int8], sign: int, kind: np.dtype[np.signedinteger[An
     ]
     out: Samples = np.concatenate(parts) if parts else np.zeros(0, dtype=kind)
     return out
+
+
+_BITS: Final = struct.Struct("<q")
+_FLOAT: Final = struct.Struct("<d")
+_TOP: Final = (1 << 63) - 1
+"""The largest bit pattern of a non-negative float64 read as an integer (the sign bit clear)."""
+ID_BITS: Final = 64
+"""Bits of a queue key's triangle id: ids count the triangles a run makes, one by one, from 0."""
+
+
+class QueueKeys:
+    """The priority queue's entries as single integers: ``(error, triangle id, sample)`` packed so that
+    integer order is the order of ``(−error, triangle id, sample)`` tuples.
+
+    A positive float64's bit pattern, read as an integer, grows with the float, so ``_TOP − bits(e)``
+    falls as ``e`` grows; it fills the high field, the triangle id (below ``2^64``: ids number the
+    triangles one run makes) the next :data:`ID_BITS` bits and the sample (below ``n``, the grid's
+    samples) the low ``bits(n − 1)``.  The greatest error comes first, ties go to the older triangle,
+    exactly as with the tuples, and :meth:`error` gives back the very float (its bits).  A key of a
+    2,048² grid has 149 bits: a Python integer of 48 bytes, where the tuple with its float and its two
+    integers took 128 bytes (interpreted; 160 compiled, where mypyc boxes the tuple's fields anew).
+    O(1) per key.
+    """
+
+    __slots__ = ("sample_bits", "id_shift", "error_shift", "sample_mask", "id_mask")
+
+    def __init__(self, n: int) -> None:
+        self.sample_bits = max(1, (n - 1).bit_length())
+        self.id_shift = self.sample_bits
+        self.error_shift = self.sample_bits + ID_BITS
+        self.sample_mask = (1 << self.sample_bits) - 1
+        self.id_mask = (1 << ID_BITS) - 1
+
+    def key(self, error_bits: int, tid: int, sample: int) -> int:
+        """The key of a candidate: ``error_bits`` is its positive error's float64 bit pattern (:meth:`bits`)."""
+        return ((_TOP - error_bits) << self.error_shift) | (tid << self.id_shift) | sample
+
+    def tid(self, key: int) -> int:
+        """The triangle id of a key."""
+        return (key >> self.id_shift) & self.id_mask
+
+    def sample(self, key: int) -> int:
+        """The sample (the candidate) of a key."""
+        return key & self.sample_mask
+
+    def error(self, key: int) -> float:
+        """The error of a key, the same float that was queued."""
+        out: float = _FLOAT.unpack(_BITS.pack(_TOP - (key >> self.error_shift)))[0]
+        return out
+
+    @staticmethod
+    def bits(error: float) -> int:
+        """The bit pattern of a float64 as a (signed 64-bit) integer: non-negative and growing with a
+        non-negative ``error``.  Arrays are converted at once by ``errors.view(np.int64)``."""
+        out: int = _BITS.unpack(_FLOAT.pack(error))[0]
+        return out
 
 
 class GreedyRun:
@@ -74,9 +133,10 @@ class GreedyRun:
         self.pred = GridPredicates2(shape, stats=stats)
         self.structure = structure
         self.T = Triangulator(self.pred, self.structure, check=check, stepwise=stepwise)
-        self.heap: list[tuple[float, int, int]] = []
-        self.cols = cols
         n = rows * cols
+        self.keys = QueueKeys(n)
+        self.heap: list[int] = []
+        self.cols = cols
         # Corners counterclockwise in (x, y): (0, 0), (cols-1, 0), (cols-1, rows-1), (0, rows-1).
         a, b, c, d = 0, cols - 1, n - 1, n - cols
         self.corners = (a, b, c, d)
@@ -133,9 +193,11 @@ class GreedyRun:
         heap = self.heap
         push = heapq.heappush
         start = 0
+        es, ts = self.keys.error_shift, self.keys.id_shift
         if err.size <= _PYTHON_ARGMAX:
             # Few samples (most insertions): Python's max and index on a list beat a numpy call per triangle.
             errs = err.tolist()
+            bits = err.view(np.int64).tolist()  # the errors' bit patterns, for their keys (QueueKeys)
             sample = samples.item
             for tid, cnt in zip(tids, counts):
                 if cnt:
@@ -143,12 +205,13 @@ class GreedyRun:
                     if cnt == 1:
                         e = errs[start]
                         if e > 0.0:
-                            push(heap, (-e, tid, sample(start)))
+                            push(heap, ((_TOP - bits[start]) << es) | (tid << ts) | sample(start))
                     else:
                         seg = errs[start:stop]
                         e = max(seg)
                         if e > 0.0:
-                            push(heap, (-e, tid, sample(start + seg.index(e))))
+                            j = start + seg.index(e)
+                            push(heap, ((_TOP - bits[j]) << es) | (tid << ts) | sample(j))
                     start = stop
             return
         for tid, cnt in zip(tids, counts):
@@ -157,7 +220,7 @@ class GreedyRun:
                 i = int(part.argmax())
                 e = float(part[i])
                 if e > 0.0:
-                    push(heap, (-e, tid, int(samples[start + i])))
+                    push(heap, self.keys.key(QueueKeys.bits(e), tid, int(samples[start + i])))
                 start += cnt
 
     def _queue_one(self, tid: int, samples: Samples, measure: Callable[[Samples], FloatArray]) -> None:
@@ -173,7 +236,7 @@ class GreedyRun:
             if e > best:  # strictly: an equal error later is not the first
                 best, at = e, lo + i
         if at >= 0:
-            heapq.heappush(self.heap, (-best, tid, int(samples[at])))
+            heapq.heappush(self.heap, self.keys.key(QueueKeys.bits(best), tid, int(samples[at])))
 
     def _assess(self, ins: Insertion) -> None:
         """Measure the samples of the insertion's new triangles and queue their candidates (:func:`fan_errors`).
@@ -229,16 +292,18 @@ class GreedyRun:
         entries took 11 MB at the end of a 2,048² run, measured.)
         """
         heap, alive = self.heap, self.T.tri_of
+        ts, tm = self.keys.id_shift, self.keys.id_mask
         if len(heap) > len(alive) + (len(alive) >> 2) + 1024:
-            heap[:] = [entry for entry in heap if entry[1] in alive]
+            heap[:] = [key for key in heap if ((key >> ts) & tm) in alive]
             heapq.heapify(heap)
-        while heap and heap[0][1] not in alive:
+        while heap and ((heap[0] >> ts) & tm) not in alive:
             heapq.heappop(heap)
-        return -heap[0][0] if heap else 0.0
+        return self.keys.error(heap[0]) if heap else 0.0
 
     def step(self) -> Insertion:
         """Insert the current worst sample; return what the insertion did."""
-        _, tid, p = heapq.heappop(self.heap)
-        ins = self.T.insert(p, tid)
+        key = heapq.heappop(self.heap)
+        keys = self.keys
+        ins = self.T.insert(keys.sample(key), keys.tid(key))
         self._assess(ins)
         return ins
