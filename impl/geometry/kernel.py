@@ -12,6 +12,7 @@ compiled twin (``make compiled``, docs/performance.md) compiles it with mypyc.
 from __future__ import annotations
 
 import math
+import types
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any, Final
 
@@ -35,15 +36,35 @@ from persistri.impl.stats import Stats
 if TYPE_CHECKING:
     from persistri.impl.geometry.predicates import Predicates3
 
-__all__ = ["Orient3dKernel", "Indices", "PointArray", "KERNEL_BATCH"]
+__all__ = ["Orient3dKernel", "Indices", "PointArray", "KERNEL_BATCH", "COMPILED_BATCH", "SCALAR_BELOW", "COMPILED"]
 
 KERNEL_BATCH: Final[int] = 64
-"""Below this many points :attr:`Orient3dKernel.partition` loops over the points instead of
-running vectorised.  Higher than the checked batches'
+"""Below this many points the interpreted :attr:`Orient3dKernel.partition` loops over the points
+instead of running vectorised (and the bulldozer keeps a conflict list this long or longer as an
+int32 array).  Higher than the checked batches'
 :data:`~persistri.impl.geometry.predicates.SMALL_BATCH` because the kernel's loop is cheaper than
-the checked scalar test: with the semi-static threshold a point costs about 0.2–0.4 µs in it,
-against the vectorised path's 25–35 µs for a call of up to a hundred points (measured at
-32 to 160 points of a 256K-point InBall set: the two meet between 80 and 96)."""
+the checked scalar test: with the semi-static threshold a point costs about 0.1 µs in it,
+against the vectorised path's 5–6 µs for a call of up to a hundred points (measured on
+2026-11-28 at 8 to 512 points of a 256K-point InBall set: the two meet near 60)."""
+
+COMPILED_BATCH: Final[int] = 128
+""":data:`KERNEL_BATCH` of the compiled twin (``tools/compiled_twin.py``): compiled, the loop costs
+about 20 ns a point and 0.15 µs a call, the vectorised path 5.2 µs a call and 4.5 ns a point
+(measured on 2026-11-28, 256K-point InBall set), so they meet near 320 points; the scalar loop's
+lists then cost a conversion when they become stored conflict lists, hence a little lower."""
+
+
+def _probe() -> None:
+    """A function whose type tells whether this module runs compiled (mypyc makes it a built-in)."""
+
+
+COMPILED: Final[bool] = not isinstance(_probe, types.FunctionType)
+"""Whether this module is the compiled twin's extension (a mypyc function is not a Python function)."""
+
+SCALAR_BELOW: Final[int] = COMPILED_BATCH if COMPILED else KERNEL_BATCH
+"""Below this many points :attr:`Orient3dKernel.partition` loops over the points: :data:`KERNEL_BATCH`
+interpreted, :data:`COMPILED_BATCH` compiled.  The signs are the same either way (exact); only the
+type of the two lists returned (Python lists, or int arrays) follows this threshold."""
 
 IntArray = NDArray[np.intp]
 SignArray = NDArray[np.int8]
@@ -97,7 +118,7 @@ class Orient3dKernel:
       orient3d's 41, under a filter constant proved for that composition
       (``proofs/proof_predicates.py``) — 8 of them when the semi-static stage
       decides (the determinant, :func:`~persistri.impl.geometry.filter.plane_side_det`).
-      Below :data:`KERNEL_BATCH` points it loops over the points and returns
+      Below :data:`SCALAR_BELOW` points it loops over the points and returns
       lists (an empty ``qs`` gives two empty tuples); from there on the same
       expression runs vectorised over numpy (the plane's terms enter as Python
       floats; about fifteen numpy calls whatever the length) and it returns
@@ -142,7 +163,7 @@ class Orient3dKernel:
         side_static = plane_side_box_threshold(xhi - xlo, yhi - ylo, zhi - zlo)
         side_errbound = ERRBOUND_PLANE_SIDE
         plane_flops, side_flops = FLOPS_PLANE, FLOPS_PLANE_SIDE
-        small = KERNEL_BATCH
+        small = SCALAR_BELOW
         ndarray = np.ndarray
         intp = np.dtype(np.intp)
         # The scalar paths below run the filter expressions of :mod:`.filter` written out in place
@@ -236,8 +257,9 @@ class Orient3dKernel:
             if m >= small:
                 q_arr: PointArray = qs if isinstance(qs, ndarray) else np.array(qs, dtype=np.intp)
                 neg, pos = where(a, b, c, (ax, ay, az), (nx, ny, nz), static, q_arr)
-                # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry.
-                return q_arr[neg], q_arr[pos]
+                # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry
+                # (and take costs a fifth less than indexing with the same list).
+                return q_arr.take(neg), q_arr.take(pos)
             minus: list[int] = []
             plus: list[int] = []
             failures = 0
@@ -303,19 +325,20 @@ class Orient3dKernel:
             if q_arr.dtype != intp:
                 # numpy gathers through intp indices only: converted once here, not once per column.
                 q_arr = q_arr.astype(intp)
-            qy = ys[q_arr]  # gathered copies: the filter functions compute in them
+            # Gathered copies (the filter functions compute in them); take costs a fifth less than indexing.
+            qy = ys.take(q_arr)
             counted = static != static
             if counted:
                 # The plane's permanents (a counted run: each point against its own threshold), by the proved
                 # function from the same corners, so bitwise the scalar path's.
                 ra, rb, rc = row(a), row(b), row(c)
                 px, py, pz = plane_terms(*ra, *rb, *rc)[3:]
-                det, thr = side(nx, ny, nz, px, py, pz, ax, ay, az, xs[q_arr], qy, zs[q_arr])
+                det, thr = side(nx, ny, nz, px, py, pz, ax, ay, az, xs.take(q_arr), qy, zs.take(q_arr))
                 thr *= side_errbound  # the threshold side_errbound * permanent, in place
                 neg_mask = det < np.negative(thr, out=qy)  # qy is free again
                 pos_mask = det > thr
             else:
-                det = side_det(nx, ny, nz, ax, ay, az, xs[q_arr], qy, zs[q_arr])
+                det = side_det(nx, ny, nz, ax, ay, az, xs.take(q_arr), qy, zs.take(q_arr))
                 neg_mask = det < -static
                 pos_mask = det > static
             neg: IntArray = neg_mask.nonzero()[0]

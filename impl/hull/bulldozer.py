@@ -96,7 +96,7 @@ from numpy.typing import NDArray
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Vertex, VertexState
-from persistri.impl.geometry.kernel import Indices
+from persistri.impl.geometry.kernel import KERNEL_BATCH, Indices
 from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.hull.bulldozer_checks import check_bulldozed, check_cones, check_sectors, check_walk
 from persistri.impl.hull.conflicts import (
@@ -565,7 +565,7 @@ class Bulldozer:
         table = self._table
         for tent, kept in tents:
             # A new face and its list, each of its points associated with it (_new_face, written out).
-            if type(kept) is np.ndarray:
+            if type(kept) is np.ndarray or len(kept) >= KERNEL_BATCH:
                 conflict = _freeze(kept)
                 _assign(assoc, self.assoc, conflict, fid)
             else:

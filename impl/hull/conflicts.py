@@ -57,14 +57,20 @@ Entry = tuple[Triangle, FaceDatum]
 
 def _freeze(pts: Indices) -> Conflict:
     """``pts`` as a conflict list: a tuple when short, else a read-only int32 array (a copy only when
-    ``pts`` is not int32 already: partitions of int32 lists are int32)."""
+    ``pts`` is not int32 already: partitions of int32 lists are int32).  Whether a list is long
+    depends on its length alone (:data:`~persistri.impl.geometry.kernel.KERNEL_BATCH`), not on the
+    form it arrives in: the compiled kernel's partition returns Python lists up to
+    :data:`~persistri.impl.geometry.kernel.COMPILED_BATCH` points, and each build keeps the same lists."""
     if isinstance(pts, np.ndarray):
         if len(pts) < KERNEL_BATCH:
             return tuple(pts.tolist())
         arr: ListArray = pts.astype(np.int32, copy=False)
-        arr.setflags(write=False)
-        return arr
-    return tuple(pts)
+    elif len(pts) < KERNEL_BATCH:
+        return tuple(pts)
+    else:
+        arr = np.array(pts, dtype=np.int32)
+    arr.setflags(write=False)
+    return arr
 
 
 def _join(parts: list[Indices]) -> Indices:
