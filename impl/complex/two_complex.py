@@ -134,6 +134,8 @@ class TwoComplex(ComplexStructure[D]):
         self._adjust_sorted: Callable[..., tuple[Any, list[int], list[int]]] | None = getattr(
             self._m, "adjust_sorted", None
         )
+        # The vertices it reports absent are known absent: the backend's unchecked insert if it has one.
+        self._insert_absent: Callable[[Any, Any, Any], Any] = getattr(self._m, "insert_absent", None) or self._m.insert
         if stats is None:
             self.family = Family(self.kind, 2, backend, None, self)
         else:
@@ -374,8 +376,9 @@ class TwoComplex(ComplexStructure[D]):
             if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex
                 raise Unbatched
             changes, out_lin = group(removed, added, lin)
-            if self._adjust_sorted is not None:
-                rep = self._replace_batched(rep, changes)
+            adjust = self._adjust_sorted
+            if adjust is not None:
+                rep = replace_batched(rep, changes, adjust, self._insert_absent, self._m.remove)
             else:
                 rep = self._replace_per_vertex(rep, changes)
         except (Unbatched, Missing, Present, TypeError, ValueError, AttributeError):
@@ -390,15 +393,6 @@ class TwoComplex(ComplexStructure[D]):
     def _replace_per_vertex(self, rep: Any, changes: Changes) -> Any:
         """``replace``'s map changes one vertex at a time (:func:`~persistri.impl.complex.replace.replace_per_vertex`)."""
         return replace_per_vertex(self._m, rep, changes, self._drop_add, self._cat_new)
-
-    def _replace_batched(self, rep: Any, changes: Changes) -> Any:
-        """``replace``'s map changes through the backend's ``adjust_sorted``
-        (:func:`~persistri.impl.complex.vertex_lists.replace_batched`)."""
-        m = self._m
-        assert self._adjust_sorted is not None
-        # The new vertices are known absent (adjust_sorted found them so): the backend's unchecked insert.
-        insert = getattr(m, "insert_absent", None) or m.insert
-        return replace_batched(rep, changes, self._adjust_sorted, insert, m.remove)
 
     def _unpack(self, c: Any, what: str) -> tuple[Any, Lineage | None]:
         if type(c) is Complex:
