@@ -336,14 +336,13 @@ def _fan_block(
     ry = yr - py
     qx = xq - px
     qy = yq - py
-    # orient2d(p, r, q) = (r − p) × (q − p) = rx·qy − ry·qx, exact here (module docstring).
-    det = np.multiply.outer(rx, qy)
-    det -= np.multiply.outer(ry, qx)
-    signs = det >= 0
+    # orient2d(p, r, q) = (r − p) × (q − p) = rx·qy − ry·qx ≥ 0, i.e. rx·qy ≥ ry·qx: both products and their
+    # difference are exact here (module docstring), so comparing the products decides the same sign.
+    signs = np.multiply.outer(rx, qy) >= np.multiply.outer(ry, qx)
     if not closed:
         signs[0] = True
         signs[k] = False
-    sector, order = np.nonzero(signs[:-1] > signs[1:])
+    sector, order = (signs[:-1] > signs[1:]).nonzero()
     if sector.size != m:
         found = signs[:-1] > signs[1:]
         row = int(np.argmax(found.sum(axis=0) != 1))
