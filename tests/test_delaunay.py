@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import pytest
 from hypothesis import given
@@ -181,7 +183,7 @@ def test_all_points_cocircular() -> None:
 def _triangulator_after(pts: NDArray[np.float64], seed: int) -> tuple[Triangulator, list[int]]:
     """A Triangulator with the first triangle of ``pts``'s insertion order laid, and the rest of that order."""
     pred = Predicates2(pts)
-    T = Triangulator(pred, TwoComplex(map_backend("red_black")), check=True)
+    T = Triangulator(pred, TwoComplex(map_backend("red_black")), check=True, recall=True)
     order = insertion_order(pts, seed)
     first = _first_triangle(pred, order)
     T.begin([(first, EMPTY)])
@@ -228,3 +230,30 @@ def test_locate_after_walks_the_fan_without_reading_the_complex() -> None:
     T.insert(4, tid)
     tid = T.locate_after(5, last)
     assert tid in T.tri_of and T.conflicts(T.tri_of[tid], 5)
+
+
+def test_recall_answers_look_ups_the_complex_would_answer_the_same() -> None:
+    # With recall, successive nearby insertions read fewer edges from the complex, and the triangulation is
+    # the same (check=True, which compares every recalled answer with the complex's by reading it too, is
+    # off here so that the reads are counted; the other tests run with it on).
+    pts = np.random.default_rng(5).random((300, 2))
+    found: dict[bool, tuple[int, list[tuple[int, ...]]]] = {}
+    for recall in (False, True):
+        T, rest = _triangulator_after(pts, 0)
+        T._recalls = recall
+        T.check = False
+        reads = 0
+        last = None
+        for q in rest:
+            lookup = T.neighbours()
+
+            def counted(s: object, lookup: Callable[[object], object] = lookup) -> object:
+                nonlocal reads
+                reads += 1
+                return lookup(s)
+
+            T._read = counted
+            last = T.insert(q, T.locate(q, next(iter(T.tri_of))) if last is None else T.locate_after(q, last))
+        found[recall] = (reads, sorted(tuple(sorted(t)) for t, _ in T.finite_triangles()))
+    assert found[True][1] == found[False][1]
+    assert found[True][0] < 0.8 * found[False][0]
