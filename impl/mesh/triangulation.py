@@ -56,7 +56,7 @@ from typing import Any, Final, Literal, NamedTuple
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Lineage, Vertex, VertexState
-from persistri.impl.geometry.filter import ERRBOUND_INCIRCLE, ERRBOUND_ORIENT2D, orient2d_terms
+from persistri.impl.geometry.filter import ERRBOUND_INCIRCLE, ERRBOUND_ORIENT2D
 from persistri.impl.geometry.growing import GrowingPredicates2
 
 __all__ = [
@@ -542,28 +542,37 @@ class MeshTriangulation:
         edges: two would need two obtuse angles).  O(length).
         """
         pred = self.pred
+        rows = pred.filter_rows
+        counted = pred.stats is not None
 
         def P(a: int, b: int, c: int) -> int:
             # orient2d's filter inlined (the predicates' own, the same operations); exact or SoS when it cannot tell.
-            rows = pred.filter_rows
             ax, ay = rows[a]
             bx, by = rows[b]
             cx, cy = rows[c]
-            det, perm = orient2d_terms(ax, ay, bx, by, cx, cy)
-            thr = ERRBOUND_ORIENT2D * perm
-            if det > thr and pred.stats is None:
+            acx = ax - cx
+            bcx = bx - cx
+            acy = ay - cy
+            bcy = by - cy
+            detleft = acx * bcy
+            detright = acy * bcx
+            det = detleft - detright
+            thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
+            if det > thr and not counted:
                 return 1
-            if det < -thr and pred.stats is None:
+            if det < -thr and not counted:
                 return -1
             return pred.orient2d(a, b, c)
 
         tri, dat = start
         a, b, cc = tri
-        outs = [(u, w, v) for u, w, v in ((a, b, cc), (b, cc, a), (cc, a, b)) if P(u, w, p) < 0]
-        if not outs:
+        # The first edge of start that p lies beyond (the tests are pure: the later ones are not needed).
+        for r, l, v in ((a, b, cc), (b, cc, a), (cc, a, b)):
+            if P(r, l, p) < 0:
+                break
+        else:
             return "found", start
         # The exit edge (r, l), directed as in the current triangle: r right of the line v → p, l left of it.
-        r, l, v = outs[0]
         inf = self.infinite
         while True:
             seg = constraint_of(dat, r, l) if dat[2] else -1
