@@ -670,8 +670,9 @@ class Triangulator:
         such ``i`` around a closed fan) — and continues as :meth:`locate` only
         if ``p`` is beyond that triangle's outer edge.  The same walk as
         ``locate`` from there, with the steps across the fan done by at most
-        ``len(last.created) + 1`` ``orient2d`` tests instead of look-ups in the
-        complex.  When ``q`` is on the hull (an open fan) or ``last`` did not
+        ``len(last.created)`` ``orient2d`` tests (about a quarter of them on
+        average, scanning from ``r_0`` towards the change of sign) and one more
+        for the outer edge, instead of look-ups in the complex.  When ``q`` is on the hull (an open fan) or ``last`` did not
         make the current version, it is :meth:`locate` from ``last``'s first
         new triangle.  Any triangle in conflict with ``p`` gives the same
         insertion (the cavity is every triangle in conflict): only the walk's
@@ -683,23 +684,33 @@ class Triangulator:
         orient2d = self.kernel.orient2d
         rays: Any = last.rays
         q = last.point
-        before = orient2d(q, rays[0], p)
-        for i in range(len(created)):
-            after = orient2d(q, rays[i + 1], p)
-            if before > 0 and after < 0:
-                u = rays[i]
-                w = rays[i + 1]
-                if orient2d(u, w, p) > 0:
-                    tid: int = created[i][0]
-                    return tid
-                nb: Any = self._recall(w, u) if self._last_version is self.complex else None
-                if nb is None:
-                    nb = self.neighbours()((w, u))
-                elif self.check:
-                    self._check_recalled(w, u, nb)
-                assert nb is not None, "a closed surface: every oriented edge has its reverse"
-                return self._walk(p, nb[1][0], nb[0], True, 0)
-            before = after
+        # The signs orient2d(q, r_j, p) around the fan are one run of +1 and one of -1: from r_0, scan
+        # forward to the first -1 if r_0 has +1, else backward to the first +1 (about a quarter of the fan).
+        nfan = len(created)
+        i = -1
+        if orient2d(q, rays[0], p) > 0:
+            for j in range(1, nfan):
+                if orient2d(q, rays[j], p) < 0:
+                    i = j - 1
+                    break
+        else:
+            for j in range(nfan - 1, 0, -1):
+                if orient2d(q, rays[j], p) > 0:
+                    i = j
+                    break
+        if i >= 0:
+            u = rays[i]
+            w = rays[i + 1]
+            if orient2d(u, w, p) > 0:
+                tid: int = created[i][0]
+                return tid
+            nb: Any = self._recall(w, u) if self._last_version is self.complex else None
+            if nb is None:
+                nb = self.neighbours()((w, u))
+            elif self.check:
+                self._check_recalled(w, u, nb)
+            assert nb is not None, "a closed surface: every oriented edge has its reverse"
+            return self._walk(p, nb[1][0], nb[0], True, 0)
         # Not reached (the fan's angles cover the plane around q); kept safe all the same.
         return self.locate(p, created[0][0])
 
