@@ -143,7 +143,7 @@ def test_queue_keys_order_as_the_tuples_and_give_back_their_fields(
         e = data.draw(st.sampled_from([e for e, _, _ in entries]))
         entries = entries + [(e, t + 1 if t < 2**64 - 1 else 0, s) for _, t, s in entries[:3]]
     keys = QueueKeys(2**22)
-    packed = {keys.key(QueueKeys.bits(e), t, s): (e, t, s) for e, t, s in entries}
+    packed = {keys.key(keys.bits(e), t, s): (e, t, s) for e, t, s in entries}
     for key, (e, t, s) in packed.items():
         assert type(key) is int
         assert keys.error(key) == e and keys.tid(key) == t and keys.sample(key) == s
@@ -154,7 +154,8 @@ def test_queue_keys_order_as_the_tuples_and_give_back_their_fields(
 def test_queue_key_bits_are_the_float64_bits() -> None:
     errors = np.array([5e-324, 1e-300, 0.5, 1.0, 1.0000000000000002, 3.0, 1e300, np.inf])
     bits = errors.view(np.int64).tolist()
-    assert bits == [QueueKeys.bits(float(e)) for e in errors]
+    keys = QueueKeys(100)
+    assert bits == [keys.bits(float(e)) for e in errors]
     assert bits == sorted(bits) and len(set(bits)) == len(bits)
 
 

@@ -16,7 +16,6 @@ raises its own errors, stays interpreted.
 from __future__ import annotations
 
 import heapq
-import struct
 from collections.abc import Callable
 from typing import Any, Final
 
@@ -54,8 +53,6 @@ def _where(side: NDArray[np.int8], sign: int, kind: np.dtype[np.signedinteger[An
     return out
 
 
-_BITS: Final = struct.Struct("<q")
-_FLOAT: Final = struct.Struct("<d")
 _TOP: Final = (1 << 63) - 1
 """The largest bit pattern of a non-negative float64 read as an integer (the sign bit clear)."""
 ID_BITS: Final = 64
@@ -76,7 +73,7 @@ class QueueKeys:
     O(1) per key.
     """
 
-    __slots__ = ("sample_bits", "id_shift", "error_shift", "sample_mask", "id_mask")
+    __slots__ = ("sample_bits", "id_shift", "error_shift", "sample_mask", "id_mask", "as_float", "as_bits")
 
     def __init__(self, n: int) -> None:
         self.sample_bits = max(1, (n - 1).bit_length())
@@ -84,6 +81,11 @@ class QueueKeys:
         self.error_shift = self.sample_bits + ID_BITS
         self.sample_mask = (1 << self.sample_bits) - 1
         self.id_mask = (1 << ID_BITS) - 1
+        # One 8-byte buffer seen as a float64 and as an int64: writing a float and reading the int gives its
+        # bit pattern, and back (no struct call, no tuple).
+        buffer = bytearray(8)
+        self.as_float: Any = memoryview(buffer).cast("d")
+        self.as_bits: Any = memoryview(buffer).cast("q")
 
     def key(self, error_bits: int, tid: int, sample: int) -> int:
         """The key of a candidate: ``error_bits`` is its positive error's float64 bit pattern (:meth:`bits`)."""
@@ -99,14 +101,15 @@ class QueueKeys:
 
     def error(self, key: int) -> float:
         """The error of a key, the same float that was queued."""
-        out: float = _FLOAT.unpack(_BITS.pack(_TOP - (key >> self.error_shift)))[0]
+        self.as_bits[0] = _TOP - (key >> self.error_shift)
+        out: float = self.as_float[0]
         return out
 
-    @staticmethod
-    def bits(error: float) -> int:
+    def bits(self, error: float) -> int:
         """The bit pattern of a float64 as a (signed 64-bit) integer: non-negative and growing with a
-        non-negative ``error``.  Arrays are converted at once by ``errors.view(np.int64)``."""
-        out: int = _BITS.unpack(_FLOAT.pack(error))[0]
+        non-negative ``error`` (as ``errors.view(np.int64)`` gives it for an array)."""
+        self.as_float[0] = error
+        out: int = self.as_bits[0]
         return out
 
 
@@ -196,22 +199,26 @@ class GreedyRun:
         es, ts = self.keys.error_shift, self.keys.id_shift
         if err.size <= _PYTHON_ARGMAX:
             # Few samples (most insertions): Python's max and index on a list beat a numpy call per triangle.
+            # A candidate's bit pattern is read through the keys' buffer, per candidate: a list of every
+            # sample's bit pattern made an int object per sample, 2 % more instructions per run than floats
+            # (which Python keeps on a free list; cachegrind, Jacksboro to 10,000 points).
             errs = err.tolist()
-            bits = err.view(np.int64).tolist()  # the errors' bit patterns, for their keys (QueueKeys)
             sample = samples.item
+            as_float, as_bits = self.keys.as_float, self.keys.as_bits
             for tid, cnt in zip(tids, counts):
                 if cnt:
                     stop = start + cnt
                     if cnt == 1:
                         e = errs[start]
                         if e > 0.0:
-                            push(heap, ((_TOP - bits[start]) << es) | (tid << ts) | sample(start))
+                            as_float[0] = e
+                            push(heap, ((_TOP - as_bits[0]) << es) | (tid << ts) | sample(start))
                     else:
                         seg = errs[start:stop]
                         e = max(seg)
                         if e > 0.0:
-                            j = start + seg.index(e)
-                            push(heap, ((_TOP - bits[j]) << es) | (tid << ts) | sample(j))
+                            as_float[0] = e
+                            push(heap, ((_TOP - as_bits[0]) << es) | (tid << ts) | sample(start + seg.index(e)))
                     start = stop
             return
         for tid, cnt in zip(tids, counts):
@@ -220,7 +227,7 @@ class GreedyRun:
                 i = int(part.argmax())
                 e = float(part[i])
                 if e > 0.0:
-                    push(heap, self.keys.key(QueueKeys.bits(e), tid, int(samples[start + i])))
+                    push(heap, self.keys.key(self.keys.bits(e), tid, int(samples[start + i])))
                 start += cnt
 
     def _queue_one(self, tid: int, samples: Samples, measure: Callable[[Samples], FloatArray]) -> None:
@@ -236,7 +243,7 @@ class GreedyRun:
             if e > best:  # strictly: an equal error later is not the first
                 best, at = e, lo + i
         if at >= 0:
-            heapq.heappush(self.heap, self.keys.key(QueueKeys.bits(best), tid, int(samples[at])))
+            heapq.heappush(self.heap, self.keys.key(self.keys.bits(best), tid, int(samples[at])))
 
     def _assess(self, ins: Insertion) -> None:
         """Measure the samples of the insertion's new triangles and queue their candidates (:func:`fan_errors`).
