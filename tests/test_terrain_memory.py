@@ -181,9 +181,19 @@ def test_the_queue_holds_one_integer_per_live_candidate() -> None:
     assert len(live) == len({run.keys.tid(k) for k in live})  # one entry per triangle
 
 
-def test_reading_a_mesh_makes_no_list_of_its_items() -> None:
+def test_reading_a_mesh_makes_no_list_of_its_items(monkeypatch: pytest.MonkeyPatch) -> None:
     heights = _terrain(50, 40, 2)
-    tin = greedy_insertion(heights, max_points=200, history=False)
+    expected = greedy_insertion(heights, max_points=200, history=False)
+
+    def no_list(self: Any, c: Any) -> Any:
+        raise AssertionError("the mesher read a list of every triangle (items)")
+
+    # A run and its final mesh read through iter_items only, with the same result.
+    with monkeypatch.context() as m:
+        m.setattr(TwoComplex, "items", no_list)
+        tin = greedy_insertion(heights, max_points=200, history=False)
+    assert np.array_equal(tin.triangles, expected.triangles) and np.array_equal(tin.vertices, expected.vertices)
+    assert (tin.max_error, tin.rms_error) == (expected.max_error, expected.rms_error)
     inf = heights.size  # the symbolic vertex's label
     tri, lists = _finite_triangles(tin.structure, tin.complex, inf)
     items = [(t, d) for t, d in tin.structure.items(tin.complex) if inf not in t]
