@@ -36,6 +36,8 @@ MODULES = (
     "persistri/impl/complex/vertex_lists.py",
     "persistri/impl/geometry/kernel2d.py",
     "persistri/impl/terrain/delaunay.py",
+    "persistri/impl/terrain/insertion.py",
+    "persistri/impl/terrain/walk.py",
     "persistri/impl/terrain/sectors.py",
     "persistri/impl/terrain/greedy_run.py",
     "persistri/impl/terrain/plane_errors.py",

@@ -63,7 +63,7 @@ Points are indices into the predicates' point array; each is a
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, Final, Protocol, TypeVar
+from typing import Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -74,7 +74,21 @@ from persistri.impl.complex.vertex import Lineage, Vertex, VertexState
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.errors import TriangulationCheckError
+from persistri.impl.terrain.insertion import (
+    EMPTY,
+    LARGE_FAN,
+    NO_SECTOR,
+    FanSort,
+    Insertion,
+    IntArray,
+    Samples,
+    Triangle,
+    TriDatum,
+    canonical_triangles,
+    sample_dtype,
+)
 from persistri.impl.terrain.sectors import fan_lists, fan_sectors
+from persistri.impl.terrain.walk import walk, walk_from_fan
 
 __all__ = [
     "TriDatum",
@@ -88,130 +102,9 @@ __all__ = [
     "canonical_triangles",
 ]
 
-IntArray = NDArray[np.intp]
-Samples = NDArray[np.signedinteger[Any]]
-"""A read-only array of point indices: ``int32`` when every index fits (:func:`sample_dtype`), else ``intp``."""
-Triangle = tuple[Vertex, Vertex, Vertex]
-TriDatum = tuple[int, Samples]
-"""The datum of a triangle: ``(triangle id, samples)``; the samples are a read-only array of point indices
-(:data:`Samples`)."""
-
-
-def sample_dtype(n: int) -> np.dtype[np.signedinteger[Any]]:
-    """The dtype of sample lists over points ``0 … n − 1``: ``int32`` (4 bytes a sample) when every index fits
-    (``n ≤ 2^31``), else ``intp``.
-
-    A height grid's samples are all in some triangle's list at every moment, so their dtype is the
-    mesher's memory per sample: half of ``intp``'s.  The values are the same either way.  O(1).
-    """
-    return np.dtype(np.int32) if n - 1 <= np.iinfo(np.int32).max else np.dtype(np.intp)
-
-LARGE_FAN: Final[int] = 1 << 16
-"""Above this many pooled samples an insertion sorts them into one array per fan triangle
-(:func:`~persistri.impl.terrain.sectors.fan_lists`, in blocks, from the cavity's lists without pooling them)
-and reports no pooled array; below it, one sorted pooled array whose slices are copied (fewer numpy calls)."""
-
-EMPTY: Final[Samples] = np.zeros(0, dtype=np.intp)
-"""The empty (read-only) sample list of ghosts and of triangles without samples."""
-EMPTY.setflags(write=False)
-
-NO_SECTOR: Final[IntArray] = np.zeros(0, dtype=np.intp)
-"""The (read-only) ``fan_index`` of an insertion without samples (scattered points have none)."""
-NO_SECTOR.setflags(write=False)
-
-
-_R = TypeVar("_R")
-_R_co = TypeVar("_R_co", covariant=True)
-_S = TypeVar("_S")
-_S_contra = TypeVar("_S_contra", contravariant=True)
-
-
-class FanSort(Protocol[_S_contra, _R_co]):
-    """How an insertion sorts its pooled samples into the fan's sectors: ``fan_sectors`` (the pool as one
-    array) or ``fan_lists`` (the pool as the cavity's lists; :mod:`persistri.impl.terrain.sectors`), called
-    with the fan's rays and the pool."""
-
-    def __call__(
-        self,
-        pred: Predicates2,
-        p: int,
-        rays: IntArray,
-        samples: _S_contra,
-        closed: bool,
-        *,
-        exact_floats: bool,
-        stats: Stats | None = None,
-        check: bool = False,
-    ) -> _R_co: ...
-
-
-class Insertion:
-    """What one insertion did (the caller, e.g. greedy insertion, reads the new triangles from it).
-
-    * ``point`` — the inserted point;
-    * ``version`` — the complex after it;
-    * ``removed`` — ids of the triangles of the cavity (ghosts included);
-    * ``created`` — the new *finite* triangles, ``(id, triangle)``, in the order of
-      the fan around ``point``;
-    * ``samples`` — the pooled samples of the cavity, sorted by the position of
-      their new triangle in ``created`` (``point`` excluded); ``counts[i]`` of them
-      belong to ``created[i]``, consecutively; None when there were more than
-      :data:`LARGE_FAN` (``lists`` has them);
-    * ``counts`` — how many samples each triangle of ``created`` holds;
-    * ``hull_vertex`` — whether ``point`` is a vertex of the new convex hull (it lay on or
-      beyond the old one: ghosts were in the cavity);
-    * ``rays`` — the fan's boundary vertices in order, ``len(created) + 1`` of them:
-      ``created[i]`` is ``(rays[i], rays[i + 1], point)`` (a closed fan repeats its first vertex at the end);
-    * ``fan_index`` — for each of ``samples``, the position of its triangle in ``created`` (nondecreasing);
-      None with ``samples``;
-    * ``lists`` — the samples of each triangle of ``created`` (the arrays its datum holds).
-
-    A record made once per insertion and only read afterwards (a plain slotted class: a frozen
-    dataclass costs a microsecond more per insertion to make); the lists are the insertion's own.
-    """
-
-    __slots__ = ("point", "version", "removed", "created", "samples", "counts", "hull_vertex", "rays", "fan_index", "lists")
-
-    def __init__(
-        self,
-        point: int,
-        version: Complex[TriDatum],
-        removed: list[int],
-        created: list[tuple[int, Triangle]],
-        samples: Samples | None,
-        counts: list[int],
-        hull_vertex: bool,
-        rays: list[Vertex],
-        fan_index: IntArray | None,
-        lists: list[Samples],
-    ) -> None:
-        self.point = point
-        self.version = version
-        self.removed = removed
-        self.created = created
-        self.samples = samples
-        self.counts = counts
-        self.hull_vertex = hull_vertex
-        self.rays = rays
-        self.fan_index = fan_index
-        self.lists = lists
-
-    def __repr__(self) -> str:
-        return f"Insertion(point={self.point}, created={len(self.created)}, removed={len(self.removed)}, samples={sum(self.counts)})"
-
-
-def canonical_triangles(tris: IntArray) -> IntArray:
-    """Each row rotated to start at its smallest index (orientation kept), rows sorted: a canonical mesh. O(m log m)."""
-    t = np.asarray(tris, dtype=np.intp).reshape(-1, 3)
-    if t.size == 0:
-        return np.zeros((0, 3), dtype=np.intp)
-    k = np.argmin(t, axis=1)
-    rot = np.take_along_axis(t, (k[:, None] + np.arange(3)[None, :]) % 3, axis=1)
-    out: IntArray = rot[np.lexsort(rot.T[::-1])]
-    return out
-
-
 _A = TypeVar("_A", bound=NDArray[Any])
+_R = TypeVar("_R")
+_S = TypeVar("_S")
 
 
 def _frozen(a: _A) -> _A:
@@ -657,7 +550,7 @@ class Triangulator:
         needed on inputs in general position).  Each step is one ``neighbour``
         look-up in the current version and at most three ``orient2d`` tests.
         """
-        return self._walk(p, hint, self.tri_of[hint], False, seed)
+        return walk(self, p, hint, self.tri_of[hint], False, seed)
 
     def locate_after(self, p: int, last: Insertion) -> int:
         """:meth:`locate`, starting around the point of ``last``, the insertion that made the current version.
@@ -678,82 +571,7 @@ class Triangulator:
         insertion (the cavity is every triangle in conflict): only the walk's
         length depends on where it starts.
         """
-        created = last.created
-        if last.hull_vertex or last.version is not self.complex:
-            return self.locate(p, created[0][0])
-        orient2d = self.kernel.orient2d
-        rays: Any = last.rays
-        q = last.point
-        # The signs orient2d(q, r_j, p) around the fan are one run of +1 and one of -1: from r_0, scan
-        # forward to the first -1 if r_0 has +1, else backward to the first +1 (about a quarter of the fan).
-        nfan = len(created)
-        i = -1
-        if orient2d(q, rays[0], p) > 0:
-            for j in range(1, nfan):
-                if orient2d(q, rays[j], p) < 0:
-                    i = j - 1
-                    break
-        else:
-            for j in range(nfan - 1, 0, -1):
-                if orient2d(q, rays[j], p) > 0:
-                    i = j
-                    break
-        if i >= 0:
-            u = rays[i]
-            w = rays[i + 1]
-            if orient2d(u, w, p) > 0:
-                tid: int = created[i][0]
-                return tid
-            nb: Any = self._recall(w, u) if self._last_version is self.complex else None
-            if nb is None:
-                nb = self.neighbours()((w, u))
-            elif self.check:
-                self._check_recalled(w, u, nb)
-            assert nb is not None, "a closed surface: every oriented edge has its reverse"
-            return self._walk(p, nb[1][0], nb[0], True, 0)
-        # Not reached (the fan's angles cover the plane around q); kept safe all the same.
-        return self.locate(p, created[0][0])
-
-    def _walk(self, p: int, tid: int, tri: Any, entered: bool, turn: int) -> int:
-        """:meth:`locate`'s walk from triangle ``tri`` (id ``tid``); ``entered``: the walk came into ``tri``
-        across its first edge (a triangle found by ``neighbour((w, u))`` is ``(w, u, x)``), which it does not
-        test again."""
-        orient2d = self.kernel.orient2d
-        neighbour = self.neighbours()
-        inf = self.infinite
-        limit = 4 * len(self.tri_of) + 16
-        for _ in range(limit):
-            if inf in tri:
-                if self.conflicts(tri, p):
-                    return tid
-                break
-            a, b, c = tri
-            turn += 1
-            k = turn % 3
-            u, w = a, b
-            moved = False
-            for _j in range(3):
-                if k == 0:
-                    u, w = a, b
-                elif k == 1:
-                    u, w = b, c
-                else:
-                    u, w = c, a
-                if (k or not entered) and orient2d(u, w, p) < 0:
-                    moved = True
-                    break
-                k = k + 1 if k < 2 else 0
-            if not moved:
-                return tid
-            nb: Any = neighbour((w, u))
-            assert nb is not None, "a closed surface: every oriented edge has its reverse"
-            tri = nb[0]
-            tid = nb[1][0]
-            entered = True
-        for tid, tri in self.tri_of.items():
-            if self.conflicts(tri, p):
-                return tid
-        raise TriangulationCheckError(f"locate: no triangle is in conflict with point {p}")
+        return walk_from_fan(self, p, last)
 
     # -- reading a version -------------------------------------------------------------------
 

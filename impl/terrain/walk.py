@@ -1,0 +1,106 @@
+"""The visibility walk that locates a new point in the triangulator's current version (paper §5).
+
+:meth:`~persistri.impl.terrain.delaunay.Triangulator.locate` and
+:meth:`~persistri.impl.terrain.delaunay.Triangulator.locate_after` are these two
+functions: :func:`walk` crosses, from a triangle, an edge that has the point
+strictly beyond it until no such edge is left (the method docstrings state the
+rule and why it ends); :func:`walk_from_fan` first finds the point's angle in
+the fan of the insertion that made the current version, with ``orient2d``
+tests instead of look-ups in the complex.  A module of its own because the
+walk is a concept of its own, with one caller; compiled by the twin with the
+triangulator.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from persistri.impl.terrain.errors import TriangulationCheckError
+
+if TYPE_CHECKING:
+    from persistri.impl.terrain.delaunay import Triangulator
+    from persistri.impl.terrain.insertion import Insertion
+
+__all__ = ["walk", "walk_from_fan"]
+
+
+def walk_from_fan(T: Triangulator, p: int, last: Insertion) -> int:
+    """``T.locate_after(p, last)``: the id of a live triangle in conflict with ``p``, the walk started in the fan of
+    ``last`` (the method's docstring).  O(len(last.created)) ``orient2d`` tests, then the walk."""
+    created = last.created
+    if last.hull_vertex or last.version is not T.complex:
+        return T.locate(p, created[0][0])
+    orient2d = T.kernel.orient2d
+    rays: Any = last.rays
+    q = last.point
+    # The signs orient2d(q, r_j, p) around the fan are one run of +1 and one of -1: from r_0, scan
+    # forward to the first -1 if r_0 has +1, else backward to the first +1 (about a quarter of the fan).
+    nfan = len(created)
+    i = -1
+    if orient2d(q, rays[0], p) > 0:
+        for j in range(1, nfan):
+            if orient2d(q, rays[j], p) < 0:
+                i = j - 1
+                break
+    else:
+        for j in range(nfan - 1, 0, -1):
+            if orient2d(q, rays[j], p) > 0:
+                i = j
+                break
+    if i >= 0:
+        u = rays[i]
+        w = rays[i + 1]
+        if orient2d(u, w, p) > 0:
+            tid: int = created[i][0]
+            return tid
+        nb: Any = T._recall(w, u) if T._last_version is T.complex else None
+        if nb is None:
+            nb = T.neighbours()((w, u))
+        elif T.check:
+            T._check_recalled(w, u, nb)
+        assert nb is not None, "a closed surface: every oriented edge has its reverse"
+        return walk(T, p, nb[1][0], nb[0], True, 0)
+    # Not reached (the fan's angles cover the plane around q); kept safe all the same.
+    return T.locate(p, created[0][0])
+
+
+def walk(T: Triangulator, p: int, tid: int, tri: Any, entered: bool, turn: int) -> int:
+    """The walk of ``T.locate`` from triangle ``tri`` (id ``tid``); ``entered``: the walk came into ``tri`` across its
+    first edge (a triangle found by ``neighbour((w, u))`` is ``(w, u, x)``), which it does not test again.  Each
+    step one ``neighbour`` look-up and at most three ``orient2d`` tests; O(n) as a last resort (never needed)."""
+    orient2d = T.kernel.orient2d
+    neighbour = T.neighbours()
+    inf = T.infinite
+    limit = 4 * len(T.tri_of) + 16
+    for _ in range(limit):
+        if inf in tri:
+            if T.conflicts(tri, p):
+                return tid
+            break
+        a, b, c = tri
+        turn += 1
+        k = turn % 3
+        u, w = a, b
+        moved = False
+        for _j in range(3):
+            if k == 0:
+                u, w = a, b
+            elif k == 1:
+                u, w = b, c
+            else:
+                u, w = c, a
+            if (k or not entered) and orient2d(u, w, p) < 0:
+                moved = True
+                break
+            k = k + 1 if k < 2 else 0
+        if not moved:
+            return tid
+        nb: Any = neighbour((w, u))
+        assert nb is not None, "a closed surface: every oriented edge has its reverse"
+        tri = nb[0]
+        tid = nb[1][0]
+        entered = True
+    for tid, tri in T.tri_of.items():
+        if T.conflicts(tri, p):
+            return tid
+    raise TriangulationCheckError(f"locate: no triangle is in conflict with point {p}")
