@@ -98,7 +98,7 @@ from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Vertex, VertexState
 from persistri.impl.geometry.kernel import KERNEL_BATCH, Indices
 from persistri.impl.geometry.predicates import Predicates3
-from persistri.impl.hull.bulldozer_checks import check_bulldozed, check_cones, check_sectors, check_walk
+from persistri.impl.hull.bulldozer_checks import check_bulldozed, check_sectors, check_walk
 from persistri.impl.hull.conflicts import (
     INTERIOR,
     ON_HULL,
@@ -112,12 +112,12 @@ from persistri.impl.hull.conflicts import (
     _FaceTable,
     _freeze,
     _join,
-    _smallest_first,
     all_but,
     triangle_array,
 )
 from persistri.impl.hull.errors import BulldozerCheckError
 from persistri.impl.hull.first_hull import cones_by_planes, cones_by_tree, initial_tetrahedron
+from persistri.impl.hull.resume import attach, resume
 
 __all__ = [
     "Bulldozer",
@@ -296,22 +296,7 @@ class Bulldozer:
         instead and verifies that ``table`` lists them and that their conflict
         lists are empty (O(faces)).  O(faces) vectorised otherwise.
         """
-        ft = self._table = _FaceTable()
-        ft.add_many(table[:, 0], table[:, 1:])
-        self._next_fid = int(table[:, 0].max()) + 1 if table.size else 0
-        if cx.lineage is not None:
-            self._lineage = cx.lineage
-        if self.check:
-            faces = self.faces
-            for tri, datum in self.S.items(cx):
-                fid, lst = datum
-                if len(lst):
-                    raise BulldozerCheckError(f"face {tri} of the version to continue has pending points")
-                faces[fid] = (tri, datum)
-            listed = {(fid, *_smallest_first(a, b, d)) for fid, a, b, d in table.tolist()}
-            if listed != {(fid, *_smallest_first(*tri)) for fid, (tri, _) in faces.items()} or len(listed) != len(table):
-                raise BulldozerCheckError("the face table to resume from does not list the version's faces")
-        return cx
+        return resume(self, cx, table)
 
     def attach(self, points: IntArray, fids: IntArray) -> Complex[FaceDatum]:
         """Associate interior-marked points with faces: ``points[j]`` lies in the cone from the centre through face ``fids[j]``.
@@ -326,47 +311,7 @@ class Bulldozer:
         ``check=True`` verifies each point's cone (the three signs
         ``orient3d(u, w, c, q) = -1``).  O(len(points)) plane-side tests.
         """
-        status, assoc = self._status, self._assoc
-        faces = self.faces
-        if self.check:
-            check_cones(self, points, fids)
-        by_face = np.argsort(fids, kind="stable")
-        sorted_fids = fids[by_face]
-        cuts = np.flatnonzero(sorted_fids[1:] != sorted_fids[:-1]) + 1
-        removed: list[Triangle] = []
-        added: list[Entry] = []
-        for start, stop in zip([0, *cuts.tolist()], [*cuts.tolist(), int(fids.size)]):
-            if start == stop:
-                continue
-            fid = int(sorted_fids[start])
-            known = faces.get(fid)
-            lst: Conflict = ()
-            if known is None:  # an old face of a resumed run, with an empty list: its triangle from the table
-                assert self._table is not None
-                a, b, d = self._table.corners[fid].tolist()
-                tri: Triangle = (self._vertex(a), self._vertex(b), self._vertex(d))
-            else:
-                tri, (_, lst) = known
-            out, _ = self._partition(tri[0], tri[1], tri[2], points[by_face[start:stop]])
-            if not len(out):
-                continue
-            conflict = _freeze(_join([lst, out]) if len(lst) else out)
-            _assign(status, self.status, conflict, PENDING)
-            _assign(assoc, self.assoc, conflict, fid)
-            entry = faces[fid] = (tri, (fid, conflict))
-            removed.append(tri)
-            added.append(entry)
-        cx = self.complex
-        if added:
-            if self.stepwise:
-                for tri in removed:
-                    cx = self.S.rem(cx, tri)
-                for tri, datum in added:
-                    cx = self.S.add(cx, tri, datum)
-            else:
-                cx = self.S.replace(cx, removed, added)
-            self.complex = cx
-        return cx
+        return attach(self, points, fids)
 
 
     # -- one insertion ---------------------------------------------------------------
