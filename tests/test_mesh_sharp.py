@@ -15,7 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 import triangle as tr
 
-import persistri.impl.mesh.ruppert as ruppert
+import persistri.impl.mesh.input_angles as input_angles
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.api import QualityMesh, triangulate
 from persistri.impl.mesh.cdt import SegmentGeometry
@@ -118,7 +118,7 @@ def test_without_the_placement_rule_the_needle_splits_on() -> None:
     assert m.min_angle_reached and m.triangles.shape[0] == 41
     patch = pytest.MonkeyPatch()
     try:
-        patch.setattr(ruppert, "placement_tolerances", lambda P, geo, s, small=None: ())
+        patch.setattr(input_angles, "placement_tolerances", lambda P, geo, s, small=None: ())
         stuck = triangulate(d, min_angle=30, max_steiner=400)
     finally:
         patch.undo()

@@ -106,11 +106,11 @@ from typing import Any
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
-from persistri.impl.mesh.angles import angle_at_least
 from persistri.impl.mesh.precision import crowded_apex, nearest_features, valid_split
-from persistri.impl.mesh.quality import AngleBound, BadShape, QualityTests, equidistant
+from persistri.impl.mesh.input_angles import InputAngles
+from persistri.impl.mesh.quality import AngleBound, BadShape, QualityTests
 from persistri.impl.mesh.record import Counts, DropLog, Refinement
-from persistri.impl.mesh.splitting import placement_tolerances, rounded_candidates, small_angle_at, split_point
+from persistri.impl.mesh.splitting import rounded_candidates, split_point
 from persistri.impl.mesh.steiner import PrecisionLimitError, steiner_point
 from persistri.impl.mesh.triangulation import (
     EXTERIOR,
@@ -176,79 +176,12 @@ class Refiner:
         self._seq = 0
         self._segs: deque[Constraint] = deque()
         self._exempt: set[int] = set()
-        self._small: dict[tuple[int, int], bool] = {}
-        self._sharp: dict[tuple[int, int, int], bool] = {}
-        self._placement: dict[int, tuple[tuple[int, float], ...]] = {}
-        self._n_input = geo.n_input
-        self._exempt_memo: dict[tuple[int, int], bool] = {}
+        self.angles = InputAngles(T.pred, geo)
         self._dead: set[int] = set()
         self.log = DropLog()
         self._version = 0  # the history index of the version the run stands at
 
-    # -- tests -----------------------------------------------------------------------------
-
-    def _exempt_edge(self, p: int, q: int) -> bool:
-        """Whether edge ``pq`` joins two split points on different segments, equidistant from their common endpoint.
-
-        Memoised: the answer depends on ``p`` and ``q`` alone (their segments and shells are recorded when they are
-        made, before any triangle of theirs is judged, and never change)."""
-        on = self.geo.on_segment
-        sp, sq = on.get(p), on.get(q)
-        if sp is None or sq is None or sp[0] == sq[0]:
-            return False
-        key = (int(p), int(q))
-        found = self._exempt_memo.get(key)
-        if found is None:
-            found = self._exempt_memo[key] = self._exempt_split_points(p, q, sp[0], sq[0])
-        return found
-
-    def _exempt_split_points(self, p: int, q: int, s1: int, s2: int) -> bool:
-        """:meth:`_exempt_edge` for split points ``p`` on segment ``s1`` and ``q`` on segment ``s2 != s1``."""
-        ends_p, ends_q = self.geo.ends[s1], self.geo.ends[s2]
-        for o in ends_p:
-            if o not in ends_q:
-                continue
-            # Only at a small input angle (below 60°): elsewhere Ruppert's argument needs no exemption.
-            if not self._sharp_pair(o, s1, s2):
-                continue
-            shp, shq = self.geo.shell.get(p), self.geo.shell.get(q)
-            if shp is not None and shp == shq and shp[0] == o:
-                return True
-            # Triangle's test, decided exactly (float stage first): squared distances within a factor 1.001.
-            if equidistant(self.P, o, p, q):
-                return True
-        return False
-
-    def _sharp_pair(self, o: int, s1: int, s2: int) -> bool:
-        """Whether segments ``s1`` and ``s2``, both ending at input vertex ``o``, meet there at less than 60° (exact;
-        memoised: a property of the input)."""
-        key = (int(o), s1, s2)
-        found = self._sharp.get(key)
-        if found is None:
-            e1, e2 = self.geo.ends[s1], self.geo.ends[s2]
-            far1, far2 = e1[1] if e1[0] == o else e1[0], e2[1] if e2[0] == o else e2[0]
-            (io, ip, iq), _ = self.P.integers(o, far1, far2)
-            d1, d2 = (ip[0] - io[0], ip[1] - io[1]), (iq[0] - io[0], iq[1] - io[1])
-            found = not angle_at_least(d1[0] * d2[0] + d1[1] * d2[1], d1[0] ** 2 + d1[1] ** 2, d2[0] ** 2 + d2[1] ** 2, 60.0)
-            self._sharp[key] = found
-        return found
-
-    def _small_angle(self, o: int, s: int) -> bool:
-        """:func:`~persistri.impl.mesh.splitting.small_angle_at`, memoised (a Steiner vertex is no input vertex:
-        False at once)."""
-        if o >= self._n_input:
-            return False
-        key = (int(o), s)
-        found = self._small.get(key)
-        if found is None:
-            found = self._small[key] = small_angle_at(self.P, self.geo, int(o), s)
-        return found
-
-    def _tolerances(self, s: int) -> tuple[tuple[int, float], ...]:
-        found = self._placement.get(s)
-        if found is None:
-            found = self._placement[s] = placement_tolerances(self.P, self.geo, s, small=self._small_angle)
-        return found
+    # -- the queue -----------------------------------------------------------------------------
 
     def _push_bad(self, t: Tri, d: MeshDatum, p: int, q: int, r: int, edge2: float) -> None:
         bucket = math.frexp(edge2)[1] if 0.0 < edge2 < math.inf else 0
@@ -288,7 +221,7 @@ class Refiner:
     def _judge_bad(self, t: Tri, d: MeshDatum, found: BadShape) -> None:
         """:meth:`_judge` for a triangle whose assessment ``found`` says it is bad: queue it, or record it exempt."""
         p, q, r, edge2, good = found
-        if not good and self._exempt_edge(p, q) and not self.tests.area_bad(t[0], t[1], t[2], d[1]):
+        if not good and self.angles.exempt_edge(p, q) and not self.tests.area_bad(t[0], t[1], t[2], d[1]):
             self._exempt.add(d[0])
             return
         self._push_bad(t, d, p, q, r, edge2)
@@ -369,7 +302,7 @@ class Refiner:
                     "(move the vertex onto the segment or away from it, or mesh without an angle bound)"
                 )
         t, x, y, shell, rounded = split_point(
-            P, geo, lo, hi, s, sides, self._small_angle, self.exact_segments, self._tolerances
+            P, geo, lo, hi, s, sides, self.angles.small_angle, self.exact_segments, self.angles.tolerances
         )
         p = P.append(x, y)
         step = T.insert(c, p, start, split=(lo, hi, s))
@@ -605,7 +538,7 @@ class Refiner:
             if area_ok and tests.area_bad(t[0], t[1], t[2], d[1]):
                 area_ok = False
             if not found[4]:
-                if self._exempt_edge(found[0], found[1]):
+                if self.angles.exempt_edge(found[0], found[1]):
                     self._exempt.add(d[0])
                 else:
                     angle_ok = False
