@@ -106,6 +106,7 @@ from typing import Any
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
+from persistri.impl.mesh.deletion import remove_vertex
 from persistri.impl.mesh.precision import crowded_apex, nearest_features, valid_split
 from persistri.impl.mesh.input_angles import InputAngles
 from persistri.impl.mesh.quality import AngleBound, BadShape, QualityTests
@@ -124,6 +125,7 @@ from persistri.impl.mesh.triangulation import (
     constraint_of,
     edge_key,
 )
+from persistri.impl.mesh.walk import walk_to
 
 __all__ = ["Counts", "Refinement", "Refiner"]
 
@@ -272,7 +274,7 @@ class Refiner:
                     break
                 if apex < geo.n_input or apex in geo.on_segment or P.dot_sign(lo, hi, apex) >= 0:
                     break
-                step = T.remove(c, apex, side)
+                step = remove_vertex(T, c, apex, side)
                 c = step.version
                 deleted.append(int(apex))
                 self.counts.deletions += 1
@@ -352,7 +354,7 @@ class Refiner:
         _, _, t, d, sp, sq, sr = bad
         x, y, off = steiner_point(P, sp, sq, sr, self.offconstant)
         p = P.append(x, y)
-        where = T.walk_to(c, (t, d), p)
+        where = walk_to(T, c, (t, d), p)
         if where[0] == "blocked":
             tri = (int(t[0]), int(t[1]), int(t[2]))
             lo, hi, s = where[1]

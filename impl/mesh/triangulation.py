@@ -43,6 +43,11 @@ edge is not on the boundary.
 refinement) replaces a free vertex's star by the Delaunay triangulation of its
 link — again one ``replace``, one new version.
 
+The data a version holds are in :mod:`~persistri.impl.mesh.datum` (importable from here
+too), the deletion in :mod:`~persistri.impl.mesh.deletion` and the walks
+(:meth:`MeshTriangulation.locate`, :meth:`MeshTriangulation.walk_to`) in
+:mod:`~persistri.impl.mesh.walk`; this module is the insertion.
+
 Costs: an insertion whose cavity has ``k`` triangles costs ``O(k)`` complex
 operations (O(lg n) each) and ``O(k)`` exact predicates (float-filtered); a
 deletion of a vertex of degree ``k`` ``O(k²)`` predicates; a walk ``O(length)``.
@@ -50,14 +55,27 @@ deletion of a vertex of degree ``k`` ``O(k²)`` predicates; a walk ``O(length)``
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any, Final, Literal, NamedTuple
+from typing import Any, Literal
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Lineage, Vertex, VertexState
-from persistri.impl.geometry.filter import ERRBOUND_INCIRCLE, ERRBOUND_ORIENT2D
+from persistri.impl.geometry.filter import ERRBOUND_INCIRCLE
 from persistri.impl.geometry.growing import GrowingPredicates2
+from persistri.impl.mesh.datum import (
+    EXTERIOR,
+    INFINITE,
+    Cavity,
+    Constraint,
+    Insertion,
+    MeshDatum,
+    MeshError,
+    Tri,
+    constraint_of,
+    edge_key,
+)
+from persistri.impl.mesh.deletion import remove_vertex
+from persistri.impl.mesh.walk import locate, walk_to
 
 __all__ = [
     "EXTERIOR",
@@ -69,65 +87,10 @@ __all__ = [
     "Cavity",
     "MeshTriangulation",
     "MeshError",
+    "edge_key",
+    "constraint_of",
 ]
 
-EXTERIOR: Final[int] = -1
-"""The region of exterior triangles (eaten concavities, holes) and of ghosts."""
-
-INFINITE: Final[int] = -1
-"""The label of the symbolic vertex at infinity."""
-
-Constraint = tuple[int, int, int]
-"""``(lo, hi, segment)``: the edge between vertex labels ``lo < hi`` lies on input segment ``segment``."""
-
-MeshDatum = tuple[int, int, tuple[Constraint, ...]]
-"""The datum of a triangle: ``(id, region, constraints)``; ids are unique over the run (never reused)."""
-
-Tri = tuple[Vertex, Vertex, Vertex]
-
-
-class MeshError(ValueError):
-    """A meshing step met input it cannot handle (crossing segments, a precision limit); the message says which."""
-
-
-@dataclass(frozen=True, slots=True)
-class Insertion:
-    """One insertion: the new ``version``, the cavity ``removed`` and the fan ``created`` (each ``(triangle, datum)``)."""
-
-    version: Complex[MeshDatum]
-    removed: tuple[tuple[Tri, MeshDatum], ...]
-    created: tuple[tuple[Tri, MeshDatum], ...]
-
-
-class Cavity(NamedTuple):
-    """The conflict region of a point, before anything is built: what :meth:`MeshTriangulation.cavity` found.
-
-    ``triangles`` — the triangles to remove, by id; ``boundary`` — its boundary edges ``(u, w, region, segment)``
-    in cavity order (``u → w`` as in the cavity triangle beside it, ``region`` of the triangle to make on it,
-    ``segment`` -1 if none); ``beyond`` — for a rounded split point, the exterior triangle beyond the split edge
-    that stays, rewritten without the constraint (else None); ``split`` as :meth:`MeshTriangulation.insert`'s.
-    """
-
-    version: Complex[MeshDatum]
-    point: int
-    triangles: dict[int, tuple[Tri, MeshDatum]]
-    boundary: list[tuple[Vertex, Vertex, int, int]]
-    beyond: tuple[Tri, MeshDatum] | None
-    split: tuple[int, int, int] | None
-
-
-def edge_key(u: int, w: int) -> tuple[int, int]:
-    """The unordered edge ``{u, w}`` as ``(lo, hi)``."""
-    return (u, w) if u < w else (w, u)
-
-
-def constraint_of(datum: MeshDatum, u: int, w: int) -> int:
-    """The input segment the edge ``{u, w}`` of a triangle with ``datum`` lies on, or -1. O(1)."""
-    lo, hi = (u, w) if u < w else (w, u)
-    for a, b, s in datum[2]:
-        if a == lo and b == hi:
-            return s
-    return -1
 
 
 class MeshTriangulation:
@@ -407,184 +370,24 @@ class MeshTriangulation:
         version = self.S.replace(c, [t for t, _ in removed], created)
         return Insertion(version, removed, tuple(created))
 
-    # -- deletion ------------------------------------------------------------------------
+    # -- deletion and location: persistri.impl.mesh.deletion, persistri.impl.mesh.walk ---------------
 
     def remove(self, c: Complex[MeshDatum], v: int, start: tuple[Tri, MeshDatum]) -> Insertion:
-        """Version ``c`` without the vertex ``v``: its star replaced by the Delaunay triangulation of its link.
+        """Version ``c`` without the free vertex ``v`` (``start`` a triangle of ``c`` at ``v``): its star replaced by
+        the Delaunay triangulation of its link, one ``replace``
+        (:func:`~persistri.impl.mesh.deletion.remove_vertex`). O(k²) predicates for a star of ``k`` triangles."""
+        return remove_vertex(self, c, v, start)
 
-        ``start`` is a triangle of ``c`` having ``v`` as a vertex.  ``v`` must be a
-        *free* vertex: on no segment and not on the hull (every edge of its star
-        unconstrained), as the circumcentres Chew's rule deletes from a subsegment's
-        diametral circle are.  The link of ``v`` is a polygon, star-shaped from ``v``,
-        each of whose edges has a circle through ``v`` empty of every link vertex (the
-        circumcircle of its triangle with ``v``, which sees the whole star): so it is an
-        edge of the Delaunay triangulation of the link vertices, which therefore
-        triangulates the polygon, and that triangulation, with everything outside
-        the star unchanged, is the constrained Delaunay triangulation of the points
-        left (every unconstrained edge locally Delaunay).  It is built edge by edge:
-        the apex over a base edge is the vertex on its inner side whose circle through
-        the edge holds none of the others on that side (exact ``incircle``, SoS).
-        O(k²) predicates and one ``replace`` for a star of ``k`` triangles.
-        """
-        vv = self.vertex(v)
-        tri, dat = start
-        k = tri.index(vv)
-        t: Tri = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3])
-        star: list[tuple[Tri, MeshDatum]] = []
-        link: list[Vertex] = []
-        constraints: dict[tuple[int, int], int] = {}
-        region = dat[1]
-        first = t[1]
-        neighbour = self.S.neighbours(c)  # every lookup is from v: its list is read once
-        for _ in range(1 << 16):
-            if t[1] < 0 or t[2] < 0:
-                raise MeshError(f"internal: vertex {v} is on the hull; only free vertices are removed")
-            if dat[1] != region:
-                raise MeshError(f"internal: the star of vertex {v} spans two regions")
-            for lo, hi, s in dat[2]:
-                if lo == v or hi == v:
-                    raise MeshError(f"internal: vertex {v} is on segment {s}; only free vertices are removed")
-                constraints[(lo, hi)] = s
-            star.append((t, dat))
-            link.append(t[1])
-            found = neighbour((vv, t[2]))
-            assert found is not None, "a closed surface has a triangle beyond every edge"
-            t, dat = found
-            if t[1] == first:
-                break
-        new: list[Tri] = []
-        self._link_polygon(link[0], link[1], link[:1:-1], new)
-        created = tuple(
-            (
-                tri2,
-                self.new_datum(
-                    region,
-                    tuple(
-                        (*edge_key(x, y), constraints[edge_key(x, y)])
-                        for x, y in ((tri2[0], tri2[1]), (tri2[1], tri2[2]), (tri2[2], tri2[0]))
-                        if edge_key(x, y) in constraints
-                    ),
-                ),
-            )
-            for tri2 in new
-        )
-        version = self.S.replace(c, [t2 for t2, _ in star], created)
-        return Insertion(version, tuple(star), created)
-
-    def _link_polygon(self, a: Vertex, b: Vertex, chain: list[Vertex], out: list[Tri]) -> None:
-        """Triangulate the part of a deleted vertex's link left of ``a → b``, bounded by ``chain`` (from ``a``'s
-        side to ``b``'s): the Delaunay triangles of the link vertices (:meth:`remove`)."""
-        P = self.pred
-        stack = [(a, b, chain)]
-        while stack:
-            a, b, chain = stack.pop()
-            if not chain:
-                continue
-            best = -1
-            for j, x in enumerate(chain):
-                if P.orient2d_sign(a, b, x) > 0 and (best < 0 or P.incircle(a, b, chain[best], x) > 0):
-                    best = j
-            if best < 0:
-                raise MeshError(f"internal: no link vertex lies inside the edge {(int(a), int(b))}")
-            x = chain[best]
-            out.append((a, b, x))
-            stack.append((a, x, chain[:best]))
-            stack.append((x, b, chain[best + 1 :]))
-
-    # -- location ------------------------------------------------------------------------
 
     def locate(self, c: Complex[MeshDatum], p: int, hint: tuple[Tri, MeshDatum]) -> tuple[Tri, MeshDatum]:
-        """A triangle of ``c`` in conflict with ``p``: a visibility walk from ``hint`` that ignores constraints.
-
-        As :meth:`persistri.impl.terrain.delaunay.Triangulator.locate` (Devillers'
-        stochastic walk; a ghost reached is in conflict unless ``p`` is on the line of
-        its hull edge and outside it, and then every triangle is tested).  O(walk).
-        """
-        S, P = self.S, self.pred
-        inf = self.infinite
-        tri, dat = hint
-        came: tuple[Vertex, Vertex] | None = None
-        turn = 0
-        for _ in range(1 << 22):
-            if inf in tri:
-                if self.conflicts(tri, p):
-                    return tri, dat
-                break
-            a, b, cc = tri
-            edges = ((a, b), (b, cc), (cc, a))
-            turn += 1
-            for j in range(3):
-                u, w = edges[(turn + j) % 3]
-                if came == (u, w):
-                    continue
-                if P.orient2d(u, w, p) < 0:
-                    tri, dat = self.across(c, u, w)
-                    came = (w, u)
-                    break
-            else:
-                return tri, dat
-        for t, d in S.items(c):
-            if self.conflicts(t, p):
-                return t, d
-        raise MeshError(f"internal: no triangle is in conflict with point {p}")
+        """A triangle of ``c`` in conflict with ``p``: a visibility walk from ``hint`` that ignores constraints
+        (:func:`~persistri.impl.mesh.walk.locate`). O(walk)."""
+        return locate(self, c, p, hint)
 
     def walk_to(
         self, c: Complex[MeshDatum], start: tuple[Tri, MeshDatum], p: int
     ) -> tuple[Literal["found"], tuple[Tri, MeshDatum]] | tuple[Literal["blocked"], Constraint]:
-        """Walk from the finite triangle ``start`` towards point ``p`` along a straight line, never crossing a segment.
-
-        ``("found", (triangle, datum))``: the triangle containing ``p`` (SoS
-        orientation; ``p`` may lie exactly on its boundary); ``("blocked", (u, w,
-        segment))``: the line from ``start`` to ``p`` crosses the constrained edge
-        ``{u, w}`` (``segment`` -1 for a hull edge that is no segment).  The line
-        starts at the vertex of ``start`` opposite the edge ``p`` lies beyond (a
-        circumcentre or off-centre of ``start`` lies beyond at most one of its
-        edges: two would need two obtuse angles).  O(length).
-        """
-        pred = self.pred
-        rows = pred.filter_rows
-        counted = pred.stats is not None
-
-        def P(a: int, b: int, c: int) -> int:
-            # orient2d's filter inlined (the predicates' own, the same operations); exact or SoS when it cannot tell.
-            ax, ay = rows[a]
-            bx, by = rows[b]
-            cx, cy = rows[c]
-            acx = ax - cx
-            bcx = bx - cx
-            acy = ay - cy
-            bcy = by - cy
-            detleft = acx * bcy
-            detright = acy * bcx
-            det = detleft - detright
-            thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
-            if det > thr and not counted:
-                return 1
-            if det < -thr and not counted:
-                return -1
-            return pred.orient2d(a, b, c)
-
-        tri, dat = start
-        a, b, cc = tri
-        # The first edge of start that p lies beyond (the tests are pure: the later ones are not needed).
-        for r, l, v in ((a, b, cc), (b, cc, a), (cc, a, b)):
-            if P(r, l, p) < 0:
-                break
-        else:
-            return "found", start
-        # The exit edge (r, l), directed as in the current triangle: r right of the line v → p, l left of it.
-        inf = self.infinite
-        while True:
-            seg = constraint_of(dat, r, l) if dat[2] else -1
-            if seg >= 0:
-                return "blocked", (*edge_key(r, l), seg)
-            tri, dat = self.across(c, r, l)  # (l, r, z)
-            z = tri[2]
-            if z == inf:
-                return "blocked", (*edge_key(r, l), -1)
-            if P(r, z, p) > 0 and P(z, l, p) > 0:
-                return "found", (tri, dat)
-            if P(v, p, z) > 0:
-                l = z  # the line leaves through (r, z)
-            else:
-                r = z  # through (z, l)
+        """From the finite triangle ``start`` towards ``p`` along a straight line, never crossing a segment:
+        ``("found", triangle)`` or ``("blocked", (u, w, segment))`` (:func:`~persistri.impl.mesh.walk.walk_to`).
+        O(length)."""
+        return walk_to(self, c, start, p)

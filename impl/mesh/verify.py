@@ -81,15 +81,17 @@ Exempt triangles are counted (``exempt``), not reported as problems.
 Cost: O(t) vectorised integer work for orientation, pairing, areas and incircle
 (t triangles), a walk per segment, one point location per group of triangles,
 and the domain's faces (:func:`~persistri.impl.mesh.domain.domain_of`).
+
+The report and its problems (:class:`MeshReport`, :class:`MeshProblem`,
+:data:`PROBLEM_KINDS`) are defined in :mod:`~persistri.impl.mesh.verify_report`.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -100,98 +102,17 @@ from persistri.impl.mesh.angles import below_bound, smallest_corner, subtends_sm
 from persistri.impl.mesh.chains import segment_chains
 from persistri.impl.mesh.domain import PSLG, Domain, DomainError, as_pslg, domain_of
 from persistri.impl.mesh.faces import UNBOUNDED, common_scale
+from persistri.impl.mesh.verify_report import (
+    PROBLEM_KINDS,
+    MeshProblem,
+    MeshReport,
+    MeshVerificationError,
+    ProblemLog,
+)
 
 __all__ = ["verify_mesh", "MeshReport", "MeshProblem", "MeshVerificationError", "PROBLEM_KINDS"]
 
-PROBLEM_KINDS = (
-    "input",
-    "domain",
-    "orientation",
-    "missing-vertex",
-    "coincident",
-    "segment",
-    "segment-rounding",
-    "edge",
-    "boundary",
-    "outside",
-    "area",
-    "delaunay",
-    "angle",
-    "area-bound",
-)
-"""The kinds of :class:`MeshProblem`, in the order the checks run (module docstring)."""
-
 _TILING = ("input", "domain", "orientation", "missing-vertex", "coincident", "segment", "edge", "boundary", "outside")
-
-
-class MeshVerificationError(AssertionError):
-    """A mesh failed :func:`verify_mesh`; the message lists what is wrong."""
-
-
-class MeshProblem(NamedTuple):
-    """One thing wrong with a mesh: its ``kind`` (one of :data:`PROBLEM_KINDS`) and a message."""
-
-    kind: str
-    message: str
-
-    def __str__(self) -> str:
-        return f"{self.kind}: {self.message}"
-
-
-@dataclass
-class MeshReport:
-    """What :func:`verify_mesh` found: ``ok`` when ``problems`` is empty.
-
-    ``problems`` keeps at most ``max_problems`` of each kind; ``counts`` has
-    them all.  Quality: ``min_angle`` over all triangles and
-    ``min_angle_unexempt`` over those not exempt (degrees, for reading:
-    decisions are exact), ``exempt`` triangles below ``min_angle`` at small
-    input angles, ``max_area``.  ``domain_area`` and ``mesh_area`` are exact;
-    ``area_rounding`` is the area between the segments and the chains through
-    rounded split points (0 for exact meshes).
-    """
-
-    triangles: int = 0
-    vertices: int = 0
-    problems: list[MeshProblem] = field(default_factory=list)
-    counts: dict[str, int] = field(default_factory=dict)
-    min_angle: float | None = None
-    min_angle_unexempt: float | None = None
-    exempt: int = 0
-    max_area: float | None = None
-    domain_area: Fraction | None = None
-    mesh_area: Fraction | None = None
-    area_rounding: Fraction = Fraction(0)
-    split_vertices: int = 0
-    rounded_split_vertices: int = 0
-    constrained_edges: int = 0
-
-    @property
-    def ok(self) -> bool:
-        return not self.problems
-
-    def kinds(self) -> set[str]:
-        """The kinds of problem found."""
-        return set(self.counts)
-
-    def raise_if_failed(self) -> None:
-        """Raise :class:`MeshVerificationError` listing the problems, if any."""
-        if self.problems:
-            raise MeshVerificationError("not a valid mesh of the domain:\n  " + "\n  ".join(map(str, self.problems)))
-
-    def __str__(self) -> str:
-        if self.problems:
-            total = sum(self.counts.values())
-            return f"not a valid mesh ({total} problem{'s' if total != 1 else ''}): {self.problems[0]}"
-        quality = ""
-        if self.min_angle is not None:
-            quality = f", min angle {self.min_angle:.4g}°"
-            if self.exempt:
-                quality += f" ({self.exempt} exempt at small input angles; {self.min_angle_unexempt:.4g}° elsewhere)"
-        if self.max_area is not None:
-            quality += f", max area {self.max_area:.4g}"
-        rounded = f", {self.rounded_split_vertices} rounded split vertices" if self.rounded_split_vertices else ""
-        return f"valid mesh: {self.triangles} triangles, {self.vertices} vertices{quality}{rounded}"
 
 
 def verify_mesh(
@@ -227,7 +148,7 @@ def verify_mesh(
     if not (math.isfinite(rounding_ulps) and rounding_ulps >= 0):
         raise ValueError(f"rounding_ulps must be a non-negative number, got {rounding_ulps}")
     rep = MeshReport()
-    check = _Checker(rep, max_problems)
+    check = ProblemLog(rep, max_problems)
     try:
         pts = as_points(vertices, 2, what="vertices")
     except (TypeError, ValueError) as exc:
@@ -265,23 +186,6 @@ def verify_mesh(
     return rep
 
 
-class _Checker:
-    """Collects problems: all counted, at most ``limit`` of each kind kept."""
-
-    def __init__(self, rep: MeshReport, limit: int) -> None:
-        self.rep = rep
-        self.limit = limit
-
-    def problem(self, kind: str, message: str) -> None:
-        counts = self.rep.counts
-        counts[kind] = counts.get(kind, 0) + 1
-        if counts[kind] <= self.limit:
-            self.rep.problems.append(MeshProblem(kind, message))
-
-    def any(self, kinds: tuple[str, ...]) -> bool:
-        return any(k in self.rep.counts for k in kinds)
-
-
 def _sign(values: NDArray[np.object_]) -> NDArray[np.int8]:
     return (np.greater(values, 0).astype(np.int8) - np.less(values, 0).astype(np.int8)).astype(np.int8)
 
@@ -291,7 +195,7 @@ class _Mesh:
 
     def __init__(
         self,
-        check: _Checker,
+        check: ProblemLog,
         dom: Domain,
         pts: NDArray[np.float64],
         tri: NDArray[np.intp],

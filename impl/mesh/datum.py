@@ -1,0 +1,98 @@
+"""What a version of the mesh holds: triangle data, constraints, and the records of one insertion (paper §1).
+
+The types :mod:`~persistri.impl.mesh.triangulation` reads and makes versions of,
+shared by its insertion, its deletion (:mod:`~persistri.impl.mesh.deletion`) and
+its walks (:mod:`~persistri.impl.mesh.walk`):
+
+* a triangle ``(a, b, c)`` of vertices (counterclockwise; a *ghost* ``(u, w, ∞)``
+  on every hull edge, ``∞`` the symbolic vertex :data:`INFINITE`), whose datum
+  (:data:`MeshDatum`) holds a run-unique id, its region (:data:`EXTERIOR` for the
+  eaten concavities, the holes and the ghosts) and the constrained edges among its
+  own (:data:`Constraint`: an edge on an input segment, and which) — so a version
+  knows its own constraints;
+* :class:`Insertion` — what one insertion or deletion did (the new version, the
+  triangles removed and made); :class:`Cavity` — a point's conflict region found
+  in a version before anything is built.
+
+Everything here is an immutable value; O(1) per operation.  The names are also
+importable from :mod:`persistri.impl.mesh.triangulation`, where they were first defined.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Final, NamedTuple
+
+from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.vertex import Vertex
+
+__all__ = [
+    "EXTERIOR",
+    "INFINITE",
+    "Constraint",
+    "MeshDatum",
+    "Tri",
+    "Insertion",
+    "Cavity",
+    "MeshError",
+    "edge_key",
+    "constraint_of",
+]
+
+EXTERIOR: Final[int] = -1
+"""The region of exterior triangles (eaten concavities, holes) and of ghosts."""
+
+INFINITE: Final[int] = -1
+"""The label of the symbolic vertex at infinity."""
+
+Constraint = tuple[int, int, int]
+"""``(lo, hi, segment)``: the edge between vertex labels ``lo < hi`` lies on input segment ``segment``."""
+
+MeshDatum = tuple[int, int, tuple[Constraint, ...]]
+"""The datum of a triangle: ``(id, region, constraints)``; ids are unique over the run (never reused)."""
+
+Tri = tuple[Vertex, Vertex, Vertex]
+
+
+class MeshError(ValueError):
+    """A meshing step met input it cannot handle (crossing segments, a precision limit); the message says which."""
+
+
+@dataclass(frozen=True, slots=True)
+class Insertion:
+    """One insertion: the new ``version``, the cavity ``removed`` and the fan ``created`` (each ``(triangle, datum)``)."""
+
+    version: Complex[MeshDatum]
+    removed: tuple[tuple[Tri, MeshDatum], ...]
+    created: tuple[tuple[Tri, MeshDatum], ...]
+
+
+class Cavity(NamedTuple):
+    """The conflict region of a point, before anything is built: what :meth:`MeshTriangulation.cavity` found.
+
+    ``triangles`` — the triangles to remove, by id; ``boundary`` — its boundary edges ``(u, w, region, segment)``
+    in cavity order (``u → w`` as in the cavity triangle beside it, ``region`` of the triangle to make on it,
+    ``segment`` -1 if none); ``beyond`` — for a rounded split point, the exterior triangle beyond the split edge
+    that stays, rewritten without the constraint (else None); ``split`` as :meth:`MeshTriangulation.insert`'s.
+    """
+
+    version: Complex[MeshDatum]
+    point: int
+    triangles: dict[int, tuple[Tri, MeshDatum]]
+    boundary: list[tuple[Vertex, Vertex, int, int]]
+    beyond: tuple[Tri, MeshDatum] | None
+    split: tuple[int, int, int] | None
+
+
+def edge_key(u: int, w: int) -> tuple[int, int]:
+    """The unordered edge ``{u, w}`` as ``(lo, hi)``."""
+    return (u, w) if u < w else (w, u)
+
+
+def constraint_of(datum: MeshDatum, u: int, w: int) -> int:
+    """The input segment the edge ``{u, w}`` of a triangle with ``datum`` lies on, or -1. O(1)."""
+    lo, hi = (u, w) if u < w else (w, u)
+    for a, b, s in datum[2]:
+        if a == lo and b == hi:
+            return s
+    return -1

@@ -1,0 +1,109 @@
+"""Deleting a free vertex from a version: its star replaced by the Delaunay triangulation of its link (Chew 1989).
+
+Chew's rule in the refinement (:mod:`~persistri.impl.mesh.ruppert`) deletes the
+circumcentres that lie in a subsegment's diametral circle before splitting it;
+:func:`remove_vertex` makes the version without such a vertex — one ``replace``,
+one new version, the old one unchanged (paper §1: every step a version).  It is
+:meth:`MeshTriangulation.remove <persistri.impl.mesh.triangulation.MeshTriangulation.remove>`.
+
+Costs: O(k²) exact predicates (float-filtered) and one ``replace`` for a star of
+``k`` triangles.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.vertex import Vertex
+from persistri.impl.geometry.growing import GrowingPredicates2
+from persistri.impl.mesh.datum import Insertion, MeshDatum, MeshError, Tri, edge_key
+
+if TYPE_CHECKING:
+    from persistri.impl.mesh.triangulation import MeshTriangulation
+
+__all__ = ["remove_vertex", "link_polygon"]
+
+
+def remove_vertex(T: MeshTriangulation, c: Complex[MeshDatum], v: int, start: tuple[Tri, MeshDatum]) -> Insertion:
+    """Version ``c`` without the vertex ``v``: its star replaced by the Delaunay triangulation of its link.
+
+    ``start`` is a triangle of ``c`` having ``v`` as a vertex.  ``v`` must be a
+    *free* vertex: on no segment and not on the hull (every edge of its star
+    unconstrained), as the circumcentres Chew's rule deletes from a subsegment's
+    diametral circle are.  The link of ``v`` is a polygon, star-shaped from ``v``,
+    each of whose edges has a circle through ``v`` empty of every link vertex (the
+    circumcircle of its triangle with ``v``, which sees the whole star): so it is an
+    edge of the Delaunay triangulation of the link vertices, which therefore
+    triangulates the polygon, and that triangulation, with everything outside
+    the star unchanged, is the constrained Delaunay triangulation of the points
+    left (every unconstrained edge locally Delaunay).  It is built edge by edge:
+    the apex over a base edge is the vertex on its inner side whose circle through
+    the edge holds none of the others on that side (exact ``incircle``, SoS).
+    O(k²) predicates and one ``replace`` for a star of ``k`` triangles.
+    """
+    vv = T.vertex(v)
+    tri, dat = start
+    k = tri.index(vv)
+    t: Tri = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3])
+    star: list[tuple[Tri, MeshDatum]] = []
+    link: list[Vertex] = []
+    constraints: dict[tuple[int, int], int] = {}
+    region = dat[1]
+    first = t[1]
+    neighbour = T.S.neighbours(c)  # every lookup is from v: its list is read once
+    for _ in range(1 << 16):
+        if t[1] < 0 or t[2] < 0:
+            raise MeshError(f"internal: vertex {v} is on the hull; only free vertices are removed")
+        if dat[1] != region:
+            raise MeshError(f"internal: the star of vertex {v} spans two regions")
+        for lo, hi, s in dat[2]:
+            if lo == v or hi == v:
+                raise MeshError(f"internal: vertex {v} is on segment {s}; only free vertices are removed")
+            constraints[(lo, hi)] = s
+        star.append((t, dat))
+        link.append(t[1])
+        found = neighbour((vv, t[2]))
+        assert found is not None, "a closed surface has a triangle beyond every edge"
+        t, dat = found
+        if t[1] == first:
+            break
+    new: list[Tri] = []
+    link_polygon(T.pred, link[0], link[1], link[:1:-1], new)
+    created = tuple(
+        (
+            tri2,
+            T.new_datum(
+                region,
+                tuple(
+                    (*edge_key(x, y), constraints[edge_key(x, y)])
+                    for x, y in ((tri2[0], tri2[1]), (tri2[1], tri2[2]), (tri2[2], tri2[0]))
+                    if edge_key(x, y) in constraints
+                ),
+            ),
+        )
+        for tri2 in new
+    )
+    version = T.S.replace(c, [t2 for t2, _ in star], created)
+    return Insertion(version, tuple(star), created)
+
+
+def link_polygon(P: GrowingPredicates2, a: Vertex, b: Vertex, chain: list[Vertex], out: list[Tri]) -> None:
+    """Triangulate the part of a deleted vertex's link left of ``a → b``, bounded by ``chain`` (from ``a``'s
+    side to ``b``'s): the Delaunay triangles of the link vertices (:func:`remove_vertex`). O(k²) for ``k`` link
+    vertices."""
+    stack = [(a, b, chain)]
+    while stack:
+        a, b, chain = stack.pop()
+        if not chain:
+            continue
+        best = -1
+        for j, x in enumerate(chain):
+            if P.orient2d_sign(a, b, x) > 0 and (best < 0 or P.incircle(a, b, chain[best], x) > 0):
+                best = j
+        if best < 0:
+            raise MeshError(f"internal: no link vertex lies inside the edge {(int(a), int(b))}")
+        x = chain[best]
+        out.append((a, b, x))
+        stack.append((a, x, chain[:best]))
+        stack.append((x, b, chain[best + 1 :]))

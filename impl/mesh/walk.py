@@ -1,0 +1,130 @@
+"""Point location in a version of the mesh: the visibility walk and the straight walk that stops at segments.
+
+Two walks over one version of :class:`~persistri.impl.mesh.triangulation.MeshTriangulation`
+(they read it; they make no version):
+
+* :func:`locate` — a triangle in conflict with a point, for the constrained Delaunay
+  triangulation's vertex insertions: Devillers' stochastic visibility walk, which
+  ignores constraints (as :meth:`persistri.impl.terrain.delaunay.Triangulator.locate`);
+* :func:`walk_to` — from a bad triangle towards its Steiner point along a straight
+  line, never crossing a segment: the triangle that holds the point, or the
+  subsegment that blocks it (Ruppert's refinement then splits that instead;
+  :mod:`~persistri.impl.mesh.ruppert`).
+
+They are the triangulation's :meth:`~persistri.impl.mesh.triangulation.MeshTriangulation.locate`
+and :meth:`~persistri.impl.mesh.triangulation.MeshTriangulation.walk_to`.  Exact
+orientations (float filter first, SoS for ties).  Costs: O(length of the walk) reads
+of the version, O(lg n) each.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Literal
+
+from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.vertex import Vertex
+from persistri.impl.geometry.filter import ERRBOUND_ORIENT2D
+from persistri.impl.mesh.datum import Constraint, MeshDatum, MeshError, Tri, constraint_of, edge_key
+
+if TYPE_CHECKING:
+    from persistri.impl.mesh.triangulation import MeshTriangulation
+
+__all__ = ["locate", "walk_to"]
+
+
+def locate(T: MeshTriangulation, c: Complex[MeshDatum], p: int, hint: tuple[Tri, MeshDatum]) -> tuple[Tri, MeshDatum]:
+    """A triangle of ``c`` in conflict with ``p``: a visibility walk from ``hint`` that ignores constraints.
+
+    As :meth:`persistri.impl.terrain.delaunay.Triangulator.locate` (Devillers'
+    stochastic walk; a ghost reached is in conflict unless ``p`` is on the line of
+    its hull edge and outside it, and then every triangle is tested).  O(walk).
+    """
+    S, P = T.S, T.pred
+    inf = T.infinite
+    tri, dat = hint
+    came: tuple[Vertex, Vertex] | None = None
+    turn = 0
+    for _ in range(1 << 22):
+        if inf in tri:
+            if T.conflicts(tri, p):
+                return tri, dat
+            break
+        a, b, cc = tri
+        edges = ((a, b), (b, cc), (cc, a))
+        turn += 1
+        for j in range(3):
+            u, w = edges[(turn + j) % 3]
+            if came == (u, w):
+                continue
+            if P.orient2d(u, w, p) < 0:
+                tri, dat = T.across(c, u, w)
+                came = (w, u)
+                break
+        else:
+            return tri, dat
+    for t, d in S.items(c):
+        if T.conflicts(t, p):
+            return t, d
+    raise MeshError(f"internal: no triangle is in conflict with point {p}")
+
+
+def walk_to(
+    T: MeshTriangulation, c: Complex[MeshDatum], start: tuple[Tri, MeshDatum], p: int
+) -> tuple[Literal["found"], tuple[Tri, MeshDatum]] | tuple[Literal["blocked"], Constraint]:
+    """Walk from the finite triangle ``start`` towards point ``p`` along a straight line, never crossing a segment.
+
+    ``("found", (triangle, datum))``: the triangle containing ``p`` (SoS
+    orientation; ``p`` may lie exactly on its boundary); ``("blocked", (u, w,
+    segment))``: the line from ``start`` to ``p`` crosses the constrained edge
+    ``{u, w}`` (``segment`` -1 for a hull edge that is no segment).  The line
+    starts at the vertex of ``start`` opposite the edge ``p`` lies beyond (a
+    circumcentre or off-centre of ``start`` lies beyond at most one of its
+    edges: two would need two obtuse angles).  O(length).
+    """
+    pred = T.pred
+    rows = pred.filter_rows
+    counted = pred.stats is not None
+
+    def P(a: int, b: int, c: int) -> int:
+        # orient2d's filter inlined (the predicates' own, the same operations); exact or SoS when it cannot tell.
+        ax, ay = rows[a]
+        bx, by = rows[b]
+        cx, cy = rows[c]
+        acx = ax - cx
+        bcx = bx - cx
+        acy = ay - cy
+        bcy = by - cy
+        detleft = acx * bcy
+        detright = acy * bcx
+        det = detleft - detright
+        thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
+        if det > thr and not counted:
+            return 1
+        if det < -thr and not counted:
+            return -1
+        return pred.orient2d(a, b, c)
+
+    tri, dat = start
+    a, b, cc = tri
+    # The first edge of start that p lies beyond (the tests are pure: the later ones are not needed).
+    for r, l, v in ((a, b, cc), (b, cc, a), (cc, a, b)):
+        if P(r, l, p) < 0:
+            break
+    else:
+        return "found", start
+    # The exit edge (r, l), directed as in the current triangle: r right of the line v → p, l left of it.
+    inf = T.infinite
+    while True:
+        seg = constraint_of(dat, r, l) if dat[2] else -1
+        if seg >= 0:
+            return "blocked", (*edge_key(r, l), seg)
+        tri, dat = T.across(c, r, l)  # (l, r, z)
+        z = tri[2]
+        if z == inf:
+            return "blocked", (*edge_key(r, l), -1)
+        if P(r, z, p) > 0 and P(z, l, p) > 0:
+            return "found", (tri, dat)
+        if P(v, p, z) > 0:
+            l = z  # the line leaves through (r, z)
+        else:
+            r = z  # through (z, l)
