@@ -50,7 +50,7 @@ from typing import Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from persistri.impl.geometry.exact import ZERO_LOW, binary_exponents, incircle_det, orient2d_det
+from persistri.impl.geometry.exact import ZERO_LOW, incircle_det, orient2d_det
 from persistri.impl.geometry.filter import (
     ERRBOUND_INCIRCLE,
     ERRBOUND_ORIENT2D,
@@ -128,15 +128,23 @@ class GrowingPredicates2:
     def __init__(self, points: ArrayLike, *, stats: Stats | None = None) -> None:
         pts = as_points(points, 2)
         self.stats = stats
-        low, high = binary_exponents(pts)
-        nonzero = low < ZERO_LOW
-        self._shift = choose_scaling(low[nonzero], high[nonzero]).shift
+        xy: list[tuple[float, float]] = [(x, y) for x, y in pts.tolist()]
+        # Each coordinate's exact parts once: the scale's extremes come from them (the grain of a nonzero x is the
+        # exponent of its odd multiple, its magnitude frexp's exponent, as exact.binary_exponents has them), and so
+        # do the points' integers (_push).
+        parts = [(exact_parts(x), exact_parts(y)) for x, y in xy]
+        grains = [e for pair in parts for m, e in pair if m]
+        if grains:
+            top = max(math.frexp(v)[1] for x, y in xy for v in (x, y) if v != 0.0)
+            self._shift = choose_scaling(np.array([min(grains)]), np.array([top])).shift
+        else:
+            self._shift = choose_scaling(np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)).shift
         self._xy = []
         self._rows = []
         self._exact = []
         self._array = None
-        for x, y in pts.tolist():
-            self._push(x, y)
+        for (x, y), (px, py) in zip(xy, parts):
+            self._push(x, y, px, py)
 
     def __repr__(self) -> str:
         return f"GrowingPredicates2(n={len(self._xy)})"
@@ -147,18 +155,19 @@ class GrowingPredicates2:
 
     # -- the point set -------------------------------------------------------------------
 
-    def _push(self, x: float, y: float) -> int:
-        (mx, ex), (my, ey) = exact_parts(x), exact_parts(y)
+    def _push(self, x: float, y: float, px: tuple[int, int], py: tuple[int, int]) -> int:
+        """Append ``(x, y)``, whose exact parts (:func:`exact_parts`) are ``px`` and ``py``. O(1)."""
+        (mx, ex), (my, ey) = px, py
         e = min(ex, ey)
         if e == ZERO_LOW:
             e = 0
         self._exact.append((mx << (ex - e) if mx else 0, my << (ey - e) if my else 0, e))
         self._xy.append((x, y))
         shift = self._shift
-        ok = True
-        for v, grain in ((x, ex), (y, ey)):
-            if v != 0.0 and (grain + shift < GRAIN_MIN or math.frexp(v)[1] + shift > TOP_MAX):
-                ok = False
+        # A filter copy only if each nonzero coordinate has a grain and a magnitude the proved filters take.
+        ok = (x == 0.0 or (ex + shift >= GRAIN_MIN and math.frexp(x)[1] + shift <= TOP_MAX)) and (
+            y == 0.0 or (ey + shift >= GRAIN_MIN and math.frexp(y)[1] + shift <= TOP_MAX)
+        )
         self._rows.append((math.ldexp(x, shift), math.ldexp(y, shift)) if ok else _NAN)
         self._array = None
         return len(self._xy) - 1
@@ -173,7 +182,8 @@ class GrowingPredicates2:
         x, y = float(x), float(y)
         if not (math.isfinite(x) and math.isfinite(y)):
             raise ValueError(f"a point must have finite coordinates, got ({x!r}, {y!r})")
-        return self._push(x + 0.0, y + 0.0)
+        x, y = x + 0.0, y + 0.0
+        return self._push(x, y, exact_parts(x), exact_parts(y))
 
     @property
     def points(self) -> NDArray[np.float64]:
