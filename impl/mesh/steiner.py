@@ -243,8 +243,11 @@ def _dyadic_split(
     other = _dyadic_level_bound(ay, dy, lo_ok, hi_ok)
     if bound is None or (other is not None and other < bound):
         bound = other
+    start = fine
+    if bound is not None and 0 <= bound < fine:
+        start = min(fine, max(bound, _last_reducing_level(tn, td, bound)))
     tried: set[tuple[int, int]] = set()
-    for k in range(fine, k0 - 1, -1):
+    for k in range(start, k0 - 1, -1):
         unit = 1 << k
         scaled = tn * unit  # target · 2^k = scaled / td
         base = scaled // td
@@ -269,6 +272,35 @@ def _dyadic_split(
         f"for parameters in ({float(t_lo)!r}, {float(t_hi)!r}): the subsegment is at the limit of double precision "
         "(round the input coordinates to fewer significant bits, or ask for a coarser mesh)"
     )
+
+
+def _last_reducing_level(tn: int, td: int, bound: int) -> int:
+    """The highest level ``k`` at which a candidate of :func:`_dyadic_split` for the target ``tn / td`` can reduce to
+    a level at most ``bound >= 0`` (-1 if none; a large number if every level can).
+
+    At level ``k > bound`` the candidates are ``j = floor(target · 2^k)`` and ``j + 1``; ``j / 2^k`` in lowest terms
+    has a level at most ``bound`` exactly when ``j`` is a multiple of ``2^(k − bound)``, i.e. when a point
+    ``m / 2^bound`` lies within ``2^-k`` of the target: below it (``m = floor(target · 2^bound)``) at a distance
+    ``d_lo < 2^-k``, or above it (``m + 1``) at ``d_hi <= 2^-k``.  Both conditions hold for every level up to some
+    ``k``, and for none above it: levels above the returned one hold only candidates that the level bound rejects
+    (and that no later level could return), so :func:`_dyadic_split` starts below them, with the same result. O(1)
+    on integers."""
+    g = 1 << bound
+    m = (tn * g) // td
+    den = td * g  # d_lo = lo / den, d_hi = hi / den
+    lo = tn * g - m * td
+    hi = (m + 1) * td - tn * g
+    if lo == 0:
+        return 1 << 30  # the target is on the grid of level bound: every level can reduce
+    best = -1
+    k = den.bit_length() - lo.bit_length()  # the largest k with lo · 2^k < den
+    if k >= 0 and (lo << k) >= den:
+        k -= 1
+    best = max(best, k)
+    k = den.bit_length() - hi.bit_length()  # the largest k with hi · 2^k <= den
+    if k >= 0 and (hi << k) > den:
+        k -= 1
+    return max(best, k)
 
 
 def _dyadic_level_bound(a: int, d: int, lo: Fraction, hi: Fraction) -> int | None:
