@@ -31,6 +31,7 @@ import gc
 import math
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
+from itertools import chain
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
@@ -84,26 +85,26 @@ def _arrays(run: _Run, c: Complex[MeshDatum]) -> MeshArrays:
     """Version ``c`` as arrays: the input vertices first (rows kept), then the Steiner vertices present, by index."""
     items = run.T.S.items(c)
     n = run.geo.n_input
-    steiner = sorted(int(v) for v in {v for t, _ in items for v in t} if v >= n)
-    points = np.array(list(range(n)) + steiner, dtype=np.intp)
+    # Every triangle's labels (ghosts' -1 too) and region in one pass each, as arrays (a vertex is an int).
+    labels = np.fromiter(chain.from_iterable([t for t, _ in items]), dtype=np.intp, count=3 * len(items)).reshape(-1, 3)
+    region_of = np.fromiter([d[1] for _, d in items], dtype=np.intp, count=len(items))
+    steiner = np.unique(labels[labels >= n])
+    points = np.concatenate((np.arange(n, dtype=np.intp), steiner))
     index = np.full(len(run.T.pred), -1, dtype=np.intp)
     index[points] = np.arange(points.size)
-    tris = []
-    regions = []
+    inside = region_of != EXTERIOR
     segs: dict[tuple[int, int], int] = {}
-    for t, d in items:
-        if d[1] != EXTERIOR:
-            tris.append(t)
-            regions.append(d[1])
-        for lo, hi, s in d[2]:
-            segs[(lo, hi)] = s
+    for _, d in items:
+        if d[2]:
+            for lo, hi, s in d[2]:
+                segs[(lo, hi)] = s
     seg_rows = sorted(segs.items(), key=lambda kv: (kv[1], kv[0]))
     return MeshArrays(
         vertices=np.array(run.T.pred.points[points], dtype=np.float64),
-        triangles=index[np.array(tris, dtype=np.intp).reshape(-1, 3)],
+        triangles=index[labels[inside]],
         segments=index[np.array([k for k, _ in seg_rows], dtype=np.intp).reshape(-1, 2)],
         segment_of=np.array([s for _, s in seg_rows], dtype=np.intp),
-        regions=np.array(regions, dtype=np.intp),
+        regions=region_of[inside],
         points=points,
     )
 
