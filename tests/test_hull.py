@@ -249,14 +249,15 @@ def _first_cones(pts: np.ndarray) -> tuple[dict[frozenset[int], list[int]], dict
     from persistri.impl.complex.simpcomp import two_complex
     from persistri.impl.geometry.predicates import Predicates3
     from persistri.impl.hull.bulldozer import Bulldozer, all_but, initial_tetrahedron
+    from persistri.impl.hull.first_hull import cones_by_planes, cones_by_tree
 
     pred = Predicates3(pts)
     tetra = initial_tetrahedron(pred, len(pts))
     bd = Bulldozer(pred.with_centroid(*tetra), two_complex("red_black", None), tetra)
     others = all_but(len(pts), tetra)
     faces = [tri for tri, _ in bd.faces.values()]
-    by_planes = {k: v.tolist() for k, v in bd._cones_by_planes(faces, others).items()}
-    by_tree = {k: v.tolist() for k, v in bd._cones_by_tree(tetra, others).items()}
+    by_planes = {k: v.tolist() for k, v in cones_by_planes(bd, faces, others).items()}
+    by_tree = {k: v.tolist() for k, v in cones_by_tree(bd, tetra, others).items()}
     return by_planes, by_tree
 
 

@@ -78,8 +78,9 @@ unique: each point is inserted at most once).
 Everything is iterative (no recursion), so any input size works.
 
 Where it lives: the conflict lists, point statuses and the face table in
-:mod:`~persistri.impl.hull.conflicts`; the initial tetrahedron and the first
-cones in :mod:`~persistri.impl.hull.first_hull`; ``check=True``'s verifications
+:mod:`~persistri.impl.hull.conflicts`; the initial tetrahedron, the first
+cones and the first version in :mod:`~persistri.impl.hull.first_hull`; resuming
+a run and attaching late points in :mod:`~persistri.impl.hull.resume`; ``check=True``'s verifications
 in :mod:`~persistri.impl.hull.bulldozer_checks`; the state of a run and the
 insertion loop here (re-exporting what this module always exported).
 """
@@ -116,7 +117,7 @@ from persistri.impl.hull.conflicts import (
     triangle_array,
 )
 from persistri.impl.hull.errors import BulldozerCheckError
-from persistri.impl.hull.first_hull import cones_by_planes, cones_by_tree, initial_tetrahedron
+from persistri.impl.hull.first_hull import first_hull, initial_tetrahedron
 from persistri.impl.hull.resume import attach, resume
 
 __all__ = [
@@ -225,7 +226,7 @@ class Bulldozer:
         self._next_fid = 0
         self._table = _FaceTable() if check else None
         self._resumed = resume is not None
-        self.complex: Complex[FaceDatum] = self._start(tetra) if resume is None else self._resume(*resume)
+        self.complex: Complex[FaceDatum] = first_hull(self, tetra) if resume is None else self._resume(*resume)
 
     def _vertex(self, i: int) -> Vertex:
         """The vertex of input point ``i`` (label ``i``), made on first use."""
@@ -236,83 +237,22 @@ class Bulldozer:
             v = self.verts[i] = Vertex(i, i, self._lineage)
         return v
 
-    # -- the first hull --------------------------------------------------------------
-
-    def _new_face(self, tri: Triangle, kept: Indices) -> Entry:
-        """A new face ``tri`` with the conflict list ``kept``: its id, its table entry, its points' association."""
-        fid = self._next_fid
-        self._next_fid += 1
-        conflict = _freeze(kept)
-        _assign(self._assoc, self.assoc, conflict, fid)
-        entry = (tri, (fid, conflict))
-        self.faces[fid] = entry
-        if self._table is not None:
-            self._table.add(fid, tri)
-        return entry
-
-    def _start(self, tetra: tuple[int, int, int, int]) -> Complex[FaceDatum]:
-        P = self.pred
-        V = {i: self._vertex(i) for i in tetra}
-        a, b, c, d = tetra
-        faces: list[Triangle] = []
-        for (i, j, k), opp in (((a, b, c), d), ((a, d, b), c), ((b, d, c), a), ((c, d, a), b)):
-            # Outward: the opposite vertex (inside) is below the face (+1).
-            tri = (V[i], V[j], V[k]) if P.orient3d(i, j, k, opp) > 0 else (V[i], V[k], V[j])
-            faces.append(tri)
-        others = all_but(self.n, tetra)
-        self.status[list(tetra)] = ON_HULL
-        # Each other point goes to the face its ray from the centre leaves through: the face's cone.
-        if self.check or P.stats is not None:
-            cones = self._cones_by_planes(faces, others)  # by definition: checked, and the counts of the paper
-        else:
-            cones = self._cones_by_tree(tetra, others)
-        cx = self.S.new(2)
-        for tri in faces:
-            x, y, z = tri
-            out, _ = self._partition(x, y, z, cones[frozenset(tri)])
-            _assign(self._status, self.status, out, PENDING)
-            cx = self.S.add(cx, *self._new_face(tri, out))
-        return cx
-
-    def _cones_by_planes(self, faces: list[Triangle], others: IntArray) -> dict[frozenset[int], IntArray]:
-        """The cones of the first tetrahedron's ``faces``, by definition (:func:`.first_hull.cones_by_planes`)."""
-        return cones_by_planes(self, faces, others)
-
-    def _cones_by_tree(self, tetra: tuple[int, int, int, int], others: IntArray) -> dict[frozenset[int], IntArray]:
-        """The same cones by a decision tree (:func:`.first_hull.cones_by_tree`)."""
-        return cones_by_tree(self, tetra, others)
-
     # -- continuing a run ------------------------------------------------------------
 
     def _resume(self, cx: Complex[FaceDatum], table: IntArray) -> Complex[FaceDatum]:
-        """Take over ``cx``, the last version of an earlier run, whose faces are the rows ``(id, a, b, d)`` of ``table``.
-
-        Nothing is done per old face in Python: the face table by id (kept in
-        every resumed run: :meth:`triangles` reads it) is filled from ``table``
-        at numpy speed, and :attr:`faces` holds only the faces this run makes or
-        changes — a lit old face is read from the complex, like every
-        neighbour.  New vertices join the version's lineage; face ids continue
-        after ``table``'s.  ``check=True`` takes over every face from ``cx``
-        instead and verifies that ``table`` lists them and that their conflict
-        lists are empty (O(faces)).  O(faces) vectorised otherwise.
-        """
+        """Take over ``cx``, the last version of an earlier run, whose faces are the rows ``(id, a, b, d)`` of ``table``
+        (:func:`.resume.resume`: no Python step per old face).  O(faces) vectorised."""
         return resume(self, cx, table)
 
     def attach(self, points: IntArray, fids: IntArray) -> Complex[FaceDatum]:
         """Associate interior-marked points with faces: ``points[j]`` lies in the cone from the centre through face ``fids[j]``.
 
-        The points beyond their face (those that see it) join its conflict
-        list and become pending; the others are inside the hull and stay
-        interior — the association of Appendix A.1, for points that arrive after
-        the hull was built.  Returns the new version (one ``replace`` of the
-        faces that gained points by themselves with their longer lists); every
-        other face, its datum and its map nodes are shared with the current
-        version, which is returned itself when no point is outside.
-        ``check=True`` verifies each point's cone (the three signs
-        ``orient3d(u, w, c, q) = -1``).  O(len(points)) plane-side tests.
+        Those beyond their face join its list and become pending, the others stay
+        interior (Appendix A.1, for points that arrive after the hull was built;
+        :func:`.resume.attach`).  Returns the new version, or the current one when
+        no point is outside.  O(len(points)) plane-side tests and one ``replace``.
         """
         return attach(self, points, fids)
-
 
     # -- one insertion ---------------------------------------------------------------
 

@@ -1,4 +1,4 @@
-"""The first hull: the initial tetrahedron and the cones that give every other point its first face.
+"""The first hull: the initial tetrahedron, the cones that give every other point its first face, the first version.
 
 The bulldozer starts from a tetrahedron of nonzero volume (chosen exactly by
 :func:`initial_tetrahedron`) whose centroid is the fixed centre ``c``; each
@@ -6,8 +6,10 @@ other point is associated with the face through which the ray ``c → q``
 leaves the tetrahedron (Appendix A.1): the face's **cone**.
 :func:`cones_by_planes` computes the cones by their definition (the counted
 and checked runs), :func:`cones_by_tree` by a decision tree of three tests per
-point; ``Bulldozer._start`` (:mod:`persistri.impl.hull.bulldozer`) uses one or
-the other.  Each is O(n) plane-side tests, vectorised.
+point; :func:`first_hull` — the first version of a run of
+:class:`~persistri.impl.hull.bulldozer.Bulldozer` — uses one or the other.
+Each is O(n) plane-side tests, vectorised.  Once per run, so interpreted, beside
+the compiled insertion loop.
 """
 
 from __future__ import annotations
@@ -17,15 +19,27 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from persistri.impl.complex.structure import Complex
 from persistri.impl.geometry.kernel import Indices
 from persistri.impl.geometry.predicates import Predicates3
-from persistri.impl.hull.conflicts import IntArray, Triangle, _join
+from persistri.impl.hull.conflicts import (
+    ON_HULL,
+    PENDING,
+    Entry,
+    FaceDatum,
+    IntArray,
+    Triangle,
+    _assign,
+    _freeze,
+    _join,
+    all_but,
+)
 from persistri.impl.hull.errors import BulldozerCheckError, DegenerateInputError
 
 if TYPE_CHECKING:
     from persistri.impl.hull.bulldozer import Bulldozer
 
-__all__ = ["initial_tetrahedron", "cones_by_planes", "cones_by_tree"]
+__all__ = ["initial_tetrahedron", "cones_by_planes", "cones_by_tree", "first_hull"]
 
 
 def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
@@ -142,3 +156,53 @@ def cones_by_tree(bd: Bulldozer, tetra: tuple[int, int, int, int], others: IntAr
         for corners, pts in (((apex, x, y), in_xy), ((apex, y, z), in_yz), ((apex, y, z), in_zy), ((apex, z, x), in_zx)):
             found.setdefault(frozenset(corners), []).append(pts)
     return {key: np.sort(np.asarray(_join(parts), dtype=np.intp)) for key, parts in found.items()}
+
+
+def new_face(bd: Bulldozer, tri: Triangle, kept: Indices) -> Entry:
+    """A new face ``tri`` of ``bd`` with the conflict list ``kept``: its id, its table entry, its points' association.
+
+    What :meth:`Bulldozer.insert <persistri.impl.hull.bulldozer.Bulldozer.insert>` does for each
+    tent face, written out there.  O(len(kept)).
+    """
+    fid = bd._next_fid
+    bd._next_fid += 1
+    conflict = _freeze(kept)
+    _assign(bd._assoc, bd.assoc, conflict, fid)
+    entry = (tri, (fid, conflict))
+    bd.faces[fid] = entry
+    if bd._table is not None:
+        bd._table.add(fid, tri)
+    return entry
+
+
+def first_hull(bd: Bulldozer, tetra: tuple[int, int, int, int]) -> Complex[FaceDatum]:
+    """The first version of ``bd``'s run: the tetrahedron ``tetra``, outward, each face with its conflict list.
+
+    Every other point is associated with the face whose cone holds it
+    (:func:`cones_by_planes` in counted and checked runs, whose counts are the
+    paper's; :func:`cones_by_tree` otherwise) and joins its list if it sees the
+    face; the four corners are on the hull, the points that see no face are
+    interior.  O(n) plane-side tests, vectorised; four ``add`` of the complex.
+    """
+    P = bd.pred
+    V = {i: bd._vertex(i) for i in tetra}
+    a, b, c, d = tetra
+    faces: list[Triangle] = []
+    for (i, j, k), opp in (((a, b, c), d), ((a, d, b), c), ((b, d, c), a), ((c, d, a), b)):
+        # Outward: the opposite vertex (inside) is below the face (+1).
+        tri = (V[i], V[j], V[k]) if P.orient3d(i, j, k, opp) > 0 else (V[i], V[k], V[j])
+        faces.append(tri)
+    others = all_but(bd.n, tetra)
+    bd.status[list(tetra)] = ON_HULL
+    # Each other point goes to the face its ray from the centre leaves through: the face's cone.
+    if bd.check or P.stats is not None:
+        cones = cones_by_planes(bd, faces, others)  # by definition: checked, and the counts of the paper
+    else:
+        cones = cones_by_tree(bd, tetra, others)
+    cx = bd.S.new(2)
+    for tri in faces:
+        x, y, z = tri
+        out, _ = bd._partition(x, y, z, cones[frozenset(tri)])
+        _assign(bd._status, bd.status, out, PENDING)
+        cx = bd.S.add(cx, *new_face(bd, tri, out))
+    return cx

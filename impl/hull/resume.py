@@ -40,8 +40,17 @@ __all__ = ["resume", "attach"]
 
 
 def resume(B: Bulldozer, cx: Complex[FaceDatum], table: IntArray) -> Complex[FaceDatum]:
-    """``B._resume(cx, table)``: ``B`` takes over ``cx``, whose faces are the rows ``(id, a, b, d)`` of ``table``.
-    O(faces) vectorised (O(faces) in Python with ``check``)."""
+    """``B._resume(cx, table)``: ``B`` takes over ``cx``, the last version of an earlier run, whose faces are the rows ``(id, a, b, d)`` of ``table``.
+
+    Nothing is done per old face in Python: the face table by id (kept in
+    every resumed run: :meth:`~persistri.impl.hull.bulldozer.Bulldozer.triangles`
+    reads it) is filled from ``table`` at numpy speed, and ``B.faces`` holds only
+    the faces this run makes or changes — a lit old face is read from the
+    complex, like every neighbour.  New vertices join the version's lineage;
+    face ids continue after ``table``'s.  ``check=True`` takes over every face
+    from ``cx`` instead and verifies that ``table`` lists them and that their
+    conflict lists are empty (O(faces) in Python).  O(faces) vectorised otherwise.
+    """
     ft = B._table = _FaceTable()
     ft.add_many(table[:, 0], table[:, 1:])
     B._next_fid = int(table[:, 0].max()) + 1 if table.size else 0
@@ -61,8 +70,18 @@ def resume(B: Bulldozer, cx: Complex[FaceDatum], table: IntArray) -> Complex[Fac
 
 
 def attach(B: Bulldozer, points: IntArray, fids: IntArray) -> Complex[FaceDatum]:
-    """``B.attach(points, fids)``: ``points[j]`` joins the conflict list of face ``fids[j]`` if it sees it.
-    O(len(points)) plane-side tests and one ``replace``."""
+    """``B.attach(points, fids)``: ``points[j]``, interior-marked and in the cone from the centre through face ``fids[j]``, joins its list if it sees it.
+
+    The points beyond their face (those that see it) join its conflict list and
+    become pending; the others are inside the hull and stay interior — the
+    association of Appendix A.1, for points that arrive after the hull was
+    built.  Returns the new version (one ``replace`` of the faces that gained
+    points by themselves with their longer lists); every other face, its datum
+    and its map nodes are shared with the current version, which is returned
+    itself when no point is outside.  ``check=True`` verifies each point's cone
+    (the three signs ``orient3d(u, w, c, q) = -1``).  O(len(points)) plane-side
+    tests and one ``replace``.
+    """
     status, assoc = B._status, B._assoc
     faces = B.faces
     if B.check:
