@@ -10,12 +10,15 @@ file quick.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any
 
 import pytest
 from click.testing import CliRunner, Result
+import hypothesis.core
 from hypothesis import settings
+from hypothesis.database import InMemoryExampleDatabase
 
 from broken_complexes import OrientationBlindFind, StaleRem, mutating_add
 from complex_helpers import BACKEND_NAMES
@@ -159,6 +162,37 @@ def test_the_base_class_raises_the_law_violation_directly() -> None:
     with pytest.raises(LawViolation) as info:
         TestBlind().test_find()
     assert info.value.law == "find"
+
+
+class _ForgetfulDatabase(InMemoryExampleDatabase):
+    """A shared example database from which another test removed the saved example (under pytest-xdist a
+    conforming structure's run of the same body replays it, sees it pass and deletes it)."""
+
+    def save(self, key: bytes, value: bytes) -> None:
+        pass
+
+
+@pytest.mark.parametrize("how", ["shared database lost the example", "forced seed"])
+def test_a_confirmed_failure_does_not_depend_on_the_users_database(how: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    # The rerun that confirms a failure once replayed the example from the user's database; when the example was
+    # not there (another test had deleted it; --hypothesis-seed saves nothing) the replay ran no example and the
+    # plain law `find` was reported as `determinism`.
+    class TestBlind(SimpCompConformance):
+        structure = OrientationBlindFind(assoc_list)
+        state = VertexState.initial
+        max_examples = 30
+
+    if how == "forced seed":
+        monkeypatch.setattr(hypothesis.core, "global_force_seed", 7)  # what --hypothesis-seed=7 sets
+    else:
+        settings.register_profile("forgetful-database", parent=settings(), database=_ForgetfulDatabase())
+        settings.load_profile("forgetful-database")
+    try:
+        with pytest.raises(LawViolation) as info:
+            TestBlind().test_find()
+    finally:
+        settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "dev"))  # as conftest.py loaded it
+    assert info.value.law == "find", info.value.detail
 
 
 def test_the_ephemeral_baseline_is_not_persistent() -> None:

@@ -28,12 +28,13 @@ Either way the report says which law the first run broke.
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Generic, Literal, TypeVar
 
 from hypothesis import HealthCheck, Phase, settings
-from hypothesis.database import InMemoryExampleDatabase
+from hypothesis.database import InMemoryExampleDatabase, MultiplexedDatabase
 from hypothesis.errors import Flaky
 from hypothesis.reporting import with_reporter
 
@@ -152,8 +153,8 @@ class ConformanceReport:
 
 def explicit_settings(max_examples: int, *, derandomize: bool = False) -> settings:
     """Settings independent of any loaded profile: hypothesis's defaults, ``max_examples``, no deadline
-    (the suite checks results, not speed), an example database in memory (a failing example is
-    replayed when its failure is confirmed; nothing is saved between runs), one reported bug per
+    (the suite checks results, not speed), no example database (nothing is saved between runs; the
+    run keeps its failing examples in memory to confirm them, :func:`run_body`), one reported bug per
     test, and no *explain* phase (it traces coverage: slow, and the report already names the law).
     ``derandomize`` makes every run generate the same examples."""
     return settings(
@@ -161,7 +162,7 @@ def explicit_settings(max_examples: int, *, derandomize: bool = False) -> settin
         max_examples=max_examples,
         derandomize=derandomize,
         deadline=None,
-        database=None if derandomize else InMemoryExampleDatabase(),  # derandomized: the same examples anyway
+        database=None,
         report_multiple_bugs=False,
         print_blob=False,
         suppress_health_check=[HealthCheck.too_slow],
@@ -224,33 +225,57 @@ Second = Callable[[C, Callable[[Any], Any]], tuple[C | None, str]]
 that instance was made (``(None, why not)`` when none can be made)."""
 
 
-def _rerun_settings(hs: settings) -> tuple[settings, bool]:
-    """Settings for the rerun that confirms a failure, and whether that rerun meets the *same* example.
+def _first_run_settings(hs: settings, private: InMemoryExampleDatabase) -> settings:
+    """``hs`` with the run's failing example also saved in ``private``, a database no other test can touch.
 
-    With an example database the rerun replays the failing example hypothesis
-    saved there, and nothing else; a derandomized run searches and shrinks
-    again along the same path to the same example; otherwise (random, no
-    database) it searches four times as many examples, without shrinking, and
-    may meet another one.
+    The confirming rerun replays the example from ``private``.  It cannot rely on ``hs.database`` alone: a
+    directory database is shared by every test (and by pytest-xdist's workers), and another test of the same
+    body on a conforming structure replays the saved example, sees it pass and deletes it.  The user's database
+    still receives the example, for their next run.
     """
-    if hs.database is not None:
-        return settings(hs, phases=[Phase.explicit, Phase.reuse]), True
     if hs.derandomize:
+        return hs
+    both = private if hs.database is None else MultiplexedDatabase(private, hs.database)
+    return settings(hs, database=both)
+
+
+def _rerun_settings(hs: settings, private: InMemoryExampleDatabase) -> tuple[settings, bool]:
+    """Settings for the rerun that confirms a failure, and whether that rerun searches again.
+
+    Either way the rerun meets the *same* failing example.  Normally it replays
+    the example the first run saved in ``private``, and nothing else.  A
+    derandomized run instead searches and shrinks again along the same path to
+    the same example; so does a run whose random seed is forced
+    (``--hypothesis-seed``), for which hypothesis saves nothing.
+    """
+    if hs.derandomize or not private.data:
         return hs, True
-    return settings(hs, phases=[Phase.explicit, Phase.generate], max_examples=4 * hs.max_examples), False
+    return settings(hs, database=private, phases=[Phase.explicit, Phase.reuse]), False
+
+
+def _holding_all(inner: Any) -> Holding:
+    """:class:`Holding` without a bound: a rerun that searches again makes every version the first run made,
+    and must keep them all alive (past the bound, freed versions' ids would be reused as in the first run)."""
+    return Holding(inner, bound=sys.maxsize)
 
 
 def _confirmed(
-    test: ConformanceTest[C], config: C, hs: settings, exc: LawViolation, violation: type[SignatureLawViolation], second: Second[C]
+    test: ConformanceTest[C],
+    config: C,
+    hs: settings,
+    private: InMemoryExampleDatabase,
+    exc: LawViolation,
+    violation: type[SignatureLawViolation],
+    second: Second[C],
 ) -> LawViolation:
     """``exc`` when ``test`` fails the same way on a second instance that keeps its versions alive, else
-    ``determinism``.  "The same way": the same law and, when the rerun meets the same example (or the test has
-    no examples), the same observation; a structure that is simply wrong repeats itself exactly."""
-    rerun, same_example = _rerun_settings(hs)
-    # A replay of the saved example is cheap: two of them, with different ballast, must both repeat the failure
-    # (an id-keyed cache copied with its stale entries can repeat one by the accident of the allocator).
-    for drops in (256, 4_096) if hs.database is not None else (256,):
-        other, how = second(config, Holding)
+    ``determinism``.  "The same way": the same law and the same observation on the same example (the rerun
+    meets it, :func:`_rerun_settings`); a structure that is simply wrong repeats itself exactly."""
+    rerun, searches = _rerun_settings(hs, private)
+    # Two reruns of the same example, with different ballast, must both repeat the failure (an id-keyed cache
+    # copied with its stale entries can repeat one by the accident of the allocator).
+    for drops in (256, 4_096):
+        other, how = second(config, _holding_all if searches else Holding)
         if other is None:
             return exc
         ballast = Ballast()
@@ -262,7 +287,7 @@ def _confirmed(
             seen = "it failed and then passed the same example (hypothesis's Flaky)"
             break
         except LawViolation as again:
-            if again.law == exc.law and (again.detail == exc.detail or not same_example):
+            if again.law == exc.law and again.detail == exc.detail:
                 continue
             seen = f"it failed differently: law {again.law}: {again.detail}"
             break
@@ -294,14 +319,15 @@ def run_body(test: ConformanceTest[C], config: C, hs: settings, violation: type[
     """Run ``test``'s body; on failure raise the violation it means (module docstring): a ``Flaky`` as
     ``determinism``, and a failure of a ``confirm`` test as found or, when a second run differs, as
     ``determinism``.  :class:`ConformanceSkip` and other exceptions pass through."""
+    private = InMemoryExampleDatabase()
     try:
-        test.body(config, hs)
+        test.body(config, _first_run_settings(hs, private))
     except Flaky as exc:
         raise flaky_violation(exc, violation) from exc
     except LawViolation as exc:
         if not test.confirm:
             raise
-        out = _confirmed(test, config, hs, exc, violation, second)
+        out = _confirmed(test, config, hs, private, exc, violation, second)
         if out is exc:
             raise
         raise out from exc
