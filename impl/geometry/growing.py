@@ -222,8 +222,11 @@ class GrowingPredicates2:
         """
         ex = self._exact
         parts = [ex[i] for i in indices]
-        e = min(p[2] for p in parts)
-        return [(x << (pe - e), y << (pe - e)) for x, y, pe in parts], e
+        e = parts[0][2]
+        for part in parts:
+            if part[2] < e:
+                e = part[2]
+        return [(x, y) if pe == e else (x << (pe - e), y << (pe - e)) for x, y, pe in parts], e
 
     # -- counting ------------------------------------------------------------------------
 

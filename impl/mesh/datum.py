@@ -20,7 +20,6 @@ importable from :mod:`persistri.impl.mesh.triangulation`, where they were first 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Final, NamedTuple
 
 from persistri.impl.complex.structure import Complex
@@ -58,9 +57,10 @@ class MeshError(ValueError):
     """A meshing step met input it cannot handle (crossing segments, a precision limit); the message says which."""
 
 
-@dataclass(frozen=True, slots=True)
-class Insertion:
-    """One insertion: the new ``version``, the cavity ``removed`` and the fan ``created`` (each ``(triangle, datum)``)."""
+class Insertion(NamedTuple):
+    """One insertion: the new ``version``, the cavity ``removed`` and the fan ``created`` (each ``(triangle, datum)``).
+
+    A named tuple (one is made per step of a run: cheaper to build than a frozen dataclass)."""
 
     version: Complex[MeshDatum]
     removed: tuple[tuple[Tri, MeshDatum], ...]

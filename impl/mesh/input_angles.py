@@ -44,7 +44,7 @@ class InputAngles:
         sp, sq = on.get(p), on.get(q)
         if sp is None or sq is None or sp[0] == sq[0]:
             return False
-        key = (int(p), int(q))
+        key = (p, q)  # vertices are ints: equal to their labels and hashed alike
         found = self._exempt.get(key)
         if found is None:
             found = self._exempt[key] = self._exempt_split_points(p, q, sp[0], sq[0])

@@ -39,7 +39,7 @@ from fractions import Fraction
 
 from typing import Final
 
-from persistri.impl.geometry.filter import ERRBOUND_ORIENT2D, orient2d_terms
+from persistri.impl.geometry.filter import ERRBOUND_ORIENT2D
 from persistri.impl.geometry.growing import ERRBOUND_DOT, GrowingPredicates2
 from persistri.impl.mesh.angles import EXACT_COS2, angle_at_least, cos2_bounds
 
@@ -397,13 +397,23 @@ class QualityTests:
                         good = False
                     else:
                         return self._assess_exact(a, b, c, region)
-        limit = self._area.get(region) or self._area.get(-2)
         if good:
+            areas = self._area
+            if not areas:
+                return None
+            limit = areas.get(region) or areas.get(-2)
             if limit is None:
                 return None
             twice = limit[1]
-            det, perm = orient2d_terms(ax, ay, bx, by, cx, cy)
-            thr = ERRBOUND_ORIENT2D * perm
+            # orient2d_terms(ax, ay, bx, by, cx, cy), operation for operation (its proved bound holds).
+            acx = ax - cx
+            bcx = bx - cx
+            acy = ay - cy
+            bcy = by - cy
+            detleft = acx * bcy
+            detright = acy * bcx
+            det = detleft - detright
+            thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
             if det < (twice - thr) * (1.0 - _SLACK):
                 return None
             if not det > (twice + thr) * (1.0 + _SLACK) and not area_exceeds(self.P, a, b, c, limit[0]):

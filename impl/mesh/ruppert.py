@@ -232,12 +232,25 @@ class Refiner:
         """Queue the bad triangles among ``created`` and the subsegments their apexes encroach."""
         encroaches = self.tests.encroaches
         assess = self.tests.assess
+        exempt_edge = self.angles.exempt_edge
+        queues = self._queues
         for t, d in created:
             if d[1] == EXTERIOR:
                 continue
             found = assess(t[0], t[1], t[2], d[1])  # self._judge(t, d), inlined
             if found is not None:
-                self._judge_bad(t, d, found)
+                # self._judge_bad(t, d, found) and self._push_bad, inlined.
+                p, q, r, edge2, good = found
+                if not good and exempt_edge(p, q) and not self.tests.area_bad(t[0], t[1], t[2], d[1]):
+                    self._exempt.add(d[0])
+                else:
+                    bucket = math.frexp(edge2)[1] if 0.0 < edge2 < math.inf else 0
+                    self._seq += 1
+                    queue = queues.get(bucket)
+                    if queue is None:
+                        queue = queues[bucket] = deque()
+                        heapq.heappush(self._buckets, bucket)
+                    queue.append((bucket, self._seq, t, d, p, q, r))
             if d[2]:
                 a, b, c = t
                 for lo, hi, s in d[2]:
@@ -417,7 +430,7 @@ class Refiner:
         hits: list[Constraint] = []
         for u, w, _, seg in boundary:
             if seg >= 0:
-                lo, hi = edge_key(u, w)
+                lo, hi = (u, w) if u < w else (w, u)  # edge_key(u, w), inlined
                 if encroaches(lo, hi, p):
                     hits.append((lo, hi, seg))
         if len(hits) <= 1:
@@ -430,7 +443,7 @@ class Refiner:
         for _ in range(len(boundary)):
             w, seg = succ[u]
             if seg >= 0:
-                lo, hi = edge_key(u, w)
+                lo, hi = (u, w) if u < w else (w, u)
                 if encroaches(lo, hi, p):
                     out.append((lo, hi, seg))
             u = w
@@ -474,15 +487,16 @@ class Refiner:
             if hit:
                 self._segs.append((lo, hi, s))
         dead = self._dead
+        buckets, queues, segs = self._buckets, self._queues, self._segs  # the objects the steps append to
+        self._version = len(versions) - 1
         finished = False
         where = -1
         try:
             while True:
                 if max_steiner is not None and len(inserted) >= max_steiner:
                     break
-                self._version = len(versions) - 1
-                if self._segs:
-                    sub = self._segs.popleft()
+                if segs:
+                    sub = segs.popleft()
                     where = sub[0]
                     split = self._split(c, sub)
                     if split is None:
@@ -490,8 +504,14 @@ class Refiner:
                     c, p, gone = split
                     deleted.append(tuple(gone))
                     self.log.split(int(sub[0]), int(sub[1]), len(versions), deleted[-1])
-                elif self._buckets:
-                    bad = self._pop_bad()
+                elif buckets:
+                    # self._pop_bad(), inlined: most of what is popped is dead already.
+                    bucket = buckets[0]
+                    queue = queues[bucket]
+                    bad = queue.popleft()
+                    if not queue:
+                        heapq.heappop(buckets)
+                        del queues[bucket]
                     if bad[3][0] in dead:
                         continue
                     where = bad[4]
@@ -505,6 +525,7 @@ class Refiner:
                     break
                 versions.append(c)
                 inserted.append(p)
+                self._version += 1  # len(versions) - 1
                 if progress is not None:
                     progress(1)
         except PrecisionLimitError as exc:

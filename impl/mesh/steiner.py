@@ -157,7 +157,9 @@ def split_parameter(
     :class:`PrecisionLimitError` if neither finds a point.  O(1) integer operations,
     or O(_LEVELS) rational ones for the fallback.
     """
-    if not t_u < t_w:
+    un, ud = t_u.as_integer_ratio()
+    vn, vd = t_w.as_integer_ratio()
+    if not un * vd < vn * ud:  # t_u < t_w, on integers (positive denominators)
         raise ValueError(f"empty parameter interval ({t_u}, {t_w})")
     (pu, pw), ex = P.integers(u, w)
     (ux, uy), (wx, wy) = P.xy(u), P.xy(w)
@@ -180,8 +182,6 @@ def split_parameter(
                 # On integers: wanted − t_u = wide / (wd ud), t_w − t_u = span / (vd ud) (span > 0), so the wanted
                 # place is s* = G (wanted − t_u) / (t_w − t_u) = G wide vd / (wd span), and k the solution nearest it:
                 # k = r2 + m2 · round((s* − r2) / m2), rounding half to even as round() does.
-                un, ud = t_u.as_integer_ratio()
-                vn, vd = t_w.as_integer_ratio()
                 wn, wd = wanted.as_integer_ratio()
                 wide, span = wn * ud - un * wd, vn * ud - un * vd
                 q, rem = divmod(G * wide * vd - r2 * wd * span, m2 * wd * span)
