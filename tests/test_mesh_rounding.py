@@ -16,7 +16,7 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from mesh_helpers import ring
@@ -26,7 +26,7 @@ from persistri.impl.mesh.chains import in_tolerance_box
 from persistri.impl.mesh.domain import PSLG, DomainError, as_pslg
 from persistri.impl.mesh.precision import BAND_ULPS, clear_of_band
 from persistri.impl.mesh.splitting import _candidate_parameters, near_segment, rounded_candidates
-from persistri.impl.mesh.steiner import PrecisionLimitError, _dyadic_double, _dyadic_split
+from persistri.impl.mesh.steiner import PrecisionLimitError, _dyadic_double, _dyadic_split, _last_reducing_level
 from persistri.impl.mesh.verify import verify_mesh
 
 X0, Y0 = 512_345.0, 4_123_456.0
@@ -274,6 +274,26 @@ def test_dyadic_split_agrees_with_the_plain_search(
             _dyadic_split(P, 0, 1, t_lo, t_hi, wanted)
     else:
         assert _dyadic_split(P, 0, 1, t_lo, t_hi, wanted) == expected
+
+
+@settings(max_examples=300)
+@given(st.integers(0, 2**70), st.integers(1, 2**70), st.integers(0, 40))
+@example(1, 4, 0)  # 2^-k at exactly the distance below the target: the strict side
+@example(3, 4, 0)  # and above it: the side that counts equality
+@example(5, 16, 1)
+@example(0, 7, 3)  # on the grid: every level
+def test_last_reducing_level_is_the_highest_level_with_a_reducing_candidate(tn: int, td: int, bound: int) -> None:
+    """Above the returned level no candidate (floor(target · 2^k) or one more) reduces to a level at most ``bound``;
+    at every level from ``bound`` up to it one does: checked level by level against the definition."""
+    assume(tn <= td)
+    top = _last_reducing_level(tn, td, bound)
+
+    def reduces(k: int) -> bool:
+        j = (tn << k) // td
+        return any(c % (1 << (k - bound)) == 0 for c in (j, j + 1))
+
+    for k in range(bound + 1, bound + 90):
+        assert reduces(k) == (k <= top), (k, top)
 
 
 def test_dyadic_split_on_the_needle_agrees_with_the_plain_search(monkeypatch: pytest.MonkeyPatch) -> None:
