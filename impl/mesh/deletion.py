@@ -79,7 +79,9 @@ def remove_vertex(T: MeshTriangulation, c: Complex[MeshDatum], v: int, start: tu
                     (*edge_key(x, y), constraints[edge_key(x, y)])
                     for x, y in ((tri2[0], tri2[1]), (tri2[1], tri2[2]), (tri2[2], tri2[0]))
                     if edge_key(x, y) in constraints
-                ),
+                )
+                if constraints  # most stars have no constrained link edge
+                else (),
             ),
         )
         for tri2 in new
