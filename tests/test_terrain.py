@@ -375,3 +375,51 @@ def test_nodata_rules() -> None:
         greedy_insertion(h, max_error=0, nodata=None)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="finite"):
         greedy_insertion(h, max_error=0, nodata=float("inf"))
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_small_fan_errors_queue_what_numpy_queues(seed: int) -> None:
+    """GreedyRun._queue_small (Python floats, one loop) pushes exactly the keys that fan_plane_errors then
+    _queue push, insertion after insertion (ties included: a grid of few distinct heights)."""
+    from persistri.impl.complex.two_complex import TwoComplex
+    from persistri.impl.maps import backend as map_backend
+    from persistri.impl.terrain.greedy_run import GreedyRun
+    from persistri.impl.terrain.plane_errors import fan_plane_errors
+
+    rng = np.random.default_rng(seed)
+    heights = np.round(rng.normal(size=(31, 37)).cumsum(axis=0) * 3.0) / 4.0
+    z = np.ascontiguousarray(heights).ravel()
+    run = GreedyRun(z, heights.shape, TwoComplex(map_backend("red_black"), None), None, False)
+    compared = 0
+    for _ in range(300):
+        if run.current_error() == 0.0:
+            break
+        ins = run.step()
+        samples = ins.samples
+        if samples is None or not samples.size:
+            continue
+        # The fan's gradients, as _assess computes them.
+        cols = heights.shape[1]
+        yp, xp = divmod(ins.point, cols)
+        zp = float(z[ins.point])
+        gxs, gys = [], []
+        ring = [int(v) for v in ins.rays]
+        for a, b in zip(ring, ring[1:]):
+            (ya, xa), (yb, xb) = divmod(a, cols), divmod(b, cols)
+            dx1, dy1, dz1 = xa - xp, ya - yp, float(z[a]) - zp
+            dx2, dy2, dz2 = xb - xp, yb - yp, float(z[b]) - zp
+            det = float(dx1 * dy2 - dx2 * dy1)
+            gxs.append((dz1 * dy2 - dz2 * dy1) / det)
+            gys.append((dx1 * dz2 - dx2 * dz1) / det)
+        tids = [tid for tid, _ in ins.created]
+        saved = list(run.heap)
+        run.heap = []
+        run._queue_small(tids, ins.counts, samples, float(xp), float(yp), zp, gxs, gys)
+        small = run.heap
+        run.heap = []
+        err = fan_plane_errors(run.pred.coordinates, z, float(xp), float(yp), zp, gxs, gys, ins.fan_index, samples)
+        run._queue(tids, ins.counts, samples, err)
+        assert sorted(small) == sorted(run.heap)
+        compared += len(small)
+        run.heap = saved
+    assert compared > 100

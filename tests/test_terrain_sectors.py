@@ -109,3 +109,54 @@ def test_fan_sectors_rejects_a_ring_that_is_not_a_fan() -> None:
     twice = np.concatenate([rays[:-1], rays])
     with pytest.raises(ValueError, match="changes side"):
         fan_sectors(pred, 0, twice, samples, True, exact_floats=True)
+
+
+def _grid_fan(step: int, closed: bool, seed: int) -> tuple[int, int, np.ndarray, np.ndarray]:
+    """A fan on a 9 × 11 grid: p at (4, 4), a ring of the cells at distance 3 (or the lower half of one), the
+    samples inside it in a shuffled order (samples on the rays included). Returns (cols, p, rays, samples)."""
+    cols = 11
+    p = 4 * cols + 4
+    cells = [(c, r) for r in range(1, 8) for c in range(1, 8) if (c, r) != (4, 4)]
+    border = [(c, r) for c, r in cells if max(abs(c - 4), abs(r - 4)) == 3]
+    border.sort(key=lambda q: float(np.arctan2(q[1] - 4, q[0] - 4)))
+    if closed:
+        chain = border[::step]
+        ring = chain + chain[:1]
+        inner = [q for q in cells if q not in chain]
+    else:
+        lower = [q for q in border if q[1] < 4]
+        ring = [(1, 4)] + lower[::step] + [(7, 4)]
+        inner = [q for q in cells if q not in ring and q[1] <= 4]
+    rng = np.random.default_rng(seed)
+    samples = np.array([r * cols + c for c, r in inner], dtype=np.int32)[rng.permutation(len(inner))]
+    return cols, p, np.array([r * cols + c for c, r in ring], dtype=np.intp), samples
+
+
+@pytest.mark.parametrize("closed", [True, False])
+@pytest.mark.parametrize("step", [1, 2, 3, 5])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_fan_small_equals_the_numpy_block(closed: bool, step: int, seed: int) -> None:
+    from persistri.impl.geometry.grid_predicates import GridPredicates2
+    from persistri.impl.terrain.sectors import _fan_block, fan_small
+
+    cols, p, rays, samples = _grid_fan(step, closed, seed)
+    pred = GridPredicates2((9, cols))
+    order, sector = fan_small(cols, p, rays, samples, closed)
+    ref_order, ref_sector = _fan_block(pred, p, rays, samples, closed, None)
+    assert order.dtype == ref_order.dtype == np.intp and sector.dtype == ref_sector.dtype == np.intp
+    assert order.tolist() == ref_order.tolist() and sector.tolist() == ref_sector.tolist()
+    # And the exact predicate says the same (fan_sectors dispatches to fan_small for few samples when compiled).
+    general = Predicates2(pred.points)
+    g_order, g_sector = fan_sectors(general, p, rays, samples, closed, exact_floats=False, check=True)
+    assert g_order.tolist() == order.tolist() and g_sector.tolist() == sector.tolist()
+    f_order, f_sector = fan_sectors(pred, p, rays, samples, closed, exact_floats=True)
+    assert f_order.tolist() == order.tolist() and f_sector.tolist() == sector.tolist()
+
+
+def test_fan_small_rejects_a_ring_that_is_not_a_fan() -> None:
+    from persistri.impl.terrain.sectors import fan_small
+
+    cols, p, rays, samples = _grid_fan(2, True, 0)
+    twice = np.concatenate([rays[:-1], rays])
+    with pytest.raises(ValueError, match="changes side from \\+ to - 2 times"):
+        fan_small(cols, p, twice, samples, True)

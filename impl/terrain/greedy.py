@@ -414,23 +414,7 @@ def greedy_insertion(
         inserted = array("q", run.corners)
         errors = array("d")
         try:
-            while True:
-                err = run.current_error()
-                errors.append(err)
-                if (
-                    err == 0.0
-                    or (e_stop is not None and err <= e_stop)
-                    or (k_stop is not None and len(inserted) >= k_stop)
-                ):
-                    break
-                ins = run.step()
-                inserted.append(ins.point)
-                if history:
-                    versions.append(ins.version)
-                else:
-                    versions[0] = ins.version
-                if tick is not None:
-                    tick(1)
+            run.run(e_stop, k_stop, history, versions, inserted, errors, tick)
         finally:
             if hasattr(tick, "close"):
                 tick.close()
