@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.vertex import Vertex
+from persistri.impl.geometry.filter import ERRBOUND_INCIRCLE, ERRBOUND_ORIENT2D
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.datum import Insertion, MeshDatum, MeshError, Tri, edge_key
 
@@ -94,15 +95,60 @@ def link_polygon(P: GrowingPredicates2, a: Vertex, b: Vertex, chain: list[Vertex
     """Triangulate the part of a deleted vertex's link left of ``a → b``, bounded by ``chain`` (from ``a``'s
     side to ``b``'s): the Delaunay triangles of the link vertices (:func:`remove_vertex`). O(k²) for ``k`` link
     vertices."""
+    # The predicates' orient2d and incircle filters inlined (the same operations, so their proved bounds hold; exact
+    # whenever a filter cannot tell, NaN rows included); counted runs go through the predicates.
+    rows = P.filter_rows if P.stats is None else None
     stack = [(a, b, chain)]
     while stack:
         a, b, chain = stack.pop()
         if not chain:
             continue
         best = -1
-        for j, x in enumerate(chain):
-            if P.orient2d_sign(a, b, x) > 0 and (best < 0 or P.incircle(a, b, chain[best], x) > 0):
+        if rows is None:
+            for j, x in enumerate(chain):
+                if P.orient2d_sign(a, b, x) > 0 and (best < 0 or P.incircle(a, b, chain[best], x) > 0):
+                    best = j
+        else:
+            ax, ay = rows[a]
+            bx, by = rows[b]
+            ex = ey = 0.0  # the filter copy of chain[best]
+            for j, x in enumerate(chain):
+                dx, dy = rows[x]
+                # orient2d_terms(ax, ay, bx, by, dx, dy): is x left of a → b?
+                adx = ax - dx
+                bdx = bx - dx
+                ady = ay - dy
+                bdy = by - dy
+                detleft = adx * bdy
+                detright = ady * bdx
+                det = detleft - detright
+                thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
+                if not det > thr and (det < -thr or P.orient2d_sign(a, b, x) <= 0):
+                    continue
+                if best >= 0:
+                    # incircle_terms(ax, ay, bx, by, ex, ey, dx, dy): is x inside the circle through a, b, chain[best]?
+                    edx = ex - dx
+                    edy = ey - dy
+                    bdxedy = bdx * edy
+                    edxbdy = edx * bdy
+                    alift = adx * adx + ady * ady
+                    edxady = edx * ady
+                    adxedy = adx * edy
+                    blift = bdx * bdx + bdy * bdy
+                    adxbdy = adx * bdy
+                    bdxady = bdx * ady
+                    elift = edx * edx + edy * edy
+                    det = alift * (bdxedy - edxbdy) + blift * (edxady - adxedy) + elift * (adxbdy - bdxady)
+                    perm = (
+                        (abs(bdxedy) + abs(edxbdy)) * alift
+                        + (abs(edxady) + abs(adxedy)) * blift
+                        + (abs(adxbdy) + abs(bdxady)) * elift
+                    )
+                    thr = ERRBOUND_INCIRCLE * perm
+                    if not det > thr and (det < -thr or P.incircle(a, b, chain[best], x) < 0):
+                        continue
                 best = j
+                ex, ey = dx, dy
         if best < 0:
             raise MeshError(f"internal: no link vertex lies inside the edge {(int(a), int(b))}")
         x = chain[best]
