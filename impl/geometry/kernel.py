@@ -260,16 +260,19 @@ class Orient3dKernel:
                 # Gathering through index lists: a boolean mask of mixed signs costs a mispredicted branch per entry
                 # (and take costs a fifth less than indexing with the same list).
                 return q_arr.take(neg), q_arr.take(pos)
-            minus: list[int] = []
-            plus: list[int] = []
+            minus: list[Any] = []
+            plus: list[Any] = []
             failures = 0
             below = -static
             px = py = pz = nan  # the plane's permanents: made for the first point the static stage leaves undecided
             for q in qs.tolist() if type(qs) is ndarray else qs:
+                # q is appended as it is (never re-made) and read as an int index: compiled, rows[i] is then a
+                # direct list access, where q (an object: an int or numpy's Any) would cost a generic lookup.
+                i: int = q
                 try:
-                    qx, qy, qz = rows[q]
+                    qx, qy, qz = rows[i]
                 except ValueError:
-                    qx, qy, qz = row(q)
+                    qx, qy, qz = row(i)
                 # filter.plane_side_det:
                 det = (ax - qx) * nx + (ay - qy) * ny + (az - qz) * nz
                 # end of filter.plane_side_det
@@ -295,7 +298,7 @@ class Orient3dKernel:
                         plus.append(q)
                     else:
                         failures += 1
-                        (minus if exact(a, b, c, q, True) < 0 else plus).append(q)
+                        (minus if exact(a, b, c, i, True) < 0 else plus).append(q)
             if st is not None:
                 st.plane_side_tests += m
                 st.flops += plane_flops + side_flops * m

@@ -89,7 +89,7 @@ from __future__ import annotations
 
 from array import array
 from collections.abc import Callable, Iterator, Sequence
-from typing import Final
+from typing import Any, Final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -254,7 +254,7 @@ class Bulldozer:
         """
         return attach(self, points, fids)
 
-    # -- one insertion ---------------------------------------------------------------
+    # -- the current version's faces --------------------------------------------------
 
     def triangles(self) -> IntArray:
         """The faces of the current version, outward, as an (m, 3) array of point indices.
@@ -283,6 +283,8 @@ class Bulldozer:
         """How many points are still outside the hull. O(n)."""
         return int(np.count_nonzero(self.status == PENDING))
 
+    # -- one insertion ---------------------------------------------------------------
+
     def insert(self, p: int) -> Complex[FaceDatum]:
         """Insert the outside point ``p``; return the new hull version (Appendix A.1.2).
 
@@ -291,12 +293,17 @@ class Bulldozer:
         status, assoc = self._status, self._assoc
         if status[p] != PENDING:
             raise ValueError(f"point {p} is not outside the current hull")
-        S, C, check = self.S, self.C, self.check
+        S, check = self.S, self.check
         o3, partition = self._o3, self._partition
+        # The centre and p as the objects every kernel call takes (compiled, an int variable is boxed anew
+        # at each call of a kernel closure: a new int object for an index above 256).
+        C: Any = self.C
+        p_obj: Any = p
         faces = self.faces
         cx = self.complex
         vp = self._vertex(p)
-        fid0 = assoc[p]
+        fid0: Any = assoc[p]  # face ids stay int objects from here on: compiled, an int variable is re-boxed at
+        # every use as a key or tuple item (a new object above 256), e.g. once per point in assoc[q] = fid below
         tri0, (_, lst) = faces[fid0]
         if self.stepwise:
             # The paper's code reads the list from the complex (a counted dictionary operation).
@@ -344,11 +351,11 @@ class Bulldozer:
                 gtri, (gid, gpts) = found
                 vis = visible.get(gid)
                 if vis is None:
-                    vis = visible[gid] = o3(gtri[0], gtri[1], gtri[2], p) < 0
+                    vis = visible[gid] = o3(gtri[0], gtri[1], gtri[2], p_obj) < 0
                 if not vis:
                     outs.append((u, w, _HORIZON, None, ()))
                     continue
-                s = -1 if known_out else o3(u, w, C, p)
+                s = -1 if known_out else o3(u, w, C, p_obj)
                 if check and o3(u, w, C, f) != -1:
                     raise BulldozerCheckError(f"the centre is not strictly behind face {tri} (orient3d(u, w, c, f) = +1)")
                 if s < 0:
@@ -365,8 +372,8 @@ class Bulldozer:
                 f"the associated face of point {p} has in-degree {first.indeg} and out-degree "
                 f"{len(first.outs)} in the walking graph (expected 0 and 3)"
             )
-        queue = [fid0]
-        processed: list[int] = []
+        queue: list[Any] = [fid0]
+        processed: list[Any] = []
         tents: list[tuple[Triangle, Indices]] = []
         discarded: list[Indices] = []
         routed: list[Indices] = []  # every bulldozed point, for the checks
@@ -400,17 +407,17 @@ class Bulldozer:
                 # The out-edge (x, v) has orient3d(c, p, v, x) = -orient3d(x, v, c, p) = +1, the
                 # out-edge (v, x) has orient3d(c, p, v, x) = orient3d(v, x, c, p) = -1.
                 v, x, first_sign = (w1, u1, 1) if w1 == u2 else (u1, w1, -1)
-                if check and o3(C, p, v, x) != first_sign:
+                if check and o3(C, p_obj, v, x) != first_sign:
                     raise BulldozerCheckError(f"the routing sign of face {rec.tri} is not the out-arc's")
-                minus, plus = partition(C, p, v, pts)
+                minus, plus = partition(C, p_obj, v, pts)
                 groups = (plus, minus) if first_sign > 0 else (minus, plus)
             elif len(outs) == 3:
                 # The associated face: all three edges are out-arcs, so orient3d(c, p, x, y) = -1 for each
                 # edge (x, y) and q's projection lies in sector (x, y) iff
                 # orient3d(c, p, x, q) = -1 and orient3d(c, p, y, q) = +1; two tests decide it.
-                b_minus, b_plus = partition(C, p, b, pts)
-                in_ab, da1 = partition(C, p, a, b_plus)
-                da2, in_bd = partition(C, p, d, b_minus)
+                b_minus, b_plus = partition(C, p_obj, b, pts)
+                in_ab, da1 = partition(C, p_obj, a, b_plus)
+                da2, in_bd = partition(C, p_obj, d, b_minus)
                 in_da = _join([da1, da2])
                 if check:
                     check_sectors(self, p, rec.tri, pts, (in_ab, in_bd, in_da))
@@ -421,7 +428,7 @@ class Bulldozer:
                 if gid == _HORIZON:
                     # The tent face (u, w, p) keeps the points that see it; the others are interior.
                     if len(grp):
-                        grp, gone = partition(u, w, p, grp)
+                        grp, gone = partition(u, w, p_obj, grp)
                         if len(gone):
                             discarded.append(gone)
                     tents.append(((u, w, vp), grp))
@@ -450,14 +457,16 @@ class Bulldozer:
         table = self._table
         for tent, kept in tents:
             # A new face and its list, each of its points associated with it (_new_face, written out).
+            key: Any = fid  # one int object for the id (compiled, an int would be boxed at each use)
             if type(kept) is np.ndarray or len(kept) >= KERNEL_BATCH:
                 conflict = _freeze(kept)
                 _assign(assoc, self.assoc, conflict, fid)
             else:
                 conflict = tuple(kept)
-                for q in conflict:
-                    assoc[q] = fid
-            entry = faces[fid] = (tent, (fid, conflict))
+                points: Any = conflict  # its ints as they are, not unboxed and boxed again
+                for q in points:
+                    assoc[q] = key
+            entry = faces[key] = (tent, (key, conflict))
             added.append(entry)
             if table is not None:
                 table.add(fid, tent)
