@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Final
+from typing import TYPE_CHECKING, Any, Final
 
 from persistri.impl.geometry.filter import (
     ERRBOUND_INCIRCLE,
@@ -159,7 +159,11 @@ class Delaunay2Kernel:
                 return sos_incircle(a, b, c, d)
             return (1 if first > 0.0 else -1) * (-1 if inversions & 1 else 1)
 
-        def incircle(a: int, b: int, c: int, d: int) -> int:
+        # The three tests take their indices as objects (Any, not int): compiled by mypyc, an int parameter
+        # is unboxed on entry and boxed again for every ``rows[i]``; the callers pass the vertices (int
+        # objects) they hold.  Interpreted, nothing changes.
+
+        def incircle(a: Any, b: Any, c: Any, d: Any) -> int:
             if pred.stats is not None:
                 return checked_i(a, b, c, d)
             try:
@@ -212,7 +216,7 @@ class Delaunay2Kernel:
         # orient2d and orient2d_sign each write the determinant out (a helper returning it would box a
         # tuple of three floats per test when compiled).
 
-        def orient2d(a: int, b: int, c: int) -> int:
+        def orient2d(a: Any, b: Any, c: Any) -> int:
             if pred.stats is not None:
                 return checked_o(a, b, c)
             try:
@@ -247,7 +251,7 @@ class Delaunay2Kernel:
                 return -1
             return exact_orient(a, b, c, True)
 
-        def orient2d_sign(a: int, b: int, c: int) -> int:
+        def orient2d_sign(a: Any, b: Any, c: Any) -> int:
             if pred.stats is not None:
                 return checked_sign(a, b, c)
             try:

@@ -180,10 +180,11 @@ class Triangulator:
         self._last_point: Any = None
         self._last_ring: list[Vertex] = []
         self._last_index: dict[Vertex, int] = {}
-        # Typed Any: compiled by mypyc, an element of a fixed-length tuple type would be unboxed and read back as
-        # a new tuple, where _recall must answer with the datum object the complex holds.
-        self._last_fan: list[Any] = []
-        self._last_outer: dict[Vertex, Any] = {}
+        # Tuples of any length: compiled by mypyc, an element of a fixed-length tuple type would be unboxed and read
+        # back as a new tuple, where _recall must answer with the datum object the complex holds (a tuple of any
+        # length stays the one object, and its items are read directly, where Any would index it generically).
+        self._last_fan: list[tuple[Any, ...]] = []
+        self._last_outer: dict[Vertex, tuple[Any, ...]] = {}
         self.kernel = pred.kernel()
         # The sector test's float path is exact when orient2d's is (docs of kernel2d and sectors).
         self.small_integers = self.kernel.exact_orient2d
@@ -346,7 +347,7 @@ class Triangulator:
         a, b, c = tri0
         recalled = self._last_version is cx
         # The triangle holding the directed edge (a, b): tri0 itself.
-        found: Any = self._recall(a, b) if recalled else None
+        found: tuple[Any, ...] | None = self._recall(a, b) if recalled else None
         if found is None:
             found = neighbour((a, b))
         elif check:
@@ -359,25 +360,28 @@ class Triangulator:
         inside = {start}
         rejected: set[int] = set()
         succ: dict[Vertex, Vertex] = {}  # the cavity's boundary edges (u, w), as u -> w
-        outer: dict[Vertex, Any] = {}  # the triangle (w, u, x) beyond each boundary edge (u, w), by w
+        outer: dict[Vertex, tuple[Any, ...]] = {}  # the triangle (w, u, x) beyond each boundary edge (u, w), by w
         n_boundary = 0
         inf = self.infinite
         incircle = self.kernel.incircle
         ghost_conflict = self.ghost_conflict
+        # p as an object, for the kernel's tests (compiled, an int local is boxed at every call).
+        pp: Any = p
         # Each entry: an edge (u, w) of a cavity triangle whose far side is still to be decided.
         # A triangle entered across (w, u) is found as (w, u, x): only its other two edges are queued.
         edges = [(a, b), (b, c), (c, a)]
         pop, push = edges.pop, edges.append
         while edges:
             u, w = pop()
-            nb: Any = self._recall(w, u) if recalled else None
+            # Tuples of any length (not Any): compiled, indexing them is a direct read.
+            nb: tuple[Any, ...] | None = self._recall(w, u) if recalled else None
             if nb is None:
                 nb = neighbour((w, u))
             elif check:
                 self._check_recalled(w, u, nb)
             assert nb is not None, "a closed surface: every oriented edge has its reverse"
-            ntri: Any = nb[0]
-            datum: Any = nb[1]
+            ntri: tuple[Any, ...] = nb[0]
+            datum: tuple[Any, ...] = nb[1]
             nid = datum[0]
             if nid in inside:
                 continue
@@ -390,7 +394,7 @@ class Triangulator:
                 elif u is inf:
                     hit = ghost_conflict(x, w, p)
                 else:
-                    hit = incircle(w, u, x, p) > 0
+                    hit = incircle(w, u, x, pp) > 0
                 if hit:
                     inside.add(nid)
                     removed.append(nid)
@@ -421,7 +425,8 @@ class Triangulator:
         nfan = len(ring) - 1
 
         # Pool the samples of the removed finite triangles and sort them into the fan's sectors.
-        sized = [s for s in lists if s.size]
+        # The scattered Delaunay's lists are all EMPTY: identity first spares a numpy attribute read each.
+        sized = [s for s in lists if s is not EMPTY and s.size]
         total = sum([s.size for s in sized])
         parts: list[Samples] | None = None
         sector: IntArray | None = None
@@ -434,12 +439,15 @@ class Triangulator:
             pooled = EMPTY
         else:
             pooled = sized[0] if len(sized) == 1 else (np.concatenate(sized) if sized else EMPTY)
-            if pooled.size:
+            if pooled is not EMPTY and pooled.size:
                 pooled = pooled[pooled != p]
-            if pooled.size and nfan > 1:
+            if pooled is not EMPTY and pooled.size and nfan > 1:
                 order, sector = self._into_sectors(fan_sectors, p, ring, closed, pooled)
                 pooled = pooled[order]
                 counts = np.bincount(sector, minlength=nfan).tolist()
+            elif pooled is EMPTY:
+                sector = NO_SECTOR
+                counts = [0] * nfan
             else:
                 sector = np.zeros(pooled.size, dtype=np.intp) if pooled.size else NO_SECTOR
                 counts = [0] * nfan
@@ -451,7 +459,7 @@ class Triangulator:
         for tid in removed:
             del tri_of[tid]
         created: list[tuple[int, Triangle]] = []
-        fan: list[tuple[Triangle, TriDatum]] = []
+        fan: list[tuple[Any, ...]] = []  # (triangle, datum) pairs, kept boxed (see above)
         start_at = 0
         tid = self._next_id
         u = ring[0]
@@ -459,7 +467,7 @@ class Triangulator:
         # long as any one of the fan's triangles lives (on a 2,048² grid, kept only for the final mesh, the
         # pools held 92 MB for 32 MB of live samples at the end of the run, measured); a copy costs about
         # 0.1 µs more than a view.
-        whole = pooled.size
+        whole = 0 if pooled is EMPTY else pooled.size
         own: list[Samples] = []
         for i in range(nfan):
             w = ring[i + 1]

@@ -31,29 +31,31 @@ def walk_from_fan(T: Triangulator, p: int, last: Insertion) -> int:
     if last.hull_vertex or last.version is not T.complex:
         return T.locate(p, created[0][0])
     orient2d = T.kernel.orient2d
-    rays: Any = last.rays
-    q = last.point
+    rays: list[Any] = last.rays
+    # The points as objects for the kernel's tests (compiled, an int local is boxed again at every call).
+    q: Any = last.point
+    pp: Any = p
     # The signs orient2d(q, r_j, p) around the fan are one run of +1 and one of -1: from r_0, scan
     # forward to the first -1 if r_0 has +1, else backward to the first +1 (about a quarter of the fan).
     nfan = len(created)
     i = -1
-    if orient2d(q, rays[0], p) > 0:
+    if orient2d(q, rays[0], pp) > 0:
         for j in range(1, nfan):
-            if orient2d(q, rays[j], p) < 0:
+            if orient2d(q, rays[j], pp) < 0:
                 i = j - 1
                 break
     else:
         for j in range(nfan - 1, 0, -1):
-            if orient2d(q, rays[j], p) > 0:
+            if orient2d(q, rays[j], pp) > 0:
                 i = j
                 break
     if i >= 0:
         u = rays[i]
         w = rays[i + 1]
-        if orient2d(u, w, p) > 0:
+        if orient2d(u, w, pp) > 0:
             tid: int = created[i][0]
             return tid
-        nb: Any = T._recall(w, u) if T._last_version is T.complex else None
+        nb: tuple[Any, ...] | None = T._recall(w, u) if T._last_version is T.complex else None
         if nb is None:
             nb = T.neighbours()((w, u))
         elif T.check:
@@ -64,13 +66,14 @@ def walk_from_fan(T: Triangulator, p: int, last: Insertion) -> int:
     return T.locate(p, created[0][0])
 
 
-def walk(T: Triangulator, p: int, tid: int, tri: Any, entered: bool, turn: int) -> int:
+def walk(T: Triangulator, p: int, tid: int, tri: tuple[Any, ...], entered: bool, turn: int) -> int:
     """The walk of ``T.locate`` from triangle ``tri`` (id ``tid``); ``entered``: the walk came into ``tri`` across its
     first edge (a triangle found by ``neighbour((w, u))`` is ``(w, u, x)``), which it does not test again.  Each
     step one ``neighbour`` look-up and at most three ``orient2d`` tests; O(n) as a last resort (never needed)."""
     orient2d = T.kernel.orient2d
     neighbour = T.neighbours()
     inf = T.infinite
+    pp: Any = p  # an object for the kernel (as in walk_from_fan)
     limit = 4 * len(T.tri_of) + 16
     for _ in range(limit):
         if inf in tri:
@@ -89,13 +92,13 @@ def walk(T: Triangulator, p: int, tid: int, tri: Any, entered: bool, turn: int) 
                 u, w = b, c
             else:
                 u, w = c, a
-            if (k or not entered) and orient2d(u, w, p) < 0:
+            if (k or not entered) and orient2d(u, w, pp) < 0:
                 moved = True
                 break
             k = k + 1 if k < 2 else 0
         if not moved:
             return tid
-        nb: Any = neighbour((w, u))
+        nb: tuple[Any, ...] | None = neighbour((w, u))
         assert nb is not None, "a closed surface: every oriented edge has its reverse"
         tri = nb[0]
         tid = nb[1][0]
