@@ -16,7 +16,7 @@ from typing import Any
 from hypothesis import given
 from hypothesis import strategies as st
 
-from persistri.impl.complex.vertex_lists import Emptied, Missing, Present, drop_add
+from persistri.impl.complex.vertex_lists import Emptied, Missing, Present, drop_add, rebuild_fresh
 
 LABELS = st.integers(0, 6)
 
@@ -107,3 +107,21 @@ def test_the_paths_by_hand() -> None:
     else:
         raise AssertionError("the list should be emptied")
     assert drop_add(old, ([(1, 2), (2, 3), (3, 4)], [], [(9, 8, "p")])) == ((9, 8, "p"),)
+
+
+@given(lists())
+def test_rebuild_fresh_is_the_definition_without_the_presence_check(
+    case: tuple[tuple[Any, ...], list[Any], list[Any], list[Any]],
+) -> None:
+    """``rebuild_fresh`` (a replace whose added triangles all name a vertex with no list) drops and appends as
+    ``drop_add`` does, refuses the same missing pairs, and never looks for the added triangles in ``old``."""
+    old, drops, checked, plain = case
+    want = reference(old, drops, [], checked + plain)  # the same list, nothing checked
+    try:
+        got: tuple[str, Any] = ("ok", rebuild_fresh(old, (list(drops), list(checked), list(plain), None)))
+    except Missing:
+        got = ("missing", None)
+    if want[0] == "emptied":
+        assert got == ("ok", ()), case  # the tree reports an emptied list: () is its new value
+    else:
+        assert got == want, case

@@ -25,6 +25,7 @@ from persistri.impl.complex.errors import (
     DuplicateSimplexError,
     ForeignComplexError,
     OppositeOrientationError,
+    RepeatedVertexError,
 )
 from persistri.impl.complex.ephemeral import EphemeralTwoComplex
 from persistri.impl.complex.structure import Complex
@@ -189,6 +190,61 @@ def test_bad_arguments_get_the_signature_errors(make: Make) -> None:
         with pytest.raises(ForeignComplexError):
             C.replace(foreign, [], [])
     assert items_of(C, c) == items_of(C, build(make(2), vs, ICOSA))  # refused calls changed nothing
+
+
+@pytest.mark.parametrize("make", [m for _, m in TWO_COMPLEXES], ids=IDS)
+def test_a_cone_from_a_vertex_already_present_is_the_fold(make: Make) -> None:
+    """Every added triangle ends with one vertex in no removed triangle (a star replaced by a cone): the batched
+    path skips looking for the added triangles in the kept lists only when that vertex has no list; when it has
+    one, the result or the error is the fold's (a triangle already there, in either orientation)."""
+    vs = fresh(N_VERTS + 1)
+    C = make(2)
+    c = build(C, vs, ICOSA)
+    a, b, cc = (vs[i] for i in ICOSA[0])
+    nb = C.neighbour(c, (b, a))
+    assert nb is not None
+    d = nb[0][2]  # (b, a, d) is the triangle across the edge (a, b)
+    cases: list[tuple[list[Any], list[Any], type[Exception] | None]] = [
+        ([], [((b, a, d), 0)], DuplicateSimplexError),  # the cone's vertex d has a list: the triangle is there
+        ([], [((a, b, d), 0)], OppositeOrientationError),
+        ([(a, b, cc)], [((b, a, cc), 1)], None),  # cc is in a removed triangle (no cone): the triangle reversed
+        ([(a, b, cc), (b, a, d)], [((b, cc, d), 2), ((cc, a, d), 3)], None),  # the flip of edge (a, b), to (cc, d)
+    ]
+    for removed, added, error in cases:
+        c = build(C, vs, ICOSA)  # afresh: a successful replace makes an ephemeral version stale
+        R = make(2)
+        r = build(R, vs, ICOSA)
+        if error is None:
+            got = C.replace(c, removed, added)
+            for s in removed:
+                r = R.rem(r, s)
+            for s, x in added:
+                r = R.add(r, s, x)
+            assert items_of(C, got) == items_of(R, r)
+            C.check(got)
+        else:
+            with pytest.raises(error):
+                C.replace(c, removed, added)
+            with pytest.raises(error):
+                for s in removed:
+                    r = R.rem(r, s)
+                for s, x in added:
+                    r = R.add(r, s, x)
+            assert items_of(C, c) == items_of(C, build(make(2), vs, ICOSA))  # refused: nothing changed
+
+
+@pytest.mark.parametrize("make", [m for _, m in TWO_COMPLEXES], ids=IDS)
+def test_a_repeated_vertex_is_refused_as_the_fold_refuses_it(make: Make) -> None:
+    """A triangle naming one vertex twice, removed or added (the batched path tells it by two of its vertices
+    sharing one change: on the compiled twin too), raises the fold's RepeatedVertexError."""
+    vs = fresh(N_VERTS + 1)
+    C = make(2)
+    c = build(C, vs, ICOSA)
+    a, b, cc = (vs[i] for i in ICOSA[0])
+    p = vs[N_VERTS]
+    for removed, added in (([(a, b, a)], []), ([(a, b, cc)], [((a, p, p), 0)]), ([], [((p, b, p), 0)])):
+        with pytest.raises(RepeatedVertexError):
+            C.replace(c, removed, added)
 
 
 @pytest.mark.parametrize("backend", ["red_black", "hamt", "assoc_list"])

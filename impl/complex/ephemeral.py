@@ -39,6 +39,10 @@ updates (the first also scans for the triangle in either orientation);
 ``rem`` three lookups + three updates; each O(δ) expected, independent of the
 number of vertices.
 
+The table, its version tokens and the internal operations the baseline
+inherits are in :mod:`~persistri.impl.complex.ephemeral_table`; this module
+holds the public operations that read or make a version.
+
 >>> from persistri.impl.complex import VertexState, int_vertex
 >>> _, (a, b, c, d) = int_vertex.new_many(VertexState.initial(), "abcd")
 >>> E = EphemeralTwoComplex()
@@ -54,22 +58,21 @@ persistri.impl.complex.errors.StaleVersionError: data: this version of an EPHEME
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
-from typing import Any, Final, TypeVar
+from collections.abc import Sequence
+from typing import Final, TypeVar
 
 from persistri.impl.complex.errors import (
     AbsentSimplexError,
     DuplicateSimplexError,
     OppositeOrientationError,
     RepresentationError,
-    StaleVersionError,
 )
 from persistri.impl.complex.simplex import Simplex
-from persistri.impl.complex.checks import check_vertex_lists
+from persistri.impl.complex.ephemeral_table import _DICT, EphemeralDict, EphemeralTable, _stale, _Table
 from persistri.impl.complex.replace import arguments
 from persistri.impl.complex.structure import Complex, Family
-from persistri.impl.complex.two_complex import Triangle, TwoComplex
-from persistri.impl.complex.vertex_lists import Entry, Missing, Present, Unbatched, group, rebuild
+from persistri.impl.complex.two_complex import Triangle
+from persistri.impl.complex.vertex_lists import Entry, Missing, Present, Unbatched, group, rebuild, rebuild_fresh
 from persistri.impl.complex.vertex import Vertex
 from persistri.impl.stats import Stats
 from persistri.spec.option import Option
@@ -84,45 +87,8 @@ EPHEMERAL: Final = "ephemeral"
 _new_complex = tuple.__new__
 
 
-class EphemeralDict:
-    """Stands where a persistent complex's ``ORD_MAP`` backend would (in its :class:`Family`): Python's ``dict``.
 
-    Not an ``ORD_MAP`` — it has no operations; it names the representation in
-    messages and makes the family of every ephemeral complex the same.
-    """
-
-    __slots__ = ()
-
-    name = "dict (ephemeral, NOT persistent)"
-
-    def __repr__(self) -> str:
-        return "EphemeralDict"
-
-
-_DICT = EphemeralDict()
-
-
-class _Table:
-    """The one mutable table of an ephemeral complex's history, and its current version token."""
-
-    __slots__ = ("lists", "current")
-
-    lists: dict[Vertex, tuple[Entry, ...]]
-    current: tuple[_Table]
-
-    def __init__(self) -> None:
-        self.lists = {}
-        self.current = (self,)
-
-
-def _stale(what: str) -> StaleVersionError:
-    return StaleVersionError(
-        f"{what}: this version of an EPHEMERAL 2-complex is stale — a later operation changed its table in place "
-        "(only the newest version of the ephemeral baseline is valid; use a persistent backend to keep versions)"
-    )
-
-
-class EphemeralTwoComplex(TwoComplex[D]):
+class EphemeralTwoComplex(EphemeralTable[D]):
     """The 2-complex of :class:`TwoComplex` over one mutable ``dict``: NOT persistent (module docstring).
 
     ``EphemeralTwoComplex()`` is uncounted; ``EphemeralTwoComplex(stats)``
@@ -141,22 +107,6 @@ class EphemeralTwoComplex(TwoComplex[D]):
             self.family = Family(self.kind, 2, _DICT, None, self)
         else:
             self.family = EphemeralTwoComplex[D]().family
-
-    # -- versions -----------------------------------------------------------------------
-
-    @staticmethod
-    def _live(rep: Any, what: str) -> dict[Vertex, tuple[Entry, ...]]:
-        """The table of ``rep`` if ``rep`` is its current version; StaleVersionError otherwise."""
-        table: _Table = rep[0]
-        if table.current is not rep:
-            raise _stale(what)
-        return table.lists
-
-    def _count(self, lookups: int, scanned: int) -> None:
-        st = self._stats
-        if st is not None:
-            st.dict_ops += lookups
-            st.key_comparisons += lookups + scanned
 
     # -- hot public operations (same inline validation as TwoComplex) --------------------
 
@@ -435,7 +385,10 @@ class EphemeralTwoComplex(TwoComplex[D]):
             if table.current is not rep:
                 raise _stale("replace")
             lists = table.lists
-            changes, out_lin = group(removed, added, lin)
+            changes, out_lin, fresh = group(removed, added, lin)
+            if fresh is not None and fresh in lists:  # a list of fresh may hold a triangle to add
+                raise Unbatched
+            combine = rebuild if fresh is None else rebuild_fresh
             new_lists: list[tuple[Vertex, tuple[Entry, ...] | None]] = []
             scanned = 0
             for v, change in changes.items():
@@ -446,7 +399,7 @@ class EphemeralTwoComplex(TwoComplex[D]):
                     new_lists.append((v, tuple(change[1] + change[2])))
                     continue
                 scanned += len(old)
-                rebuilt = rebuild(old, change)
+                rebuilt = combine(old, change)
                 new_lists.append((v, rebuilt if rebuilt else None))
         except (Unbatched, Missing, Present, TypeError, ValueError, AttributeError):
             return self._replace_on_copy(c, removed, added)
@@ -479,78 +432,3 @@ class EphemeralTwoComplex(TwoComplex[D]):
         scratch.lists = dict(table.lists)
         self._replace_fold(_new_complex(Complex, (self.family, scratch.current, lin)), removed, added)
         return self._replace_fold(c, removed, added)
-
-    # -- internal operations (what the base class's other public operations use) ---------
-
-    def _empty(self) -> Any:
-        return _Table().current
-
-    def _is_empty(self, rep: Any) -> bool:
-        return not self._live(rep, "isEmpty")
-
-    def _vertices(self, rep: Any) -> list[Vertex]:
-        lists = self._live(rep, "vertices")
-        self._count(len(lists), 0)
-        return sorted(lists)
-
-    def _data(self, rep: Any, s: Simplex) -> Option[D]:
-        lists = self._live(rep, "data")
-        a, b, c = s
-        lst = lists.get(a)
-        if lst is None:
-            return None
-        i = _index(lst, b, c)
-        return None if i < 0 else (lst[i][2],)
-
-    def _find(self, rep: Any, f: Simplex) -> list[Triangle]:
-        lists = self._live(rep, "find")
-        u, w = f
-        return [(u, w, t) for v, t, _ in lists.get(u, ()) if v == w]
-
-    def _star(self, rep: Any, v: Vertex) -> list[Triangle]:
-        lists = self._live(rep, "grep")
-        return [(v, b, c) for b, c, _ in lists.get(v, ())]
-
-    def _items(self, rep: Any) -> Iterator[tuple[Triangle, D]]:
-        lists = self._live(rep, "items")
-        out: list[tuple[Triangle, D]] = []
-        for a in sorted(lists):
-            for b, c, x in lists[a]:
-                if a < b and a < c:
-                    out.append(((a, b, c), x))
-        return iter(out)
-
-    def _add(self, rep: Any, s: Simplex, x: D) -> Any:  # pragma: no cover - add is overridden whole
-        raise NotImplementedError("EphemeralTwoComplex.add works on the table directly")
-
-    def _rem(self, rep: Any, s: Simplex) -> Any:  # pragma: no cover - rem is overridden whole
-        raise NotImplementedError("EphemeralTwoComplex.rem works on the table directly")
-
-    def _update(self, rep: Any, s: Simplex, f: Callable[[D], D]) -> Any:
-        lists = self._live(rep, "update")
-        a, b, c = s
-        la = lists.get(a)
-        i = -1 if la is None else _index(la, b, c)
-        if i < 0:
-            raise AbsentSimplexError(f"update: triangle {s!r} is not in the complex (in this orientation)")
-        assert la is not None
-        y = f(la[i][2])  # f may raise: nothing has changed yet
-        for key, p, q in ((a, b, c), (b, c, a), (c, a, b)):
-            lst = lists[key]
-            j = _index(lst, p, q)
-            lists[key] = lst[:j] + ((p, q, y),) + lst[j + 1 :]
-        table: _Table = rep[0]
-        new = (table,)
-        table.current = new
-        return new
-
-    def _check_rep(self, rep: Any) -> None:
-        check_vertex_lists(self._live(rep, "check"), "ephemeral 2-complex")
-
-
-def _index(lst: tuple[Entry, ...], b: Vertex, c: Vertex) -> int:
-    """The index of entry ``(b, c, _)`` in ``lst``, or -1."""
-    for i, e in enumerate(lst):
-        if e[0] == b and e[1] == c:
-            return i
-    return -1

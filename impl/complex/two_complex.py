@@ -37,29 +37,25 @@ and the functions ``insertWith`` combines lists with are module-level (no
 closure per call; a counted structure wraps them to count the entries visited).
 ``rem`` relies on ``numItems`` being O(1) (it is in every persistri backend) to
 tell a triangle whose first vertex has no list from one that is present.
+
+This module holds the public operations, which validate their arguments, and
+``replace``; the operations on the lists that they call after validating (and
+the counting of the entries scanned) are in
+:mod:`~persistri.impl.complex.two_complex_rep`, the base class.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
-from typing import Any, TypeAlias, TypeVar
+from collections.abc import Callable, Sequence
+from typing import Any, TypeVar
 
-from persistri.impl.complex.checks import check_vertex_lists
-from persistri.impl.complex.errors import (
-    AbsentSimplexError,
-    DuplicateSimplexError,
-    OppositeOrientationError,
-    RepresentationError,
-)
 from persistri.impl.complex.replace import arguments, replace_per_vertex
 from persistri.impl.complex.simplex import Simplex
-from persistri.impl.complex.structure import Complex, ComplexStructure, Family
-from persistri.impl.complex.vertex import Lineage, Vertex
+from persistri.impl.complex.structure import Complex, Family
+from persistri.impl.complex.two_complex_rep import Edge, Triangle, TwoComplexRep
+from persistri.impl.complex.vertex import Lineage
 from persistri.impl.complex.vertex_lists import (
     Changes,
-    Combine,
-    Emptied,
-    Entry,
     Missing,
     Present,
     Unbatched,
@@ -72,7 +68,6 @@ from persistri.impl.complex.vertex_lists import (
     neighbours_in,
     put,
     replace_batched,
-    visited,
 )
 from persistri.impl.stats import Stats
 from persistri.spec.option import Option
@@ -81,34 +76,11 @@ __all__ = ["TwoComplex", "Triangle", "Edge"]
 
 D = TypeVar("D")
 
-Triangle: TypeAlias = tuple[Vertex, Vertex, Vertex]
-"""A 2-simplex as the 2-complex returns it (a :data:`~persistri.impl.complex.simplex.Simplex` of length 3)."""
-
-Edge: TypeAlias = tuple[Vertex, Vertex]
-"""A 1-simplex."""
-
 
 _new_complex = tuple.__new__
 
 
-def _counting(stats: Stats, f: Combine) -> Combine:
-    """``f`` that also adds the list entries it visits to ``stats.key_comparisons`` (counted structures only)."""
-
-    def counted(old: tuple[Entry, ...], arg: Any) -> tuple[Entry, ...]:
-        if f is cat_first:
-            stats.key_comparisons += len(old)  # add scans the whole list, for either orientation
-        elif f is drop:
-            stats.key_comparisons += visited(old, arg[0], arg[1])
-        elif f is put:
-            stats.key_comparisons += visited(old, arg[0][0], arg[0][1])
-        elif f is drop_add or f is cat_new:
-            stats.key_comparisons += len(old)  # replace scans the whole list once
-        return f(old, arg)
-
-    return counted
-
-
-class TwoComplex(ComplexStructure[D]):
+class TwoComplex(TwoComplexRep[D]):
     """``structure TwoComplex : SIMPCOMP`` for n = 2, specialised as in the paper's §4 (module docstring).
 
     ``TwoComplex(backend)`` is uncounted; ``TwoComplex(backend, stats)`` reports
@@ -375,10 +347,10 @@ class TwoComplex(ComplexStructure[D]):
             fam, rep, lin = c
             if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex
                 raise Unbatched
-            changes, out_lin = group(removed, added, lin)
+            changes, out_lin, fresh = group(removed, added, lin)
             adjust = self._adjust_sorted
             if adjust is not None:
-                rep = replace_batched(rep, changes, adjust, self._insert_absent, self._m.remove)
+                rep = replace_batched(rep, changes, adjust, self._insert_absent, self._m.remove, fresh)
             else:
                 rep = self._replace_per_vertex(rep, changes)
         except (Unbatched, Missing, Present, TypeError, ValueError, AttributeError):
@@ -405,143 +377,3 @@ class TwoComplex(ComplexStructure[D]):
         """Each triangle once (as the rotation starting at its smallest vertex), with its datum.  O(V + N)."""
         rep, _ = self._unpack(c, "items")
         return list(self._items(rep))
-
-    # -- internal operations ----------------------------------------------------------
-
-    def _scan(self, lst: tuple[Entry, ...], b: Vertex, c: Vertex) -> int:
-        """The index of entry ``(b, c, _)`` in ``lst``, or -1; counts the entries visited."""
-        for i, e in enumerate(lst):
-            if e[0] == b and e[1] == c:
-                if self._stats is not None:
-                    self._stats.key_comparisons += i + 1
-                return i
-        if self._stats is not None:
-            self._stats.key_comparisons += len(lst)
-        return -1
-
-    def _data(self, rep: Any, s: Simplex) -> Option[D]:
-        a, b, c = s
-        found = self._m.find(rep, a)
-        if found is None:
-            return None
-        lst = found[0]
-        i = self._scan(lst, b, c)
-        return None if i < 0 else (lst[i][2],)
-
-    def _find(self, rep: Any, f: Simplex) -> list[Triangle]:
-        u, w = f
-        found = self._m.find(rep, u)
-        if found is None:
-            return []
-        lst = found[0]
-        if self._stats is not None:
-            self._stats.key_comparisons += len(lst)
-        return [(u, w, t) for v, t, _ in lst if v == w]
-
-    def _star(self, rep: Any, v: Vertex) -> list[Triangle]:
-        found = self._m.find(rep, v)
-        if found is None:
-            return []
-        lst = found[0]
-        if self._stats is not None:
-            self._stats.key_comparisons += len(lst)
-        return [(v, b, c) for b, c, _ in lst]
-
-    def _items(self, rep: Any) -> Iterator[tuple[Triangle, D]]:
-        for a, lst in self._m.listItemsi(rep):
-            for b, c, x in lst:
-                if a < b and a < c:
-                    yield (a, b, c), x
-
-    def _combiner(self, f: Combine) -> Combine:
-        """``f`` itself, or a counting version of it when a Stats is attached."""
-        return f if self._stats is None else _counting(self._stats, f)
-
-    def _add(self, rep: Any, s: Simplex, x: D) -> Any:
-        a, b, c = s
-        m = self._m
-        try:
-            # The triangle, in either orientation, would be in a's list: (b, c) or (c, b).
-            rep = m.insertWith(self._cat_first, rep, a, ((b, c, x),))
-        except Present as present:
-            if present.opposite:
-                raise OppositeOrientationError(
-                    f"add: triangle {s!r} is present with the opposite orientation {(a, c, b)!r}"
-                ) from None
-            raise DuplicateSimplexError(f"add: triangle {s!r} is already present") from None
-        cat = self._cat
-        rep = m.insertWith(cat, rep, b, ((c, a, x),))
-        return m.insertWith(cat, rep, c, ((a, b, x),))
-
-    def _change(self, rep: Any, key: Vertex, b: Vertex, c: Vertex, y: Any, drop: bool) -> Any:
-        """Drop (or give datum ``y`` to) entry ``(b, c, _)`` of ``key``'s list: one ``insertWith``
-        (plus a ``remove`` if the list empties).  RepresentationError if the entry is not there."""
-        m = self._m
-        n0 = m.numItems(rep)
-        try:
-            if drop:
-                out = m.insertWith(self._drop, rep, key, (b, c))
-            else:
-                out = m.insertWith(self._put, rep, key, ((b, c, y),))
-        except Emptied:
-            return m.remove(rep, key)[0]
-        except Missing:
-            out = None
-        if out is None or m.numItems(out) != n0:  # numItems grew: key had no list, insertWith made one
-            raise RepresentationError(f"2-complex: entry {(b, c)!r} missing from the list of {key!r}")
-        return out
-
-    def _locate(self, rep: Any, s: Simplex, what: str) -> tuple[tuple[Entry, ...], int]:
-        a, b, c = s
-        found = self._m.find(rep, a)
-        if found is not None:
-            lst = found[0]
-            i = self._scan(lst, b, c)
-            if i >= 0:
-                return lst, i
-        raise AbsentSimplexError(f"{what}: triangle {s!r} is not in the complex (in this orientation)")
-
-    def _rem(self, rep: Any, s: Simplex) -> Any:
-        # Three insertWith that each drop the triangle's entry from one list, the first
-        # also finding out whether the triangle is there: no separate lookup.
-        a, b, c = s
-        m = self._m
-        drop = self._drop
-        n0 = m.numItems(rep)
-        try:
-            out = m.insertWith(drop, rep, a, (b, c))
-        except Emptied:
-            out = m.remove(rep, a)[0]
-        except Missing:
-            out = None
-        if out is None or m.numItems(out) > n0:  # numItems grew: a had no list, insertWith made one
-            raise AbsentSimplexError(f"rem: triangle {s!r} is not in the complex (in this orientation)")
-        n1 = m.numItems(out)
-        try:
-            try:
-                out = m.insertWith(drop, out, b, (c, a))
-            except Emptied:
-                out = m.remove(out, b)[0]
-            try:
-                out = m.insertWith(drop, out, c, (a, b))
-            except Emptied:
-                out = m.remove(out, c)[0]
-        except Missing:
-            out = None
-        if out is None or m.numItems(out) > n1:  # an entry of the triangle missing under b or c
-            raise RepresentationError(f"2-complex: triangle {s!r} is in the list of {a!r} but not in those of {b!r} and {c!r}")
-        return out
-
-    def _update(self, rep: Any, s: Simplex, f: Callable[[D], D]) -> Any:
-        a, b, c = s
-        lst, i = self._locate(rep, s, "update")
-        y = f(lst[i][2])  # f may raise: nothing has been built yet
-        rep = self._change(rep, a, b, c, y, False)
-        rep = self._change(rep, b, c, a, y, False)
-        return self._change(rep, c, a, b, y, False)
-
-    def _check_rep(self, rep: Any) -> None:
-        check = getattr(self._raw, "_check", None)
-        if check is not None:
-            check(rep)
-        check_vertex_lists(dict(self._raw.listItemsi(rep)), "2-complex")

@@ -57,6 +57,7 @@ __all__ = [
     "drop_add_general",
     "cat_new",
     "rebuild",
+    "rebuild_fresh",
     "visited",
     "group",
     "replace_batched",
@@ -69,9 +70,13 @@ Entry: TypeAlias = tuple[Any, ...]
 VertexList: TypeAlias = tuple[Entry, ...]
 """A vertex's list: its entries, one per triangle at the vertex."""
 
-Change: TypeAlias = tuple[list[tuple[Any, Any]], list[Entry], list[Entry]]
-"""What ``replace`` does to one vertex's list: the pairs ``(b, c)`` to drop, the entries to add of the triangles
-that start at the vertex (checked against the list), and the other entries to add."""
+Change: TypeAlias = tuple[Any, ...]
+"""What ``replace`` does to one vertex's list, ``(drops, checked, plain, v)``: the list of pairs ``(b, c)`` to
+drop, the list of entries to add of the triangles that start at the vertex (checked against the list), the
+list of the other entries to add, and the vertex object whose lineage :func:`group` checked (the combining
+functions read the first three only: a 3-tuple does too).  Any length for mypyc, as entries (see above).
+:func:`group` tells a repeated vertex by two changes sharing their lists: a change tuple may be boxed
+twice by the compiled twin (two objects), the lists it holds never are."""
 
 
 Combine: TypeAlias = Callable[[VertexList, Any], VertexList]
@@ -205,7 +210,9 @@ def rebuild(old: VertexList, change: Change) -> VertexList:
     names, to skip the ``==`` of the others, was measured slower: 7 % more
     instructions on an OnSphere hull's calls.)
     """
-    drops, checked, plain = change
+    drops: list[tuple[Any, Any]] = change[0]
+    checked: list[Entry] = change[1]
+    plain: list[Entry] = change[2]
     n = len(drops)
     if n == 0:
         return cat_new(old, tuple(checked + plain))
@@ -251,6 +258,49 @@ def rebuild(old: VertexList, change: Change) -> VertexList:
     return tuple(kept)
 
 
+def rebuild_fresh(old: VertexList, change: Change) -> VertexList:
+    """:func:`rebuild` without looking for the triangles to add in the kept entries: for a ``replace`` whose every
+    added triangle names one *fresh* vertex, in no list of the complex (:func:`group`'s third result).
+
+    Such a triangle cannot be in the complex (a triangle's vertices all have lists), so every check of
+    ``Present`` is settled in advance; the caller confirms that the fresh vertex is indeed absent and
+    lets the fold decide otherwise.  Missing and the emptied list as :func:`rebuild`.  One pass over
+    ``old``, one comparison per entry where :func:`rebuild` makes three (a star replaced by a cone from a
+    new vertex: every insertion of the hull, the Delaunay triangulations and the terrain).
+    """
+    drops: list[tuple[Any, Any]] = change[0]
+    checked: list[Entry] = change[1]
+    plain: list[Entry] = change[2]
+    n = len(drops)
+    if n == 0:
+        return old + tuple(checked + plain)
+    kept: list[Entry] = []
+    append = kept.append
+    if n == 1:
+        ((b, c),) = drops
+        for e in old:
+            if e[0] == b and e[1] == c:
+                continue
+            append(e)
+    elif n == 2:
+        (b, c), (b2, c2) = drops
+        for e in old:
+            e0 = e[0]
+            if (e0 == b and e[1] == c) or (e0 == b2 and e[1] == c2):
+                continue
+            append(e)
+    else:
+        gone = set(drops)
+        for e in old:
+            if (e[0], e[1]) not in gone:
+                append(e)
+    if len(kept) + n != len(old):
+        raise Missing
+    kept += checked
+    kept += plain
+    return tuple(kept)
+
+
 def visited(old: VertexList, b: Any, c: Any) -> int:
     """How many entries a scan of ``old`` for ``(b, c, _)`` visits."""
     for i, e in enumerate(old):
@@ -263,75 +313,139 @@ Changes: TypeAlias = dict[Any, Change]
 """What ``replace`` does to each vertex's list (:data:`Change`), by vertex."""
 
 
-def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Changes, Any]:
-    """The changes of ``replace`` grouped by vertex, and the lineage of the result.
+def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Changes, Any, Any]:
+    """The changes of ``replace`` grouped by vertex, the lineage of the result, and the fresh vertex or None.
 
-    Validates each triangle inline as ``add`` and ``rem`` do (a tuple of three
+    Validates each triangle as ``add`` and ``rem`` do (a tuple of three
     distinct vertices of the complex's lineage) and refuses a triangle added
     twice or in both orientations; raises Unbatched (or the TypeError /
     ValueError / AttributeError of a malformed argument) on anything unusual,
     and the caller lets the fold raise the precise error.  O(|removed| + |added|).
-    (The loop variables' types let the compiled twin unpack the triangles
-    natively; it raises TypeError for any other element, which the caller
-    treats alike.)
+
+    A vertex's lineage is read once per vertex object (a change keeps the
+    object it was made for; an equal label given by another object is checked
+    again), and the three vertices of a triangle are distinct exactly when
+    their three changes hold three lists of drops (the dictionary finds one
+    change for equal labels): identity tests where ``a.lineage`` (an attribute of an
+    ``int`` subclass's ``__dict__``, which CPython 3.11 does not specialise)
+    and ``!=`` on vertices cost a generic lookup and comparison each.
+
+    The third result, *fresh*, is the vertex every added triangle ends with when
+    it is one object and in no removed triangle (a star replaced by a cone from
+    a new vertex), else None: if it has no list, no added triangle can be in the
+    complex, and :func:`rebuild_fresh` may skip that check (the caller confirms
+    the absence).  (The loop variables' types let the compiled twin unpack the
+    triangles natively; it raises TypeError for any other element, which the
+    caller treats alike.)
     """
     changes: Changes = {}
     get = changes.get
     s: tuple[Any, Any, Any]
     sx: tuple[tuple[Any, Any, Any], Any]
+    # The lists of a change, typed for the compiled twin (a list's append, not a generic method call).
+    drops: list[tuple[Any, Any]]
+    adds: list[Entry]
     for s in removed:
         a, b, cc = s
-        la = a.lineage
-        if not (type(s) is tuple and la is lin and b.lineage is la and cc.lineage is la and a != b and b != cc and a != cc):
+        if type(s) is not tuple:
             raise Unbatched
-        ch = get(a)
-        if ch is None:
-            changes[a] = ([(b, cc)], [], [])
+        cha = get(a)
+        if cha is None:
+            if a.lineage is not lin:
+                raise Unbatched
+            cha = ([(b, cc)], [], [], a)
+            changes[a] = cha
+        elif cha[3] is a or a.lineage is lin:
+            drops = cha[0]
+            drops.append((b, cc))
         else:
-            ch[0].append((b, cc))
-        ch = get(b)
-        if ch is None:
-            changes[b] = ([(cc, a)], [], [])
+            raise Unbatched
+        chb = get(b)
+        if chb is None:
+            if b.lineage is not lin:
+                raise Unbatched
+            chb = ([(cc, a)], [], [], b)
+            changes[b] = chb
+        elif chb[3] is b or b.lineage is lin:
+            drops = chb[0]
+            drops.append((cc, a))
         else:
-            ch[0].append((cc, a))
-        ch = get(cc)
-        if ch is None:
-            changes[cc] = ([(a, b)], [], [])
+            raise Unbatched
+        chc = get(cc)
+        if chc is None:
+            if cc.lineage is not lin:
+                raise Unbatched
+            chc = ([(a, b)], [], [], cc)
+            changes[cc] = chc
+        elif chc[3] is cc or cc.lineage is lin:
+            drops = chc[0]
+            drops.append((a, b))
         else:
-            ch[0].append((a, b))
+            raise Unbatched
+        if cha[0] is chb[0] or chb[0] is chc[0] or cha[0] is chc[0]:  # a repeated vertex: one change
+            raise Unbatched
     out_lin = lin
+    fresh: Any = None
+    cone = True  # every added triangle so far ends with the object fresh
     for sx in added:
         s, x = sx
         a, b, cc = s
-        la = a.lineage
-        if out_lin is None:
-            out_lin = la
-        if not (type(s) is tuple and la is out_lin and b.lineage is la and cc.lineage is la and a != b and b != cc and a != cc):
+        if type(s) is not tuple:
             raise Unbatched
-        ch = get(a)
-        if ch is None:
-            changes[a] = ([], [(b, cc, x)], [])
-        else:
+        if out_lin is None:
+            out_lin = a.lineage
+        cha = get(a)
+        if cha is None:
+            if a.lineage is not out_lin:
+                raise Unbatched
+            cha = ([], [(b, cc, x)], [], a)
+            changes[a] = cha
+        elif cha[3] is a or a.lineage is out_lin:
             # Added twice, or in both orientations: every triangle of the batch is already
             # under each of its vertices, so one test at the first vertex finds it.
-            for e in ch[1]:
+            adds = cha[1]
+            for e in adds:
                 if (e[0] == b and e[1] == cc) or (e[0] == cc and e[1] == b):
                     raise Unbatched
-            for e in ch[2]:
+            plain: list[Entry] = cha[2]
+            for e in plain:
                 if (e[0] == b and e[1] == cc) or (e[0] == cc and e[1] == b):
                     raise Unbatched
-            ch[1].append((b, cc, x))
-        ch = get(b)
-        if ch is None:
-            changes[b] = ([], [], [(cc, a, x)])
+            adds.append((b, cc, x))
         else:
-            ch[2].append((cc, a, x))
-        ch = get(cc)
-        if ch is None:
-            changes[cc] = ([], [], [(a, b, x)])
+            raise Unbatched
+        chb = get(b)
+        if chb is None:
+            if b.lineage is not out_lin:
+                raise Unbatched
+            chb = ([], [], [(cc, a, x)], b)
+            changes[b] = chb
+        elif chb[3] is b or b.lineage is out_lin:
+            adds = chb[2]
+            adds.append((cc, a, x))
         else:
-            ch[2].append((a, b, x))
-    return changes, out_lin
+            raise Unbatched
+        chc = get(cc)
+        if chc is None:
+            if cc.lineage is not out_lin:
+                raise Unbatched
+            chc = ([], [], [(a, b, x)], cc)
+            changes[cc] = chc
+        elif chc[3] is cc or cc.lineage is out_lin:
+            adds = chc[2]
+            adds.append((a, b, x))
+        else:
+            raise Unbatched
+        if cha[0] is chb[0] or chb[0] is chc[0] or cha[0] is chc[0]:  # a repeated vertex: one change
+            raise Unbatched
+        if cc is not fresh:
+            if fresh is None:
+                fresh = cc
+            else:
+                cone = False
+    if not cone or fresh is None or changes[fresh][0]:
+        fresh = None
+    return changes, out_lin, fresh
 
 
 def replace_batched(
@@ -340,6 +454,7 @@ def replace_batched(
     adjust_sorted: Callable[..., tuple[Any, list[int], list[int]]],
     insert: Callable[[Any, Any, Any], Any],
     remove: Callable[[Any, Any], tuple[Any, Any]],
+    fresh: Any = None,
 ) -> Any:
     """``replace``'s map changes through a backend's ``adjust_sorted`` (its ``insert`` and ``remove`` besides).
 
@@ -347,16 +462,23 @@ def replace_batched(
     copies the nodes its search paths share once), then the new vertices
     inserted and the emptied ones removed.  Raises what the per-vertex updates
     raise (Missing, Present; Unbatched for a triangle to remove at a vertex
-    with no list).
+    with no list).  With ``fresh`` (:func:`group`'s third result) the lists are
+    rebuilt by :func:`rebuild_fresh`, and Unbatched is raised unless ``fresh``
+    is among the vertices the map does not hold.
     """
     keys = sorted(changes)
     vals = list(map(changes.__getitem__, keys))
-    rep, absent, emptied = adjust_sorted(rebuild, rep, keys, vals)
+    rep, absent, emptied = adjust_sorted(rebuild if fresh is None else rebuild_fresh, rep, keys, vals)
     for i in absent:
         change = vals[i]
         if change[0]:  # the vertex had no list: a triangle to remove is absent
             raise Unbatched
-        rep = insert(rep, keys[i], tuple(change[1] + change[2]))
+        k = keys[i]
+        if k is fresh:
+            fresh = None  # confirmed absent
+        rep = insert(rep, k, tuple(change[1] + change[2]))
+    if fresh is not None:  # a list of fresh may hold a triangle to add: the fold decides
+        raise Unbatched
     for i in emptied:  # keys[i] is in no triangle any more
         rep = remove(rep, keys[i])[0]
     return rep
