@@ -456,7 +456,7 @@ class Bulldozer:
         fid = self._next_fid
         table = self._table
         for tent, kept in tents:
-            # A new face and its list, each of its points associated with it (_new_face, written out).
+            # A new face and its list, each of its points associated with it (first_hull.new_face, written out).
             key: Any = fid  # one int object for the id (compiled, an int would be boxed at each use)
             if type(kept) is np.ndarray or len(kept) >= KERNEL_BATCH:
                 conflict = _freeze(kept)
