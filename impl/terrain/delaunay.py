@@ -340,59 +340,63 @@ class Triangulator:
         # Triangles and neighbour records are typed Any in this loop: compiled by mypyc (the twin), a local of
         # a fixed-length tuple type is unboxed and every store of it (tri_of, the fan, the removed list) boxes a
         # new tuple; Any keeps the one object (1–2.6 % fewer instructions for a 20K-point Delaunay, cachegrind).
-        tri0: Any = self.tri_of[start]
+        sid: Any = start  # ids as objects: compiled, an int is boxed at every use as a key or an item
+        tri0: Any = self.tri_of[sid]
         check = self.check
         if check and not self.conflicts(tri0, p):
             raise TriangulationCheckError(f"insert: point {p} is not in conflict with the start triangle {tri0}")
         a, b, c = tri0
         recalled = self._last_version is cx
         # The triangle holding the directed edge (a, b): tri0 itself.
-        found: tuple[Any, ...] | None = self._recall(a, b) if recalled else None
+        found: Any = self._recall(a, b) if recalled else None
         if found is None:
             found = neighbour((a, b))
         elif check:
             self._check_recalled(a, b, found)
         if found is None or found[0][2] != c:
             raise TriangulationCheckError(f"insert: start triangle {tri0} is not in the current version")
-        removed = [start]
+        # Record, triangle and datum as tuples of any length: compiled, their items are read directly (Any
+        # indexes generically; a fixed-length tuple type would unbox them).
+        rec: tuple[Any, ...] = found
+        datum: tuple[Any, ...] = rec[1]
+        removed: list[Any] = [sid]
         removed_tris = [tri0]
-        lists = [found[1][1]]
-        inside = {start}
+        lists = [datum[1]]
+        inside = {sid}
         rejected: set[int] = set()
         succ: dict[Vertex, Vertex] = {}  # the cavity's boundary edges (u, w), as u -> w
         outer: dict[Vertex, tuple[Any, ...]] = {}  # the triangle (w, u, x) beyond each boundary edge (u, w), by w
         n_boundary = 0
         inf = self.infinite
         incircle = self.kernel.incircle
-        ghost_conflict = self.ghost_conflict
         # p as an object, for the kernel's tests (compiled, an int local is boxed at every call).
         pp: Any = p
         # Each entry: an edge (u, w) of a cavity triangle whose far side is still to be decided.
         # A triangle entered across (w, u) is found as (w, u, x): only its other two edges are queued.
+        # (edges.pop and edges.append written out, not bound to locals: compiled, they are then list operations.)
         edges = [(a, b), (b, c), (c, a)]
-        pop, push = edges.pop, edges.append
         while edges:
-            u, w = pop()
-            # Tuples of any length (not Any): compiled, indexing them is a direct read.
-            nb: tuple[Any, ...] | None = self._recall(w, u) if recalled else None
+            u, w = edges.pop()
+            nb: Any = self._recall(w, u) if recalled else None
             if nb is None:
                 nb = neighbour((w, u))
             elif check:
                 self._check_recalled(w, u, nb)
             assert nb is not None, "a closed surface: every oriented edge has its reverse"
-            ntri: tuple[Any, ...] = nb[0]
-            datum: tuple[Any, ...] = nb[1]
+            rec = nb
+            ntri: tuple[Any, ...] = rec[0]
+            datum = rec[1]
             nid = datum[0]
             if nid in inside:
                 continue
             if nid not in rejected:
                 x = ntri[2]
                 if x is inf:
-                    hit = ghost_conflict(w, u, p)
+                    hit = self.ghost_conflict(w, u, p)
                 elif w is inf:
-                    hit = ghost_conflict(u, x, p)
+                    hit = self.ghost_conflict(u, x, p)
                 elif u is inf:
-                    hit = ghost_conflict(x, w, p)
+                    hit = self.ghost_conflict(x, w, p)
                 else:
                     hit = incircle(w, u, x, pp) > 0
                 if hit:
@@ -400,12 +404,12 @@ class Triangulator:
                     removed.append(nid)
                     removed_tris.append(ntri)
                     lists.append(datum[1])
-                    push((u, x))
-                    push((x, w))
+                    edges.append((u, x))
+                    edges.append((x, w))
                     continue
                 rejected.add(nid)
             succ[u] = w
-            outer[w] = nb
+            outer[w] = rec
             n_boundary += 1
 
         # The cavity boundary as one cycle; a ghost edge puts ∞ on it (the point is on or beyond the hull).
@@ -456,9 +460,9 @@ class Triangulator:
 
         # The new version: the cavity removed, the fan added (one replace, or the paper's rem and add each).
         tri_of = self.tri_of
-        for tid in removed:
-            del tri_of[tid]
-        created: list[tuple[int, Triangle]] = []
+        for rid in removed:
+            del tri_of[rid]
+        created: list[tuple[Any, ...]] = []  # (id, triangle) pairs, kept boxed
         fan: list[tuple[Any, ...]] = []  # (triangle, datum) pairs, kept boxed (see above)
         start_at = 0
         tid = self._next_id
@@ -474,7 +478,8 @@ class Triangulator:
             tri: Any = (u, w, vp)
             if check and self.pred.orient2d_sign(u, w, p) <= 0:
                 raise TriangulationCheckError(f"insert: point {p} makes the flat or inverted triangle {tri}")
-            tri_of[tid] = tri  # as _new_id, inlined: once per fan triangle
+            tid_obj: Any = tid  # boxed once (compiled), stored three times
+            tri_of[tid_obj] = tri  # as _new_id, inlined: once per fan triangle
             cnt = counts[i]
             if not cnt:
                 part = EMPTY
@@ -484,9 +489,9 @@ class Triangulator:
                 stop = start_at + cnt
                 part = pooled if cnt == whole else _frozen(pooled[start_at:stop].copy())
                 start_at = stop
-            fan.append((tri, (tid, part)))
+            fan.append((tri, (tid_obj, part)))
             own.append(part)
-            created.append((tid, tri))
+            created.append((tid_obj, tri))
             tid += 1
             u = w
         self._next_id = tid
@@ -507,7 +512,7 @@ class Triangulator:
             self._last_version = cx
             self._last_point = vp
             self._last_ring = ring
-            self._last_index = dict(zip(ring[:nfan], range(nfan)))
+            self._last_index = {ring[i]: i for i in range(nfan)}
             self._last_fan = fan
             self._last_outer = outer
         else:

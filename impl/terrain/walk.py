@@ -55,13 +55,14 @@ def walk_from_fan(T: Triangulator, p: int, last: Insertion) -> int:
         if orient2d(u, w, pp) > 0:
             tid: int = created[i][0]
             return tid
-        nb: tuple[Any, ...] | None = T._recall(w, u) if T._last_version is T.complex else None
+        nb: Any = T._recall(w, u) if T._last_version is T.complex else None
         if nb is None:
             nb = T.neighbours()((w, u))
         elif T.check:
             T._check_recalled(w, u, nb)
         assert nb is not None, "a closed surface: every oriented edge has its reverse"
-        return walk(T, p, nb[1][0], nb[0], True, 0)
+        rec: tuple[Any, ...] = nb  # a tuple of any length: compiled, its items are read directly
+        return walk(T, p, rec[1][0], rec[0], True, 0)
     # Not reached (the fan's angles cover the plane around q); kept safe all the same.
     return T.locate(p, created[0][0])
 
@@ -76,11 +77,11 @@ def walk(T: Triangulator, p: int, tid: int, tri: tuple[Any, ...], entered: bool,
     pp: Any = p  # an object for the kernel (as in walk_from_fan)
     limit = 4 * len(T.tri_of) + 16
     for _ in range(limit):
-        if inf in tri:
+        a, b, c = tri
+        if a is inf or b is inf or c is inf:  # vertices are made once each (Triangulator.vertex): identity is equality
             if T.conflicts(tri, p):
                 return tid
             break
-        a, b, c = tri
         turn += 1
         k = turn % 3
         u, w = a, b
@@ -98,10 +99,11 @@ def walk(T: Triangulator, p: int, tid: int, tri: tuple[Any, ...], entered: bool,
             k = k + 1 if k < 2 else 0
         if not moved:
             return tid
-        nb: tuple[Any, ...] | None = neighbour((w, u))
+        nb: Any = neighbour((w, u))
         assert nb is not None, "a closed surface: every oriented edge has its reverse"
-        tri = nb[0]
-        tid = nb[1][0]
+        rec: tuple[Any, ...] = nb  # a tuple of any length: compiled, its items are read directly
+        tri = rec[0]
+        tid = rec[1][0]
         entered = True
     for tid, tri in T.tri_of.items():
         if T.conflicts(tri, p):
