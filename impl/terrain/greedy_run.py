@@ -62,7 +62,7 @@ PYTHON_ERRORS: Final[int] = 256 if COMPILED else 64
 chosen in it (:meth:`GreedyRun._queue_small`); above it, with numpy (:func:`~persistri.impl.terrain.plane_errors.fan_plane_errors`,
 then :meth:`GreedyRun._queue`).  The same floats and candidates either way.  On 5,000 of Jacksboro's
 insertions (median fan 14 samples) numpy's path costs 11–17 µs a fan whatever its size; the loop about
-5 µs plus 0.1 µs a sample interpreted, and about 5 µs up to 256 samples compiled (most of it the queue's
+5 µs plus 0.2 µs a sample interpreted, and about 5 µs up to 256 samples compiled (most of it the queue's
 keys): hence a bound for each build."""
 
 _TOP: Final = (1 << 63) - 1

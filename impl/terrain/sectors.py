@@ -67,7 +67,7 @@ PYTHON_SECTORS: Final[int] = 32 if COMPILED else 10
 """Up to this many samples on a grid, :func:`fan_sectors`' exact float path runs as one loop over them
 (:func:`fan_small`), above it as a dozen numpy calls over whole arrays (:func:`_fan_block`); the same
 answers.  The numpy calls cost about 10 µs whatever the size (a median of 14 samples and 6 rays on the
-Jacksboro DEM); the loop about 3 µs plus 0.25 µs a sample compiled, 0.6 µs a sample interpreted
+Jacksboro DEM); the loop about 3 µs plus 0.3 µs a sample compiled, 0.6 µs a sample interpreted
 (measured on 5,000 of Jacksboro's insertions): hence a bound for each build."""
 
 IntArray = NDArray[np.intp]
