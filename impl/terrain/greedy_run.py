@@ -383,7 +383,7 @@ class GreedyRun:
 
         The loop of :func:`~persistri.impl.terrain.greedy.greedy_insertion`, here so that the twin runs it
         compiled: appends each level's maximum error (:meth:`current_error`, the last one that of the final
-        mesh) to ``errors`` and each inserted sample to ``inserted`` (``array``\ s, or lists), and each new
+        mesh) to ``errors`` and each inserted sample to ``inserted`` (arrays or lists), and each new
         version to ``versions`` (``history``) or as its only entry; calls ``tick(1)`` after each insertion.
         O(1) per insertion besides :meth:`step`.
         """
