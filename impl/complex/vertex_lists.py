@@ -20,13 +20,8 @@ stays one object (``tests/test_complex_replace.py`` checks the kept entries,
 the untouched lists and the map's subtrees by identity).  Vertices are
 ``Any`` here: the structure has validated them.
 
-Why a tuple per entry, when a flat list (``b, c, x`` end to end, or in three
-blocks) would keep less: measured on a full hull history (InBall 16K), flat
-lists keep 4,685 bytes per inserted point instead of 5,111 (−8%), but CPython
-scans and rebuilds them with index arithmetic where it now unpacks an entry with
-constant subscripts, and an OnSphere 8K hull then executes 8% more
-instructions (13% with blocks; valgrind, same source otherwise).  The lists
-stay tuples of entries (commits 1a610ba, 3a4dbcb hold the flat versions).
+A tuple per entry, not one flat tuple per list: flat lists keep 8 % less and
+cost 8 % more instructions (docs/performance.md, "Memory of a full history").
 
 The exceptions are signals between these functions and the structure, never
 seen by a caller of the 2-complex: the structure turns them into the
@@ -205,10 +200,8 @@ def rebuild(old: VertexList, change: Change) -> VertexList:
     The combine of the batched update (``adjust_sorted``) and of the ephemeral
     baseline.  One pass over ``old``: on a surface every vertex that a star's
     replacement keeps has exactly one checked entry (the new triangle that
-    starts at it), and that case drops and checks in the same loop.  (Testing
-    each entry's first vertex against a set of the few vertices the change
-    names, to skip the ``==`` of the others, was measured slower: 7 % more
-    instructions on an OnSphere hull's calls.)
+    starts at it), and that case drops and checks in the same loop (a set of
+    the vertices the change names was measured slower: docs/performance.md).
     """
     drops: list[tuple[Any, Any]] = change[0]
     checked: list[Entry] = change[1]
@@ -262,11 +255,9 @@ def rebuild_fresh(old: VertexList, change: Change) -> VertexList:
     """:func:`rebuild` without looking for the triangles to add in the kept entries: for a ``replace`` whose every
     added triangle names one *fresh* vertex, in no list of the complex (:func:`group`'s third result).
 
-    Such a triangle cannot be in the complex (a triangle's vertices all have lists), so every check of
-    ``Present`` is settled in advance; the caller confirms that the fresh vertex is indeed absent and
-    lets the fold decide otherwise.  Missing and the emptied list as :func:`rebuild`.  One pass over
-    ``old``, one comparison per entry where :func:`rebuild` makes three (a star replaced by a cone from a
-    new vertex: every insertion of the hull, the Delaunay triangulations and the terrain).
+    Such a triangle cannot be in the complex (a triangle's vertices all have lists): no ``Present`` to
+    look for; the caller confirms that the fresh vertex is absent, else the fold decides.  Missing and
+    the emptied list as :func:`rebuild`; one comparison per entry where :func:`rebuild` makes three.
     """
     drops: list[tuple[Any, Any]] = change[0]
     checked: list[Entry] = change[1]
@@ -316,27 +307,20 @@ Changes: TypeAlias = dict[Any, Change]
 def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Changes, Any, Any]:
     """The changes of ``replace`` grouped by vertex, the lineage of the result, and the fresh vertex or None.
 
-    Validates each triangle as ``add`` and ``rem`` do (a tuple of three
-    distinct vertices of the complex's lineage) and refuses a triangle added
-    twice or in both orientations; raises Unbatched (or the TypeError /
-    ValueError / AttributeError of a malformed argument) on anything unusual,
-    and the caller lets the fold raise the precise error.  O(|removed| + |added|).
+    Validates each triangle as ``add`` and ``rem`` do (a tuple of three distinct
+    vertices of the complex's lineage) and refuses a triangle added twice or in
+    both orientations; raises Unbatched (or the TypeError / ValueError /
+    AttributeError of a malformed argument) on anything unusual, and the caller
+    lets the fold raise the precise error.  O(|removed| + |added|).  A lineage is
+    read once per vertex object, and a repeated vertex is told by two changes
+    sharing their lists: identity tests, where ``a.lineage`` and ``!=`` on an
+    ``int`` subclass are generic (unspecialised) steps.
 
-    A vertex's lineage is read once per vertex object (a change keeps the
-    object it was made for; an equal label given by another object is checked
-    again), and the three vertices of a triangle are distinct exactly when
-    their three changes hold three lists of drops (the dictionary finds one
-    change for equal labels): identity tests where ``a.lineage`` (an attribute of an
-    ``int`` subclass's ``__dict__``, which CPython 3.11 does not specialise)
-    and ``!=`` on vertices cost a generic lookup and comparison each.
-
-    The third result, *fresh*, is the vertex every added triangle ends with when
-    it is one object and in no removed triangle (a star replaced by a cone from
-    a new vertex), else None: if it has no list, no added triangle can be in the
-    complex, and :func:`rebuild_fresh` may skip that check (the caller confirms
-    the absence).  (The loop variables' types let the compiled twin unpack the
-    triangles natively; it raises TypeError for any other element, which the
-    caller treats alike.)
+    *fresh* is the vertex every added triangle ends with when it is one object
+    in no removed triangle (a star replaced by a cone from a new vertex), else
+    None: if it has no list, no added triangle can be in the complex
+    (:func:`rebuild_fresh`; the caller confirms the absence).  The loop
+    variables' types let the compiled twin unpack the triangles natively.
     """
     changes: Changes = {}
     get = changes.get
