@@ -165,6 +165,55 @@ def test_insertion_order_is_a_permutation_with_locality() -> None:
     assert float(np.median(steps)) < 0.1
 
 
+def _hilbert_reference(points: NDArray[np.float64], bits: int) -> NDArray[np.int64]:
+    """The level-by-level recursion (xy2d) that hilbert_keys' tables take four levels at a time."""
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    with np.errstate(over="ignore"):
+        half = np.where(np.isfinite(hi - lo), 1.0, 0.5)
+    lo, span = lo * half, hi * half - lo * half
+    side = (1 << bits) - 1
+    with np.errstate(invalid="ignore", divide="ignore"):
+        q = np.where(span > 0, (points * half - lo) / np.where(span > 0, span, 1.0), 0.0)
+    x = np.minimum((q[:, 0] * side).astype(np.int64), side)
+    y = np.minimum((q[:, 1] * side).astype(np.int64), side)
+    d = np.zeros(points.shape[0], dtype=np.int64)
+    s = 1 << (bits - 1)
+    while s > 0:
+        rx = ((x & s) > 0).astype(np.int64)
+        ry = ((y & s) > 0).astype(np.int64)
+        d += s * s * ((3 * rx) ^ ry)
+        flip = ry == 0
+        swap_x = np.where(flip & (rx == 1), side - x, x)
+        swap_y = np.where(flip & (rx == 1), side - y, y)
+        x, y = np.where(flip, swap_y, swap_x), np.where(flip, swap_x, swap_y)
+        s >>= 1
+    return d
+
+
+@pytest.mark.parametrize("bits", [1, 2, 3, 4, 5, 7, 8, 13, 16, 21])
+def test_hilbert_keys_are_the_level_by_level_curve(bits: int) -> None:
+    rng = np.random.default_rng(bits)
+    for scale in (1.0, 1e-300, 1e300, 3.0):
+        pts = rng.random((500, 2)) * scale
+        assert np.array_equal(hilbert_keys(pts, bits), _hilbert_reference(pts, bits))
+    huge = np.array([[-1.7e308, 1.7e308], [1.7e308, -1.7e308], [0.0, 0.0], [5.0, 5.0]])
+    assert np.array_equal(hilbert_keys(huge, bits), _hilbert_reference(huge, bits))
+    same_x = np.column_stack([np.full(50, 2.0), rng.random(50)])
+    assert np.array_equal(hilbert_keys(same_x, bits), _hilbert_reference(same_x, bits))
+
+
+def test_hilbert_keys_walk_a_grid_cell_by_cell() -> None:
+    # On the 2^k × 2^k grid with k bits the keys are a permutation, and cells of successive keys are adjacent.
+    k = 6
+    g = np.stack(np.meshgrid(np.arange(2.0**k), np.arange(2.0**k)), -1).reshape(-1, 2)
+    keys = hilbert_keys(g, k)
+    assert np.array_equal(np.sort(keys), np.arange(4**k))
+    path = g[np.argsort(keys)]
+    assert np.all(np.abs(np.diff(path, axis=0)).sum(axis=1) == 1)
+    with pytest.raises(ValueError, match="bits"):
+        hilbert_keys(g, 0)
+
+
 def test_all_points_cocircular() -> None:
     # Every integer point on the circle x² + y² = 65² (Pythagorean triples): all cocircular, SoS decides.
     r = 65

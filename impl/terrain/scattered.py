@@ -131,6 +131,8 @@ def hilbert_keys(points: NDArray[np.float64], bits: int = 16) -> NDArray[np.int6
     keys as the level-by-level recursion (``xy2d``), in a quarter of the array
     passes.  O(n · bits), vectorised.
     """
+    if bits < 1:
+        raise ValueError(f"bits must be at least 1, not {bits}")
     n = points.shape[0]
     if n == 0:
         return np.zeros(0, dtype=np.int64)
