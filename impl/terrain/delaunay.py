@@ -124,8 +124,10 @@ class Triangulator:
     point by walking, for inputs without conflict lists.
 
     ``tri_of`` maps the id of every live triangle (ghosts included) to its
-    vertices; it is the run's scratch index, not part of any version (a version
-    is read through the complex alone).  Sample lists are read-only arrays of
+    vertices; it is the run's scratch index of the current version, not part of
+    any version (an older version is read through the complex alone; the
+    scattered ``delaunay`` reads its final triangles from it when nothing is
+    counted, and compares it with the complex under ``check=True``).  Sample lists are read-only arrays of
     :attr:`sample_dtype` (:func:`sample_dtype`: ``int32`` up to 2^31 points).
 
     Each insertion changes the complex once, replacing the cavity by the fan
