@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import pytest
@@ -17,7 +18,7 @@ from persistri.impl.terrain.check import exact_hull, verify_triangulation
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.maps import backend as map_backend
 from persistri.impl.terrain.delaunay import EMPTY, Triangulator, canonical_triangles
-from persistri.impl.terrain.errors import DegenerateInputError
+from persistri.impl.terrain.errors import DegenerateInputError, TriangulationCheckError
 from persistri.impl.terrain.scattered import (
     DelaunayTriangulation,
     _first_triangle,
@@ -306,3 +307,24 @@ def test_recall_answers_look_ups_the_complex_would_answer_the_same() -> None:
         found[recall] = (reads, sorted(tuple(sorted(t)) for t, _ in T.finite_triangles()))
     assert found[True][1] == found[False][1]
     assert found[True][0] < 0.8 * found[False][0]
+
+
+@pytest.mark.parametrize("counted", [False, True])
+def test_check_compares_the_live_index_with_the_complex(counted: bool, monkeypatch: pytest.MonkeyPatch) -> None:
+    # Uncounted, delaunay reads its result from the triangulator's index of live triangles, not the complex;
+    # check=True must notice when the two disagree (here: the index loses a triangle after the last insertion).
+    pts = np.random.default_rng(5).random((40, 2))
+    real_insert = Triangulator.insert
+    calls = [0]
+
+    def insert_then_forget(self: Triangulator, *args: Any) -> Any:
+        out = real_insert(self, *args)
+        calls[0] += 1
+        if calls[0] == len(pts) - 3:  # the last insertion (the first triangle's three points are not inserted)
+            self.tri_of.pop(next(iter(self.tri_of)))
+        return out
+
+    monkeypatch.setattr(Triangulator, "insert", insert_then_forget)
+    stats = Stats() if counted else None
+    with pytest.raises(TriangulationCheckError, match="not the triangulator's"):
+        delaunay(pts, check=True, stats=stats)
