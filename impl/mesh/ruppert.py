@@ -186,13 +186,10 @@ class Refiner:
     # -- the queue -----------------------------------------------------------------------------
 
     def _push_bad(self, t: Tri, d: MeshDatum, p: int, q: int, r: int, edge2: float) -> None:
+        """Queue the bad triangle ``t`` in the bucket of its squared shortest edge ``edge2`` (its binary exponent)."""
         bucket = math.frexp(edge2)[1] if 0.0 < edge2 < math.inf else 0
         self._seq += 1
-        queue = self._queues.get(bucket)  # self._enqueue, inlined
-        if queue is None:
-            queue = self._queues[bucket] = deque()
-            heapq.heappush(self._buckets, bucket)
-        queue.append((bucket, self._seq, t, d, p, q, r))
+        self._enqueue((bucket, self._seq, t, d, p, q, r))
 
     def _enqueue(self, bad: Bad) -> None:
         """Queue ``bad`` last in its bucket. O(1), plus O(lg buckets) for a bucket that was empty."""
@@ -201,18 +198,6 @@ class Refiner:
             queue = self._queues[bad[0]] = deque()
             heapq.heappush(self._buckets, bad[0])
         queue.append(bad)
-
-    def _pop_bad(self) -> Bad:
-        """The first bad triangle of the lowest non-empty bucket: the least ``(bucket, sequence)`` queued (the
-        sequence grows, so first in first out within a bucket). O(1), plus O(lg buckets) when a bucket empties."""
-        buckets = self._buckets
-        bucket = buckets[0]
-        queue = self._queues[bucket]
-        bad = queue.popleft()
-        if not queue:
-            heapq.heappop(buckets)
-            del self._queues[bucket]
-        return bad
 
     def _judge(self, t: Tri, d: MeshDatum) -> None:
         """Queue the domain triangle ``t`` if it must be split; record it if it is exempt."""
@@ -505,7 +490,8 @@ class Refiner:
                     deleted.append(tuple(gone))
                     self.log.split(int(sub[0]), int(sub[1]), len(versions), deleted[-1])
                 elif buckets:
-                    # self._pop_bad(), inlined: most of what is popped is dead already.
+                    # The first bad triangle of the lowest non-empty bucket: the least (bucket, sequence) queued,
+                    # first in first out within a bucket.  Most of what is popped is dead already.
                     bucket = buckets[0]
                     queue = queues[bucket]
                     bad = queue.popleft()
