@@ -44,7 +44,6 @@ cannot decide); :meth:`GrowingPredicates2.append` O(1) amortised;
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from typing import Final
 
 import numpy as np
@@ -331,9 +330,3 @@ class GrowingPredicates2:
             return min(ux, wx) < px < max(ux, wx)
         return min(uy, wy) < py < max(uy, wy)
 
-    def check_indices(self, indices: Sequence[int]) -> None:
-        """:class:`IndexError` unless every index names a point. O(len)."""
-        n = len(self._xy)
-        for i in indices:
-            if not 0 <= i < n:
-                raise IndexError(f"point index {i} out of range for {n} points")
