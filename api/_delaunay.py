@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from persistri._arrays import read_only
 from persistri.impl.complex.adjacency import triangle_neighbors, vertex_neighbor_vertices, vertex_to_simplex
+from persistri.impl.geometry.barycentric import barycentric_transforms, lifted_equations, paraboloid_lift, paraboloid_scaling
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.locate import locate_points
 from persistri.impl.terrain.scattered import DelaunayTriangulation, delaunay
@@ -52,8 +53,15 @@ class Delaunay:
     * ``coplanar`` — ``(k, 3)``: scipy's report of input points that are not
       vertices, ``[row, a triangle at its twin, the twin]``: here only the
       merged duplicates;
-    * ``npoints``, ``ndim`` (2), ``nsimplex``, ``seed``, and ``result``, the full
-      :class:`~persistri.impl.terrain.scattered.DelaunayTriangulation`.
+    * ``transform`` — ``(m, 3, 2)`` float64: each triangle's barycentric transform
+      (within 2⁻⁴⁰ relative of the exact one, never NaN), and the lifting to the
+      paraboloid: ``paraboloid_scale``, ``paraboloid_shift``, ``lift_points(x)``,
+      ``equations`` (``(m, 4)``), ``plane_distance(xi)`` — float64 measurements like
+      scipy's (:mod:`persistri.impl.geometry.barycentric`); the exact decisions are
+      ``find_simplex``'s;
+    * ``min_bound``, ``max_bound``, ``furthest_site`` (False), ``close()`` (nothing
+      to release), ``npoints``, ``ndim`` (2), ``nsimplex``, ``seed``, and ``result``,
+      the full :class:`~persistri.impl.terrain.scattered.DelaunayTriangulation`.
 
     Errors, one line each: :class:`TypeError` / :class:`ValueError` for input that
     is not ``(n, 2)`` finite reals;
@@ -68,7 +76,7 @@ class Delaunay:
     [0, 0, 2, -1]
     """
 
-    __slots__ = ("_tri", "_points", "_simplices", "_neighbors", "_hull_edges", "_vnv", "_v2s")
+    __slots__ = ("_tri", "_points", "_simplices", "_neighbors", "_hull_edges", "_vnv", "_v2s", "_transform", "_equations", "_scaling")
 
     _tri: DelaunayTriangulation
     _points: FloatArray
@@ -77,6 +85,9 @@ class Delaunay:
     _hull_edges: IntcArray
     _vnv: tuple[IntcArray, IntcArray] | None
     _v2s: IntcArray | None
+    _transform: FloatArray | None
+    _equations: FloatArray | None
+    _scaling: tuple[float, float] | None
 
     def __init__(
         self, points: ArrayLike, *, backend: str = "red_black", seed: int = 0, check: bool = False, stats: Stats | None = None
@@ -93,6 +104,9 @@ class Delaunay:
         self._hull_edges = read_only(np.stack([cycle, np.roll(cycle, -1)], axis=1), np.intc)
         self._vnv = None
         self._v2s = None
+        self._transform = None
+        self._equations = None
+        self._scaling = None
 
     @classmethod
     def from_triangulation(cls, tri: DelaunayTriangulation) -> Delaunay:
@@ -173,6 +187,90 @@ class Delaunay:
         dup = np.array(self._tri.duplicates, dtype=np.intc).reshape(-1, 2)
         out = np.stack([dup[:, 0], self.vertex_to_simplex[dup[:, 1]], dup[:, 1]], axis=1).astype(np.intc)
         return read_only(out)
+
+    @property
+    def transform(self) -> FloatArray:
+        """``(m, 3, 2)`` float64: ``[T⁻¹; r]`` per triangle, the barycentric coordinates of ``x`` being ``T⁻¹(x − r)``.
+
+        As :attr:`scipy.spatial.Delaunay.transform`: ``T``'s columns are the first
+        two vertices minus the third, ``r`` is the third.  Every entry within a
+        relative 2⁻⁴⁰ of its exact value, thin triangles included (where scipy
+        documents NaN for nearly degenerate ones). O(m) once, then cached (read-only).
+        """
+        if self._transform is None:
+            self._transform = read_only(barycentric_transforms(self._points, self._simplices))
+        return self._transform
+
+    @property
+    def paraboloid_scale(self) -> float:
+        """The scale of the lifting ``scale·|x|² + shift``: the squared norms of ``points`` span ``[0, their widest axis]``."""
+        return self._lifting()[0]
+
+    @property
+    def paraboloid_shift(self) -> float:
+        """The shift of the lifting ``scale·|x|² + shift``."""
+        return self._lifting()[1]
+
+    def lift_points(self, x: ArrayLike) -> FloatArray:
+        """``x`` (shape ``(..., 2)``) lifted to the paraboloid, shape ``(..., 3)``, float64."""
+        return paraboloid_lift(self._query(x, "x"), *self._lifting())
+
+    @property
+    def equations(self) -> FloatArray:
+        """``(m, 4)`` float64: each triangle's lifted plane, ``[unit normal (pointing down), offset]``. O(m) once."""
+        if self._equations is None:
+            scale, shift = self._lifting()
+            self._equations = read_only(lifted_equations(self._points, self._simplices, scale, shift))
+        return self._equations
+
+    def plane_distance(self, xi: ArrayLike) -> FloatArray:
+        """``(..., m)`` float64: the signed distance of each lifted point of ``xi`` from every triangle's plane.
+
+        Positive below the plane (inside the triangle's circumcircle, up to
+        float64 rounding), as scipy's. O(m) per point.
+        """
+        z = self.lift_points(xi)
+        eq = self.equations
+        out: FloatArray = z @ eq[:, :3].T + eq[:, 3]
+        return out
+
+    @property
+    def min_bound(self) -> FloatArray:
+        """``(2,)`` float64: the least coordinates of the input points."""
+        return read_only(self._points.min(axis=0))
+
+    @property
+    def max_bound(self) -> FloatArray:
+        """``(2,)`` float64: the greatest coordinates of the input points."""
+        return read_only(self._points.max(axis=0))
+
+    @property
+    def furthest_site(self) -> bool:
+        """False: this is the Delaunay triangulation, not the furthest-site one."""
+        return False
+
+    def close(self) -> None:
+        """Nothing to do: the triangulation holds no resources (scipy's ``close`` ends incremental mode). O(1)."""
+
+    def _lifting(self) -> tuple[float, float]:
+        """``(paraboloid_scale, paraboloid_shift)``, over the input points. O(n) once."""
+        if self._scaling is None:
+            self._scaling = paraboloid_scaling(self._points)
+        return self._scaling
+
+    def _query(self, x: ArrayLike, name: str) -> FloatArray:
+        """``x`` as float64 of shape ``(..., 2)``, finite, or one clear error."""
+        if isinstance(x, (str, bytes)):
+            raise TypeError(f"{name} must be an array of 2D points, not {type(x).__name__}")
+        try:
+            raw = np.asarray(x, dtype=np.float64)
+        except (ValueError, TypeError) as exc:
+            raise ValueError(f"{name} must be a rectangular array of 2D points: {exc}") from None
+        if raw.ndim == 0 or raw.shape[-1] != 2:
+            raise ValueError(f"{name} must be an array of 2D points, shape (..., 2), got shape {raw.shape}")
+        if not np.isfinite(raw).all():
+            raise ValueError(f"{name} has a NaN or infinite coordinate")
+        return raw
 
     @property
     def npoints(self) -> int:

@@ -69,6 +69,9 @@ class ConvexHull:
       merged into an earlier, exactly equal one;
     * ``history`` — every intermediate hull (:class:`~persistri.impl.hull.api.HullHistory`)
       with ``history=True``, else None;
+    * ``min_bound``, ``max_bound`` — the input's bounding box (read from the
+      vertices: the extremes of a point set are hull vertices), ``close()``
+      (nothing to release);
     * ``npoints``, ``ndim`` (3), ``nsimplex``, ``backend``, ``seed``, and ``result``,
       the full :class:`~persistri.impl.hull.api.Hull` (its persistent complex,
       the structure that reads it, counts).
@@ -334,6 +337,19 @@ class ConvexHull:
         """``(k, 2)``: ``[row, earlier equal row]`` for each input row merged into an exactly equal earlier one."""
         pairs = self._hull.duplicates if self._chunked is None else self._chunked.duplicates
         return read_only(np.array(pairs, dtype=np.intc).reshape(-1, 2))
+
+    @property
+    def min_bound(self) -> FloatArray:
+        """``(3,)`` float64: the least coordinates of the input, attained at hull vertices. O(h)."""
+        return read_only(self.vertex_points.min(axis=0))
+
+    @property
+    def max_bound(self) -> FloatArray:
+        """``(3,)`` float64: the greatest coordinates of the input, attained at hull vertices. O(h)."""
+        return read_only(self.vertex_points.max(axis=0))
+
+    def close(self) -> None:
+        """Nothing to do: a hull holds no resources (scipy's ``close`` ends incremental mode; :meth:`add_points` works on). O(1)."""
 
     @property
     def npoints(self) -> int:

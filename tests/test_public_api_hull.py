@@ -73,6 +73,9 @@ def test_agrees_with_qhull(dist: str) -> None:
             k = ours.neighbors[i, j]
             rj = ref.simplices[r].tolist().index(v)
             assert match[k] == ref.neighbors[r, rj]
+    assert ours.min_bound.tolist() == ref.min_bound.tolist() == pts.min(axis=0).tolist()
+    assert ours.max_bound.tolist() == ref.max_bound.tolist() == pts.max(axis=0).tolist()
+    assert ours.close() is None and ours.add_points([[0.0, 0.0, 0.0]]).npoints == 501
 
 
 def test_arrays_have_scipys_shapes_and_dtypes_and_are_values() -> None:

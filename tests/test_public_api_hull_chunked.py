@@ -52,12 +52,13 @@ def degenerate(seed: int) -> NDArray[np.float64]:
 def assert_same_hull(got: persistri.ConvexHull, want: persistri.ConvexHull) -> None:
     """Every attribute that names points or measures the hull, exactly equal."""
     assert got.chunked is not None and want.chunked is None
-    for name in ("vertices", "simplices", "neighbors", "equations", "duplicates", "vertex_points"):
+    for name in ("vertices", "simplices", "neighbors", "equations", "duplicates", "vertex_points", "min_bound", "max_bound"):
         a, b = getattr(got, name), getattr(want, name)
         assert a.dtype == b.dtype and np.array_equal(a, b), name
         assert not a.flags.writeable, name
     assert (got.volume, got.area, got.npoints, got.nsimplex) == (want.volume, want.area, want.npoints, want.nsimplex)
     assert np.array_equal(got.points, want.points) and not got.points.flags.writeable
+    assert np.array_equal(got.min_bound, got.points.min(axis=0)) and np.array_equal(got.max_bound, got.points.max(axis=0))
 
 
 def inputs(pts: NDArray[np.float64], tmp_path: Path) -> dict[str, Any]:
