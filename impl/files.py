@@ -4,12 +4,11 @@ Point inputs (:func:`read_points`):
 
 * ``.npy`` — an ``(n, d)`` array of reals (integers must be exact in float64;
   object arrays are never unpickled);
-* ``.csv`` / ``.xyz`` / ``.txt`` — text, one point per line, read by
-  :func:`numpy.loadtxt`: numbers separated by commas, semicolons, tabs or
-  spaces (the delimiter is the first of ``,`` ``;`` tab found on the first data
-  line, else whitespace), any number of leading header lines (lines whose
-  first field is not a number, e.g. ``x,y,z``), ``#`` comments (whole lines or
-  after the numbers), blank lines, Windows line ends and a UTF-8 byte-order mark;
+* ``.csv`` / ``.xyz`` / ``.txt`` — text, one point per line, by the rules of
+  :mod:`persistri.impl.text_tables` (delimiters, header lines, ``#`` comments);
+  columns are chosen by number or by the header's names (``fields``); without a
+  choice a header naming ``x`` and ``y`` (and ``z``) among other columns picks
+  those (``id,x,y`` → ``x, y``), else every column is read;
 * ``.ply`` — the vertices of a PLY file, through meshio.
 
 Mesh outputs (:func:`write_mesh`): ``.ply``, ``.obj``, ``.off``, ``.stl`` through
@@ -22,7 +21,6 @@ comments and blank lines, from 1): ``points.csv: line 7: expected 3 numbers, got
 
 from __future__ import annotations
 
-import re
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -30,7 +28,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from persistri.impl.file_errors import InputFileError, os_error, widths
 from persistri.impl.geometry.points import as_points
+from persistri.impl.text_tables import Fields, read_text, read_text_table
 
 __all__ = [
     "POINT_FORMATS",
@@ -55,167 +55,6 @@ MESH_FORMATS = (".ply", ".obj", ".off", ".stl", ".npz")
 """The extensions :func:`write_mesh` writes."""
 
 _NPY_MAGIC = b"\x93NUMPY"
-_SHOWN = 40  # characters of a bad line or field quoted in a message
-
-
-class InputFileError(ValueError):
-    """A file that cannot be used as input; ``str()`` is one line, ``"<path>: <what is wrong>"``.
-
-    ``path`` is the file as the caller named it; ``line`` the 1-based line of a
-    text file the problem is on, when there is one.
-    """
-
-    def __init__(self, path: str | Path, message: str, *, line: int | None = None) -> None:
-        where = f"{path}: line {line}: " if line is not None else f"{path}: "
-        super().__init__(where + message)
-        self.path = str(path)
-        self.line = line
-
-
-def _quote(text: str) -> str:
-    text = text.strip()
-    return '"' + (text if len(text) <= _SHOWN else text[: _SHOWN - 1] + "…") + '"'
-
-
-def _widths(columns: Sequence[int]) -> str:
-    """``(3,)`` → ``"3"``, ``(2, 3)`` → ``"2 or 3"``."""
-    names = [str(c) for c in columns]
-    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " or " + names[-1]
-
-
-# -- text ------------------------------------------------------------------------------------
-
-
-def _decode(path: Path, raw: bytes) -> str:
-    """The text of a point file: UTF-8 (a byte-order mark is dropped); binary files are refused by name."""
-    if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):
-        raise InputFileError(path, "UTF-16 text; save it as UTF-8 (or plain ASCII)")
-    nul = raw.find(b"\x00")
-    if nul >= 0:
-        raise InputFileError(path, f"a binary file, not text (a NUL byte at offset {nul})")
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise InputFileError(path, f"not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start})") from None
-
-
-def _delimiter(line: str) -> str | None:
-    """The field separator of a data line: the first of comma, semicolon, tab it holds; None = whitespace."""
-    return next((d for d in (",", ";", "\t") if d in line), None)
-
-
-def _loadtxt(lines: Sequence[str], delimiter: str | None) -> NDArray[np.float64]:
-    arr: NDArray[np.float64] = np.loadtxt(lines, delimiter=delimiter, comments="#", ndmin=2, dtype=np.float64)
-    return arr
-
-
-def _is_header(line: str) -> bool:
-    """A header line: its first field is not a number (``x,y,z``; ``survey 2024``), as numpy's type detection sees it.
-
-    A line that starts with a number is data, to be reported if it is bad
-    (``1,2,x`` is not silently skipped as a header; ``nan,0,0`` is data too).
-    """
-    fields = np.genfromtxt([line], delimiter=_delimiter(line), comments="#", dtype=None, encoding="utf-8")
-    first = fields.dtype[0] if fields.dtype.names else fields.dtype
-    return first.kind in "US"
-
-
-def _what_is_wrong(line: str, delimiter: str | None, width: int) -> str:
-    """Why one data line is not a row of ``width`` numbers (the line alone, parsed again)."""
-    try:
-        alone = _loadtxt([line], delimiter)
-    except ValueError as exc:
-        field = re.search(r"could not convert string '(.*)' to", str(exc))
-        if field is None:
-            return f"not a row of numbers: {_quote(line)}"
-        if not field.group(1).strip():
-            return f"an empty field: {_quote(line)}"
-        return f"{_quote(field.group(1))} is not a number"
-    return f"expected {width} numbers, got {alone.shape[1]}"
-
-
-def _first_bad(lines: Sequence[str], delimiter: str | None, width: int) -> int:
-    """The index of the first line that is not a row of ``width`` numbers (one exists).
-
-    Halves the range that holds it, parsing the first half alone each time:
-    O(total length) over all the steps, and only on the error path.
-    """
-
-    def good(chunk: Sequence[str]) -> bool:
-        try:
-            return bool(_loadtxt(chunk, delimiter).shape[1] == width)
-        except ValueError:
-            return False
-
-    lo, hi = 0, len(lines)
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if good(lines[lo:mid]):
-            lo = mid
-        else:
-            hi = mid
-    return lo
-
-
-def _read_text(
-    path: Path, columns: Sequence[int] | None, what: str = "points"
-) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
-    """The rows of a text file of numbers and, for each, its 1-based line number in the file (``what`` names its content)."""
-    text = _decode(path, path.read_bytes())
-    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
-    content = [i for i, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#")]
-    if not content:
-        raise InputFileError(path, f"no {what}: the file is empty" if not text.strip() else f"no {what}: only comments")
-    headers = 0
-    while headers < len(content) and _is_header(lines[content[headers]]):
-        headers += 1
-    if headers == len(content):
-        shown = "a header line" if headers == 1 else f"{headers} lines of text"
-        raise InputFileError(path, f"no {what}: {shown} and no row of numbers")
-    numbers = content[headers:]
-    data = [lines[i] for i in numbers]
-    delimiter = _delimiter(data[0])
-    first = numbers[0] + 1
-    try:
-        width = _loadtxt(data[:1], delimiter).shape[1]
-    except ValueError:
-        raise InputFileError(path, _what_is_wrong(data[0], delimiter, 0), line=first) from None
-    if columns is not None and width not in columns:
-        raise InputFileError(path, f"expected {_widths(columns)} numbers, got {width}", line=first)
-    try:
-        arr = _loadtxt(data, delimiter)
-    except ValueError:
-        bad = _first_bad(data, delimiter, width)
-        raise InputFileError(path, _what_is_wrong(data[bad], delimiter, width), line=numbers[bad] + 1) from None
-    line_numbers: NDArray[np.intp] = np.asarray(numbers, dtype=np.intp) + 1
-    return arr, line_numbers
-
-
-def _os_error(p: Path, exc: OSError) -> InputFileError:
-    """The one-line error for a file the system would not let us read."""
-    if isinstance(exc, FileNotFoundError):
-        return InputFileError(p, "no such file")
-    if isinstance(exc, IsADirectoryError):
-        return InputFileError(p, "a directory, not a file")
-    if isinstance(exc, PermissionError):
-        return InputFileError(p, "cannot read it (permission denied)")
-    return InputFileError(p, f"cannot read it ({exc.strerror or exc})")
-
-
-def read_text_table(path: str | Path, what: str) -> NDArray[np.float64]:
-    """The rows of numbers of a text file, all of one width (``what`` names the content in messages).
-
-    The same text rules as the point files (delimiters, headers, comments, line
-    ends; module docstring).  NaN and infinities are returned as read: the
-    caller decides what they mean.  Raises :class:`InputFileError` naming the
-    file, and the line, for an unreadable or empty file, a bad field or a
-    ragged row.  O(size).
-    """
-    p = Path(path)
-    try:
-        return _read_text(p, None, what)[0]
-    except OSError as exc:
-        raise _os_error(p, exc) from None
 
 
 # -- binary ----------------------------------------------------------------------------------
@@ -269,12 +108,12 @@ def read_npy(path: str | Path, *, mmap: bool = False) -> NDArray[Any]:
 
 def _check_shape(path: Path, shape: tuple[int, ...], columns: Sequence[int] | None) -> None:
     if len(shape) != 2:
-        want = f"(n, {_widths(columns)})" if columns is not None else "(n, d)"
+        want = f"(n, {widths(columns)})" if columns is not None else "(n, d)"
         raise InputFileError(path, f"expected an array of shape {want}, got shape {shape}")
     if shape[0] == 0:
         raise InputFileError(path, f"no points: the array has shape {shape}")
     if columns is not None and shape[1] not in columns:
-        raise InputFileError(path, f"expected {_widths(columns)} columns, got shape {shape}")
+        raise InputFileError(path, f"expected {widths(columns)} columns, got shape {shape}")
 
 
 def _read_ply(path: Path) -> NDArray[Any]:
@@ -289,14 +128,33 @@ def _read_ply(path: Path) -> NDArray[Any]:
     return pts
 
 
+def _select_array(path: Path, raw: NDArray[Any], fields: Fields) -> NDArray[Any]:
+    """The columns ``fields`` (numbers only: arrays have no header) of a 2-D array."""
+    if any(isinstance(f, str) for f in fields):
+        raise InputFileError(path, "has no header to name columns by: choose them by number (from 0)")
+    picked = [int(f) for f in fields]
+    if raw.ndim != 2:
+        raise InputFileError(path, f"expected an array of shape (n, d), got shape {raw.shape}")
+    bad = [f for f in picked if not 0 <= f < raw.shape[1]]
+    if bad:
+        raise InputFileError(path, f"no column {bad[0]}: the array has {raw.shape[1]} (numbered from 0)")
+    if len(set(picked)) != len(picked):
+        raise InputFileError(path, f"a column is selected twice: {', '.join(map(str, picked))}")
+    return raw[:, picked]
+
+
 # -- the entry point -------------------------------------------------------------------------
 
 
-def read_points(path: str | Path, columns: Sequence[int] | None = None) -> NDArray[np.float64]:
+def read_points(path: str | Path, columns: Sequence[int] | None = None, fields: Fields | None = None) -> NDArray[np.float64]:
     """The points stored in ``path``: a non-empty ``(n, d)`` float64 array of finite, exact values.
 
     ``columns`` lists the accepted widths ``d`` (``(3,)`` for a hull,
-    ``(2, 3)`` for a Delaunay triangulation); None accepts any.  Raises
+    ``(2, 3)`` for a Delaunay triangulation); None accepts any.  ``fields``
+    selects the columns, in order: 0-based numbers, or names from a text file's
+    header line (any case; other columns may then hold anything, such as dates).
+    Without it a text file whose last header line names ``x`` and ``y`` (and
+    ``z``) among other columns gives those; otherwise every column.  Raises
     :class:`InputFileError` (one line naming the file; the line of a text
     file, the row of an array counting from 0) for a missing or unreadable
     file, an unknown extension, binary or non-UTF-8 text, a file with no
@@ -312,7 +170,7 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None) -> NDArr
         raise InputFileError(p, f"unknown point format {suffix or '(no extension)'}; use one of {', '.join(POINT_FORMATS)}")
     try:
         if suffix in TEXT_FORMATS:
-            arr, lines = _read_text(p, columns)
+            arr, lines = read_text(p, columns, fields=fields)
             bad = ~np.isfinite(arr).all(axis=1)
             if bad.any():
                 row = int(np.argmax(bad))
@@ -322,7 +180,9 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None) -> NDArr
             return out
         raw = read_npy(p) if suffix == ".npy" else _read_ply(p)
     except OSError as exc:
-        raise _os_error(p, exc) from None
+        raise os_error(p, exc) from None
+    if fields is not None:
+        raw = _select_array(p, raw, fields)
     _check_shape(p, raw.shape, columns)
     try:
         return as_points(raw, raw.shape[1], what=str(p))

@@ -35,7 +35,7 @@ import click
 
 from persistri.impl.cli.errors import error_line, fail
 
-__all__ = ["PLOT_FORMATS", "check_backend", "check_input", "check_output_dir", "Outputs", "Staging"]
+__all__ = ["PLOT_FORMATS", "check_backend", "check_input", "check_output_dir", "parse_columns", "Outputs", "Staging"]
 
 PLOT_FORMATS: Final = (".png", ".pdf", ".svg")
 """The formats ``--plot`` writes (matplotlib chooses by extension)."""
@@ -69,6 +69,19 @@ def check_input(path: Path, formats: Sequence[str], *, kind: str, words: Sequenc
         fail(f"{path}: cannot read it (permission denied)")
     except OSError as exc:
         fail(f"{path}: cannot read it ({exc.strerror or error_line(exc)})")
+
+
+def parse_columns(ctx: click.Context, param: click.Parameter, value: str | None) -> list[str | int] | None:
+    """``--columns``: comma-separated column numbers (from 0) or header names, in order (``2,3`` or ``lon,lat,h``).
+
+    A click callback; a malformed list is a usage error naming the option. O(length).
+    """
+    if value is None:
+        return None
+    items = [item.strip() for item in value.split(",")]
+    if not all(items):
+        raise click.BadParameter(f"an empty column in {value!r}: give numbers (from 0) or header names, comma-separated")
+    return [int(item) if item.isdecimal() else item for item in items]
 
 
 def check_backend(name: str) -> None:

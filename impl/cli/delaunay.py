@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_input
+from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_input, parse_columns
 from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.errors import about
 from persistri.impl.cli.hull import stats_table
@@ -23,6 +23,7 @@ __all__ = ["delaunay_command"]
 @click.option("-o", "--output", type=click.Path(path_type=Path), help=f"Output ({', '.join(MESH_FORMATS)}).")
 @click.option("--plot", type=click.Path(path_type=Path), help=f"Draw the triangulation to this image ({', '.join(PLOT_FORMATS)}).")
 @click.option("--backend", default="red_black", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
+@click.option("--columns", metavar="A,B[,C]", callback=parse_columns, help="The columns to read as x,y[,z]: numbers from 0 or header names (text files; numbers for .npy).  [default: the header's x,y,z, else every column]")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the insertion order.")
 @click.option("--check", is_flag=True, help="Assert the insertion invariants and verify the triangulation exactly.")
 @click.option("--stats", "show_stats", is_flag=True, help="Print the operation counts as a table.")
@@ -32,12 +33,14 @@ def delaunay_command(
     output: Path | None,
     plot: Path | None,
     backend: str,
+    columns: list[str | int] | None,
     seed: int,
     check: bool,
     show_stats: bool,
     quiet: bool,
 ) -> None:
-    """The exact Delaunay triangulation of the points in INPUT (.npy, .csv/.xyz/.txt: rows of x,y or x,y,z).
+    """The exact Delaunay triangulation of the points in INPUT (.npy, .csv/.xyz/.txt: rows of x,y or x,y,z;
+    a header naming x, y (z) among other columns picks those, --columns any two or three).
 
     Every distinct point is a vertex (exactly equal rows are merged and
     reported); triangles are counterclockwise.  A third column (z) is carried
@@ -53,7 +56,7 @@ def delaunay_command(
     outputs.file(output, MESH_FORMATS, what="mesh")
     outputs.file(plot, PLOT_FORMATS, what="plot")
     check_backend(backend)
-    raw = read_points(input_path, (2, 3))
+    raw = read_points(input_path, (2, 3), fields=columns)
     stats = Stats() if show_stats else None
     with about(input_path):
         result = delaunay(raw[:, :2], backend=backend, check=check, stats=stats, seed=seed)

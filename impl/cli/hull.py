@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 from rich.table import Table
 
-from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_input
+from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_input, parse_columns
 from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.errors import about, error_line, fail
 from persistri.impl.files import MESH_FORMATS, POINT_FORMATS, read_points, write_mesh
@@ -77,6 +77,7 @@ def _chunked_source(input_path: Path, chunk_rows: int | None) -> PointSource:
 @click.option("--dist", type=click.Choice(sorted(DISTRIBUTIONS), case_sensitive=False), help="Generate the input from a §4 distribution instead of reading INPUT.")
 @click.option("-n", "--points", "n", type=click.IntRange(min=0), default=10_000, show_default=True, help="How many points --dist generates.")
 @click.option("--backend", default="red_black", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
+@click.option("--columns", metavar="A,B,C", callback=parse_columns, help="The columns to read as x,y,z: numbers from 0 or header names (text files; numbers for .npy, then read whole).  [default: the header's x,y,z, else every column]")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the insertion order (and of --dist).")
 @click.option("--check", is_flag=True, help="Assert the theorems of Appendix A at every insertion and verify the hull exactly.")
 @click.option("--stats", "show_stats", is_flag=True, help="Print the operation counts (paper §4) as a table (one process: implies --workers 1).")
@@ -91,6 +92,7 @@ def hull(
     dist: str | None,
     n: int,
     backend: str,
+    columns: list[str | int] | None,
     seed: int,
     check: bool,
     show_stats: bool,
@@ -106,7 +108,8 @@ def hull(
     OUTPUT by extension: .ply, .obj, .off (triangles, outward) or .npz with the
     arrays points (the input as read), simplices and vertices (input row indices).
     Text input: one point x y z per line, separated by commas, semicolons, tabs
-    or spaces; header lines, # comments and blank lines are skipped.
+    or spaces; header lines, # comments and blank lines are skipped; a header
+    naming x, y, z among other columns picks those, --columns any three.
 
     On a Dask cluster (--workers N, --scheduler ADDR) the points are hulled chunk by
     chunk on the workers and the chunk hulls merged: exactly the same hull.  A .npy is
@@ -122,6 +125,8 @@ def hull(
     if show_stats and explicit:
         raise click.UsageError("--stats counts the operations of one process: use it with --workers 1")
     directory = input_path is not None and input_path.is_dir()
+    if columns is not None and (input_path is None or directory):
+        raise click.UsageError("--columns chooses the columns of an input file: not for --dist or a directory")
     if input_path is not None and not directory:
         check_input(input_path, POINT_FORMATS, kind="point")
     outputs = Outputs()
@@ -133,7 +138,8 @@ def hull(
     # directory or a .npy (a .npy whose header is wrong goes to the one-process reader, which names it).
     source: PointSource | None = None
     points: NDArray[np.float64] | None = None
-    npy = input_path is not None and input_path.suffix.lower() == ".npy" and not directory
+    # With --columns a .npy is read whole (its chosen columns are a new array), like a text file.
+    npy = input_path is not None and input_path.suffix.lower() == ".npy" and not directory and columns is None
     if directory:
         assert input_path is not None
         source = _chunked_source(input_path, chunk_rows)
@@ -142,7 +148,7 @@ def hull(
         assert input_path is not None
         rows = _npy_rows(input_path)
     else:
-        points = read_points(input_path, (3,)) if input_path is not None else generate(dist or "", n, seed)
+        points = read_points(input_path, (3,), fields=columns) if input_path is not None else generate(dist or "", n, seed)
         rows = points.shape[0]
     # By default a cluster only for more than one largest chunk: below that one process is as fast (bench scale,
     # docs/performance.md) and needs no cluster start-up; --chunk-size says what a chunk is.
