@@ -69,3 +69,24 @@ def test_exact_parts(x: float) -> None:
     m, e = exact_parts(x)
     assert Fraction(m) * Fraction(2) ** e == Fraction(x) if m else x == 0.0
     assert m == 0 or m % 2 == 1
+
+
+def test_same_as_any_finds_the_first_equal_point() -> None:
+    P = GrowingPredicates2([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    p = P.append(1.0, -0.0)  # equal to point 1 (the sign of zero is not a different point)
+    q = P.append(0.5, 0.5)
+    twin = P.append(0.5, 0.5)
+    assert P.same_as_any(p, (0, 1, 2)) == 1 and P.same_as_any(p, (2, 0)) is None
+    assert P.same_as_any(q, (0, twin, 1)) == twin and P.same_as_any(q, ()) is None
+    assert all((P.same_as_any(i, (j,)) is not None) == P.same(i, j) for i in range(6) for j in range(6))
+
+
+@given(st.lists(st.tuples(coords, coords), min_size=1, max_size=6))
+def test_integers_are_the_points_at_their_least_exponent(rows: list[tuple[float, float]]) -> None:
+    P = GrowingPredicates2([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    idx = [P.append(x, y) for x, y in rows]
+    pairs, e = P.integers(*idx)
+    assert len(pairs) == len(idx)
+    for i, (ix, iy) in zip(idx, pairs):
+        x, y = P.xy(i)
+        assert Fraction(ix) * Fraction(2) ** e == Fraction(x) and Fraction(iy) * Fraction(2) ** e == Fraction(y)

@@ -182,7 +182,32 @@ class GrowingPredicates2:
         if not (math.isfinite(x) and math.isfinite(y)):
             raise ValueError(f"a point must have finite coordinates, got ({x!r}, {y!r})")
         x, y = x + 0.0, y + 0.0
-        return self._push(x, y, exact_parts(x), exact_parts(y))
+        # _push(x, y, exact_parts(x), exact_parts(y)), inlined (one call per new point instead of four).
+        if x == 0.0:
+            mx, ex = 0, ZERO_LOW
+        else:
+            num, den = x.as_integer_ratio()
+            low = (num & -num).bit_length() - 1
+            mx, ex = num >> low, low - (den.bit_length() - 1)
+        if y == 0.0:
+            my, ey = 0, ZERO_LOW
+        else:
+            num, den = y.as_integer_ratio()
+            low = (num & -num).bit_length() - 1
+            my, ey = num >> low, low - (den.bit_length() - 1)
+        e = ex if ex < ey else ey
+        if e == ZERO_LOW:
+            e = 0
+        self._exact.append((mx << (ex - e) if mx else 0, my << (ey - e) if my else 0, e))
+        xy = self._xy
+        xy.append((x, y))
+        shift = self._shift
+        ok = (x == 0.0 or (ex + shift >= GRAIN_MIN and math.frexp(x)[1] + shift <= TOP_MAX)) and (
+            y == 0.0 or (ey + shift >= GRAIN_MIN and math.frexp(y)[1] + shift <= TOP_MAX)
+        )
+        self._rows.append((math.ldexp(x, shift), math.ldexp(y, shift)) if ok else _NAN)
+        self._array = None
+        return len(xy) - 1
 
     @property
     def points(self) -> NDArray[np.float64]:
@@ -214,18 +239,29 @@ class GrowingPredicates2:
         """Whether points ``i`` and ``j`` are exactly equal. O(1)."""
         return self._xy[i] == self._xy[j]
 
+    def same_as_any(self, i: int, others: tuple[int, ...]) -> int | None:
+        """The first of the points ``others`` exactly equal to point ``i``, or None. O(len(others))."""
+        xy = self._xy
+        q = xy[i]
+        for j in others:
+            if xy[j] == q:
+                return j
+        return None
+
     def integers(self, *indices: int) -> tuple[list[tuple[int, int]], int]:
         """The points ``indices`` as exact integer pairs at their least common exponent ``E``: ``(pairs, E)``.
 
         Point ``i`` is ``pairs[k] · 2^E`` exactly.  O(bits).
         """
-        ex = self._exact
-        parts = [ex[i] for i in indices]
+        parts = list(map(self._exact.__getitem__, indices))  # no comprehension: no function frame per call
         e = parts[0][2]
         for part in parts:
             if part[2] < e:
                 e = part[2]
-        return [(x, y) if pe == e else (x << (pe - e), y << (pe - e)) for x, y, pe in parts], e
+        pairs: list[tuple[int, int]] = []
+        for x, y, pe in parts:
+            pairs.append((x, y) if pe == e else (x << (pe - e), y << (pe - e)))
+        return pairs, e
 
     # -- counting ------------------------------------------------------------------------
 

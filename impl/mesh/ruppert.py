@@ -293,7 +293,8 @@ class Refiner:
         sides = [first, self.S.neighbour(c, (vw, vu))]
         if self.lens:
             c, deleted = self._delete_free(c, lo, hi, sides)
-        start = next(side for side in sides if side is not None)
+        start = sides[0] if sides[0] is not None else sides[1]
+        assert start is not None, "the subsegment is still there after the deletions"
         for side in sides:
             crowded = None if side is None or side[1][1] == EXTERIOR else crowded_apex(P, geo, s, side[0][2])
             if crowded is not None:
@@ -364,12 +365,12 @@ class Refiner:
             self._requeue(bad)
             return None
         ft, fd = where[1]
-        for v in ft:
-            if P.same(v, p):
-                raise PrecisionLimitError(
-                    f"the Steiner point of triangle {tuple(int(v) for v in t)} rounds onto vertex {int(v)}: "
-                    "the mesh is at the limit of double precision here"
-                )
+        v = P.same_as_any(p, ft)
+        if v is not None:
+            raise PrecisionLimitError(
+                f"the Steiner point of triangle {tuple(int(v) for v in t)} rounds onto vertex {int(v)}: "
+                "the mesh is at the limit of double precision here"
+            )
         if fd[2]:
             for u, w in ((ft[0], ft[1]), (ft[1], ft[2]), (ft[2], ft[0])):
                 s = constraint_of(fd, u, w)

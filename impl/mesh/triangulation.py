@@ -55,6 +55,7 @@ deletion of a vertex of degree ``k`` ``O(k²)`` predicates; a walk ``O(length)``
 
 from __future__ import annotations
 
+from operator import itemgetter
 from typing import Any, Literal
 
 from persistri.impl.complex.structure import Complex
@@ -234,11 +235,11 @@ class MeshTriangulation:
         px, py = pred.filter_rows[p]
         while stack:
             u, w, dat = stack.pop()
-            forced = False
-            seg = -1
-            if dat[2]:
+            cons = dat[2]
+            if cons:
                 lo, hi = (u, w) if u < w else (w, u)
-                for ca, cb, cs in dat[2]:  # constraint_of(dat, u, w), inlined
+                seg = -1
+                for ca, cb, cs in cons:  # constraint_of(dat, u, w), inlined
                     if ca == lo and cb == hi:
                         seg = cs
                         break
@@ -246,7 +247,26 @@ class MeshTriangulation:
                     if (lo, hi) != crossing:
                         boundary.append((u, w, dat[1], seg))
                         continue
-                    forced = True  # the subsegment split: both triangles beside it go
+                    # The subsegment split: both triangles beside it go (a domain triangle beyond a rounded point's
+                    # edge whatever its circle says); an exterior one beyond a rounded point stays, and the sliver
+                    # between the new chain u–p–w and the old edge is exterior.
+                    found = neighbour((w, u))
+                    assert found is not None, "a closed surface has a triangle beyond every edge"
+                    ntri, ndat = found
+                    nid = ndat[0]
+                    if nid in cavity:
+                        continue
+                    if nid not in rejected:
+                        if ndat[1] != EXTERIOR if off_line else conflicts(ntri, p):
+                            cavity[nid] = found
+                            x = ntri[2]
+                            stack.append((u, x, ndat))
+                            stack.append((x, w, ndat))
+                            continue
+                        rejected.add(nid)
+                    boundary.append((u, w, EXTERIOR, -1))
+                    beyond = found
+                    continue
             found = neighbour((w, u))
             assert found is not None, "a closed surface has a triangle beyond every edge"
             ntri, ndat = found
@@ -255,9 +275,7 @@ class MeshTriangulation:
                 continue
             if nid not in rejected:
                 x0, x1, x2 = ntri
-                if forced and off_line:
-                    inside = ndat[1] != EXTERIOR
-                elif rows is None or x0 < 0 or x1 < 0 or x2 < 0:
+                if rows is None or x0 < 0 or x1 < 0 or x2 < 0:
                     inside = conflicts(ntri, p)
                 else:
                     ax, ay = rows[x0]
@@ -298,14 +316,8 @@ class MeshTriangulation:
                     stack.append((u, x, ndat))
                     stack.append((x, w, ndat))
                     continue
-            rejected.add(nid)
-            if forced:
-                # A rounded split point with the exterior beyond the subsegment: that triangle stays, and the sliver
-                # between the new chain u–p–w and the old edge is exterior.
-                boundary.append((u, w, EXTERIOR, -1))
-                beyond = found
-            else:
-                boundary.append((u, w, dat[1], seg))
+                rejected.add(nid)
+            boundary.append((u, w, dat[1], -1))
         return Cavity(c, p, cavity, boundary, beyond, split)
 
     def build(self, cav: Cavity) -> Insertion:
@@ -316,7 +328,9 @@ class MeshTriangulation:
         vp = self.vertex(p)
         inf = self.infinite
         pred = self.pred
-        succ = {u: (w, region, seg) for u, w, region, seg in boundary}
+        succ: dict[Vertex, tuple[Vertex, int, int]] = {}
+        for u, w, region, seg in boundary:  # a loop, not a comprehension: no function frame per call
+            succ[u] = (w, region, seg)
         if len(succ) != len(boundary):
             raise MeshError(f"internal: the cavity of point {p} is not a disc")
         first = succ[inf][0] if inf in succ else boundary[0][0]
@@ -367,7 +381,7 @@ class MeshTriangulation:
             removed += (beyond,)
             crossing = edge_key(split[0], split[1])
             created.append((gt, self.new_datum(EXTERIOR, tuple(k for k in gd[2] if (k[0], k[1]) != crossing))))
-        version = self.S.replace(c, [t for t, _ in removed], created)
+        version = self.S.replace(c, list(map(itemgetter(0), removed)), created)  # no comprehension frame
         return Insertion(version, removed, tuple(created))
 
     # -- deletion and location: persistri.impl.mesh.deletion, persistri.impl.mesh.walk ---------------
