@@ -135,9 +135,9 @@ def _placed_well_at_ends(t: Fraction, wanted: Fraction, a: int, near: Sequence[t
     """:func:`placed_well` for ``near`` as :func:`placement_tolerances` gives it (``(o, τ)``, ``o`` the segment's
     first end ``a``, at parameter 0, or its second, at 1), on integers: ``|t − wanted| <= τ · r`` with ``r =
     |wanted|`` or ``|1 − wanted|``, cross-multiplied over positive denominators. O(1)."""
-    on, od = (t - wanted).as_integer_ratio()
-    on = abs(on)
+    tn_, td_ = t.as_integer_ratio()
     wn, wd = wanted.as_integer_ratio()
+    on, od = abs(tn_ * wd - wn * td_), td_ * wd  # |t − wanted| = on / od (not in lowest terms: cross-multiplied below)
     for o, tau in near:
         tn, td = tau.as_integer_ratio()
         rn = abs(wn) if o == a else abs(wd - wn)  # r = |wanted − t_o| = rn / wd
@@ -219,9 +219,15 @@ def split_point(
         total = math.hypot(pa[0] - pb[0], pa[1] - pb[1]) * 2.0**e2
         if length > 0 and total > 0 and math.isfinite(length) and math.isfinite(total):
             k = shell_exponent(length)
-            dt = Fraction(2.0**k / total)
-            # The shell's centre is an end of the subsegment: its parameter is tu or tw.
-            wanted = t_first + dt if centre == first else t_second - dt
+            # dt = 2^k / total as a float, exactly a rational; the shell's centre is an end of the subsegment (its
+            # parameter tu or tw): wanted = t_first + dt or t_second − dt, summed on integers, normalised once.
+            dn, dd = (2.0**k / total).as_integer_ratio()
+            if centre == first:
+                fn, fd = t_first.as_integer_ratio()
+                wanted = Fraction(fn * dd + dn * fd, fd * dd)
+            else:
+                fn, fd = t_second.as_integer_ratio()
+                wanted = Fraction(fn * dd - dn * fd, fd * dd)
             shell = (centre, k)
     if wanted is None:
         # (t_first + t_second) / 2, normalised once.
@@ -275,12 +281,20 @@ def rounded_candidates(
     turn and keeps the first version that is valid (:meth:`~persistri.impl.mesh.ruppert.Refiner._split`).
     O(_WINDOW²) rational operations per parameter.
     """
-    delta = tw - tu
-    first = min(max(wanted, tu + delta / 4), tw - delta / 4)
+    # first = wanted clamped to the middle half [(3 tu + tw) / 4, (tu + 3 tw) / 4], compared on integers (a Fraction
+    # made only for a clamped end).
+    un, ud = tu.as_integer_ratio()
+    vn, vd = tw.as_integer_ratio()
+    wn, wd = wanted.as_integer_ratio()
+    first = wanted
+    if (3 * un * vd + vn * ud) * wd > wn * 4 * ud * vd:
+        first = Fraction(3 * un * vd + vn * ud, 4 * ud * vd)
+    elif (un * vd + 3 * vn * ud) * wd < wn * 4 * ud * vd:
+        first = Fraction(un * vd + 3 * vn * ud, 4 * ud * vd)
     (ia, ib, iu, iw), ex = P.integers(a, b, u, w)
     (fax, fay), (fbx, fby) = P.xy(a), P.xy(b)
     seen: set[tuple[float, float]] = set()
-    for t in _candidate_parameters(first, tu, delta):
+    for t in _parameters(first, tu, tw):
         # The exact point a + t (b − a) = (nx, ny) / t.den · 2^ex, and its nearest doubles (int / int rounds once).
         tn, td = t.as_integer_ratio()
         nx = ia[0] * td + tn * (ib[0] - ia[0])
@@ -348,6 +362,14 @@ def _uniquely_nearest(num: int, den: int, e: int, f: float) -> bool:
         elif 2 * num * d == (mid2 * den) << -e:
             return False
     return True
+
+
+def _parameters(first: Fraction, tu: Fraction, tw: Fraction) -> Iterator[Fraction]:
+    """:func:`_candidate_parameters` with ``delta = tw − tu`` computed only if a second parameter is asked for."""
+    yield first
+    rest = _candidate_parameters(first, tu, tw - tu)
+    next(rest)  # first, yielded above
+    yield from rest
 
 
 def _candidate_parameters(first: Fraction, tu: Fraction, delta: Fraction) -> Iterator[Fraction]:

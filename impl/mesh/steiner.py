@@ -221,26 +221,34 @@ def _dyadic_split(
 
     On integers: with ``t = j / 2^k`` the point is ``(a·2^k + j (b − a)) · 2^(ex − k)`` in the units ``2^ex`` of
     ``P.integers``, and it is a double exactly when :func:`_dyadic_double` says so (no rational arithmetic)."""
-    delta = t_hi - t_lo
-    lo_ok, hi_ok = t_lo + delta / 4, t_hi - delta / 4
-    target = min(max(wanted, lo_ok), hi_ok)
+    # On integers (each rational in lowest terms, as Fraction arithmetic would leave it): delta = t_hi − t_lo, the
+    # middle half's ends lo_ok = t_lo + delta / 4 = (3 t_lo + t_hi) / 4 and hi_ok = (t_lo + 3 t_hi) / 4, and the
+    # target: wanted clamped to them.
+    a1, b1 = t_lo.as_integer_ratio()
+    a2, b2 = t_hi.as_integer_ratio()
+    dn, dd = _lowest(a2 * b1 - a1 * b2, b1 * b2)
+    lon, lod = _lowest(3 * a1 * b2 + a2 * b1, 4 * b1 * b2)
+    hin, hid = _lowest(a1 * b2 + 3 * a2 * b1, 4 * b1 * b2)
+    tn, td = wanted.as_integer_ratio()
+    if lon * td > tn * lod:
+        tn, td = lon, lod
+    if hin * td < tn * hid:
+        tn, td = hin, hid
     # The coarsest level whose spacing 2^-k is at most delta / 8 (so a candidate lands in the middle half):
     # the least k >= 0 with 8 · den(delta) <= num(delta) · 2^k.
-    dn, dd8 = delta.numerator, 8 * delta.denominator
+    dd8 = 8 * dd
     k0 = max(0, dd8.bit_length() - dn.bit_length() - 1)
     while (dn << k0) < dd8:
         k0 += 1
     while k0 > 0 and (dn << (k0 - 1)) >= dd8:
         k0 -= 1
-    fine = min(k0 + _LEVELS, max(k0, target.denominator.bit_length() - 1))
+    fine = min(k0 + _LEVELS, max(k0, td.bit_length() - 1))
     (pa, pb), ex = P.integers(a, b)
     ax, ay = pa
     dx, dy = pb[0] - ax, pb[1] - ay
-    tn, td = target.numerator, target.denominator
-    lon, lod, hin, hid = lo_ok.numerator, lo_ok.denominator, hi_ok.numerator, hi_ok.denominator
     # A level bound per axis (below): a candidate j / 2^k' in lowest terms with k' above it is no double.
-    bound = _dyadic_level_bound(ax, dx, lo_ok, hi_ok)
-    other = _dyadic_level_bound(ay, dy, lo_ok, hi_ok)
+    bound = _dyadic_level_bound(ax, dx, lon, lod, hin, hid)
+    other = _dyadic_level_bound(ay, dy, lon, lod, hin, hid)
     if bound is None or (other is not None and other < bound):
         bound = other
     start = fine
@@ -303,27 +311,36 @@ def _last_reducing_level(tn: int, td: int, bound: int) -> int:
     return max(best, k)
 
 
-def _dyadic_level_bound(a: int, d: int, lo: Fraction, hi: Fraction) -> int | None:
+def _dyadic_level_bound(a: int, d: int, ln: int, ld: int, hn: int, hd: int) -> int | None:
     """A level ``K`` such that for no ``t = j / 2^k`` in lowest terms with ``k > K`` and ``lo <= t <= hi`` is
-    ``(a + t d) · 2^e`` a double, whatever ``e`` (None: no such bound found).
+    ``(a + t d) · 2^e`` a double, whatever ``e`` (None: no such bound found); ``lo = ln / ld`` and ``hi = hn / hd``
+    (positive denominators).
 
     With ``v(·)`` the 2-adic valuation: ``v(t d) = v(d) − k``, which is below ``v(a)`` when ``k > v(d) − v(a)``, and
     then ``v(a + t d) = v(d) − k``.  A double of binary exponent ``E`` is a multiple of ``2^(E − 52)`` (of
     ``2^-1074`` below the normal range, a stronger condition), and ``E >= E_lo``, a lower bound of
     ``floor(log2 |a + t d|)`` on ``[lo, hi]`` where the line does not cross 0 (from the bit lengths of the smaller
-    end's numerator and denominator).  So ``k > v(d) − E_lo + 52`` fails too.  O(1) on integers."""
+    end's numerator and denominator in lowest terms).  So ``k > v(d) − E_lo + 52`` fails too.  O(1) on integers."""
     if d == 0:
         return None
-    x_lo, x_hi = a + lo * d, a + hi * d
-    if (x_lo <= 0) != (x_hi <= 0) or x_lo == 0 or x_hi == 0:
+    # a + lo d = nlo / ld and a + hi d = nhi / hd.
+    nlo, nhi = a * ld + ln * d, a * hd + hn * d
+    if (nlo <= 0) != (nhi <= 0) or nlo == 0 or nhi == 0:
         return None  # the line crosses 0 in the interval: points of any size
-    least = min(abs(x_lo), abs(x_hi))
-    e_lo = least.numerator.bit_length() - least.denominator.bit_length() - 1  # <= floor(log2(least))
+    alo, ahi = abs(nlo), abs(nhi)
+    n, m = _lowest(ahi, hd) if ahi * ld < alo * hd else _lowest(alo, ld)  # the smaller end, in lowest terms
+    e_lo = n.bit_length() - m.bit_length() - 1  # <= floor(log2(least))
     vd = (d & -d).bit_length() - 1
     bound = vd - e_lo + 52
     if a != 0:
         bound = max(bound, vd - ((a & -a).bit_length() - 1))
     return bound
+
+
+def _lowest(n: int, d: int) -> tuple[int, int]:
+    """``n / d`` (``d > 0``) in lowest terms, as :class:`~fractions.Fraction` keeps it. O(1) gcd."""
+    g = math.gcd(n, d)
+    return n // g, d // g
 
 
 def _dyadic_double(n: int, e: int) -> float | None:
