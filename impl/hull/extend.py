@@ -90,7 +90,7 @@ from persistri.impl.complex.structure import Complex
 from persistri.impl.geometry.points import as_points, unique_rows
 from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.geometry.zorder import morton_order
-from persistri.impl.hull.api import Hull, HullHistory, _as_rows, _collector_paused, _corners, _triangles
+from persistri.impl.hull.api import Hull, HullHistory, _as_rows, _collector_paused, _corners, _triangles, _vertex_rows
 from persistri.impl.hull.bulldozer import Bulldozer, BulldozerCheckError, FaceDatum
 from persistri.impl.hull.slivers import remove_slivers
 from persistri.impl.progress import progress_callback
@@ -228,7 +228,7 @@ def _extend(hull: Hull, new: NDArray[np.float64], check: bool, progress: bool | 
     out = Hull(
         points=points,
         simplices=simplices,
-        vertices=np.unique(simplices),
+        vertices=_vertex_rows(simplices, points.shape[0]),
         complex=final,
         structure=S,
         history=history,
