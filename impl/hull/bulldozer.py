@@ -301,7 +301,8 @@ class Bulldozer:
         p_obj: Any = p
         faces = self.faces
         cx = self.complex
-        vp = self._vertex(p)
+        # Each point is inserted once, so its vertex is new: made here, not looked up in (and added to) verts.
+        vp = Vertex(p, p, self._lineage)
         fid0: Any = assoc[p]  # face ids stay int objects from here on: compiled, an int variable is re-boxed at
         # every use as a key or tuple item (a new object above 256), e.g. once per point in assoc[q] = fid below
         tri0, (_, lst) = faces[fid0]
@@ -310,7 +311,13 @@ class Bulldozer:
             found = S.data(cx, tri0)
             assert found is not None, "the associated face of a pending point is in the hull"
             lst = found[0][1]
-        own0: Indices = lst[lst != p] if type(lst) is np.ndarray else [q for q in lst if q != p]
+        own0: Indices
+        if type(lst) is np.ndarray:
+            own0 = lst[lst != p]
+        else:
+            rest = list(lst)
+            rest.remove(p)  # p is in its own face's list, once
+            own0 = rest
         # The face across an edge: neighbour (one lookup, a scan that stops at the face; each vertex's list
         # read once in this version), or findi in stepwise mode, whose counts (the whole list scanned) are
         # the paper's.
@@ -374,6 +381,7 @@ class Bulldozer:
             )
         queue: list[Any] = [fid0]
         processed: list[Any] = []
+        lit: list[Triangle] = []  # the lit faces as the walk met them (the rotation findi gave)
         tents: list[tuple[Triangle, Indices]] = []
         discarded: list[Indices] = []
         routed: list[Indices] = []  # every bulldozed point, for the checks
@@ -381,7 +389,9 @@ class Bulldozer:
             fid = queue.pop()
             rec = work[fid]
             processed.append(fid)
-            a, b, d = rec.tri
+            tri = rec.tri
+            lit.append(tri)
+            a, b, d = tri
             pts: Indices = rec.own
             incoming = rec.incoming
             if check:
@@ -447,7 +457,6 @@ class Bulldozer:
             check_walk(self, p, fid0, work, processed)
 
         # The new version: the lit faces removed, the tent added.
-        lit = [work[fid].tri for fid in processed]  # as the walk met them (the rotation findi gave)
         for fid in processed:
             faces.pop(fid, None)  # a resumed run's old faces are not in the dict
         if self._table is not None:
