@@ -32,6 +32,7 @@ import math
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from itertools import chain
+from operator import itemgetter
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
@@ -98,12 +99,13 @@ def _arrays(run: _Run, c: Complex[MeshDatum]) -> MeshArrays:
         if d[2]:
             for lo, hi, s in d[2]:
                 segs[(lo, hi)] = s
-    seg_rows = sorted(segs.items(), key=lambda kv: (kv[1], kv[0]))
+    seg_rows = sorted(segs.items(), key=itemgetter(1, 0))  # by (segment, edge); the key made in C
+    ns = len(seg_rows)
     return MeshArrays(
         vertices=np.array(run.T.pred.points[points], dtype=np.float64),
         triangles=index[labels[inside]],
-        segments=index[np.array([k for k, _ in seg_rows], dtype=np.intp).reshape(-1, 2)],
-        segment_of=np.array([s for _, s in seg_rows], dtype=np.intp),
+        segments=index[np.fromiter(chain.from_iterable([k for k, _ in seg_rows]), dtype=np.intp, count=2 * ns).reshape(-1, 2)],
+        segment_of=np.fromiter([s for _, s in seg_rows], dtype=np.intp, count=ns),
         regions=region_of[inside],
         points=points,
     )
