@@ -408,12 +408,15 @@ def near_segment(ax: float, ay: float, bx: float, by: float, x: float, y: float,
     parameters ``(c ± h − a) / (b − a)`` are compared as integer fractions, with no rational arithmetic."""
     # Integers over one common power of two (every double, and ulps · ulp exactly, is m / 2^j).
     un_, ud_ = ulps.as_integer_ratio()
-    ratios = [v.as_integer_ratio() for v in (ax, bx, x, ay, by, y)]
+    # Written out, without comprehensions (each would make a function frame per call).
+    (nax, dax), (nbx, dbx), (nx, dx) = ax.as_integer_ratio(), bx.as_integer_ratio(), x.as_integer_ratio()
+    (nay, day), (nby, dby), (ny, dy) = ay.as_integer_ratio(), by.as_integer_ratio(), y.as_integer_ratio()
     ux_, uxd = math.ulp(max(abs(ax), abs(bx), abs(x))).as_integer_ratio()
     uy_, uyd = math.ulp(max(abs(ay), abs(by), abs(y))).as_integer_ratio()
     hrx, hry = (un_ * ux_, ud_ * uxd), (un_ * uy_, ud_ * uyd)
-    den = max(max(d for _, d in ratios), hrx[1], hry[1])
-    iax, ibx, ix, iay, iby, iy = (n * (den // d) for n, d in ratios)
+    den = max(dax, dbx, dx, day, dby, dy, hrx[1], hry[1])
+    iax, ibx, ix = nax * (den // dax), nbx * (den // dbx), nx * (den // dx)
+    iay, iby, iy = nay * (den // day), nby * (den // dby), ny * (den // dy)
     ihx, ihy = hrx[0] * (den // hrx[1]), hry[0] * (den // hry[1])
     # lower = ln / ld, upper = un / ud (denominators positive), starting at [0, 1].
     ln, ld, un, ud = 0, 1, 1, 1
