@@ -106,6 +106,10 @@ class TwoComplex(TwoComplexRep[D]):
         self._adjust_sorted: Callable[..., tuple[Any, list[int], list[int]]] | None = getattr(
             self._m, "adjust_sorted", None
         )
+        # The same, inserting the new vertex of a cone in the same descent (red-black's adjust_insert).
+        self._adjust_insert: Callable[..., tuple[Any, list[int], list[int], bool]] | None = getattr(
+            self._m, "adjust_insert", None
+        )
         # The vertices it reports absent are known absent: the backend's unchecked insert if it has one.
         self._insert_absent: Callable[[Any, Any, Any], Any] = getattr(self._m, "insert_absent", None) or self._m.insert
         if stats is None:
@@ -350,7 +354,9 @@ class TwoComplex(TwoComplexRep[D]):
             changes, out_lin, fresh = group(removed, added, lin)
             adjust = self._adjust_sorted
             if adjust is not None:
-                rep = replace_batched(rep, changes, adjust, self._insert_absent, self._m.remove, fresh)
+                rep = replace_batched(
+                    rep, changes, adjust, self._insert_absent, self._m.remove, fresh, self._adjust_insert
+                )
             else:
                 rep = self._replace_per_vertex(rep, changes)
         except (Unbatched, Missing, Present, TypeError, ValueError, AttributeError):

@@ -439,6 +439,7 @@ def replace_batched(
     insert: Callable[[Any, Any, Any], Any],
     remove: Callable[[Any, Any], tuple[Any, Any]],
     fresh: Any = None,
+    adjust_insert: Callable[..., tuple[Any, list[int], list[int], bool]] | None = None,
 ) -> Any:
     """``replace``'s map changes through a backend's ``adjust_sorted`` (its ``insert`` and ``remove`` besides).
 
@@ -448,11 +449,26 @@ def replace_batched(
     raise (Missing, Present; Unbatched for a triangle to remove at a vertex
     with no list).  With ``fresh`` (:func:`group`'s third result) the lists are
     rebuilt by :func:`rebuild_fresh`, and Unbatched is raised unless ``fresh``
-    is among the vertices the map does not hold.
+    is among the vertices the map does not hold; given the backend's
+    ``adjust_insert`` too, ``fresh`` is inserted in the same descent
+    (the red-black tree copies the top of the tree once, not twice).
     """
     keys = sorted(changes)
     vals = list(map(changes.__getitem__, keys))
-    rep, absent, emptied = adjust_sorted(rebuild if fresh is None else rebuild_fresh, rep, keys, vals)
+    if fresh is None:
+        rep, absent, emptied = adjust_sorted(rebuild, rep, keys, vals)
+    elif adjust_insert is None:
+        rep, absent, emptied = adjust_sorted(rebuild_fresh, rep, keys, vals)
+    else:
+        j = 0
+        while keys[j] is not fresh:
+            j += 1
+        change = vals[j]
+        rep, absent, emptied, inserted = adjust_insert(
+            rebuild_fresh, rep, keys, vals, j, tuple(change[1] + change[2])
+        )
+        if inserted:
+            fresh = None  # it was absent: confirmed, and inserted
     for i in absent:
         change = vals[i]
         if change[0]:  # the vertex had no list: a triangle to remove is absent

@@ -52,6 +52,8 @@ insertWith             O(lg n)     one descent when the key is present (path cop
 adjust_many             O(k lg n)   k present keys in one descent; shared path
                                    nodes copied once (persistri's addition;
                                    ``adjust_sorted``: the same, keys unchecked)
+adjust_insert          O(k lg n)   ``adjust_sorted``, and one of the keys inserted
+                                   in the same descent if absent
 remove                 O(lg n)     one search for the value, then Kahrs' delete
 numItems, isEmpty      O(1)        the size is stored
 listItemsi, foldli     O(n)        iterative in-order walk
@@ -71,7 +73,8 @@ Recursion depth is the tree height, at most ``2·log2(n+1)`` (34 at a million
 keys), far below Python's recursion limit.
 
 The algorithms over nodes are in :mod:`persistri.impl.maps.red_black_tree`
-(the compiled twin compiles them); this module is the structure: the map
+and, for several keys in one descent, :mod:`persistri.impl.maps.red_black_adjust`
+(the compiled twin compiles both); this module is the structure: the map
 value, key validation, the signature's errors, the instrumentation and the
 invariant check.
 """
@@ -81,6 +84,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, Final, Generic, Optional, TypeAlias, TypeVar
 
+from persistri.impl.maps import red_black_adjust as _adjust
 from persistri.impl.maps import red_black_tree as _tree
 from persistri.impl.maps.red_black_tree import BLACK, RED, FailedWith
 from persistri.spec.option import Option
@@ -235,7 +239,7 @@ class RedBlackMap(Generic[K, V]):
         vals = [v for _, v in items]
         absent: list[int] = []
         try:
-            new = _tree.adjust(t, keys, vals, 0, len(keys), f, absent, [])
+            new = _adjust.adjust(t, keys, vals, 0, len(keys), f, absent, [])
         except FailedWith as failed:
             raise failed.exc from None
         except TypeError as exc:
@@ -260,10 +264,43 @@ class RedBlackMap(Generic[K, V]):
         absent: list[int] = []
         emptied: list[int] = []
         try:
-            new = _tree.adjust(t, keys, vals, 0, len(keys), f, absent, emptied)
+            new = _adjust.adjust(t, keys, vals, 0, len(keys), f, absent, emptied)
         except FailedWith as failed:
             raise failed.exc from None
         return (n, new), absent, emptied
+
+    def adjust_insert(
+        self, f: Callable[[V, V], V], m: RBMap[K, V], keys: list[K], vals: list[V], j: int, v: V, /
+    ) -> tuple[RBMap[K, V], list[int], list[int], bool]:
+        """``(m', absent, emptied, inserted)``: :meth:`adjust_sorted`, and ``keys[j] ↦ v`` inserted in the same
+        descent if ``keys[j]`` is not in ``m`` (``inserted`` says whether it was).
+
+        persistri's addition, for the 2-complex's ``replace`` of a star by a cone
+        from a new vertex, which updates the lists of the vertices it touches and
+        adds the new vertex: where :meth:`adjust_sorted` and then :meth:`insert_absent`
+        descend twice through the top of the tree, this copies it once
+        (:func:`~persistri.impl.maps.red_black_adjust.adjust_insert`).  The result
+        is exactly theirs: the same shape and colours, the same number of new
+        nodes.  Unchecked as :meth:`adjust_sorted` (``0 ≤ j < len(keys)``).  A
+        present ``keys[j]`` is updated by ``f`` like the other keys; one absent
+        together with other keys that end at the same leaf (or in an empty map) is
+        not inserted but listed in ``absent`` with them.  O(k + new nodes).
+        """
+        n, t = m
+        if t is None or not keys:
+            return m, list(range(len(keys))), [], False
+        absent: list[int] = []
+        emptied: list[int] = []
+        new = [v]
+        try:
+            root = _adjust.adjust_insert(t, keys, vals, 0, len(keys), f, absent, emptied, j, new)
+        except FailedWith as failed:
+            raise failed.exc from None
+        if new:
+            return (n, root), absent, emptied, False
+        if root[0] is RED:
+            root = (BLACK, root[1], root[2], root[3], root[4])
+        return (n + 1, root), absent, emptied, True
 
     def find(self, m: RBMap[K, V], k: K, /) -> Option[V]:
         """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``. O(lg n)."""

@@ -5,7 +5,9 @@ these functions; its docstring describes the representation, the invariants
 and the costs.  They are a module of their own because they are where the
 map's time goes: the compiled twin (``make compiled``, docs/performance.md)
 compiles this module with mypyc and leaves the structure, which validates keys
-and raises the signature's errors, interpreted.
+and raises the signature's errors, interpreted.  The batched update of several
+keys in one descent (``adjust_sorted``, and the insertion fused into it) is in
+:mod:`persistri.impl.maps.red_black_adjust`, compiled too.
 
 A node is the 5-tuple ``(colour, left, key, value, right)``; a tree is a node
 or ``None``.  Here a node is typed as a tuple of *any* length,
@@ -28,6 +30,7 @@ __all__ = [
     "BLACK",
     "Node",
     "Tree",
+    "Combine",
     "FailedWith",
     "search",
     "find",
@@ -35,8 +38,6 @@ __all__ = [
     "ins_absent",
     "replace",
     "update",
-    "adjust",
-    "adjust_one",
     "balance",
     "balleft",
     "balright",
@@ -238,108 +239,6 @@ def update(t: Node, k: Any, f: Combine, v: Any) -> Node | None:
     except Exception as exc:
         raise FailedWith(exc) from None
     return (c, a, k, x, b)
-
-
-def adjust(
-    t: Node, keys: list[Any], vals: list[Any], lo: int, hi: int, f: Combine, absent: list[int], emptied: list[int]
-) -> Node:
-    """``t`` with ``x ↦ f(x, vals[i])`` at each present key ``keys[i]``, ``lo ≤ i < hi`` (increasing keys):
-    path copying.
-
-    One descent for the whole slice: while every key of the slice is on one
-    side of a node (one comparison with its last key, or two with its first and
-    last) the descent goes on there; where the slice straddles a node it splits
-    into the keys below it, its own key, and the keys above it.  Only subtrees
-    that hold keys of the slice are rebuilt, so paths are copied once where they
-    are shared; a part left with one key goes to :func:`adjust_one`, the
-    single-key descent.  The indices of keys that end at a leaf are appended to
-    ``absent``, those whose new value is falsy (an emptied collection) to
-    ``emptied``; a subtree holding none of the present keys is returned as it
-    is.  Shape and colours are kept, and so are the key objects of the tree.
-    Requires ``hi - lo ≥ 1``.  O(hi − lo + new nodes).
-    """
-    c, a, y, yv, b = t
-    last = hi - 1
-    if keys[last] < y:  # the whole slice is below y
-        if a is None:
-            absent.extend(range(lo, hi))
-            return t
-        a2 = adjust_one(a, keys[lo], vals[lo], f, lo, absent, emptied) if lo == last else adjust(
-            a, keys, vals, lo, hi, f, absent, emptied
-        )
-        return t if a2 is a else (c, a2, y, yv, b)
-    if y < keys[lo]:  # the whole slice is above y
-        if b is None:
-            absent.extend(range(lo, hi))
-            return t
-        b2 = adjust_one(b, keys[lo], vals[lo], f, lo, absent, emptied) if lo == last else adjust(
-            b, keys, vals, lo, hi, f, absent, emptied
-        )
-        return t if b2 is b else (c, a, y, yv, b2)
-    # keys[lo] <= y <= keys[last]: the scan below stops at the first key not below y.
-    i = lo
-    while keys[i] < y:
-        i += 1
-    changed = False
-    if i > lo:
-        if a is None:
-            absent.extend(range(lo, i))
-        else:
-            a2 = adjust_one(a, keys[lo], vals[lo], f, lo, absent, emptied) if i - lo == 1 else adjust(
-                a, keys, vals, lo, i, f, absent, emptied
-            )
-            if a2 is not a:
-                changed = True
-                a = a2
-    if not y < keys[i]:  # keys[i] is y's key
-        try:
-            yv = f(yv, vals[i])
-        except Exception as exc:
-            raise FailedWith(exc) from None
-        if not yv:
-            emptied.append(i)
-        changed = True
-        i += 1
-    if i < hi:
-        if b is None:
-            absent.extend(range(i, hi))
-        else:
-            b2 = adjust_one(b, keys[i], vals[i], f, i, absent, emptied) if i == last else adjust(
-                b, keys, vals, i, hi, f, absent, emptied
-            )
-            if b2 is not b:
-                changed = True
-                b = b2
-    return (c, a, y, yv, b) if changed else t
-
-
-def adjust_one(t: Node, k: Any, v: Any, f: Combine, i: int, absent: list[int], emptied: list[int]) -> Node:
-    """:func:`adjust` for the one key ``k`` (index ``i``) with argument ``v``: ``t`` with ``x ↦ f(x, v)`` at ``k``,
-    or ``t`` itself with ``i`` appended to ``absent`` when ``k`` is not in ``t``.
-
-    The single-key descent, two comparisons a level; ``i`` goes to ``emptied``
-    when the new value is falsy.  Recursive, depth at most the tree height.
-    """
-    c, a, y, yv, b = t
-    if k < y:
-        if a is None:
-            absent.append(i)
-            return t
-        a2 = adjust_one(a, k, v, f, i, absent, emptied)
-        return t if a2 is a else (c, a2, y, yv, b)
-    if y < k:
-        if b is None:
-            absent.append(i)
-            return t
-        b2 = adjust_one(b, k, v, f, i, absent, emptied)
-        return t if b2 is b else (c, a, y, yv, b2)
-    try:
-        x = f(yv, v)
-    except Exception as exc:
-        raise FailedWith(exc) from None
-    if not x:
-        emptied.append(i)
-    return (c, a, y, x, b)
 
 
 # -- deletion (Kahrs 2001) ---------------------------------------------------------
