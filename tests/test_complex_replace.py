@@ -29,6 +29,7 @@ from persistri.impl.complex.errors import (
 )
 from persistri.impl.complex.ephemeral import EphemeralTwoComplex
 from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.vertex_lists import group, rebuild_fresh
 from persistri.impl.stats import Stats
 
 TWO_COMPLEXES: list[tuple[str, Make]] = [*STRUCTURES, ("ephemeral", lambda n, stats=None: EphemeralTwoComplex(stats))]
@@ -307,3 +308,58 @@ def _search_path(t: Any, k: Any) -> list[Any]:
         path.append(t)
         t = t[1] if k < t[2] else t[4] if t[2] < k else None
     return path
+
+
+def test_a_cone_from_a_fresh_vertex_is_inserted_in_the_update_s_descent() -> None:
+    """The red-black complex inserts a cone's new vertex in the batched update's one descent
+    (``adjust_insert``): the map is the one ``adjust_sorted``, ``insert_absent`` and ``remove`` make one after
+    another — the same shape, colours and lists, the same number of new nodes — and the old version holds."""
+    n_verts, tris = random_polytope(300, seed=5)
+    C = two_complex("red_black")
+    vs = fresh(n_verts + 1)
+    c = build(C, vs, tris)
+    before = items_of(C, c)
+    m = C._m
+    inner = C._adjust_insert
+    assert inner is not None
+    fused: list[int] = []
+
+    def spy(*args: Any) -> Any:
+        out = inner(*args)
+        fused.append(out[3])
+        return out
+
+    C._adjust_insert = spy
+    v0, p = vs[0], vs[n_verts]
+    star = [tuple(vs[i] for i in t) for t in tris if 0 in t]
+    link = [(t[(t.index(v0) + 1) % 3], t[(t.index(v0) + 2) % 3]) for t in star]
+    cone = [((u, w, p), "new") for u, w in link]
+    c2 = C.replace(c, star, cone)
+    C.check(c2)
+    assert fused == [True]  # one call, and it inserted the new vertex
+    changes, _, new_vertex = group(star, cone, c.lineage)
+    assert new_vertex is p
+    keys = sorted(changes)
+    vals = [changes[k] for k in keys]
+    want, absent, emptied = m.adjust_sorted(rebuild_fresh, c.rep, keys, vals)
+    assert [keys[i] for i in absent] == [p] and [keys[i] for i in emptied] == [v0]
+    want = m.insert_absent(want, p, tuple(changes[p][1] + changes[p][2]))
+    want = m.remove(want, v0)[0]
+    assert _shape(c2.rep[1]) == _shape(want[1]) and m.numItems(c2.rep) == m.numItems(want)
+    old = _tree_nodes(c.rep[1])
+    assert sum(i not in old for i in _tree_nodes(c2.rep[1])) == sum(i not in old for i in _tree_nodes(want[1]))
+    assert items_of(C, c) == before
+
+
+def _shape(t: Any) -> list[Any]:
+    """Each node's colour, key and list, and each leaf, in preorder."""
+    out: list[Any] = []
+    stack = [t]
+    while stack:
+        x = stack.pop()
+        if x is None:
+            out.append(None)
+        else:
+            out.append((x[0], x[2], x[3]))
+            stack += [x[4], x[1]]
+    return out
