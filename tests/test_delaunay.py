@@ -18,6 +18,7 @@ from persistri.impl.terrain.check import exact_hull, verify_triangulation
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.maps import backend as map_backend
 from persistri.impl.terrain.delaunay import EMPTY, Triangulator, canonical_triangles
+from persistri.impl.terrain.insertion import third
 from persistri.impl.terrain.errors import DegenerateInputError, TriangulationCheckError
 from persistri.impl.terrain.scattered import (
     DelaunayTriangulation,
@@ -233,7 +234,7 @@ def test_all_points_cocircular() -> None:
 def _triangulator_after(pts: NDArray[np.float64], seed: int) -> tuple[Triangulator, list[int]]:
     """A Triangulator with the first triangle of ``pts``'s insertion order laid, and the rest of that order."""
     pred = Predicates2(pts)
-    T = Triangulator(pred, TwoComplex(map_backend("red_black")), check=True, recall=True)
+    T = Triangulator(pred, TwoComplex(map_backend("red_black")), check=True, edge_index=True)
     order = insertion_order(pts, seed)
     first = _first_triangle(pred, order)
     T.begin([(first, EMPTY)])
@@ -282,19 +283,30 @@ def test_locate_after_walks_the_fan_without_reading_the_complex() -> None:
     assert tid in T.tri_of and T.conflicts(T.tri_of[tid], 5)
 
 
-def test_recall_answers_look_ups_the_complex_would_answer_the_same() -> None:
-    # With recall, successive nearby insertions read fewer edges from the complex, and the triangulation is
-    # the same (check=True, which compares every recalled answer with the complex's by reading it too, is
-    # off here so that the reads are counted; the other tests run with it on).
+def _edges_of_complex(T: Triangulator) -> dict[tuple[int, int], tuple[int, int]]:
+    """Every directed edge (u, w) of T's current version, read from the complex: (x, id) of its triangle (u, w, x)."""
+    out: dict[tuple[int, int], tuple[int, int]] = {}
+    for (a, b, c), datum in T.S.items(T.complex):
+        for u, w, x in ((a, b, c), (b, c, a), (c, a, b)):
+            out[(int(u), int(w))] = (int(x), int(datum[0]))
+    return out
+
+
+def test_the_edge_index_is_the_current_versions_and_spares_every_read_of_the_complex() -> None:
+    # With the index of edges, the walks and the cavities read no edge from the complex, the index is the
+    # current version's edges after every insertion (the same datum objects as the complex's), and the
+    # triangulation is the same as without it (check=True, which reads the complex for every indexed answer,
+    # is off here so that the reads are counted; the other tests run with it on).
     pts = np.random.default_rng(5).random((300, 2))
     found: dict[bool, tuple[int, list[tuple[int, ...]]]] = {}
-    for recall in (False, True):
+    for indexed in (False, True):
         T, rest = _triangulator_after(pts, 0)
-        T._recalls = recall
+        if not indexed:
+            T.edges = None
         T.check = False
         reads = 0
         last = None
-        for q in rest:
+        for k, q in enumerate(rest):
             lookup = T.neighbours()
 
             def counted(s: object, lookup: Callable[[object], object] = lookup) -> object:
@@ -304,9 +316,36 @@ def test_recall_answers_look_ups_the_complex_would_answer_the_same() -> None:
 
             T._read = counted
             last = T.insert(q, T.locate(q, next(iter(T.tri_of))) if last is None else T.locate_after(q, last))
-        found[recall] = (reads, sorted(tuple(sorted(t)) for t, _ in T.finite_triangles()))
+            if indexed and (k % 10 == 0 or k == len(rest) - 1):
+                index = T.edges
+                assert index is not None
+                assert {
+                    (int(u), int(w)): (int(third(t, u)), int(d[0])) for u, row in index.items() for w, (t, d) in row.items()
+                } == _edges_of_complex(T)
+                data = {int(d[0]): d for _, d in T.S.items(T.complex)}
+                assert all(d is data[int(d[0])] for row in index.values() for _, d in row.values())
+        found[indexed] = (reads, sorted(tuple(sorted(t)) for t, _ in T.finite_triangles()))
     assert found[True][1] == found[False][1]
-    assert found[True][0] < 0.8 * found[False][0]
+    assert found[True][0] == 0 < found[False][0]
+
+
+@pytest.mark.parametrize("wrong", ["datum", "vertex"])
+def test_check_compares_every_indexed_answer_with_the_complex(wrong: str) -> None:
+    # check=True compares each answer of the edge index with the complex's: an entry with an equal datum that is
+    # not the complex's object, or whose triangle has another third vertex, is caught at the next look-up.
+    pts = np.random.default_rng(7).random((60, 2))
+    T, rest = _triangulator_after(pts, 1)
+    last = None
+    for q in rest[:30]:
+        last = T.insert(q, T.locate(q, next(iter(T.tri_of))) if last is None else T.locate_after(q, last))
+    index = T.edges
+    assert index is not None and last is not None
+    for row in index.values():
+        for w, (t, d) in list(row.items()):
+            row[w] = (t, (d[0], d[1])) if wrong == "datum" else ((t[0], t[2], t[1]), d)
+    q = rest[30]
+    with pytest.raises(TriangulationCheckError, match="indexed neighbour"):
+        T.insert(q, T.locate_after(q, last))
 
 
 @pytest.mark.parametrize("counted", [False, True])

@@ -86,6 +86,7 @@ from persistri.impl.terrain.insertion import (
     TriDatum,
     canonical_triangles,
     sample_dtype,
+    third,
 )
 from persistri.impl.terrain.sectors import fan_lists, fan_sectors
 from persistri.impl.terrain.walk import walk, walk_from_fan
@@ -136,12 +137,17 @@ class Triangulator:
     paper's code, a ``rem`` per cavity triangle and an ``add`` per fan triangle
     (the experiments count that).
 
-    ``recall=True`` (for successive points that are near each other: the
-    scattered Delaunay's curve order) lets each insertion answer the
-    neighbour look-ups that the insertion before it already knows without
-    reading the complex (:meth:`_recall`); the same answers, fewer look-ups.
-    Off by default (greedy insertion's successive points are far apart: its
-    look-ups would seldom be known) and in counted runs.
+    ``edge_index=True`` (the scattered Delaunay) keeps, beside ``tri_of``, an index
+    of the current version's directed edges (:attr:`edges`: ``edges[u][w]`` is
+    the record ``(triangle, datum)`` of the live triangle holding ``(u, w)``, one
+    record shared by its three edges; :func:`third` reads ``x``), updated by every insertion
+    with the complex, and answers the walk's and the cavity's neighbour look-ups
+    from it instead of the complex's maps: the same answers (``check=True``
+    compares each with the complex's), a dictionary read each instead of a tree
+    search and a scan of a vertex list.  Like ``tri_of`` it is the run's scratch
+    index of the current version, not part of any version (about 0.5 KB a point while
+    the run lasts).  Off by default (greedy insertion keeps its memory for the
+    grid's samples) and in counted runs, which count the paper's look-ups.
     """
 
     def __init__(
@@ -151,7 +157,7 @@ class Triangulator:
         *,
         check: bool = False,
         stepwise: bool = False,
-        recall: bool = False,
+        edge_index: bool = False,
     ) -> None:
         self.pred = pred
         self.S = structure
@@ -175,64 +181,38 @@ class Triangulator:
         # vertex lists it has read from the map (a lookup of a list already read is a scan, not a tree search).
         self._read_version: Complex[TriDatum] | None = None
         self._read: Callable[[Any], Any] | None = None
-        # What the last insertion wrote and met (:meth:`_recall`), valid while its version is the current one.
-        # Off in counted runs: they count the paper's look-ups, one per edge crossed.
-        self._recalls = recall and pred.stats is None and structure.stats is None
-        self._last_version: Complex[TriDatum] | None = None
-        self._last_point: Any = None
-        self._last_ring: list[Vertex] = []
-        self._last_index: dict[Vertex, int] = {}
-        # Tuples of any length: compiled by mypyc, an element of a fixed-length tuple type would be unboxed and read
-        # back as a new tuple, where _recall must answer with the datum object the complex holds (a tuple of any
-        # length stays the one object, and its items are read directly, where Any would index it generically).
-        self._last_fan: list[tuple[Any, ...]] = []
-        self._last_outer: dict[Vertex, tuple[Any, ...]] = {}
+        # The directed edges of the current version (class docstring): edges[u][w] = (triangle, datum) for the
+        # live triangle holding (u, w), or None when the look-ups read the complex.  Off in counted runs: they count the
+        # paper's look-ups, one per edge crossed.  Values are tuples of any length: compiled by mypyc, an element
+        # of a fixed-length tuple type would be unboxed, and the datum must stay the object the complex holds.
+        self.edges: dict[Any, dict[Any, tuple[Any, ...]]] | None = (
+            {} if edge_index and pred.stats is None and structure.stats is None else None
+        )
         self.kernel = pred.kernel()
         # The sector test's float path is exact when orient2d's is (docs of kernel2d and sectors).
         self.small_integers = self.kernel.exact_orient2d
 
     # -- construction ------------------------------------------------------------------
 
-    def _recall(self, w: Vertex, u: Vertex) -> Any:
-        """``neighbour((w, u))`` in the current version when the last insertion already knows it, else None.
-
-        Valid only while the last insertion's version is the current one (the callers check).  An
-        insertion at ``q`` with a closed fan ``(r_i, r_{i+1}, q)`` made every triangle that has ``q`` as a
-        vertex, and met, across each edge ``(r_i, r_{i+1})`` of its boundary, the triangle outside it
-        (``(r_{i+1}, r_i, x)``, not in the cavity, so unchanged): a triangle holding the directed edge
-        ``(w, u)`` is one of those when ``w`` or ``u`` is ``q`` or ``(w, u)`` is a boundary edge either way.
-        The next point, near ``q`` along the curve, usually has its walk's last step and a third of its
-        cavity's look-ups there (100K uniform points: 4.4 of 11.8 look-ups per insertion).  O(1).
-        """
-        q = self._last_point
-        index = self._last_index
-        if w is q:
-            i = index.get(u)
-            if i is None:
-                return None
-            return (w, u, self._last_ring[i + 1]), self._last_fan[i][1]
-        if u is q:
-            i = index.get(w)
-            if i is None:
-                return None
-            i = (i if i else len(index)) - 1
-            return (w, u, self._last_ring[i]), self._last_fan[i][1]
-        i = index.get(w)
-        if i is None:
-            return None
-        if self._last_ring[i + 1] is u:
-            return (w, u, q), self._last_fan[i][1]
-        nb = self._last_outer.get(w)
-        if nb is not None and nb[0][1] is u:
-            return nb
-        return None
-
-    def _check_recalled(self, w: Vertex, u: Vertex, nb: Any) -> None:
-        """``check=True``: what :meth:`_recall` answered is what the complex answers (the same triangle, in
-        the same rotation, and the same datum object)."""
+    def _check_indexed(self, w: Any, u: Any, nb: Any) -> None:
+        """``check=True``: what :attr:`edges` answered across ``(w, u)`` is what the complex answers (the same
+        triangle and the same datum object)."""
         ref: Any = self.neighbours()((w, u))
-        if ref is None or ref[0] != nb[0] or ref[1] is not nb[1]:
-            raise TriangulationCheckError(f"insert: the recalled neighbour across {(w, u)} is {nb}, the complex has {ref}")
+        if nb is None or ref is None or ref[0] != (w, u, third(nb[0], w)) or ref[1] is not nb[1]:
+            raise TriangulationCheckError(f"insert: the indexed neighbour across {(w, u)} is {nb}, the complex has {ref}")
+
+    def _index(self, tri: Any, datum: Any) -> None:
+        """Enter the live triangle ``tri`` (three vertices) with its datum into :attr:`edges`. O(1)."""
+        edges = self.edges
+        if edges is None:
+            return
+        rec = (tri, datum)
+        for u in tri:
+            row = edges.get(u)
+            if row is None:
+                row = edges[u] = {}
+        a, b, c = tri
+        edges[a][b] = edges[b][c] = edges[c][a] = rec
 
     def neighbours(self) -> Callable[[Any], Any]:
         """``s ↦ neighbour(c, s)`` for the current version ``c`` (:meth:`TwoComplex.neighbours`), made once
@@ -278,12 +258,17 @@ class Triangulator:
             if P.orient2d_sign(a, b, c) <= 0:
                 raise ValueError(f"begin: triangle {(a, b, c)} is not strictly counterclockwise")
             tri = (V(a), V(b), V(c))
-            cx = S.add(cx, tri, (self._new_id(tri), _frozen(np.array(samples, dtype=self.sample_dtype))))
+            # Any: compiled, a fixed-length tuple would be unboxed and boxed anew for the complex and for the index.
+            datum: Any = (self._new_id(tri), _frozen(np.array(samples, dtype=self.sample_dtype)))
+            cx = S.add(cx, tri, datum)
+            self._index(tri, datum)
             edges.update(((a, b), (b, c), (c, a)))
         for u, w in sorted(edges):
             if (w, u) not in edges:
                 ghost = (V(w), V(u), self.infinite)
-                cx = S.add(cx, ghost, (self._new_id(ghost), EMPTY))
+                datum = (self._new_id(ghost), EMPTY)
+                cx = S.add(cx, ghost, datum)
+                self._index(ghost, datum)
         self.complex = cx
         return cx
 
@@ -333,9 +318,11 @@ class Triangulator:
         """
         S = self.S
         cx = self.complex
-        # The walk reads one version only: its neighbour function reads each vertex's list from the map once
+        # The look-ups read the index of the current version's edges when there is one (edge_index=True), else
+        # the complex: one version only, whose neighbour function reads each vertex's list from the map once
         # (shared with the locate before it).
-        neighbour = self.neighbours()
+        index = self.edges
+        neighbour = self.neighbours() if index is None else None
         vp = self._verts.get(p)
         if vp is None:
             vp = self.vertex(p)
@@ -348,18 +335,22 @@ class Triangulator:
         if check and not self.conflicts(tri0, p):
             raise TriangulationCheckError(f"insert: point {p} is not in conflict with the start triangle {tri0}")
         a, b, c = tri0
-        recalled = self._last_version is cx
-        # The triangle holding the directed edge (a, b): tri0 itself.
-        found: Any = self._recall(a, b) if recalled else None
-        if found is None:
+        # The triangle holding the directed edge (a, b): tri0 itself.  Records (x, datum) and datum as tuples of
+        # any length: compiled, their items are read directly (Any indexes generically; a fixed-length tuple
+        # type would unbox them).
+        rec: tuple[Any, ...]
+        if index is not None:
+            found: Any = index[a].get(b)
+            if check:
+                self._check_indexed(a, b, found)
+            if found is None or third(found[0], a) is not c:
+                raise TriangulationCheckError(f"insert: start triangle {tri0} is not in the current version")
+        else:
+            assert neighbour is not None
             found = neighbour((a, b))
-        elif check:
-            self._check_recalled(a, b, found)
-        if found is None or found[0][2] != c:
-            raise TriangulationCheckError(f"insert: start triangle {tri0} is not in the current version")
-        # Record, triangle and datum as tuples of any length: compiled, their items are read directly (Any
-        # indexes generically; a fixed-length tuple type would unbox them).
-        rec: tuple[Any, ...] = found
+            if found is None or found[0][2] != c:
+                raise TriangulationCheckError(f"insert: start triangle {tri0} is not in the current version")
+        rec = found
         datum: tuple[Any, ...] = rec[1]
         removed: list[Any] = [sid]
         removed_tris = [tri0]
@@ -367,7 +358,6 @@ class Triangulator:
         inside = {sid}
         rejected: set[int] = set()
         succ: dict[Vertex, Vertex] = {}  # the cavity's boundary edges (u, w), as u -> w
-        outer: dict[Vertex, tuple[Any, ...]] = {}  # the triangle (w, u, x) beyond each boundary edge (u, w), by w
         n_boundary = 0
         inf = self.infinite
         incircle = self.kernel.incircle
@@ -379,20 +369,27 @@ class Triangulator:
         edges = [(a, b), (b, c), (c, a)]
         while edges:
             u, w = edges.pop()
-            nb: Any = self._recall(w, u) if recalled else None
-            if nb is None:
+            # The triangle (w, u, x) across (u, w) (from the index, in the rotation it was made in): x and its datum.
+            ntri: Any
+            if index is not None:
+                nb: Any = index[w].get(u)
+                if check:
+                    self._check_indexed(w, u, nb)
+                rec = nb
+                ntri = rec[0]
+                x = ntri[2] if ntri[0] is w else (ntri[0] if ntri[1] is w else ntri[1])  # third(ntri, w), inlined
+            else:
+                assert neighbour is not None
                 nb = neighbour((w, u))
-            elif check:
-                self._check_recalled(w, u, nb)
-            assert nb is not None, "a closed surface: every oriented edge has its reverse"
-            rec = nb
-            ntri: tuple[Any, ...] = rec[0]
+                assert nb is not None, "a closed surface: every oriented edge has its reverse"
+                rec = nb
+                ntri = rec[0]
+                x = ntri[2]
             datum = rec[1]
             nid = datum[0]
             if nid in inside:
                 continue
             if nid not in rejected:
-                x = ntri[2]
                 if x is inf:
                     hit = self.ghost_conflict(w, u, p)
                 elif w is inf:
@@ -411,7 +408,6 @@ class Triangulator:
                     continue
                 rejected.add(nid)
             succ[u] = w
-            outer[w] = rec
             n_boundary += 1
 
         # The cavity boundary as one cycle; a ghost edge puts ∞ on it (the point is on or beyond the hull).
@@ -509,16 +505,22 @@ class Triangulator:
         else:
             cx = S.replace(cx, removed_tris, fan)
         self.complex = cx
-        if closed and self._recalls:
-            # What _recall answers from while cx is the current version (fan[i] is (ring[i], ring[i+1], p)).
-            self._last_version = cx
-            self._last_point = vp
-            self._last_ring = ring
-            self._last_index = {ring[i]: i for i in range(nfan)}
-            self._last_fan = fan
-            self._last_outer = outer
-        else:
-            self._last_version = None
+        if index is not None:
+            # The index of cx's edges: the cavity's interior edges leave it (a directed edge of a removed triangle
+            # is on the cavity's boundary iff succ has it: it is in one triangle only); every boundary edge is
+            # entered again by the fan triangle on it, and the spokes to p are new.
+            for t in removed_tris:
+                ta, tb, tc = t
+                if succ.get(ta) is not tb:
+                    del index[ta][tb]
+                if succ.get(tb) is not tc:
+                    del index[tb][tc]
+                if succ.get(tc) is not ta:
+                    del index[tc][ta]
+            index[vp] = {}
+            for rec in fan:  # (triangle, datum), the one record of its three edges
+                ta, tb, tc = rec[0]
+                index[ta][tb] = index[tb][tc] = index[tc][ta] = rec
         return Insertion(
             p, cx, removed, created, samples, counts, not closed, ring,
             sector if sector is None or sector is NO_SECTOR else _frozen(sector), own,

@@ -35,6 +35,7 @@ __all__ = [
     "TriDatum",
     "canonical_triangles",
     "sample_dtype",
+    "third",
 ]
 
 IntArray = NDArray[np.intp]
@@ -145,6 +146,12 @@ class Insertion:
 
     def __repr__(self) -> str:
         return f"Insertion(point={self.point}, created={len(self.created)}, removed={len(self.removed)}, samples={sum(self.counts)})"
+
+
+def third(tri: Any, w: Any) -> Any:
+    """The vertex of triangle ``tri`` after the directed edge that starts at its vertex ``w``: ``x`` for the
+    edge ``(w, u)`` of ``tri = (w, u, x)`` in any rotation (vertices compared by identity: each is made once). O(1)."""
+    return tri[2] if tri[0] is w else (tri[0] if tri[1] is w else tri[1])
 
 
 def canonical_triangles(tris: IntArray) -> IntArray:

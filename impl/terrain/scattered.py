@@ -249,7 +249,7 @@ def delaunay(
     collector = gc.isenabled()
     gc.disable()  # persistent nodes form no reference cycles: the cyclic collector only costs time here
     try:
-        T = Triangulator(pred, structure, check=check, recall=True)
+        T = Triangulator(pred, structure, check=check, edge_index=True)
         T.begin([(first, EMPTY)])
         hint = next(tid for tid, tri in T.tri_of.items() if T.infinite not in tri)
         done = set(first)

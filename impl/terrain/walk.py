@@ -16,6 +16,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from persistri.impl.terrain.errors import TriangulationCheckError
+from persistri.impl.terrain.insertion import third
 
 if TYPE_CHECKING:
     from persistri.impl.terrain.delaunay import Triangulator
@@ -55,13 +56,16 @@ def walk_from_fan(T: Triangulator, p: int, last: Insertion) -> int:
         if orient2d(u, w, pp) > 0:
             tid: int = created[i][0]
             return tid
-        nb: Any = T._recall(w, u) if T._last_version is T.complex else None
-        if nb is None:
-            nb = T.neighbours()((w, u))
-        elif T.check:
-            T._check_recalled(w, u, nb)
+        index = T.edges
+        if index is not None:
+            nb: Any = index[w].get(u)  # (triangle, datum) of the triangle (w, u, x)
+            if T.check:
+                T._check_indexed(w, u, nb)
+            rec: tuple[Any, ...] = nb  # a tuple of any length: compiled, its items are read directly
+            return walk(T, p, rec[1][0], (w, u, third(rec[0], w)), True, 0)
+        nb = T.neighbours()((w, u))
         assert nb is not None, "a closed surface: every oriented edge has its reverse"
-        rec: tuple[Any, ...] = nb  # a tuple of any length: compiled, its items are read directly
+        rec = nb
         return walk(T, p, rec[1][0], rec[0], True, 0)
     # Not reached (the fan's angles cover the plane around q); kept safe all the same.
     return T.locate(p, created[0][0])
@@ -72,7 +76,9 @@ def walk(T: Triangulator, p: int, tid: int, tri: tuple[Any, ...], entered: bool,
     first edge (a triangle found by ``neighbour((w, u))`` is ``(w, u, x)``), which it does not test again.  Each
     step one ``neighbour`` look-up and at most three ``orient2d`` tests; O(n) as a last resort (never needed)."""
     orient2d = T.kernel.orient2d
-    neighbour = T.neighbours()
+    index = T.edges  # the index of the current version's edges, when the triangulator keeps one
+    neighbour = T.neighbours() if index is None else None
+    check = T.check
     inf = T.infinite
     pp: Any = p  # an object for the kernel (as in walk_from_fan)
     limit = 4 * len(T.tri_of) + 16
@@ -99,10 +105,20 @@ def walk(T: Triangulator, p: int, tid: int, tri: tuple[Any, ...], entered: bool,
             k = k + 1 if k < 2 else 0
         if not moved:
             return tid
-        nb: Any = neighbour((w, u))
-        assert nb is not None, "a closed surface: every oriented edge has its reverse"
-        rec: tuple[Any, ...] = nb  # a tuple of any length: compiled, its items are read directly
-        tri = rec[0]
+        rec: tuple[Any, ...]  # tuples of any length: compiled, their items are read directly
+        if index is not None:
+            nb: Any = index[w].get(u)  # (triangle, datum) of the triangle (w, u, x)
+            if check:
+                T._check_indexed(w, u, nb)
+            rec = nb
+            t: tuple[Any, ...] = rec[0]
+            tri = (w, u, t[2] if t[0] is w else (t[0] if t[1] is w else t[1]))  # third(t, w), inlined
+        else:
+            assert neighbour is not None
+            nb = neighbour((w, u))
+            assert nb is not None, "a closed surface: every oriented edge has its reverse"
+            rec = nb
+            tri = rec[0]
         tid = rec[1][0]
         entered = True
     for tid, tri in T.tri_of.items():
