@@ -88,7 +88,7 @@ def test_the_report_names_the_build_it_measured() -> None:
     assert result.exit_code == 0, result.output
     build = json.loads(result.output)["build"]
     if os.environ.get("PERSISTRI_TWIN"):
-        assert build == "compiled twin (kernel, bulldozer, red_black_tree, vertex_lists by mypyc)"
+        assert build == "compiled twin (kernel, bulldozer, red_black_tree, red_black_adjust, vertex_lists by mypyc)"
     else:
         assert build == "interpreted"
     assert f"persistri {build}" in " ".join(invoke("--sizes", "60", "--dists", "InBall").output.split())

@@ -158,6 +158,7 @@ TWIN_MODULES: Final = (
     "persistri.impl.geometry.kernel",
     "persistri.impl.hull.bulldozer",
     "persistri.impl.maps.red_black_tree",
+    "persistri.impl.maps.red_black_adjust",
     "persistri.impl.complex.vertex_lists",
 )
 """The modules ``tools/compiled_twin.py`` compiles that the hull runs through (its ``MODULES``, by import name)."""
