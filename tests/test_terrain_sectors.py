@@ -160,3 +160,41 @@ def test_fan_small_rejects_a_ring_that_is_not_a_fan() -> None:
     twice = np.concatenate([rays[:-1], rays])
     with pytest.raises(ValueError, match="changes side from \\+ to - 2 times"):
         fan_small(cols, p, twice, samples, True)
+
+
+@pytest.mark.parametrize("closed", [True, False])
+@pytest.mark.parametrize("step", [1, 7])
+def test_many_samples_take_the_flat_changes_and_agree(closed: bool, step: int) -> None:
+    """Above FLAT_CHANGES samples _fan_block lists the + → − changes by their flat positions: the same
+    (order, sector) as fan_small's loop and as the exact predicate, samples on the rays included."""
+    from persistri.impl.geometry.grid_predicates import GridPredicates2
+    from persistri.impl.terrain.sectors import FLAT_CHANGES, _fan_block, fan_small
+
+    n, c = 41, 20
+    cells = [(x, y) for y in range(n) for x in range(n) if (x, y) != (c, c)]
+    border = [(x, y) for x, y in cells if max(abs(x - c), abs(y - c)) == c]
+    border.sort(key=lambda q: float(np.arctan2(q[1] - c, q[0] - c)))
+    if closed:
+        chain = border[::step]
+        ring = chain + chain[:1]
+        inner = [q for q in cells if q not in chain]
+    else:
+        lower = [q for q in border if q[1] < c]
+        ring = [(0, c)] + lower[::step] + [(n - 1, c)]
+        inner = [q for q in cells if q not in ring and q[1] <= c]
+    rng = np.random.default_rng(step)
+    samples = np.array([y * n + x for x, y in inner], dtype=np.int32)[rng.permutation(len(inner))]
+    rays = np.array([y * n + x for x, y in ring], dtype=np.intp)
+    p = c * n + c
+    assert samples.size > FLAT_CHANGES
+    pred = GridPredicates2((n, n))
+    order, sector = _fan_block(pred, p, rays, samples, closed, None)
+    loop_order, loop_sector = fan_small(n, p, rays, samples, closed)
+    assert order.dtype == sector.dtype == np.intp
+    assert order.tolist() == loop_order.tolist() and sector.tolist() == loop_sector.tolist()
+    general = Predicates2(pred.points)
+    g_order, g_sector = fan_sectors(general, p, rays, samples, closed, exact_floats=False, check=True)
+    assert g_order.tolist() == order.tolist() and g_sector.tolist() == sector.tolist()
+    twice = np.concatenate([rays[:-1], rays]) if closed else np.concatenate([rays, rays[1:]])
+    with pytest.raises(ValueError, match="changes side"):
+        _fan_block(pred, p, twice, samples, closed, None)

@@ -46,7 +46,7 @@ from persistri.impl.stats import Stats
 
 __all__ = [
     "EXACT_LIMIT", "FLOPS_SECTOR_TEST", "SECTOR_BLOCK", "small_integer_points", "sector_sides", "sector_of", "fan_sectors",
-    "fan_lists", "fan_small", "COMPILED", "PYTHON_SECTORS",
+    "fan_lists", "fan_small", "COMPILED", "PYTHON_SECTORS", "FLAT_CHANGES",
 ]
 
 EXACT_LIMIT: Final[float] = float(2**25)
@@ -63,12 +63,15 @@ the first insertions of a 2,048² grid, where they set the mesher's peak; smalle
 COMPILED: Final[bool] = not __file__.endswith(".py")
 """Whether this module runs compiled (the twin, docs/performance.md): then its loops cost nanoseconds a step."""
 
-PYTHON_SECTORS: Final[int] = 32 if COMPILED else 10
+PYTHON_SECTORS: Final[int] = 64 if COMPILED else 10
 """Up to this many samples on a grid, :func:`fan_sectors`' exact float path runs as one loop over them
 (:func:`fan_small`), above it as a dozen numpy calls over whole arrays (:func:`_fan_block`); the same
 answers.  The numpy calls cost about 10 µs whatever the size (a median of 14 samples and 6 rays on the
 Jacksboro DEM); the loop about 3 µs plus 0.3 µs a sample compiled, 0.6 µs a sample interpreted
 (measured on 5,000 of Jacksboro's insertions): hence a bound for each build."""
+
+FLAT_CHANGES: Final[int] = 256
+"""Above this many samples :func:`_fan_block` finds the + → − changes by their flat positions (see there)."""
 
 IntArray = NDArray[np.intp]
 Samples = NDArray[np.signedinteger[Any]]
@@ -335,43 +338,49 @@ def fan_small(cols: int, p: int, rays: IntArray, samples: Samples, closed: bool)
     """:func:`fan_sectors` over the points of a grid with ``cols`` columns, as one loop over a few samples.
 
     Point ``i`` is ``(i mod cols, i div cols)`` (:class:`~persistri.impl.geometry.grid_predicates.GridPredicates2`).
-    The same tests as :func:`_fan_block`, ``rx·qy ≥ ry·qx``, on the integer coordinates themselves (exact,
-    as :func:`_fan_block`'s float64 products are: the same signs), and the same answer ``(order, sector)``:
-    the samples' positions grouped by sector, in their order within a sector; the same :class:`ValueError`
-    for a sample without exactly one change of side.  Nothing counted here (as :func:`_fan_block`).
-    O(len(samples) · len(rays)).
+    The same tests as :func:`_fan_block`, ``rx·qy ≥ ry·qx``, on float64 differences of the integer
+    coordinates (exact, as :func:`_fan_block`'s are: the module docstring; compiled, a float product is
+    one machine instruction, where a product of two integers of which one is negative takes mypyc's
+    general path, an object each), and the same answer ``(order, sector)``: the samples' positions grouped
+    by sector, in their order within a sector; the same :class:`ValueError` for a sample without exactly
+    one change of side.  Nothing counted here (as :func:`_fan_block`).  O(len(samples) · len(rays)).
     """
     k: int = rays.size - 1
     p = int(p)
     py = p // cols
     px = p - py * cols
-    rxs: list[int] = []
-    rys: list[int] = []
-    # Typed lists of Python ints: compiled, the loops below then run on machine integers (tolist is Any).
+    # Typed lists: compiled, the loops below then run on machine floats and integers (tolist is Any).
     ring: list[int] = rays.tolist()
     qs: list[int] = samples.tolist()
+    rays_xy: list[tuple[float, float]] = []
     for v in ring:
         y = v // cols
-        rxs.append(v - y * cols - px)
-        rys.append(y - py)
+        rays_xy.append((float(v - y * cols - px), float(y - py)))
     # The sides against the rays 0 … k (a closed ring's ray k is its ray 0 again, tested again as in
-    # _fan_block); an open chain's two ends are known, + and −, and not tested.
-    last = k if closed else k - 1
+    # _fan_block); an open chain's two ends are known, + and −, and not tested: the rays tested after
+    # ray 0 are 1 … k closed, 1 … k − 1 open (and ray k is − there).
+    rx0, ry0 = rays_xy[0]
+    tested = rays_xy[1:] if closed else rays_xy[1:k]
     buckets: list[list[int]] = [[] for _ in range(k)]
     j = 0
     for q in qs:
         y = q // cols
-        qx = q - y * cols - px
-        qy = y - py
+        qx = float(q - y * cols - px)
+        qy = float(y - py)
         at = -1
         changes = 0
-        before = rxs[0] * qy >= rys[0] * qx if closed else True
-        for i in range(k):
-            after = rxs[i + 1] * qy >= rys[i + 1] * qx if i < last else False
+        before = rx0 * qy >= ry0 * qx if closed else True
+        i = 0
+        for rx, ry in tested:
+            after = rx * qy >= ry * qx
             if before and not after:
                 changes += 1
                 at = i
             before = after
+            i += 1
+        if before and not closed:
+            changes += 1
+            at = i
         if changes != 1:
             raise ValueError(f"sample row {j} changes side from + to - {changes} times around the fan")
         buckets[at].append(j)
@@ -410,9 +419,18 @@ def _fan_block(
     if not closed:
         signs[0] = True
         signs[k] = False
-    sector, order = (signs[:-1] > signs[1:]).nonzero()
+    # The + → − changes, listed sector by sector (row-major), i.e. already sorted.  numpy's nonzero of a 2D
+    # array walks it with a multi-index (about 25 instructions an entry): for many samples the flat positions
+    # and one division by the row length cost less (a third less per block of 10^3 samples and more); for
+    # few, the one call does.
+    hit = signs[:-1] > signs[1:]
+    sector: IntArray
+    order: IntArray
+    if m > FLAT_CHANGES:
+        sector, order = np.divmod(np.flatnonzero(hit), m)
+    else:
+        sector, order = hit.nonzero()
     if sector.size != m:
-        found = signs[:-1] > signs[1:]
-        row = int(np.argmax(found.sum(axis=0) != 1))
-        raise ValueError(f"sample row {row} changes side from + to - {int(found[:, row].sum())} times around the fan")
+        row = int(np.argmax(hit.sum(axis=0) != 1))
+        raise ValueError(f"sample row {row} changes side from + to - {int(hit[:, row].sum())} times around the fan")
     return order, sector
