@@ -65,6 +65,7 @@ import gc
 from array import array
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from itertools import chain
 from typing import Any
 
 import numpy as np
@@ -286,14 +287,16 @@ def _finite_triangles(
     lists: list[Samples] = []
     keep = lists.append
 
-    def labels() -> Iterator[int]:
+    def finite() -> Iterator[tuple[int, ...]]:
         for t, d in structure.iter_items(version):
             if infinite not in t:
                 keep(d[1])
-                yield from t
+                yield t
 
     # fromiter over the flattened labels: numpy converts a list of tuples of int subclasses (Vertex) slowly.
-    tri = np.fromiter(labels(), dtype=np.intp).reshape(-1, 3)
+    # chain flattens the triangles in C (a generator's ``yield from`` resumed it three times a triangle:
+    # 116K triangles, 53 ms against 32 ms).
+    tri = np.fromiter(chain.from_iterable(finite()), dtype=np.intp).reshape(-1, 3)
     return tri, lists
 
 
