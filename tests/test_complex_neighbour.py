@@ -312,3 +312,97 @@ def test_counted_neighbours_count_each_call_as_neighbour_does() -> None:
     for e in edges_:
         across(e)
     assert (stats.dict_ops, stats.key_comparisons) == by_neighbour == (len(edges_), by_neighbour[1])
+
+
+# -- neighbours_unchecked(c): the same answers on edges of distinct vertices, without checking each -----------
+
+UNCHECKED = [(name, make) for name, make in TWO_COMPLEXES if hasattr(make(2), "neighbours_unchecked")]
+
+
+def test_every_two_complex_has_the_unchecked_walk() -> None:
+    assert [name for name, _ in UNCHECKED] == [name for name, _ in WALKERS]
+
+
+@pytest.mark.parametrize("make", [m for _, m in UNCHECKED], ids=[name for name, _ in UNCHECKED])
+@given(tris=triangles, later=triangles, probes=edges)
+def test_neighbours_unchecked_is_neighbour_on_valid_edges(
+    make: Make, tris: list[list[int]], later: list[list[int]], probes: list[tuple[int, int]]
+) -> None:
+    """On an edge of two distinct vertices of the version's lineage, ``neighbours_unchecked(c)(e)`` is
+    ``neighbour(c, e)``, and stays so for an old version after newer ones are made from it."""
+    vs = fresh(N + 1)
+    C = make(2)
+    c = add_all(C, C.new(2), vs, tris)
+    across = C.neighbours_unchecked(c)
+    persistent = not isinstance(C.inner if isinstance(C, TracingTwoComplex) else C, EphemeralTwoComplex)
+    valid = [(vs[i], vs[j]) for i, j in probes if i != j]
+    for round_ in range(2):
+        for e in valid:
+            assert across(e) == C.neighbour(c, e), e
+        if round_ == 0 and persistent:
+            add_all(C, c, vs, later, "later")
+
+
+def test_neighbours_unchecked_reads_each_vertex_list_once_and_skips_the_edge_checks() -> None:
+    n, tris = icosahedron()
+    vs = fresh(n)
+    C = two_complex("red_black")
+    c = build(C, vs, tris)
+    crossings = [(vs[t[(i + 1) % 3]], vs[t[i]]) for t in tris for i in range(3)]
+    expected = [first_of_findi(C, c, e) for e in crossings]
+    looked_up: list[Any] = []
+    real = C._m
+
+    class Counting:
+        def find(self, rep: Any, k: Any) -> Any:
+            looked_up.append(k)
+            return real.find(rep, k)
+
+    C._m = Counting()
+    try:
+        across = C.neighbours_unchecked(c)
+        assert [across(e) for e in crossings] == expected
+    finally:
+        C._m = real
+    assert sorted(looked_up) == sorted(vs)
+    # An edge from a vertex to itself: neighbour refuses it, the unchecked walk does not look (the caller's duty).
+    a = crossings[0][0]
+    with pytest.raises(ValueError, match="neighbour"):
+        C.neighbour(c, (a, a))
+    assert across((a, a)) is None
+
+
+def test_neighbours_unchecked_checks_the_version_once() -> None:
+    n, tris = icosahedron()
+    vs = fresh(n)
+    for C in (two_complex("red_black"), EphemeralTwoComplex()):
+        c = build(C, vs, tris)
+        with pytest.raises(TypeError, match="neighbour"):
+            C.neighbours_unchecked(("not", "a", "version"))  # type: ignore[arg-type]
+    E = EphemeralTwoComplex()
+    old = build(E, vs, tris)
+    E.rem(old, (vs[tris[0][0]], vs[tris[0][1]], vs[tris[0][2]]))  # old is now stale
+    with pytest.raises(StaleVersionError, match="neighbour"):
+        E.neighbours_unchecked(old)
+
+
+def test_counted_and_recorded_structures_walk_checked_and_counted() -> None:
+    """Counted structures and the recorder get ``neighbours``: every call counted (or recorded) as one."""
+    n, tris = icosahedron()
+    vs = fresh(n)
+    edges_ = [(vs[t[1]], vs[t[0]]) for t in tris]
+    for C, stats in ((two_complex("red_black", s := Stats()), s), (EphemeralTwoComplex(s2 := Stats()), s2)):
+        c = build(C, vs, tris)
+        stats.reset()
+        for e in edges_:
+            C.neighbour(c, e)
+        by_neighbour = (stats.dict_ops, stats.key_comparisons)
+        stats.reset()
+        across = C.neighbours_unchecked(c)
+        assert [across(e) for e in edges_] == [C.neighbour(c, e) for e in edges_]
+        stats.reset()
+        for e in edges_:
+            across(e)
+        assert (stats.dict_ops, stats.key_comparisons) == by_neighbour
+        with pytest.raises(ValueError, match="neighbour"):
+            across((vs[0], vs[0]))  # checked: refused, as neighbour refuses it

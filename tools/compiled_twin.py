@@ -35,6 +35,7 @@ MODULES = (
     "persistri/impl/maps/red_black_tree.py",
     "persistri/impl/maps/red_black_adjust.py",
     "persistri/impl/complex/vertex_lists.py",
+    "persistri/impl/complex/neighbours.py",
     "persistri/impl/geometry/kernel2d.py",
     "persistri/impl/terrain/delaunay.py",
     "persistri/impl/terrain/insertion.py",
@@ -45,8 +46,8 @@ MODULES = (
 )
 """The modules compiled: the bulldozer's insertion loop and its conflict-list helpers, the predicate
 kernel it calls, and the inner functions of the persistent structures it changes — the red-black
-tree's node algorithms, its batched update (with the fused insertion of ``replace``'s new vertex) and the
-2-complex's list functions — where a hull run spends most of its interpreted time
+tree's node algorithms, its batched update (with the fused insertion of ``replace``'s new vertex), the
+2-complex's list functions and its walks' edge lookups — where a hull run spends most of its interpreted time
 (docs/performance.md); and for the terrain and the scattered Delaunay, the 2D kernel, the triangulator,
 the sector test, the greedy run's loop and its error measure.  The structures' public operations
 (``red_black.py``, ``two_complex.py``) and ``greedy_insertion`` (``terrain/greedy.py``) stay

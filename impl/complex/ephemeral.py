@@ -58,7 +58,7 @@ persistri.impl.complex.errors.StaleVersionError: data: this version of an EPHEME
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Final, TypeVar
 
 from persistri.impl.complex.errors import (
@@ -71,7 +71,7 @@ from persistri.impl.complex.simplex import Simplex
 from persistri.impl.complex.ephemeral_table import _DICT, EphemeralDict, EphemeralTable, _stale, _Table
 from persistri.impl.complex.replace import arguments
 from persistri.impl.complex.structure import Complex, Family
-from persistri.impl.complex.two_complex import Triangle
+from persistri.impl.complex.two_complex import Edge, Triangle
 from persistri.impl.complex.vertex_lists import Entry, Missing, Present, Unbatched, group, rebuild, rebuild_fresh
 from persistri.impl.complex.vertex import Vertex
 from persistri.impl.stats import Stats
@@ -226,6 +226,31 @@ class EphemeralTwoComplex(EphemeralTable[D]):
         if self._stats is not None:
             self._count(1, visited)
         return None
+
+    def neighbours_unchecked(self, c: Complex[D], /) -> Callable[[Edge], tuple[Triangle, D] | None]:
+        """:meth:`TwoComplex.neighbours_unchecked` on the table: ``c`` checked once (current, of this structure),
+        the edges not; each a dict lookup and a scan.  ``c`` must stay current while the function is used (a
+        walk reads, then changes).  Counted structures and subclasses that redefine :meth:`neighbour` get
+        :meth:`neighbours`.  O(δ) per call."""
+        if self._stats is not None or type(self).neighbour is not EphemeralTwoComplex.neighbour:
+            return self.neighbours(c)
+        rep, _ = self._unpack(c, "neighbour")
+        table: _Table = rep[0]
+        if table.current is not rep:
+            raise _stale("neighbour")
+        lists = table.lists
+
+        def neighbour_in_c(s: Edge) -> tuple[Triangle, D] | None:
+            u, w = s
+            lst = lists.get(u)
+            if lst is None:
+                return None
+            for e in lst:
+                if e[0] == w:
+                    return (u, w, e[1]), e[2]
+            return None
+
+        return neighbour_in_c
 
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
         """``add (c, s, x)``: the triangle ``s`` with datum ``x`` put in the table IN PLACE; ``c`` becomes stale.

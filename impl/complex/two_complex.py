@@ -65,10 +65,10 @@ from persistri.impl.complex.vertex_lists import (
     drop,
     drop_add,
     group,
-    neighbours_in,
     put,
     replace_batched,
 )
+from persistri.impl.complex.neighbours import neighbours_in, neighbours_unchecked_in
 from persistri.impl.stats import Stats
 from persistri.spec.option import Option
 
@@ -273,6 +273,23 @@ class TwoComplex(TwoComplexRep[D]):
         # The backend's unchecked find if it has one (the red-black map): the vertices are validated first.
         find = getattr(self._m, "find_unchecked", None) or self._m.find
         return neighbours_in(rep, lin, find, lambda s: neighbour(c, s))
+
+    def neighbours_unchecked(self, c: Complex[D], /) -> Callable[[Edge], tuple[Triangle, D] | None]:
+        """:meth:`neighbours` for a caller that passes only edges ``(u, w)`` of triangles it holds in ``c``.
+
+        The version is validated once; the edges are not (an edge of two
+        distinct vertices of ``c``'s lineage is the caller's duty, as the
+        bulldozer's walk over the faces it read from ``c`` guarantees).  The same
+        answers as :meth:`neighbours` on such edges; counted structures and
+        subclasses that redefine :meth:`neighbour` get :meth:`neighbours`, so
+        every call is still counted or recorded.  O(lg V + δ) for a vertex met
+        first, O(δ) after.
+        """
+        if self._stats is not None or type(self).neighbour is not TwoComplex.neighbour:
+            return self.neighbours(c)
+        rep, _ = self._unpack(c, "neighbour")
+        find = getattr(self._m, "find_unchecked", None) or self._m.find
+        return neighbours_unchecked_in(rep, find)
 
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:
         """``add (c, s, x)``: ``c`` with the triangle ``s`` carrying ``x``: three ``insertWith``.

@@ -5,8 +5,8 @@ immutable tuple of entries ``(second vertex, third vertex, datum)``, the
 paper's association list; its docstring describes the representation and the
 costs.  This module holds what works on those lists: the functions
 ``insertWith`` combines a vertex's old list with (``add``, ``rem``, ``update``,
-``replace``), the grouping of a ``replace`` by vertex, and the edge lookup of
-one version that the walks call (:func:`neighbours_in`).  They are a module of
+``replace``) and the grouping of a ``replace`` by vertex (the edge lookups of
+one version that the walks call are :mod:`~persistri.impl.complex.neighbours`).  They are a module of
 their own because the 2-complex spends its time here: the compiled twin
 (``make compiled``, docs/performance.md) compiles it with mypyc, and
 :mod:`~persistri.impl.complex.two_complex`, which validates the public
@@ -56,7 +56,6 @@ __all__ = [
     "visited",
     "group",
     "replace_batched",
-    "neighbours_in",
 ]
 
 Entry: TypeAlias = tuple[Any, ...]
@@ -482,41 +481,3 @@ def replace_batched(
     for i in emptied:  # keys[i] is in no triangle any more
         rep = remove(rep, keys[i])[0]
     return rep
-
-
-def neighbours_in(
-    rep: Any, lin: Any, find: Callable[[Any, Any], Any], slow: Callable[[Any], Any]
-) -> Callable[[Any], Any]:
-    """``TwoComplex.neighbours`` of one version: ``s ↦ ((u, w, x), datum)`` for the triangle holding the
-    directed edge ``s = (u, w)``, or None.
-
-    ``rep`` is the version's map and ``lin`` its lineage, ``find`` the backend's
-    ``find``; ``slow`` is called for any ``s`` that is not a valid edge of the
-    lineage (it raises the signature's error, or answers as ``neighbour``
-    does).  Each vertex's list is read from the map at most once (the version
-    never changes, so a list read stays right).  O(lg V + δ) for a vertex met
-    first, O(δ) after.
-    """
-    lists: dict[Any, VertexList] = {}
-
-    def neighbour_in_c(s: Any) -> Any:
-        try:
-            u, w = s
-            lu = u.lineage
-            ok = type(s) is tuple and (lu is lin or lin is None) and w.lineage is lu and u != w
-        except (TypeError, ValueError, AttributeError):
-            ok = False
-        if not ok:
-            return slow(s)
-        lst = lists.get(u)
-        if lst is None:
-            found = find(rep, u)
-            if found is None:
-                return None
-            lst = lists[u] = found[0]
-        for e in lst:
-            if e[0] == w:
-                return (u, w, e[1]), e[2]
-        return None
-
-    return neighbour_in_c

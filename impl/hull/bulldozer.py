@@ -314,9 +314,9 @@ class Bulldozer:
             rest.remove(p)  # p is in its own face's list, once
             own0 = rest
         # The face across an edge: neighbour (one lookup, a scan that stops at the face; each vertex's list
-        # read once in this version), or findi in stepwise mode, whose counts (the whole list scanned) are
-        # the paper's.
-        across = self._across_counted(cx) if self.stepwise else S.neighbours(cx)
+        # read once in this version; unchecked: the walk asks only about edges of faces it read from cx), or
+        # findi in stepwise mode, whose counts (the whole list scanned) are the paper's.
+        across = self._across_counted(cx) if self.stepwise else S.neighbours_unchecked(cx)
 
         visible: dict[int, bool] = {fid0: True}  # face id -> can p see it (each face tested once)
         work: dict[int, _Visible] = {}

@@ -1,0 +1,84 @@
+"""The edge look-ups of one version of the 2-complex that the walks call: ``s ↦ neighbour(c, s)``, many times.
+
+A walk (the bulldozer's over the lit faces, §3; the Delaunay point location,
+§5) crosses many edges of one version.  :func:`neighbours_in` answers
+:meth:`~persistri.impl.complex.two_complex.TwoComplex.neighbour` for each,
+reading every vertex's list from the map at most once; :func:`neighbours_unchecked_in`
+does the same for callers that pass only edges of triangles they hold, without
+checking each edge.  The compiled twin compiles this module (docs/performance.md).
+Vertices are ``Any`` here: the structure has validated the version.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from persistri.impl.complex.vertex_lists import VertexList
+
+__all__ = ["neighbours_in", "neighbours_unchecked_in"]
+
+
+def neighbours_in(
+    rep: Any, lin: Any, find: Callable[[Any, Any], Any], slow: Callable[[Any], Any]
+) -> Callable[[Any], Any]:
+    """``TwoComplex.neighbours`` of one version: ``s ↦ ((u, w, x), datum)`` for the triangle holding the
+    directed edge ``s = (u, w)``, or None.
+
+    ``rep`` is the version's map and ``lin`` its lineage, ``find`` the backend's
+    ``find``; ``slow`` is called for any ``s`` that is not a valid edge of the
+    lineage (it raises the signature's error, or answers as ``neighbour``
+    does).  Each vertex's list is read from the map at most once (the version
+    never changes, so a list read stays right).  O(lg V + δ) for a vertex met
+    first, O(δ) after.
+    """
+    lists: dict[Any, VertexList] = {}
+
+    def neighbour_in_c(s: Any) -> Any:
+        try:
+            u, w = s
+            lu = u.lineage
+            ok = type(s) is tuple and (lu is lin or lin is None) and w.lineage is lu and u != w
+        except (TypeError, ValueError, AttributeError):
+            ok = False
+        if not ok:
+            return slow(s)
+        lst = lists.get(u)
+        if lst is None:
+            found = find(rep, u)
+            if found is None:
+                return None
+            lst = lists[u] = found[0]
+        for e in lst:
+            if e[0] == w:
+                return (u, w, e[1]), e[2]
+        return None
+
+    return neighbour_in_c
+
+
+def neighbours_unchecked_in(rep: Any, find: Callable[[Any, Any], Any]) -> Callable[[Any], Any]:
+    """:func:`neighbours_in` without checking each edge: ``s`` must be a tuple ``(u, w)`` of two distinct
+    vertices of the version's lineage (an edge of a triangle the caller read from this version, say).
+
+    An invalid ``s`` gets an unspecified answer or error, never the signature's.
+    ``rep`` is the version's map and ``find`` the backend's ``find``.  The same
+    answers as :func:`neighbours_in` on valid edges; O(lg V + δ) for a vertex met
+    first, O(δ) after.
+    """
+    lists: dict[Any, VertexList] = {}
+
+    def neighbour_in_c(s: Any) -> Any:
+        u, w = s
+        lst = lists.get(u)
+        if lst is None:
+            found = find(rep, u)
+            if found is None:
+                return None
+            lst = lists[u] = found[0]
+        for e in lst:
+            if e[0] == w:
+                return (u, w, e[1]), e[2]
+        return None
+
+    return neighbour_in_c
