@@ -52,7 +52,7 @@ def remove_vertex(T: MeshTriangulation, c: Complex[MeshDatum], v: int, start: tu
     constraints: dict[tuple[int, int], int] = {}
     region = dat[1]
     first = t[1]
-    neighbour = T.S.neighbours(c)  # every lookup is from v: its list is read once
+    neighbour = T.S.neighbours_unchecked(c)  # every lookup is from v (edges of its star): its list is read once
     for _ in range(1 << 16):
         if t[1] < 0 or t[2] < 0:
             raise MeshError(f"internal: vertex {v} is on the hull; only free vertices are removed")

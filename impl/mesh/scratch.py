@@ -87,6 +87,10 @@ class ScratchComplex:
 
         return neighbour
 
+    def neighbours_unchecked(self, c: Any) -> Callable[[tuple[Vertex, Vertex]], tuple[Tri, MeshDatum] | None]:
+        """:meth:`neighbours`: the scratch triangulation checks no edge either (the 2-complex's name for walks). O(1)."""
+        return self.neighbours(c)
+
     def replace(self, c: Any, removed: Sequence[Tri], added: Iterable[tuple[Tri, MeshDatum]]) -> Any:
         """``c`` without the triangles ``removed`` (any rotation) and with ``added``; ``c`` itself, changed. O(k)."""
         edges = c.edges

@@ -228,7 +228,7 @@ class MeshTriangulation:
         beyond: tuple[Tri, MeshDatum] | None = None
         a, b, cc = stri
         stack = [(a, b, sdat), (b, cc, sdat), (cc, a, sdat)]
-        neighbour = self.S.neighbours(c)  # one version read many times: each vertex's list fetched once
+        neighbour = self.S.neighbours_unchecked(c)  # one version read many times (edges of its triangles): each list fetched once
         # The incircle filter inlined (the predicates' own filter, the same operations), exact when it cannot tell;
         # counted runs go through the predicates.
         rows = pred.filter_rows if pred.stats is None else None
