@@ -85,6 +85,8 @@ from persistri.impl.terrain.insertion import (
     Triangle,
     TriDatum,
     canonical_triangles,
+    enter,
+    reindex,
     sample_dtype,
     third,
 )
@@ -140,7 +142,8 @@ class Triangulator:
     ``edge_index=True`` (the scattered Delaunay) keeps, beside ``tri_of``, an index
     of the current version's directed edges (:attr:`edges`: ``edges[u][w]`` is
     the record ``(triangle, datum)`` of the live triangle holding ``(u, w)``, one
-    record shared by its three edges; :func:`third` reads ``x``), updated by every insertion
+    record shared by its three edges; :func:`~persistri.impl.terrain.insertion.third` reads ``x``),
+    updated by every insertion (:func:`~persistri.impl.terrain.insertion.reindex`)
     with the complex, and answers the walk's and the cavity's neighbour look-ups
     from it instead of the complex's maps: the same answers (``check=True``
     compares each with the complex's), a dictionary read each instead of a tree
@@ -201,19 +204,6 @@ class Triangulator:
         if nb is None or ref is None or ref[0] != (w, u, third(nb[0], w)) or ref[1] is not nb[1]:
             raise TriangulationCheckError(f"insert: the indexed neighbour across {(w, u)} is {nb}, the complex has {ref}")
 
-    def _index(self, tri: Any, datum: Any) -> None:
-        """Enter the live triangle ``tri`` (three vertices) with its datum into :attr:`edges`. O(1)."""
-        edges = self.edges
-        if edges is None:
-            return
-        rec = (tri, datum)
-        for u in tri:
-            row = edges.get(u)
-            if row is None:
-                row = edges[u] = {}
-        a, b, c = tri
-        edges[a][b] = edges[b][c] = edges[c][a] = rec
-
     def neighbours(self) -> Callable[[Any], Any]:
         """``s ↦ neighbour(c, s)`` for the current version ``c`` (:meth:`TwoComplex.neighbours`), made once
         per version: :meth:`locate` and the :meth:`insert` after it share it, and with it the vertex lists
@@ -261,14 +251,16 @@ class Triangulator:
             # Any: compiled, a fixed-length tuple would be unboxed and boxed anew for the complex and for the index.
             datum: Any = (self._new_id(tri), _frozen(np.array(samples, dtype=self.sample_dtype)))
             cx = S.add(cx, tri, datum)
-            self._index(tri, datum)
+            if self.edges is not None:
+                enter(self.edges, tri, datum)
             edges.update(((a, b), (b, c), (c, a)))
         for u, w in sorted(edges):
             if (w, u) not in edges:
                 ghost = (V(w), V(u), self.infinite)
                 datum = (self._new_id(ghost), EMPTY)
                 cx = S.add(cx, ghost, datum)
-                self._index(ghost, datum)
+                if self.edges is not None:
+                    enter(self.edges, ghost, datum)
         self.complex = cx
         return cx
 
@@ -506,21 +498,7 @@ class Triangulator:
             cx = S.replace(cx, removed_tris, fan)
         self.complex = cx
         if index is not None:
-            # The index of cx's edges: the cavity's interior edges leave it (a directed edge of a removed triangle
-            # is on the cavity's boundary iff succ has it: it is in one triangle only); every boundary edge is
-            # entered again by the fan triangle on it, and the spokes to p are new.
-            for t in removed_tris:
-                ta, tb, tc = t
-                if succ.get(ta) is not tb:
-                    del index[ta][tb]
-                if succ.get(tb) is not tc:
-                    del index[tb][tc]
-                if succ.get(tc) is not ta:
-                    del index[tc][ta]
-            index[vp] = {}
-            for rec in fan:  # (triangle, datum), the one record of its three edges
-                ta, tb, tc = rec[0]
-                index[ta][tb] = index[tb][tc] = index[tc][ta] = rec
+            reindex(index, removed_tris, succ, fan, ring, nfan, vp)
         return Insertion(
             p, cx, removed, created, samples, counts, not closed, ring,
             sector if sector is None or sector is NO_SECTOR else _frozen(sector), own,

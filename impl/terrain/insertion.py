@@ -6,9 +6,13 @@ fan's, and the samples (for a terrain: the grid points not yet inserted) each
 fan triangle now holds.  This module holds that record and what it is made of:
 the datum of a triangle ``(id, samples)`` (:data:`TriDatum`), the sample
 lists' dtype (:func:`sample_dtype`), the way a fan's pooled samples are sorted
-into its sectors (:class:`FanSort`), and the canonical form of a list of
-triangles used to compare meshes (:func:`canonical_triangles`).  The compiled
-twin compiles it with the triangulator (an insertion makes one record).
+into its sectors (:class:`FanSort`), the canonical form of a list of
+triangles used to compare meshes (:func:`canonical_triangles`), and what an
+insertion changes besides the complex when the triangulator keeps an index of
+the current version's directed edges (``Triangulator.edges``: ``index[u][w]``
+is the record ``(triangle, datum)`` of the triangle holding ``(u, w)``;
+:func:`enter`, :func:`reindex`, :func:`third`).  The compiled twin compiles it
+with the triangulator (an insertion makes one record).
 """
 
 from __future__ import annotations
@@ -34,6 +38,8 @@ __all__ = [
     "Triangle",
     "TriDatum",
     "canonical_triangles",
+    "enter",
+    "reindex",
     "sample_dtype",
     "third",
 ]
@@ -152,6 +158,59 @@ def third(tri: Any, w: Any) -> Any:
     """The vertex of triangle ``tri`` after the directed edge that starts at its vertex ``w``: ``x`` for the
     edge ``(w, u)`` of ``tri = (w, u, x)`` in any rotation (vertices compared by identity: each is made once). O(1)."""
     return tri[2] if tri[0] is w else (tri[0] if tri[1] is w else tri[1])
+
+
+def enter(index: dict[Any, dict[Any, tuple[Any, ...]]], tri: Any, datum: Any) -> None:
+    """Enter the live triangle ``tri`` (three vertices) with its datum into the edge index ``index``: one record
+    ``(tri, datum)`` for its three directed edges. O(1)."""
+    rec = (tri, datum)
+    for u in tri:
+        if u not in index:
+            index[u] = {}
+    a, b, c = tri
+    index[a][b] = index[b][c] = index[c][a] = rec
+
+
+def reindex(
+    index: dict[Any, dict[Any, tuple[Any, ...]]],
+    removed: list[Any],
+    succ: dict[Any, Any],
+    fan: list[tuple[Any, ...]],
+    ring: list[Any],
+    nfan: int,
+    p: Any,
+) -> None:
+    """The edge index ``index`` of the version before an insertion of ``p``, made the index of the version after it.
+
+    ``removed`` are the cavity's triangles, ``succ`` its boundary edges ``(u, w)`` as
+    ``u -> w``, ``fan`` the new triangles' records: ``fan[i] = ((ring[i], ring[i+1], p),
+    datum)`` for ``i < nfan``, then an open fan's two ghosts.  The cavity's interior
+    edges leave the index (a directed edge of a removed triangle is on the boundary iff
+    ``succ`` has it: it is in one triangle only); every boundary edge is entered again by
+    the fan triangle on it, and the spokes to ``p`` are new.  Each ring vertex's row is
+    read once (it takes the edges of two fan triangles).  O(k) for ``k`` triangles
+    removed and made.
+    """
+    for t in removed:
+        ta, tb, tc = t
+        if succ.get(ta) is not tb:
+            del index[ta][tb]
+        if succ.get(tb) is not tc:
+            del index[tb][tc]
+        if succ.get(tc) is not ta:
+            del index[tc][ta]
+    row_p: dict[Any, tuple[Any, ...]] = {}
+    index[p] = row_p
+    u = ring[0]
+    row_u = index[u]
+    for rec, w in zip(fan, ring[1 : nfan + 1]):
+        row_w = index[w]
+        row_u[w] = row_w[p] = row_p[u] = rec
+        u = w
+        row_u = row_w
+    for rec in fan[nfan:]:
+        ta, tb, tc = rec[0]
+        index[ta][tb] = index[tb][tc] = index[tc][ta] = rec
 
 
 def canonical_triangles(tris: IntArray) -> IntArray:
