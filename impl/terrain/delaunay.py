@@ -205,13 +205,14 @@ class Triangulator:
             raise TriangulationCheckError(f"insert: the indexed neighbour across {(w, u)} is {nb}, the complex has {ref}")
 
     def neighbours(self) -> Callable[[Any], Any]:
-        """``s ↦ neighbour(c, s)`` for the current version ``c`` (:meth:`TwoComplex.neighbours`), made once
-        per version: :meth:`locate` and the :meth:`insert` after it share it, and with it the vertex lists
-        already read from the map.  O(1)."""
+        """``s ↦ neighbour(c, s)`` for the current version ``c``, made once per version: :meth:`locate` and
+        the :meth:`insert` after it share it, and with it the vertex lists already read from the map.  Every
+        caller asks about edges of triangles it read from ``c``, so the edges go unchecked
+        (:meth:`TwoComplex.neighbours_unchecked`; counted runs still count each call).  O(1)."""
         cx = self.complex
         read = self._read
         if read is None or self._read_version is not cx:
-            read = self._read = self.S.neighbours(cx)
+            read = self._read = self.S.neighbours_unchecked(cx)
             self._read_version = cx
         return read
 
