@@ -18,6 +18,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from complex_helpers import STRUCTURE_IDS, STRUCTURES, Make, build, fresh, icosahedron, random_polytope
+from tree_helpers import preorder
 from persistri.impl.complex import complex_structure, two_complex
 from persistri.impl.complex.errors import (
     AbsentSimplexError,
@@ -345,21 +346,7 @@ def test_a_cone_from_a_fresh_vertex_is_inserted_in_the_update_s_descent() -> Non
     assert [keys[i] for i in absent] == [p] and [keys[i] for i in emptied] == [v0]
     want = m.insert_absent(want, p, tuple(changes[p][1] + changes[p][2]))
     want = m.remove(want, v0)[0]
-    assert _shape(c2.rep[1]) == _shape(want[1]) and m.numItems(c2.rep) == m.numItems(want)
+    assert preorder(c2.rep[1]) == preorder(want[1]) and m.numItems(c2.rep) == m.numItems(want)
     old = _tree_nodes(c.rep[1])
     assert sum(i not in old for i in _tree_nodes(c2.rep[1])) == sum(i not in old for i in _tree_nodes(want[1]))
     assert items_of(C, c) == before
-
-
-def _shape(t: Any) -> list[Any]:
-    """Each node's colour, key and list, and each leaf, in preorder."""
-    out: list[Any] = []
-    stack = [t]
-    while stack:
-        x = stack.pop()
-        if x is None:
-            out.append(None)
-        else:
-            out.append((x[0], x[2], x[3]))
-            stack += [x[4], x[1]]
-    return out

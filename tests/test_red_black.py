@@ -18,6 +18,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from persistri.impl.maps import backend
+from tree_helpers import nodes
 from persistri.impl.maps.red_black import BLACK, RED, RBMap, RedBlackMap, Tree, red_black
 from persistri.spec.ord_map import NotFound, OrdMap
 
@@ -35,18 +36,6 @@ def height(t: Tree[Any, Any]) -> int:
     if t is None:
         return 0
     return 1 + max(height(t[1]), height(t[4]))
-
-
-def nodes(t: Tree[Any, Any]) -> list[Any]:
-    """Every node of ``t`` (any order)."""
-    out, stack = [], [t]
-    while stack:
-        x = stack.pop()
-        if x is not None:
-            out.append(x)
-            stack.append(x[1])
-            stack.append(x[4])
-    return out
 
 
 def on_search_path(t: Tree[Any, Any], k: Any) -> int:

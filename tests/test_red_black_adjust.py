@@ -15,40 +15,15 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from persistri.impl.maps.red_black import RBMap, Tree, red_black
+from persistri.impl.maps.red_black import RBMap, red_black
+from tree_helpers import nodes, preorder
 
 S = red_black
 
 
-def _nodes(t: Tree[Any, Any]) -> list[Any]:
-    out, stack = [], [t]
-    while stack:
-        x = stack.pop()
-        if x is not None:
-            out.append(x)
-            stack.append(x[1])
-            stack.append(x[4])
-    return out
-
-
-def _preorder(t: Tree[Any, Any]) -> list[Any]:
-    """Every node's colour, key and value, and every leaf, in preorder: the tree's shape and contents."""
-    out: list[Any] = []
-    stack = [t]
-    while stack:
-        x = stack.pop()
-        if x is None:
-            out.append(None)
-            continue
-        out.append((x[0], x[2], x[3]))
-        stack.append(x[4])
-        stack.append(x[1])
-    return out
-
-
 def _new_nodes(old: RBMap[Any, Any], new: RBMap[Any, Any]) -> int:
-    seen = {id(x) for x in _nodes(old[1])}
-    return sum(id(x) not in seen for x in _nodes(new[1]))
+    seen = {id(x) for x in nodes(old[1])}
+    return sum(id(x) not in seen for x in nodes(new[1]))
 
 
 def _add_or_empty(old: tuple[int, ...], new: tuple[int, ...]) -> tuple[int, ...]:
@@ -73,7 +48,7 @@ def test_adjust_insert_is_adjust_sorted_then_insert_absent(keys: list[int], prob
     inserts exactly when ``keys[j]`` is absent and no other absent key ends at its leaf (the same gap between
     the map's keys), else it is ``adjust_sorted``; the result is valid and the argument unchanged."""
     m = _map(keys)
-    before = _preorder(m[1])
+    before = preorder(m[1])
     ks = sorted(probe)
     vs: list[tuple[int, ...]] = [(-k,) if k % 3 else () for k in ks]
     j = data.draw(st.integers(0, len(ks) - 1))
@@ -94,9 +69,9 @@ def test_adjust_insert_is_adjust_sorted_then_insert_absent(keys: list[int], prob
     else:
         assert absent == want_absent
     assert S.numItems(out) == S.numItems(want)
-    assert _preorder(out[1]) == _preorder(want[1])
+    assert preorder(out[1]) == preorder(want[1])
     assert _new_nodes(m, out) == _new_nodes(m, want)
-    assert _preorder(m[1]) == before
+    assert preorder(m[1]) == before
 
 
 def test_adjust_insert_at_every_leaf_of_a_tree() -> None:
@@ -112,7 +87,7 @@ def test_adjust_insert_at_every_leaf_of_a_tree() -> None:
         want = S.insert_absent(want, k, (-k,))
         S._check(out)
         assert inserted and absent == [] and want_absent == [j] and emptied == []
-        assert _preorder(out[1]) == _preorder(want[1]) and S.numItems(out) == 201
+        assert preorder(out[1]) == preorder(want[1]) and S.numItems(out) == 201
         assert _new_nodes(m, out) == _new_nodes(m, want)
 
 
