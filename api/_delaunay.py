@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 from persistri._arrays import read_only
 from persistri.impl.complex.adjacency import triangle_neighbors, vertex_neighbor_vertices, vertex_to_simplex
 from persistri.impl.geometry.barycentric import barycentric_transforms, lifted_equations, paraboloid_lift, paraboloid_scaling
+from persistri.impl.geometry.points import as_points
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.locate import locate_points
 from persistri.impl.terrain.scattered import DelaunayTriangulation, delaunay
@@ -127,16 +128,9 @@ class Delaunay:
         infinite coordinate raises :class:`ValueError`.  Expected O(log n) per
         point (a k-d tree for the start, then a short exact walk).
         """
-        if isinstance(xi, (str, bytes)):
-            raise TypeError(f"xi must be an array of 2D points, not {type(xi).__name__}")
-        try:
-            raw = np.asarray(xi)
-        except (ValueError, TypeError) as exc:
-            raise ValueError(f"xi must be a rectangular array of 2D points: {exc}") from None
-        if raw.ndim == 0 or raw.shape[-1] != 2:
-            raise ValueError(f"xi must be an array of 2D points, shape (..., 2), got shape {raw.shape}")
-        found = locate_points(self._tri.points, self._tri.triangles, self._neighbors, raw.reshape(-1, 2))
-        out: IntcArray = found.astype(np.intc).reshape(raw.shape[:-1])
+        flat, lead = self._query(xi, "xi")
+        found = locate_points(self._tri.points, self._tri.triangles, self._neighbors, flat)
+        out: IntcArray = found.astype(np.intc).reshape(lead)
         return out
 
     # -- scipy.spatial.Delaunay's attributes -----------------------------------------
@@ -213,7 +207,8 @@ class Delaunay:
 
     def lift_points(self, x: ArrayLike) -> FloatArray:
         """``x`` (shape ``(..., 2)``) lifted to the paraboloid, shape ``(..., 3)``, float64."""
-        return paraboloid_lift(self._query(x, "x"), *self._lifting())
+        flat, lead = self._query(x, "x")
+        return paraboloid_lift(flat, *self._lifting()).reshape(lead + (3,))
 
     @property
     def equations(self) -> FloatArray:
@@ -258,19 +253,18 @@ class Delaunay:
             self._scaling = paraboloid_scaling(self._points)
         return self._scaling
 
-    def _query(self, x: ArrayLike, name: str) -> FloatArray:
-        """``x`` as float64 of shape ``(..., 2)``, finite, or one clear error."""
+    def _query(self, x: ArrayLike, name: str) -> tuple[FloatArray, tuple[int, ...]]:
+        """``x`` (shape ``(..., 2)``) as validated ``(k, 2)`` float64 rows (:func:`~persistri.impl.geometry.points.as_points`:
+        real, finite, exact) and its leading shape ``...``, or one clear error naming ``name``."""
         if isinstance(x, (str, bytes)):
             raise TypeError(f"{name} must be an array of 2D points, not {type(x).__name__}")
         try:
-            raw = np.asarray(x, dtype=np.float64)
+            raw = np.asarray(x)
         except (ValueError, TypeError) as exc:
             raise ValueError(f"{name} must be a rectangular array of 2D points: {exc}") from None
         if raw.ndim == 0 or raw.shape[-1] != 2:
             raise ValueError(f"{name} must be an array of 2D points, shape (..., 2), got shape {raw.shape}")
-        if not np.isfinite(raw).all():
-            raise ValueError(f"{name} has a NaN or infinite coordinate")
-        return raw
+        return as_points(raw.reshape(-1, 2), 2, what=name), raw.shape[:-1]
 
     @property
     def npoints(self) -> int:
