@@ -7,6 +7,7 @@ The public names, in the shape of :mod:`scipy.spatial`::
     bigger = hull.add_points(more)                         # a NEW hull; hull is unchanged
     tri = persistri.Delaunay(xy)                           # exact 2D Delaunay triangulation
     tri.find_simplex(queries)                              # exact point location, -1 outside
+    more = tri.add_points(xy2)                             # a NEW triangulation; tri is unchanged
     mesh = persistri.triangulate(persistri.read_poly("domain.poly"), min_angle=30)   # Ruppert, exact
     persistri.verify_mesh(mesh.domain, mesh.vertices, mesh.triangles, min_angle=30).ok
 
@@ -27,6 +28,7 @@ name                        what
 ``verify_mesh``             an exact, independent check of any mesh (persistri's, Triangle's, …)
 ``Hull``, ``HullHistory``,  the result types of the functions above, for annotations
 ``DelaunayTriangulation``,
+``DelaunayHistory``,
 ``Tin``, ``HullReport``,
 ``QualityMesh``,
 ``MeshReport``
@@ -69,6 +71,7 @@ if TYPE_CHECKING:
     from persistri.impl.stats import Stats as Stats
     from persistri.impl.terrain.greedy import Tin as Tin
     from persistri.impl.terrain.greedy import greedy_insertion as greedy_insertion
+    from persistri.impl.terrain.delaunay_history import DelaunayHistory as DelaunayHistory
     from persistri.impl.terrain.scattered import DelaunayTriangulation as DelaunayTriangulation
     from persistri.impl.terrain.scattered import delaunay as delaunay
 
@@ -82,6 +85,7 @@ _NAMES: dict[str, str] = {
     "HullHistory": "persistri.impl.hull.api",
     "delaunay": "persistri.impl.terrain.scattered",
     "DelaunayTriangulation": "persistri.impl.terrain.scattered",
+    "DelaunayHistory": "persistri.impl.terrain.delaunay_history",
     "verify_hull": "persistri.impl.hull.verify",
     "HullReport": "persistri.impl.hull.verify",
     "greedy_insertion": "persistri.impl.terrain.greedy",
@@ -115,6 +119,7 @@ __all__ = [
     "Hull",
     "HullHistory",
     "DelaunayTriangulation",
+    "DelaunayHistory",
     "Tin",
     "HullReport",
     "QualityMesh",

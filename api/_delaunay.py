@@ -18,6 +18,7 @@ from persistri.impl.complex.adjacency import triangle_neighbors, vertex_neighbor
 from persistri.impl.geometry.barycentric import barycentric_transforms, lifted_equations, paraboloid_lift, paraboloid_scaling
 from persistri.impl.geometry.points import as_points
 from persistri.impl.stats import Stats
+from persistri.impl.terrain.delaunay_history import DelaunayHistory
 from persistri.impl.terrain.locate import locate_points
 from persistri.impl.terrain.scattered import DelaunayTriangulation, delaunay
 
@@ -31,7 +32,7 @@ FloatArray = NDArray[np.float64]
 class Delaunay:
     """The exact Delaunay triangulation of 2D points (paper §5), in the shape of :class:`scipy.spatial.Delaunay`.
 
-    ``Delaunay(points, *, backend="red_black", seed=0, check=False, stats=None)``
+    ``Delaunay(points, *, backend="red_black", seed=0, check=False, stats=None, history=False)``
     triangulates ``points`` (``(n, 2)`` reals), every decision exact, ties among
     cocircular points broken by Simulation of Simplicity
     (:func:`persistri.impl.terrain.scattered.delaunay` documents the arguments).
@@ -64,6 +65,11 @@ class Delaunay:
       to release), ``npoints``, ``ndim`` (2), ``nsimplex``, ``seed``, and ``result``,
       the full :class:`~persistri.impl.terrain.scattered.DelaunayTriangulation`.
 
+    What persistence adds: ``add_points(points)`` returns a NEW triangulation of
+    these points and the new ones, continuing this one's run and sharing its
+    structure (this one stays exactly as it was; scipy's changes in place), and
+    ``history`` (with ``history=True``) holds every intermediate triangulation.
+
     Errors, one line each: :class:`TypeError` / :class:`ValueError` for input that
     is not ``(n, 2)`` finite reals;
     :class:`~persistri.impl.terrain.errors.DegenerateInputError` (a ``ValueError``)
@@ -77,9 +83,10 @@ class Delaunay:
     [0, 0, 2, -1]
     """
 
-    __slots__ = ("_tri", "_points", "_simplices", "_neighbors", "_hull_edges", "_vnv", "_v2s", "_transform", "_equations", "_scaling")
+    __slots__ = ("_tri", "_check", "_points", "_simplices", "_neighbors", "_hull_edges", "_vnv", "_v2s", "_transform", "_equations", "_scaling")
 
     _tri: DelaunayTriangulation
+    _check: bool
     _points: FloatArray
     _simplices: IntcArray
     _neighbors: IntcArray
@@ -91,12 +98,20 @@ class Delaunay:
     _scaling: tuple[float, float] | None
 
     def __init__(
-        self, points: ArrayLike, *, backend: str = "red_black", seed: int = 0, check: bool = False, stats: Stats | None = None
+        self,
+        points: ArrayLike,
+        *,
+        backend: str = "red_black",
+        seed: int = 0,
+        check: bool = False,
+        stats: Stats | None = None,
+        history: bool = False,
     ) -> None:
-        self._adopt(delaunay(points, backend=backend, seed=seed, check=check, stats=stats))
+        self._adopt(delaunay(points, backend=backend, seed=seed, check=check, stats=stats, history=history), check)
 
-    def _adopt(self, tri: DelaunayTriangulation) -> None:
+    def _adopt(self, tri: DelaunayTriangulation, check: bool) -> None:
         self._tri = tri
+        self._check = bool(check)
         self._points = read_only(tri.points)
         self._simplices = read_only(tri.triangles, np.intc)
         # The walks of find_simplex need the adjacency, so it is built up front.
@@ -114,9 +129,46 @@ class Delaunay:
         """The public view of a :class:`~persistri.impl.terrain.scattered.DelaunayTriangulation` already computed."""
         if not isinstance(tri, DelaunayTriangulation):
             raise TypeError(f"Delaunay.from_triangulation needs a persistri DelaunayTriangulation, not {type(tri).__name__}")
+        return cls._from(tri, False)
+
+    def add_points(self, points: ArrayLike, *, check: bool | None = None) -> Delaunay:
+        """A NEW triangulation of these points and ``points`` (``(k, 2)``); this one is left exactly as it was.
+
+        Unlike scipy's ``add_points`` (which changes the triangulation in place),
+        the new one continues this one's run from its final version and shares
+        its structure (:func:`~persistri.impl.terrain.extend_delaunay.extend_delaunay`):
+        its ``points`` are this one's rows followed by the new ones (row numbers
+        keep their meaning), its ``simplices`` exactly those of a triangulation of
+        all the rows at once, and its ``history`` continues this one's when this
+        one kept it.  ``check`` defaults to this one's.  Errors as for the
+        constructor, about ``points``.  Expected O(n + k log(n + k)).
+
+        >>> import persistri
+        >>> tri = persistri.Delaunay([[0, 0], [2, 0], [0, 2], [2, 2]])
+        >>> more = tri.add_points([[1, 1]])
+        >>> tri.nsimplex, more.nsimplex, more.npoints
+        (2, 4, 5)
+        """
+        from persistri.impl.terrain.extend_delaunay import extend_delaunay
+
+        chk = self._check if check is None else check
+        return Delaunay._from(extend_delaunay(self._tri, points, check=chk), chk)
+
+    @classmethod
+    def _from(cls, tri: DelaunayTriangulation, check: bool) -> Delaunay:
         self = cls.__new__(cls)
-        self._adopt(tri)
+        self._adopt(tri, check)
         return self
+
+    @property
+    def history(self) -> DelaunayHistory | None:
+        """Every intermediate triangulation, oldest first, sharing structure (``history=True``), else None (time travel).
+
+        ``history.simplices(k)`` is the triangulation after ``k`` insertions past the
+        first triangle, as input rows; ``history.inserted`` names the rows in the
+        order they were inserted (:class:`~persistri.impl.terrain.delaunay_history.DelaunayHistory`).
+        """
+        return self._tri.history
 
     def find_simplex(self, xi: ArrayLike) -> IntcArray:
         """For each point of ``xi`` (shape ``(..., 2)``), a triangle containing it, or -1 outside the hull.
@@ -292,4 +344,5 @@ class Delaunay:
         return self._tri
 
     def __repr__(self) -> str:
-        return f"persistri.Delaunay({self.npoints} points, {self.nsimplex} triangles, {self._hull_edges.shape[0]} hull edges)"
+        kept = "" if self._tri.history is None else f", history of {len(self._tri.history)} versions"
+        return f"persistri.Delaunay({self.npoints} points, {self.nsimplex} triangles, {self._hull_edges.shape[0]} hull edges{kept})"

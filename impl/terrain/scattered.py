@@ -27,16 +27,15 @@ explains the hull-edge rule).
 
 from __future__ import annotations
 
-import gc
 import math
 from dataclasses import dataclass, field
 from functools import cache
 from itertools import chain
-from operator import itemgetter
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from persistri.impl.collector import collector_paused
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.geometry.points import as_points, unique_rows
@@ -44,6 +43,7 @@ from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.maps import backend as map_backend
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.delaunay import EMPTY, Insertion, TriDatum, Triangulator, canonical_triangles
+from persistri.impl.terrain.delaunay_history import DelaunayHistory, read_labels
 from persistri.impl.terrain.errors import DegenerateInputError, TriangulationCheckError
 
 __all__ = ["delaunay", "DelaunayTriangulation", "insertion_order", "hilbert_keys"]
@@ -64,7 +64,11 @@ class DelaunayTriangulation:
       later row is not a vertex (its earlier twin is);
     * ``complex`` / ``structure`` — the final persistent complex (ghost triangles
       on the hull edges included) and the structure that reads it;
-    * ``stats`` — the counts, when a :class:`Stats` was given.
+    * ``stats`` — the counts, when a :class:`Stats` was given;
+    * ``labels`` — the input row of each vertex label of the complex (``-1`` at the
+      label of the symbolic infinite vertex, ``infinite``): what reading a version, and
+      continuing the run (:func:`~persistri.impl.terrain.extend_delaunay.extend_delaunay`), need;
+    * ``history`` — every version (``history=True``), else None.
     """
 
     points: NDArray[np.float64]
@@ -74,7 +78,10 @@ class DelaunayTriangulation:
     complex: Complex[TriDatum]
     structure: TwoComplex[TriDatum]
     seed: int
+    labels: IntArray
+    infinite: int
     stats: Stats | None = field(default=None, compare=False)
+    history: DelaunayHistory | None = field(default=None, compare=False)
 
 
 _CHUNK = 4
@@ -192,12 +199,76 @@ def _first_triangle(pred: Predicates2, order: IntArray) -> tuple[int, int, int]:
     )
 
 
-def _read_triangles(structure: TwoComplex[TriDatum], c: Complex[TriDatum]) -> IntArray:
-    """Every triangle of version ``c`` (ghosts included) as a ``(m, 3)`` array of vertex labels, read from the complex. O(m)."""
-    read: IntArray = np.fromiter(
-        chain.from_iterable(map(itemgetter(0), structure.iter_items(c))), dtype=np.intp
-    ).reshape(-1, 3)
-    return read
+def run_insertions(
+    T: Triangulator, order: list[int], versions: list[Complex[TriDatum]] | None, *, check: bool
+) -> tuple[IntArray, IntArray]:
+    """Insert the labels ``order`` into the begun triangulation ``T``, each walk starting in the fan of the one before.
+
+    Appends each new version to ``versions`` (when kept).  Returns the final
+    version's finite triangles (``(m, 3)`` vertex labels, counterclockwise) and its
+    hull (labels, counterclockwise).  The cyclic collector is off meanwhile
+    (:func:`~persistri.impl.collector.collector_paused`).  Expected O(k log n) for ``k`` labels.
+    """
+    with collector_paused():
+        hint = next(tid for tid, tri in T.tri_of.items() if T.infinite not in tri)
+        ins: Insertion | None = None
+        for q in order:
+            # Each walk starts in the fan of the previous point, its predecessor along the curve.
+            ins = T.insert(q, T.locate(q, hint) if ins is None else T.locate_after(q, ins))
+            if versions is not None:
+                versions.append(T.complex)
+        every = _final_labels(T, check)
+    at_inf = every == int(T.infinite)
+    ghost = at_inf.any(axis=1)
+    # A ghost (u, w, ∞) sits on the hull edge (w, u) of the finite triangle beside it (counterclockwise).
+    k = np.argmax(at_inf[ghost], axis=1)
+    ghosts = every[ghost]
+    rows_g = np.arange(ghosts.shape[0])
+    succ: dict[int, int] = dict(zip(ghosts[rows_g, (k + 2) % 3].tolist(), ghosts[rows_g, (k + 1) % 3].tolist()))
+    start = min(succ)
+    cycle = [start]
+    v = succ[start]
+    while v != start:
+        cycle.append(v)
+        v = succ[v]
+    return every[~ghost], np.array(cycle, dtype=np.intp)
+
+
+def _final_labels(T: Triangulator, check: bool) -> IntArray:
+    """The final version's triangles, ghosts included, as one ``(m, 3)`` array of vertex labels. O(m).
+
+    Uncounted, from the triangulator's index of the live triangles (``tri_of``,
+    which every insertion updates with the complex): about a tenth of a compiled
+    run less than reading the complex's maps.  A counted run reads the complex, as
+    it always has (its counts include the read).  ``check=True`` compares the two.
+    """
+    structure = T.S
+    counted = structure.stats is not None
+    live = T.tri_of
+    every = (
+        read_labels(structure, T.complex)
+        if counted
+        else np.fromiter(chain.from_iterable(live.values()), dtype=np.intp, count=3 * len(live)).reshape(-1, 3)
+    )
+    if check:
+        other = np.array(list(live.values()), dtype=np.intp) if counted else read_labels(structure, T.complex)
+        if not np.array_equal(canonical_triangles(other.reshape(-1, 3)), canonical_triangles(every)):
+            raise TriangulationCheckError("delaunay: the final version's triangles are not the triangulator's")
+    return every
+
+
+def verify_result(result: DelaunayTriangulation) -> None:
+    """``check=True``'s final verification of ``result``: its complex a closed surface (ghosts included), and its
+    triangles the exact Delaunay triangulation of its distinct points
+    (:func:`persistri.impl.terrain.check.verify_triangulation`).  Raises on the first failure. O(n log n)."""
+    from persistri.impl.complex.checks import check_closed_surface
+    from persistri.impl.terrain.check import verify_triangulation
+
+    check_closed_surface(result.complex)
+    # The distinct points, each once, in label order; the triangles renumbered to them.
+    vertex_rows = np.sort(result.labels[result.labels >= 0])
+    tris = np.searchsorted(vertex_rows, result.triangles)
+    verify_triangulation(Predicates2(result.points[vertex_rows]), tris).raise_if_failed()
 
 
 def delaunay(
@@ -207,6 +278,7 @@ def delaunay(
     check: bool = False,
     stats: Stats | None = None,
     seed: int = 0,
+    history: bool = False,
 ) -> DelaunayTriangulation:
     """The exact Delaunay triangulation of the 2D points ``points_xy`` (``(n, 2)``; module docstring).
 
@@ -219,7 +291,9 @@ def delaunay(
     * ``stats`` — a :class:`Stats` for the operation counts;
     * ``seed`` — the random insertion order (the triangulation is the same for every
       seed wherever the Delaunay triangulation is unique; ties among cocircular
-      points are broken by SoS, independently of the order).
+      points are broken by SoS, independently of the order);
+    * ``history`` — keep every version (:class:`~persistri.impl.terrain.delaunay_history.DelaunayHistory`:
+      one per inserted point, sharing structure), else ``history`` is None.
 
     Errors: :class:`TypeError`/:class:`ValueError` for input that is not an
     ``(n, 2)`` array of finite reals; :class:`DegenerateInputError` (a
@@ -245,71 +319,28 @@ def delaunay(
     structure: TwoComplex[TriDatum] = TwoComplex(map_backend(backend), stats)
     order = insertion_order(pts, int(seed))
     first = _first_triangle(pred, order)
-
-    collector = gc.isenabled()
-    gc.disable()  # persistent nodes form no reference cycles: the cyclic collector only costs time here
-    try:
-        T = Triangulator(pred, structure, check=check, edge_index=True)
-        T.begin([(first, EMPTY)])
-        hint = next(tid for tid, tri in T.tri_of.items() if T.infinite not in tri)
-        done = set(first)
-        ins: Insertion | None = None
-        for q in order.tolist():
-            if q in done:
-                continue
-            # Each walk starts in the fan of the previous point, its predecessor along the curve.
-            ins = T.insert(q, T.locate(q, hint) if ins is None else T.locate_after(q, ins))
-        # The final version's triangles, ghosts included, read into one array (vertex labels are point indices).
-        # Uncounted, from the triangulator's index of the live triangles (tri_of, which every insertion updates
-        # with the complex): about a tenth of a compiled run less than reading the complex's maps.  A counted
-        # run reads the complex, as it always has (its counts include the read).  check=True compares the two.
-        live = T.tri_of
-        every = (
-            np.fromiter(chain.from_iterable(live.values()), dtype=np.intp, count=3 * len(live)).reshape(-1, 3)
-            if stats is None
-            else _read_triangles(structure, T.complex)
-        )
-        if check:
-            other = _read_triangles(structure, T.complex) if stats is None else np.array(list(live.values()), dtype=np.intp)
-            if not np.array_equal(canonical_triangles(other.reshape(-1, 3)), canonical_triangles(every)):
-                raise TriangulationCheckError("delaunay: the final version's triangles are not the triangulator's")
-        at_inf = every == int(T.infinite)
-        ghost = at_inf.any(axis=1)
-        tris = every[~ghost]
-        # A ghost (u, w, ∞) sits on the hull edge (w, u) of the finite triangle beside it (counterclockwise).
-        k = np.argmax(at_inf[ghost], axis=1)
-        ghosts = every[ghost]
-        rows_g = np.arange(ghosts.shape[0])
-        succ: dict[int, int] = dict(zip(ghosts[rows_g, (k + 2) % 3].tolist(), ghosts[rows_g, (k + 1) % 3].tolist()))
-    finally:
-        if collector:
-            # Promote what the run made to the oldest generation (freeze, unfreeze: two list splices):
-            # the next young collection would otherwise traverse every node of every version.
-            gc.freeze()
-            gc.unfreeze()
-            gc.enable()
-    start = min(succ)
-    cycle = [start]
-    v = succ[start]
-    while v != start:
-        cycle.append(v)
-        v = succ[v]
-    triangles = canonical_triangles(rows[tris])
+    rest = [q for q in order.tolist() if q not in first]
+    T = Triangulator(pred, structure, check=check, edge_index=True)
+    T.begin([(first, EMPTY)])
+    versions: list[Complex[TriDatum]] | None = [T.complex] if history else None
+    # Vertex label i is distinct point i, input row rows[i]; the symbolic infinite vertex takes label m (no row).
+    labels = np.append(rows.astype(np.intp), -1)
+    triangles, cycle = run_insertions(T, rest, versions, check=check)
     result = DelaunayTriangulation(
         points=arr,
-        triangles=triangles,
-        hull=rows[np.array(cycle, dtype=np.intp)],
+        triangles=canonical_triangles(labels[triangles]),
+        hull=labels[cycle],
         duplicates=merged,
         complex=T.complex,
         structure=structure,
         seed=int(seed),
+        labels=labels,
+        infinite=int(T.infinite),
         stats=stats,
+        history=None
+        if versions is None
+        else DelaunayHistory(structure, tuple(versions), tuple(labels[list(first) + rest].tolist()), labels, m),
     )
     if check:
-        from persistri.impl.complex.checks import check_closed_surface
-        from persistri.impl.terrain.check import verify_triangulation
-
-        check_closed_surface(T.complex)
-        verify_triangulation(Predicates2(pts), tris).raise_if_failed()
+        verify_result(result)
     return result
-

@@ -1,0 +1,167 @@
+"""``extend_delaunay``: adding points to a finished Delaunay triangulation, as a new one sharing structure with it.
+
+The incremental Delaunay triangulation (paper §5) needs nothing of a run but
+its last version to go on: a new point is located by a walk, its cavity
+replaced by its fan, one new version per point.  On the persistent complex the
+old version is not touched by that, so the old triangulation, its complex and
+every version of its history stay valid; the new one shares every triangle,
+datum, vertex list and map node the new points leave alone (paper §1's
+"multiple futures": two extensions of one triangulation are two branches).
+
+What continuing needs, and how it is kept exact:
+
+1. **Labels.**  A vertex's label is its index in the predicates' point array.
+   The old run labelled its distinct points ``0 … m−1`` and gave the symbolic
+   infinite vertex the label ``m``; the new distinct points take the labels after
+   the old ones (``m+1, m+2, …``, in input order), and the predicates are rebuilt
+   over the old points, a stand-in row at ``m`` (never read: no test takes the
+   infinite vertex as a point; the ghost rule decides those) and the new points.
+   Every old decision stands: the exact signs are of the same rationals, and
+   Simulation of Simplicity depends only on the *order* of the labels, which is
+   the input rows' order among the old points and the new ones alike.  So the
+   result is exactly the triangulation of the whole input computed in one run —
+   cocircular and collinear ties included (tested on grids).
+2. **The triangulator's scratch.**  The live-triangle index and the edge index
+   of the last version are read back from the complex (its triangles and data,
+   the same objects), and the vertices are the complex's own, so new triangles
+   join the same lineage.  O(n) once.
+3. **Insertion.**  The distinct new points are inserted in a biased randomised
+   order of their own (:func:`~persistri.impl.terrain.scattered.insertion_order`,
+   drawn from the old seed and the old number of labels, so each step of a
+   chain draws afresh), each walk starting in the fan of the previous one.
+   Expected O(n + k log(n + k)) for ``k`` new points.
+
+New rows equal to an old row or to an earlier new row are merged and reported
+in ``duplicates``, like the first run's.
+
+>>> import numpy as np
+>>> from persistri.impl.terrain.scattered import delaunay
+>>> old = delaunay(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [2.0, 2.0]]))
+>>> new = extend_delaunay(old, [[1.0, 1.0], [0.0, 0.0]])   # the centre, and a repeat of row 0
+>>> new.triangles.tolist(), new.duplicates, old.triangles.shape
+([[0, 1, 4], [0, 4, 2], [1, 3, 4], [2, 4, 3]], ((5, 0),), (2, 3))
+"""
+
+from __future__ import annotations
+
+from itertools import chain
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from persistri.impl.collector import collector_paused
+from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.two_complex import TwoComplex
+from persistri.impl.complex.vertex import Vertex
+from persistri.impl.geometry.points import as_points, unique_rows
+from persistri.impl.geometry.predicates import Predicates2
+from persistri.impl.terrain.delaunay import Triangulator
+from persistri.impl.terrain.insertion import TriDatum, canonical_triangles, enter
+from persistri.impl.terrain.scattered import DelaunayTriangulation, insertion_order, run_insertions, verify_result
+
+__all__ = ["extend_delaunay", "resume_triangulator"]
+
+IntArray = NDArray[np.intp]
+
+
+def resume_triangulator(
+    pred: Predicates2, structure: TwoComplex[TriDatum], c: Complex[TriDatum], infinite: int, *, check: bool = False
+) -> Triangulator:
+    """A :class:`~persistri.impl.terrain.delaunay.Triangulator` whose current version is ``c``, ready to insert more.
+
+    ``c`` must be a finished Delaunay triangulation with ghosts (a scattered run's
+    version, its infinite vertex labelled ``infinite``) over the first points of
+    ``pred`` (labels index ``pred``; the row at ``infinite`` is never read).  The
+    live-triangle index, the edge index (when the run keeps one: uncounted), the
+    next triangle id and the vertices are read from ``c``.  O(size of ``c``).
+    """
+    T = Triangulator(pred, structure, check=check, edge_index=True)
+    items = structure.items(c)
+    tri_of: dict[int, Any] = {datum[0]: tri for tri, datum in items}
+    # The complex's own vertex objects, keyed by themselves (a vertex hashes and compares as its label).
+    every = list(chain.from_iterable(tri_of.values()))
+    verts: dict[int, Vertex] = dict(zip(every, every))
+    edges = T.edges
+    if edges is not None:
+        for tri, datum in items:
+            enter(edges, tri, datum)
+    if infinite not in verts:
+        raise ValueError(f"resume_triangulator: the complex has no vertex labelled {infinite} (the infinite vertex)")
+    inf = verts[infinite]
+    T.lineage = inf.lineage
+    T._verts = verts
+    T.infinite = inf
+    T.tri_of = tri_of
+    T._next_id = max(tri_of) + 1
+    T.complex = c
+    return T
+
+
+def extend_delaunay(tri: DelaunayTriangulation, points: ArrayLike, *, check: bool = False) -> DelaunayTriangulation:
+    """The Delaunay triangulation of ``tri.points`` and ``points`` together, continuing ``tri``'s run; ``tri`` is unchanged.
+
+    * ``points`` of the result are ``tri.points`` followed by the rows of
+      ``points``; ``triangles``, ``hull`` and ``duplicates`` index that
+      concatenation, and the triangles are exactly those of
+      :func:`~persistri.impl.terrain.scattered.delaunay` run on it (module docstring).
+    * The new complex shares everything the new points leave alone with
+      ``tri.complex``; if every new row repeats an old one, it *is* ``tri.complex``.
+    * ``history``: if ``tri`` kept one, its versions (the same objects) followed by
+      one version per new distinct point; else None.
+    * ``seed``, the structure (its backend) and ``stats`` are ``tri``'s: a counted
+      run's :class:`~persistri.impl.stats.Stats` counts the extension's work too.
+    * ``check`` — the insertion invariants at every step and the result verified
+      exactly, as ``delaunay(check=True)``.
+
+    Errors: :class:`TypeError`/:class:`ValueError` for ``points`` that are not a
+    ``(k, 2)`` array of finite reals (naming the first bad row). Expected
+    O(n + k log(n + k)).
+    """
+    if not isinstance(tri, DelaunayTriangulation):
+        raise TypeError(f"extend_delaunay: tri must be a DelaunayTriangulation made by delaunay, not {type(tri).__name__}")
+    new = as_points(points, 2, what="points")
+    n_old, k = tri.points.shape[0], new.shape[0]
+    arr = np.concatenate([tri.points, new])
+    arr.setflags(write=False)
+
+    # A row's representative is its first equal row (an old one if there is one), as delaunay's: the old rows keep
+    # theirs, since the concatenation only appends.
+    uniq = unique_rows(arr)
+    rep = uniq.first[uniq.inverse[n_old:]]
+    mine = np.arange(n_old, n_old + k, dtype=np.intp)
+    merged = tuple((int(r), int(f)) for r, f in zip(mine[rep != mine].tolist(), rep[rep != mine].tolist()))
+    fresh = mine[rep == mine]
+    m_old = tri.labels.size
+    labels = np.concatenate([tri.labels, fresh])
+    # The predicates' rows, by label; the infinite vertex's slot holds a stand-in (label 0's point), never read.
+    stand_in = np.where(labels >= 0, labels, labels[0])
+    structure = tri.structure
+    pred = Predicates2(arr[stand_in], stats=structure.stats)
+    with collector_paused():
+        T = resume_triangulator(pred, structure, tri.complex, tri.infinite, check=check)
+
+    drawn = int(np.random.default_rng((tri.seed, m_old)).integers(1 << 62))
+    order = (insertion_order(arr[fresh], drawn) + m_old).tolist()
+    versions: list[Complex[TriDatum]] | None = None if tri.history is None else []
+    triangles, cycle = run_insertions(T, order, versions, check=check)
+    history = None
+    if tri.history is not None:
+        assert versions is not None
+        history = tri.history.continued(versions, labels[order].tolist(), labels)
+    result = DelaunayTriangulation(
+        points=arr,
+        triangles=canonical_triangles(labels[triangles]),
+        hull=labels[cycle],
+        duplicates=tri.duplicates + merged,
+        complex=T.complex,
+        structure=structure,
+        seed=tri.seed,
+        labels=labels,
+        infinite=tri.infinite,
+        stats=tri.stats,
+        history=history,
+    )
+    if check:
+        verify_result(result)
+    return result
