@@ -27,12 +27,11 @@ work spread over the workers, and one pickling and unpickling of each result.
 
 from __future__ import annotations
 
-import gc
 import pickle
-from collections.abc import Callable, Iterator, Mapping, Sequence
-from contextlib import contextmanager
+from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, TypeVar
 
+from persistri.impl.collector import collector_paused
 from persistri.impl.scale.tasks import run, task
 
 if TYPE_CHECKING:
@@ -47,25 +46,14 @@ V = TypeVar("V")
 R = TypeVar("R")
 
 
-@contextmanager
-def _collector_paused() -> Iterator[None]:
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if enabled:
-            gc.enable()
-
-
 def _loads(blob: bytes) -> Any:
-    with _collector_paused():
+    with collector_paused(promote=False):
         return pickle.loads(blob)
 
 
 def _future(fn: Callable[..., Any], version: bytes, kwargs: Mapping[str, Any]) -> bytes:
     """One task: ``fn(the version, **kwargs)``, from a fresh copy of the pickled version; the result pickled."""
-    with _collector_paused():
+    with collector_paused(promote=False):
         result = fn(_loads(version), **kwargs)
         return pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL)
 
@@ -89,7 +77,7 @@ def futures(
     """
     if client is None:
         return [fn(version, **a) for a in arguments]
-    with _collector_paused():
+    with collector_paused(promote=False):
         blob = pickle.dumps(version, protocol=pickle.HIGHEST_PROTOCOL)
     jobs = [task(_future, fn, blob, dict(a)) for a in arguments]
     return [_loads(b) for b in run(client, jobs, progress=progress, title="futures")]

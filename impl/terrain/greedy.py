@@ -61,7 +61,6 @@ mirrors, so that world meshes are counterclockwise seen from above too.
 
 from __future__ import annotations
 
-import gc
 from array import array
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -71,6 +70,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from persistri.impl.collector import collector_paused
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.maps import backend as map_backend
@@ -406,9 +406,8 @@ def greedy_insertion(
     z = grid.ravel()
     tick = progress_callback(progress, "terrain", None if k_stop is None else k_stop - 4)
 
-    collector = gc.isenabled()
-    gc.disable()  # persistent nodes form no reference cycles: the cyclic collector only costs time here
-    try:
+    # Persistent nodes form no reference cycles: the cyclic collector only costs time here.
+    with collector_paused():
         run = GreedyRun(z, shape, TwoComplex(map_backend(backend), stats), stats, check, stepwise)
         T = run.T
         versions: list[Complex[TriDatum]] = [T.complex]
@@ -442,13 +441,6 @@ def greedy_insertion(
                 infinite=int(T.infinite),
             )
         tin = _tin(run.structure, T.complex, inserted_arr, z, shape, tf, kept, int(T.infinite), stats, errors[-1])
-    finally:
-        if collector:
-            # Promote what the run made to the oldest generation (freeze, unfreeze: two list splices):
-            # the next young collection would otherwise traverse every node of every version.
-            gc.freeze()
-            gc.unfreeze()
-            gc.enable()
     if check:
         from persistri.impl.terrain.check import verify_tin
 
