@@ -19,6 +19,7 @@ from persistri.impl.complex.vertex import Vertex
 from persistri.impl.geometry.filter import ERRBOUND_INCIRCLE, ERRBOUND_ORIENT2D
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.datum import Insertion, MeshDatum, MeshError, Tri, edge_key
+from persistri.impl.mesh.edges import EdgeIndex, edge_reader
 
 if TYPE_CHECKING:
     from persistri.impl.mesh.triangulation import MeshTriangulation
@@ -26,7 +27,9 @@ if TYPE_CHECKING:
 __all__ = ["remove_vertex", "link_polygon"]
 
 
-def remove_vertex(T: MeshTriangulation, c: Complex[MeshDatum], v: int, start: tuple[Tri, MeshDatum]) -> Insertion:
+def remove_vertex(
+    T: MeshTriangulation, c: Complex[MeshDatum], v: int, start: tuple[Tri, MeshDatum], index: EdgeIndex | None = None
+) -> Insertion:
     """Version ``c`` without the vertex ``v``: its star replaced by the Delaunay triangulation of its link.
 
     ``start`` is a triangle of ``c`` having ``v`` as a vertex.  ``v`` must be a
@@ -41,7 +44,8 @@ def remove_vertex(T: MeshTriangulation, c: Complex[MeshDatum], v: int, start: tu
     left (every unconstrained edge locally Delaunay).  It is built edge by edge:
     the apex over a base edge is the vertex on its inner side whose circle through
     the edge holds none of the others on that side (exact ``incircle``, SoS).
-    O(k²) predicates and one ``replace`` for a star of ``k`` triangles.
+    ``index``: an :data:`~persistri.impl.mesh.edges.EdgeIndex` of ``c``, read instead of
+    the complex.  O(k²) predicates and one ``replace`` for a star of ``k`` triangles.
     """
     vv = T.vertex(v)
     tri, dat = start
@@ -52,7 +56,7 @@ def remove_vertex(T: MeshTriangulation, c: Complex[MeshDatum], v: int, start: tu
     constraints: dict[tuple[int, int], int] = {}
     region = dat[1]
     first = t[1]
-    neighbour = T.S.neighbours_unchecked(c)  # every lookup is from v (edges of its star): its list is read once
+    get = index.get if index is not None else edge_reader(T.S, c)  # every lookup is from v (edges of its star)
     for _ in range(1 << 16):
         if t[1] < 0 or t[2] < 0:
             raise MeshError(f"internal: vertex {v} is on the hull; only free vertices are removed")
@@ -64,10 +68,12 @@ def remove_vertex(T: MeshTriangulation, c: Complex[MeshDatum], v: int, start: tu
             constraints[(lo, hi)] = s
         star.append((t, dat))
         link.append(t[1])
-        found = neighbour((vv, t[2]))
-        assert found is not None, "a closed surface has a triangle beyond every edge"
-        t, dat = found
-        if t[1] == first:
+        w = t[2]
+        rec = get((vv, w))
+        assert rec is not None, "a closed surface has a triangle beyond every edge"
+        t = (vv, w, rec[0])
+        dat = rec[1]
+        if w == first:
             break
     new: list[Tri] = []
     link_polygon(T.pred, link[0], link[1], link[:1:-1], new)

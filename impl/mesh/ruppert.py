@@ -84,8 +84,11 @@ the only ones allowed below the bound; :attr:`Refinement.reached` says whether
 every other triangle meets it.  ``max_steiner`` caps the number of Steiner
 points for bounds beyond the theory's reach (Triangle's ``-S``).
 
-Costs per accepted insertion: the cavity's O(k) complex operations (O(lg n)
-each) and exact tests, plus O(1) quality and encroachment tests per new
+The run reads the version it stands at through an edge index of it, changed only
+when it adopts a step (:mod:`~persistri.impl.mesh.edges`): O(1) per look-up.
+
+Costs per accepted insertion: the new version's ``replace`` (O(k) vertex lists,
+O(lg n) each) and the cavity's exact tests, plus O(1) quality and encroachment tests per new
 triangle (float stage first, exact when it cannot tell:
 :class:`~persistri.impl.mesh.quality.QualityTests`); an undone one costs its
 conflict search and O(k) encroachment tests, no complex operation, and leaves
@@ -98,42 +101,34 @@ removed once is gone for good (the undone versions' ids never enter the queue).
 from __future__ import annotations
 
 import heapq
-import math
-from collections import deque
 from collections.abc import Callable
-from fractions import Fraction
 from typing import Any
 
 from persistri.impl.complex.structure import Complex
-from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
+from persistri.impl.mesh.cdt import param_on_segment
 from persistri.impl.mesh.deletion import remove_vertex
+from persistri.impl.mesh.edges import index_of
 from persistri.impl.mesh.precision import crowded_apex, nearest_features, valid_split
-from persistri.impl.mesh.input_angles import InputAngles
-from persistri.impl.mesh.quality import AngleBound, BadShape, QualityTests
-from persistri.impl.mesh.record import Counts, DropLog, Refinement
+from persistri.impl.mesh.record import Counts, Refinement
+from persistri.impl.mesh.refine_state import Bad, RefinerState
 from persistri.impl.mesh.splitting import rounded_candidates, split_point
 from persistri.impl.mesh.steiner import PrecisionLimitError, steiner_point
 from persistri.impl.mesh.triangulation import (
     EXTERIOR,
     Cavity,
     Constraint,
-    Insertion,
     MeshDatum,
     MeshError,
-    MeshTriangulation,
     Tri,
     constraint_of,
     edge_key,
 )
 from persistri.impl.mesh.walk import walk_to
 
-__all__ = ["Counts", "Refinement", "Refiner"]
-
-Bad = tuple[int, int, Tri, MeshDatum, int, int, int]
-"""A queued bad triangle: ``(bucket, sequence, triangle, datum, p, q, r)`` with ``pq`` its shortest edge."""
+__all__ = ["Counts", "Refinement", "Refiner", "Bad"]
 
 
-class Refiner:
+class Refiner(RefinerState):
     """One refinement run from one version (module docstring); :meth:`run` returns a :class:`Refinement`.
 
     * ``T`` / ``geo`` — the triangulation and the segments' geometry (shared with
@@ -148,107 +143,6 @@ class Refiner:
       double lies on one; False: split points exactly on their segments wherever a double lies there,
       and else the nearest doubles (as Triangle), counted.
     """
-
-    def __init__(
-        self,
-        T: MeshTriangulation,
-        geo: SegmentGeometry,
-        bound: AngleBound,
-        max_area: Fraction | None,
-        region_area: dict[int, Fraction],
-        offconstant: float,
-        lens: bool = True,
-        exact_segments: bool = False,
-    ) -> None:
-        self.T = T
-        self.P = T.pred
-        self.S = T.S
-        self.geo = geo
-        self.bound = bound
-        self.max_area = max_area
-        self.region_area = region_area
-        self.offconstant = offconstant
-        self.lens = lens
-        self.exact_segments = exact_segments
-        self.tests = QualityTests(T.pred, bound, max_area, region_area, lens)
-        self.counts = Counts()
-        # The bad triangles: a FIFO queue per bucket, and a heap of the buckets that have one (Triangle's queue).
-        self._queues: dict[int, deque[Bad]] = {}
-        self._buckets: list[int] = []
-        self._seq = 0
-        self._segs: deque[Constraint] = deque()
-        self._exempt: set[int] = set()
-        self.angles = InputAngles(T.pred, geo)
-        self._dead: set[int] = set()
-        self.log = DropLog()
-        self._version = 0  # the history index of the version the run stands at
-
-    # -- the queue -----------------------------------------------------------------------------
-
-    def _push_bad(self, t: Tri, d: MeshDatum, p: int, q: int, r: int, edge2: float) -> None:
-        """Queue the bad triangle ``t`` in the bucket of its squared shortest edge ``edge2`` (its binary exponent)."""
-        bucket = math.frexp(edge2)[1] if 0.0 < edge2 < math.inf else 0
-        self._seq += 1
-        self._enqueue((bucket, self._seq, t, d, p, q, r))
-
-    def _enqueue(self, bad: Bad) -> None:
-        """Queue ``bad`` last in its bucket. O(1), plus O(lg buckets) for a bucket that was empty."""
-        queue = self._queues.get(bad[0])
-        if queue is None:
-            queue = self._queues[bad[0]] = deque()
-            heapq.heappush(self._buckets, bad[0])
-        queue.append(bad)
-
-    def _judge(self, t: Tri, d: MeshDatum) -> None:
-        """Queue the domain triangle ``t`` if it must be split; record it if it is exempt."""
-        found = self.tests.assess(t[0], t[1], t[2], d[1])
-        if found is not None:
-            self._judge_bad(t, d, found)
-
-    def _judge_bad(self, t: Tri, d: MeshDatum, found: BadShape) -> None:
-        """:meth:`_judge` for a triangle whose assessment ``found`` says it is bad: queue it, or record it exempt."""
-        p, q, r, edge2, good = found
-        if not good and self.angles.exempt_edge(p, q) and not self.tests.area_bad(t[0], t[1], t[2], d[1]):
-            self._exempt.add(d[0])
-            return
-        self._push_bad(t, d, p, q, r, edge2)
-
-    def _examine(self, created: tuple[tuple[Tri, MeshDatum], ...]) -> None:
-        """Queue the bad triangles among ``created`` and the subsegments their apexes encroach."""
-        encroaches = self.tests.encroaches
-        assess = self.tests.assess
-        exempt_edge = self.angles.exempt_edge
-        queues = self._queues
-        for t, d in created:
-            if d[1] == EXTERIOR:
-                continue
-            found = assess(t[0], t[1], t[2], d[1])  # self._judge(t, d), inlined
-            if found is not None:
-                # self._judge_bad(t, d, found) and self._push_bad, inlined.
-                p, q, r, edge2, good = found
-                if not good and exempt_edge(p, q) and not self.tests.area_bad(t[0], t[1], t[2], d[1]):
-                    self._exempt.add(d[0])
-                else:
-                    bucket = math.frexp(edge2)[1] if 0.0 < edge2 < math.inf else 0
-                    self._seq += 1
-                    queue = queues.get(bucket)
-                    if queue is None:
-                        queue = queues[bucket] = deque()
-                        heapq.heappush(self._buckets, bucket)
-                    queue.append((bucket, self._seq, t, d, p, q, r))
-            if d[2]:
-                a, b, c = t
-                for lo, hi, s in d[2]:
-                    k = a if a != lo and a != hi else b if b != lo and b != hi else c
-                    if encroaches(lo, hi, k):
-                        self._segs.append((lo, hi, s))
-
-    def _adopt(self, step: Insertion) -> None:
-        """The run moves on to ``step.version``: its removed triangles are gone for good, its new ones examined."""
-        dead = self._dead
-        for _, d in step.removed:
-            dead.add(d[0])
-        self._examine(step.created)
 
     # -- steps -----------------------------------------------------------------------------
 
@@ -272,12 +166,12 @@ class Refiner:
                     break
                 if apex < geo.n_input or apex in geo.on_segment or P.dot_sign(lo, hi, apex) >= 0:
                     break
-                step = remove_vertex(T, c, apex, side)
+                step = remove_vertex(T, c, apex, side, self._edges)
                 c = step.version
                 deleted.append(int(apex))
                 self.counts.deletions += 1
                 self._adopt(step)
-                sides[0], sides[1] = self.S.neighbour(c, (vu, vw)), self.S.neighbour(c, (vw, vu))
+                sides[0], sides[1] = self._beside(vu, vw), self._beside(vw, vu)
         return c, deleted
 
     def _split(self, c: Complex[MeshDatum], sub: Constraint) -> tuple[Complex[MeshDatum], int, list[int]] | None:
@@ -286,11 +180,11 @@ class Refiner:
         T, P, geo = self.T, self.P, self.geo
         lo, hi, s = sub
         vu, vw = T.vertex(lo), T.vertex(hi)
-        first = self.S.neighbour(c, (vu, vw))
+        first = self._beside(vu, vw)
         if first is None or constraint_of(first[1], lo, hi) != s:
             return None
         deleted: list[int] = []
-        sides = [first, self.S.neighbour(c, (vw, vu))]
+        sides = [first, self._beside(vw, vu)]
         if self.lens:
             c, deleted = self._delete_free(c, lo, hi, sides)
         start = sides[0] if sides[0] is not None else sides[1]
@@ -306,7 +200,9 @@ class Refiner:
             P, geo, lo, hi, s, sides, self.angles.small_angle, self.exact_segments, self.angles.tolerances
         )
         p = P.append(x, y)
-        step = T.insert(c, p, start, split=(lo, hi, s))
+        # Exactly on the segment between ends exactly on it: exactly on the subsegment's line (no test needed).
+        on_line = not rounded and lo not in geo.off_segment and hi not in geo.off_segment
+        step = T.insert(c, p, start, (lo, hi, s), self._edges, on_line)
         if rounded and not valid_split(P, step, lo, hi):
             # Off the segment by an ulp, p may not see every edge of its cavity from inside (a vertex within an ulp
             # of the segment), or may leave the old subsegment standing.  Persistence makes trying cheap: the
@@ -318,7 +214,7 @@ class Refiner:
                     continue
                 self.counts.rounding_retries += 1
                 p = P.append(x2, y2)
-                step = T.insert(c, p, start, split=(lo, hi, s))
+                step = T.insert(c, p, start, (lo, hi, s), self._edges)
                 if valid_split(P, step, lo, hi):
                     if t2 != t:
                         shell = None  # another parameter: off the shell
@@ -353,7 +249,7 @@ class Refiner:
         _, _, t, d, sp, sq, sr = bad
         x, y, off = steiner_point(P, sp, sq, sr, self.offconstant)
         p = P.append(x, y)
-        where = walk_to(T, c, (t, d), p)
+        where = walk_to(T, c, (t, d), p, self._edges)
         if where[0] == "blocked":
             tri = (int(t[0]), int(t[1]), int(t[2]))
             lo, hi, s = where[1]
@@ -383,7 +279,7 @@ class Refiner:
                     self._segs.append((lo, hi, s))
                     self._requeue(bad)
                     return None
-        cav = T.cavity(c, p, (ft, fd))
+        cav = T.cavity(c, p, (ft, fd), None, self._edges)
         # The subsegments the new version would hold on its fan are the cavity's constrained boundary edges: whether p
         # encroaches one is decided before the version is built.
         encroached = self._encroached_on(cav, p)
@@ -437,10 +333,6 @@ class Refiner:
                 break
         return out
 
-    def _requeue(self, bad: Bad) -> None:
-        self._seq += 1
-        self._enqueue((bad[0], self._seq, bad[2], bad[3], bad[4], bad[5], bad[6]))
-
     # -- the run ---------------------------------------------------------------------------
 
     def run(
@@ -456,7 +348,9 @@ class Refiner:
         # Each subsegment once, at its first domain triangle, if the apex of a domain triangle beside it encroaches
         # it: both such triangles are among the items (:meth:`_encroached`, read off them instead of looked up).
         subsegments: dict[tuple[int, int], list[Any]] = {}
-        for t, d in self.S.items(c):
+        items = self.S.items(c)
+        self._edges = index_of(items)
+        for t, d in items:
             if d[1] == EXTERIOR:
                 continue
             self._judge(t, d)
@@ -554,14 +448,3 @@ class Refiner:
                     angle_ok = False
         return angle_ok, area_ok
 
-    def _encroached(self, c: Complex[MeshDatum], lo: int, hi: int, encroaches: Callable[[int, int, int], bool]) -> bool:
-        """Whether the subsegment ``{lo, hi}`` of version ``c`` has a domain triangle whose apex encroaches it."""
-        u, w = self.T.vertex(lo), self.T.vertex(hi)
-        for x, y in ((u, w), (w, u)):
-            found = self.S.neighbour(c, (x, y))
-            if found is None:
-                continue
-            t, d = found
-            if d[1] != EXTERIOR and t[2] >= 0 and encroaches(lo, hi, t[2]):
-                return True
-        return False

@@ -76,6 +76,7 @@ from persistri.impl.mesh.datum import (
     edge_key,
 )
 from persistri.impl.mesh.deletion import remove_vertex
+from persistri.impl.mesh.edges import EdgeIndex, edge_reader
 from persistri.impl.mesh.walk import locate, walk_to
 
 __all__ = [
@@ -176,6 +177,8 @@ class MeshTriangulation:
         p: int,
         start: tuple[Tri, MeshDatum],
         split: tuple[int, int, int] | None = None,
+        index: EdgeIndex | None = None,
+        on_line: bool = False,
     ) -> Insertion:
         """Insert point ``p`` into version ``c`` from ``start``, a triangle in conflict with it (module docstring).
 
@@ -189,10 +192,10 @@ class MeshTriangulation:
         edge must go, and a sliver left in the domain would not be Delaunay), and when
         it is exterior (a ghost, a hole) it stays, rewritten without the constraint,
         and the sliver between the new chain ``u–p–w`` and the old edge joins the
-        exterior (so a hull stays convex).  Returns the :class:`Insertion`; ``c`` is
-        unchanged.
+        exterior (so a hull stays convex).  ``index`` and ``on_line``: as :meth:`cavity`'s.  Returns the
+        :class:`Insertion`; ``c`` is unchanged.
         """
-        return self.build(self.cavity(c, p, start, split))
+        return self.build(self.cavity(c, p, start, split, index, on_line))
 
     def cavity(
         self,
@@ -200,24 +203,37 @@ class MeshTriangulation:
         p: int,
         start: tuple[Tri, MeshDatum],
         split: tuple[int, int, int] | None = None,
+        index: EdgeIndex | None = None,
+        on_line: bool = False,
     ) -> Cavity:
         """The conflict search of :meth:`insert`, without building anything: which triangles go, and the boundary.
 
         Reads ``c`` only (no complex operation that makes a version): the refinement decides on the
-        boundary whether the point would encroach a subsegment before paying for the new version. O(k).
+        boundary whether the point would encroach a subsegment before paying for the new version.  ``index``: an
+        :data:`~persistri.impl.mesh.datum.EdgeIndex` of ``c`` (the refinement's, kept in step with the version it
+        stands at), read instead of the complex.  ``on_line``: the caller knows that the split point ``p`` lies
+        exactly on the line of the split edge (a split point exactly on its segment, between ends exactly on it),
+        so its orientation is not tested (it would be decided exactly: it is 0), and a triangle beyond the edge is
+        in conflict without a test (``p`` strictly inside the edge is strictly inside every circle through its ends;
+        a ghost's rule says the same); with :attr:`check` both are tested anyway. O(k).
         """
         conflicts = self.conflicts
         pred = self.pred
         crossing = edge_key(split[0], split[1]) if split is not None else None
+        get = index.get if index is not None else edge_reader(self.S, c)
         off_line = 0
         if split is not None:
-            off_line = pred.orient2d_sign(split[0], split[1], p)
+            if not on_line or self.check:
+                off_line = pred.orient2d_sign(split[0], split[1], p)
+                if on_line and off_line:
+                    raise MeshError(f"internal: split point {p} is off the line of the edge {crossing}")
             if off_line:
                 lo, hi = self.vertex(split[0]), self.vertex(split[1])
-                found0 = self.S.neighbour(c, (lo, hi) if off_line > 0 else (hi, lo))
-                if found0 is None:
+                e0 = (lo, hi) if off_line > 0 else (hi, lo)
+                rec0 = get(e0)
+                if rec0 is None:
                     raise MeshError(f"internal: no triangle beside the subsegment {crossing} on the side of point {p}")
-                start = found0
+                start = ((e0[0], e0[1], rec0[0]), rec0[1])
         stri, sdat = start
         if self.check and not off_line and not conflicts(stri, p):
             raise MeshError(f"internal: point {p} is not in conflict with the start triangle {stri}")
@@ -228,7 +244,6 @@ class MeshTriangulation:
         beyond: tuple[Tri, MeshDatum] | None = None
         a, b, cc = stri
         stack = [(a, b, sdat), (b, cc, sdat), (cc, a, sdat)]
-        neighbour = self.S.neighbours_unchecked(c)  # one version read many times (edges of its triangles): each list fetched once
         # The incircle filter inlined (the predicates' own filter, the same operations), exact when it cannot tell;
         # counted runs go through the predicates.
         rows = pred.filter_rows if pred.stats is None else None
@@ -250,14 +265,16 @@ class MeshTriangulation:
                     # The subsegment split: both triangles beside it go (a domain triangle beyond a rounded point's
                     # edge whatever its circle says); an exterior one beyond a rounded point stays, and the sliver
                     # between the new chain u–p–w and the old edge is exterior.
-                    found = neighbour((w, u))
-                    assert found is not None, "a closed surface has a triangle beyond every edge"
-                    ntri, ndat = found
+                    rec = get((w, u))
+                    assert rec is not None, "a closed surface has a triangle beyond every edge"
+                    ndat = rec[1]
+                    ntri = (w, u, rec[0])
+                    found = (ntri, ndat)
                     nid = ndat[0]
                     if nid in cavity:
                         continue
                     if nid not in rejected:
-                        if ndat[1] != EXTERIOR if off_line else conflicts(ntri, p):
+                        if ndat[1] != EXTERIOR if off_line else (on_line and not self.check) or conflicts(ntri, p):
                             cavity[nid] = found
                             x = ntri[2]
                             stack.append((u, x, ndat))
@@ -267,14 +284,16 @@ class MeshTriangulation:
                     boundary.append((u, w, EXTERIOR, -1))
                     beyond = found
                     continue
-            found = neighbour((w, u))
-            assert found is not None, "a closed surface has a triangle beyond every edge"
-            ntri, ndat = found
+            rec = get((w, u))
+            assert rec is not None, "a closed surface has a triangle beyond every edge"
+            ndat = rec[1]
             nid = ndat[0]
             if nid in cavity:
                 continue
             if nid not in rejected:
-                x0, x1, x2 = ntri
+                x2 = rec[0]
+                ntri = (w, u, x2)
+                x0, x1 = w, u
                 if rows is None or x0 < 0 or x1 < 0 or x2 < 0:
                     inside = conflicts(ntri, p)
                 else:
@@ -311,10 +330,9 @@ class MeshTriangulation:
                     else:
                         inside = pred.incircle(x0, x1, x2, p) > 0
                 if inside:
-                    cavity[nid] = found
-                    x = ntri[2]
-                    stack.append((u, x, ndat))
-                    stack.append((x, w, ndat))
+                    cavity[nid] = (ntri, ndat)
+                    stack.append((u, x2, ndat))
+                    stack.append((x2, w, ndat))
                     continue
                 rejected.add(nid)
             boundary.append((u, w, dat[1], -1))

@@ -25,6 +25,7 @@ from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.vertex import Vertex
 from persistri.impl.geometry.filter import ERRBOUND_ORIENT2D
 from persistri.impl.mesh.datum import Constraint, MeshDatum, MeshError, Tri, constraint_of, edge_key
+from persistri.impl.mesh.edges import EdgeIndex
 
 if TYPE_CHECKING:
     from persistri.impl.mesh.triangulation import MeshTriangulation
@@ -69,7 +70,7 @@ def locate(T: MeshTriangulation, c: Complex[MeshDatum], p: int, hint: tuple[Tri,
 
 
 def walk_to(
-    T: MeshTriangulation, c: Complex[MeshDatum], start: tuple[Tri, MeshDatum], p: int
+    T: MeshTriangulation, c: Complex[MeshDatum], start: tuple[Tri, MeshDatum], p: int, index: EdgeIndex | None = None
 ) -> tuple[Literal["found"], tuple[Tri, MeshDatum]] | tuple[Literal["blocked"], Constraint]:
     """Walk from the finite triangle ``start`` towards point ``p`` along a straight line, never crossing a segment.
 
@@ -79,7 +80,8 @@ def walk_to(
     ``{u, w}`` (``segment`` -1 for a hull edge that is no segment).  The line
     starts at the vertex of ``start`` opposite the edge ``p`` lies beyond (a
     circumcentre or off-centre of ``start`` lies beyond at most one of its
-    edges: two would need two obtuse angles).  O(length).
+    edges: two would need two obtuse angles).  ``index``: an
+    :data:`~persistri.impl.mesh.edges.EdgeIndex` of ``c``, read instead of the complex.  O(length).
     """
     pred = T.pred
     rows = pred.filter_rows
@@ -118,8 +120,12 @@ def walk_to(
         seg = constraint_of(dat, r, l) if dat[2] else -1
         if seg >= 0:
             return "blocked", (*edge_key(r, l), seg)
-        tri, dat = T.across(c, r, l)  # (l, r, z)
-        z = tri[2]
+        if index is None:
+            tri, dat = T.across(c, r, l)  # (l, r, z)
+            z = tri[2]
+        else:
+            z, dat = index[(l, r)]
+            tri = (l, r, z)
         if z == inf:
             return "blocked", (*edge_key(r, l), -1)
         if P(r, z, p) > 0 and P(z, l, p) > 0:
