@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from persistri._arrays import read_only
+from persistri._scipy_options import check_qhull_options, closed_error
 from persistri.impl.complex.adjacency import triangle_neighbors, vertex_neighbor_vertices, vertex_to_simplex
 from persistri.impl.geometry.barycentric import barycentric_transforms, lifted_equations, paraboloid_lift, paraboloid_scaling
 from persistri.impl.geometry.points import as_points
@@ -32,7 +33,8 @@ FloatArray = NDArray[np.float64]
 class Delaunay:
     """The exact Delaunay triangulation of 2D points (paper §5), in the shape of :class:`scipy.spatial.Delaunay`.
 
-    ``Delaunay(points, *, backend="red_black", seed=0, check=False, stats=None, history=False)``
+    ``Delaunay(points, furthest_site=False, incremental=False, qhull_options=None, *,
+    backend="red_black", seed=0, check=False, stats=None, history=False)``
     triangulates ``points`` (``(n, 2)`` reals), every decision exact, ties among
     cocircular points broken by Simulation of Simplicity
     (:func:`persistri.impl.terrain.scattered.delaunay` documents the arguments).
@@ -67,8 +69,14 @@ class Delaunay:
 
     What persistence adds: ``add_points(points)`` returns a NEW triangulation of
     these points and the new ones, continuing this one's run and sharing its
-    structure (this one stays exactly as it was; scipy's changes in place), and
-    ``history`` (with ``history=True``) holds every intermediate triangulation.
+    structure (this one stays exactly as it was), and ``history`` (with
+    ``history=True``) holds every intermediate triangulation.  scipy's arguments
+    are taken in scipy's positions (:mod:`persistri._scipy_options`):
+    ``incremental=True`` makes ``add_points`` change this object, as scipy's
+    does, until ``close()``; ``qhull_options`` that only tune Qhull's round-off
+    (scipy's defaults among them) are accepted, since nothing here rounds, and
+    others are a :class:`ValueError`; ``furthest_site=True`` is a
+    :class:`NotImplementedError`.
 
     Errors, one line each: :class:`TypeError` / :class:`ValueError` for input that
     is not ``(n, 2)`` finite reals;
@@ -83,10 +91,12 @@ class Delaunay:
     [0, 0, 2, -1]
     """
 
-    __slots__ = ("_tri", "_check", "_points", "_simplices", "_neighbors", "_hull_edges", "_vnv", "_v2s", "_transform", "_equations", "_scaling")
+    __slots__ = ("_tri", "_check", "_incremental", "_closed", "_points", "_simplices", "_neighbors", "_hull_edges", "_vnv", "_v2s", "_transform", "_equations", "_scaling")
 
     _tri: DelaunayTriangulation
     _check: bool
+    _incremental: bool
+    _closed: bool
     _points: FloatArray
     _simplices: IntcArray
     _neighbors: IntcArray
@@ -100,6 +110,9 @@ class Delaunay:
     def __init__(
         self,
         points: ArrayLike,
+        furthest_site: bool = False,
+        incremental: bool = False,
+        qhull_options: str | None = None,
         *,
         backend: str = "red_black",
         seed: int = 0,
@@ -107,6 +120,14 @@ class Delaunay:
         stats: Stats | None = None,
         history: bool = False,
     ) -> None:
+        if furthest_site:
+            raise NotImplementedError(
+                "Delaunay: furthest_site=True is not implemented (persistri computes the nearest-site Delaunay "
+                "triangulation, the lower hull of the lifted points)"
+            )
+        check_qhull_options(qhull_options, "Delaunay")
+        self._incremental = bool(incremental)
+        self._closed = False
         self._adopt(delaunay(points, backend=backend, seed=seed, check=check, stats=stats, history=history), check)
 
     def _adopt(self, tri: DelaunayTriangulation, check: bool) -> None:
@@ -131,32 +152,58 @@ class Delaunay:
             raise TypeError(f"Delaunay.from_triangulation needs a persistri DelaunayTriangulation, not {type(tri).__name__}")
         return cls._from(tri, False)
 
-    def add_points(self, points: ArrayLike, *, check: bool | None = None) -> Delaunay:
-        """A NEW triangulation of these points and ``points`` (``(k, 2)``); this one is left exactly as it was.
+    def add_points(self, points: ArrayLike, restart: bool = False, *, check: bool | None = None) -> Delaunay:
+        """The triangulation of these points and ``points`` (``(k, 2)``): a NEW one, or, in incremental mode, this one.
 
-        Unlike scipy's ``add_points`` (which changes the triangulation in place),
-        the new one continues this one's run from its final version and shares
-        its structure (:func:`~persistri.impl.terrain.extend_delaunay.extend_delaunay`):
-        its ``points`` are this one's rows followed by the new ones (row numbers
-        keep their meaning), its ``simplices`` exactly those of a triangulation of
-        all the rows at once, and its ``history`` continues this one's when this
-        one kept it.  ``check`` defaults to this one's.  Errors as for the
-        constructor, about ``points``.  Expected O(n + k log(n + k)).
+        Made without ``incremental=True``, this triangulation is left exactly as it
+        was and a new one is returned: it continues this one's run from its final
+        version and shares its structure
+        (:func:`~persistri.impl.terrain.extend_delaunay.extend_delaunay`).  Made with
+        ``incremental=True`` (scipy's mode), this object moves to that new version
+        and returns itself — as scipy's ``add_points`` changes its triangulation —
+        until :meth:`close`; the old version is still there underneath (in
+        ``history``, if kept).  Either way ``points`` are this one's rows followed
+        by the new ones (row numbers keep their meaning), ``simplices`` exactly
+        those of a triangulation of all the rows at once, and ``history``
+        continues this one's when this one kept it.  ``restart=True`` (scipy's
+        option) triangulates all the rows again from scratch instead of
+        continuing: the same triangulation, a history of its own.  ``check``
+        defaults to this one's.  Errors as for the constructor, about ``points``;
+        :class:`RuntimeError` after :meth:`close` in incremental mode.  Expected
+        O(n + k log(n + k)) (restart: O((n + k) log(n + k))).
 
         >>> import persistri
         >>> tri = persistri.Delaunay([[0, 0], [2, 0], [0, 2], [2, 2]])
         >>> more = tri.add_points([[1, 1]])
         >>> tri.nsimplex, more.nsimplex, more.npoints
         (2, 4, 5)
+        >>> live = persistri.Delaunay([[0, 0], [2, 0], [0, 2], [2, 2]], incremental=True)   # scipy's mode
+        >>> live.add_points([[1, 1]]) is live, live.nsimplex
+        (True, 4)
         """
-        from persistri.impl.terrain.extend_delaunay import extend_delaunay
-
+        if self._closed:
+            raise closed_error("Delaunay")
         chk = self._check if check is None else check
-        return Delaunay._from(extend_delaunay(self._tri, points, check=chk), chk)
+        old = self._tri
+        if restart:
+            from persistri.impl.geometry.points import as_points
+
+            rows = np.concatenate([old.points, as_points(points, 2, what="points")])
+            new = delaunay(rows, backend=old.backend, seed=old.seed, check=chk, history=old.history is not None)
+        else:
+            from persistri.impl.terrain.extend_delaunay import extend_delaunay
+
+            new = extend_delaunay(old, points, check=chk)
+        if self._incremental:
+            self._adopt(new, chk)
+            return self
+        return Delaunay._from(new, chk)
 
     @classmethod
     def _from(cls, tri: DelaunayTriangulation, check: bool) -> Delaunay:
         self = cls.__new__(cls)
+        self._incremental = False
+        self._closed = False
         self._adopt(tri, check)
         return self
 
@@ -297,7 +344,10 @@ class Delaunay:
         return False
 
     def close(self) -> None:
-        """Nothing to do: the triangulation holds no resources (scipy's ``close`` ends incremental mode). O(1)."""
+        """End incremental mode (``incremental=True``: :meth:`add_points` then raises, as scipy's); otherwise nothing
+        to do (the triangulation holds no resources, and :meth:`add_points` goes on returning new ones). O(1)."""
+        if self._incremental:
+            self._closed = True
 
     def _lifting(self) -> tuple[float, float]:
         """``(paraboloid_scale, paraboloid_shift)``, over the input points. O(n) once."""

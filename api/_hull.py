@@ -24,7 +24,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from persistri._arrays import read_only
+from persistri._hull_chunked import chunked_hull, read_all, too_big_to_load
+from persistri._scipy_options import check_qhull_options, closed_error
 from persistri.impl.complex.adjacency import triangle_neighbors
+from persistri.impl.geometry.points import as_points
 from persistri.impl.hull.api import Hull, HullHistory, convex_hull
 from persistri.impl.hull.measures import enclosed_volume, equations_of, facet_normals
 from persistri.impl.stats import Stats
@@ -33,7 +36,6 @@ if TYPE_CHECKING:
     from distributed import Client
 
     from persistri.impl.scale.hull import ParallelHull
-    from persistri.impl.scale.sources import PointSource
 
 __all__ = ["ConvexHull"]
 
@@ -45,10 +47,16 @@ FloatArray = NDArray[np.float64]
 class ConvexHull:
     """The exact convex hull of 3D points (paper §3), in the shape of :class:`scipy.spatial.ConvexHull`.
 
-    ``ConvexHull(points, *, backend="red_black", history=False, seed=0, check=False,
-    stats=None, progress=False)`` computes the hull of ``points`` (``(n, 3)``
-    reals) by the bulldozer, every decision exact
-    (:func:`persistri.impl.hull.api.convex_hull` documents the arguments).
+    ``ConvexHull(points, incremental=False, qhull_options=None, *, backend="red_black",
+    history=False, seed=0, check=False, stats=None, progress=False)`` computes the hull
+    of ``points`` (``(n, 3)`` reals) by the bulldozer, every decision exact
+    (:func:`persistri.impl.hull.api.convex_hull` documents the arguments).  scipy's
+    arguments are taken in scipy's positions (:mod:`persistri._scipy_options`):
+    ``incremental=True`` makes :meth:`add_points` change this object, as scipy's does,
+    until ``close()`` (without it, ``add_points`` returns a new hull and leaves this
+    one as it was); ``qhull_options`` that only tune Qhull's round-off (scipy's
+    defaults among them) are accepted, since nothing here rounds, and others are a
+    :class:`ValueError`.
 
     Attributes (arrays are read-only; index arrays are ``np.intc`` like scipy's):
 
@@ -130,7 +138,7 @@ class ConvexHull:
 
     __slots__ = (
         "_hull", "_check", "_n", "_points", "_simplices", "_vertices", "_neighbors", "_facets", "_equations", "_area",
-        "_volume", "_chunked", "_mpoints", "_msimplices", "_history",
+        "_volume", "_chunked", "_mpoints", "_msimplices", "_history", "_incremental", "_closed",
     )
 
     _hull: Hull
@@ -148,10 +156,14 @@ class ConvexHull:
     _mpoints: FloatArray  # the coordinates the measures read: all points, or only the vertices (chunked)
     _msimplices: NDArray[np.intp]  # the triangles as rows of _mpoints, in the order of `simplices`
     _history: HullHistory | None
+    _incremental: bool
+    _closed: bool
 
     def __init__(
         self,
         points: ArrayLike | os.PathLike[str],
+        incremental: bool = False,
+        qhull_options: str | None = None,
         *,
         backend: str = "red_black",
         history: bool = False,
@@ -164,8 +176,11 @@ class ConvexHull:
         scheduler: str | None = None,
         chunk_rows: int | None = None,
     ) -> None:
+        check_qhull_options(qhull_options, "ConvexHull")
+        self._incremental = bool(incremental)
+        self._closed = False
         where = (client, workers, scheduler, chunk_rows)
-        if isinstance(points, os.PathLike) or _too_big_to_load(points) or any(x is not None for x in where):
+        if isinstance(points, os.PathLike) or too_big_to_load(points) or any(x is not None for x in where):
             if stats is not None:
                 raise ValueError(
                     "stats= counts the operations of one process: give the points as an array, "
@@ -174,7 +189,7 @@ class ConvexHull:
             if not isinstance(progress, bool):
                 raise ValueError("a progress callback follows the one-process run: give progress=True for chunked input")
             self._adopt_chunked(
-                _chunked_hull(
+                chunked_hull(
                     points, client=client, workers=workers, scheduler=scheduler, chunk_rows=chunk_rows,
                     seed=seed, backend=backend, history=history, check=check, progress=progress,
                 ),
@@ -228,39 +243,69 @@ class ConvexHull:
         if not isinstance(hull, Hull):
             raise TypeError(f"ConvexHull.from_hull needs a persistri Hull, not {type(hull).__name__}")
         self = cls.__new__(cls)
+        self._incremental = self._closed = False
         self._adopt(hull, check)
         return self
 
     # -- persistence ------------------------------------------------------------------
 
     def add_points(
-        self, points: ArrayLike, *, check: bool | None = None, progress: bool | Callable[[int], Any] = False
+        self,
+        points: ArrayLike,
+        restart: bool = False,
+        *,
+        check: bool | None = None,
+        progress: bool | Callable[[int], Any] = False,
     ) -> ConvexHull:
-        """A NEW hull of these points and ``points`` (``(k, 3)``); this hull is left exactly as it was.
+        """The hull of these points and ``points`` (``(k, 3)``): a NEW hull, or, in incremental mode, this one.
 
-        Unlike scipy's ``add_points`` (which changes the hull in place), the new
-        hull shares its structure with this one: the bulldozer resumes from this
-        hull's final version (:func:`persistri.impl.hull.extend.extend_hull`), so
-        its ``points`` are this hull's rows followed by the new ones (row numbers
-        keep their meaning), and its ``history`` continues this one's when this
-        one kept it.  ``check`` defaults to this hull's.  Errors as for the
-        constructor, about ``points``.
+        Made without ``incremental=True``, this hull is left exactly as it was and a
+        new one is returned, sharing its structure: the bulldozer resumes from this
+        hull's final version (:func:`persistri.impl.hull.extend.extend_hull`).  Made
+        with ``incremental=True`` (scipy's mode), this object moves to that new hull
+        and returns itself — as scipy's ``add_points`` changes its hull — until
+        :meth:`close`; the old hull is still there underneath (in ``history``, if
+        kept).  Either way the ``points`` are this hull's rows followed by the new
+        ones (row numbers keep their meaning), and ``history`` continues this one's
+        when this one kept it.  ``restart=True`` (scipy's option) computes the hull
+        of all the rows again from scratch instead (the same hull; a history of its
+        own).  ``check`` defaults to this hull's.  Errors as for the constructor,
+        about ``points``; :class:`RuntimeError` after :meth:`close` in incremental mode.
 
         A hull computed chunk by chunk resumes its final merge instead
         (:func:`~persistri.impl.scale.extend.extend_parallel`), with exactly the same result as
         the one-process hull's ``add_points``; that reads the input once, in this process, to
-        find the new points equal to old ones.
+        find the new points equal to old ones (``restart=True`` is a :class:`ValueError` there:
+        it would hull the whole input again).
         """
         from persistri.impl.hull.extend import extend_hull
 
+        if self._closed:
+            raise closed_error("ConvexHull")
         chk = self._check if check is None else check
+        if self._incremental:
+            out = self
+        else:
+            out = ConvexHull.__new__(ConvexHull)
+            out._incremental = out._closed = False
         if self._chunked is not None:
+            if restart:
+                raise ValueError(
+                    "ConvexHull.add_points: restart=True on a chunked hull would hull the whole input again; "
+                    "make a new ConvexHull of it instead"
+                )
             from persistri.impl.scale.extend import extend_parallel
 
-            out = ConvexHull.__new__(ConvexHull)
             out._adopt_chunked(extend_parallel(self._chunked, points, check=chk, progress=progress), chk)
             return out
-        return ConvexHull.from_hull(extend_hull(self._hull, points, check=chk, progress=progress), check=chk)
+        old = self._hull
+        if restart:
+            rows = np.concatenate([old.points, as_points(points, 3, what="new points")])
+            hull = convex_hull(rows, backend=old.backend, history=old.history is not None, seed=old.seed, check=chk, progress=progress)
+        else:
+            hull = extend_hull(old, points, check=chk, progress=progress)
+        out._adopt(hull, chk)
+        return out
 
     # -- scipy.spatial.ConvexHull's attributes ---------------------------------------
 
@@ -273,7 +318,7 @@ class ConvexHull:
         """
         if self._points is None:
             assert self._chunked is not None
-            self._points = _read_all(self._chunked.source)
+            self._points = read_all(self._chunked.source)
         return self._points
 
     @property
@@ -349,7 +394,10 @@ class ConvexHull:
         return read_only(self.vertex_points.max(axis=0))
 
     def close(self) -> None:
-        """Nothing to do: a hull holds no resources (scipy's ``close`` ends incremental mode; :meth:`add_points` works on). O(1)."""
+        """End incremental mode (``incremental=True``: :meth:`add_points` then raises, as scipy's); otherwise nothing
+        to do (a hull holds no resources, and :meth:`add_points` goes on returning new hulls). O(1)."""
+        if self._incremental:
+            self._closed = True
 
     @property
     def npoints(self) -> int:
@@ -410,72 +458,3 @@ class ConvexHull:
             f"persistri.ConvexHull({self.npoints} points, {self.nsimplex} triangles, "
             f"{self._vertices.size} vertices, backend={self.backend!r}{kept})"
         )
-
-
-# -- inputs too big to load --------------------------------------------------------------------------
-
-
-def _too_big_to_load(points: object) -> bool:
-    """Whether ``points`` is read chunk by chunk: a path, a Dask or Zarr array, or a chunked source."""
-    if isinstance(points, (str, os.PathLike)):
-        return True
-    module = type(points).__module__
-    return module.split(".")[0] in ("dask", "zarr") or module == "persistri.impl.scale.sources"
-
-
-def _chunked_hull(
-    points: Any,
-    *,
-    client: Client | None,
-    workers: int | None,
-    scheduler: str | None,
-    chunk_rows: int | None,
-    seed: int,
-    backend: str,
-    history: bool,
-    check: bool,
-    progress: bool,
-) -> ParallelHull:
-    """:func:`~persistri.impl.scale.hull.parallel_hull` of ``points`` where ``persistri hull`` would run it.
-
-    O(chunks) here before the run (the headers are read to count the rows); Dask is imported only
-    when a cluster is used.
-    """
-    from persistri.impl.scale import dask_missing
-    from persistri.impl.scale.cluster import connect, plan
-    from persistri.impl.scale.hull import MAX_CHUNK_ROWS, parallel_hull
-    from persistri.impl.scale.sources import points_source
-
-    options: dict[str, Any] = {"chunk_rows": chunk_rows, "seed": seed, "backend": backend, "history": history, "check": check, "progress": progress}
-    if client is not None:
-        if workers is not None or scheduler is not None:
-            raise ValueError("give a client, a worker count or a scheduler address, not several")
-        if not type(client).__module__.startswith("distributed"):
-            raise TypeError(f"client must be a distributed.Client, not {type(client).__name__}")
-        return parallel_hull(points, client=client, **options)
-    # As `persistri hull`: a cluster by default only for more than one chunk (one process is as fast below).
-    n = points_source(points, chunk_rows).n  # headers only; a bad file or shape is its one-line error here
-    tasks = max(1, -(-n // (chunk_rows or MAX_CHUNK_ROWS)))
-    if plan(workers, scheduler, tasks=tasks)[0] != "sequential" and (why := dask_missing()) is not None:
-        if workers is not None or scheduler is not None:
-            raise ModuleNotFoundError(why)
-        workers = 1  # the default only: without the extra, in this process
-    with connect(workers, scheduler, tasks=tasks) as here:
-        return parallel_hull(points, client=here, **options)
-
-
-def _read_all(source: PointSource) -> FloatArray:
-    """Every row of ``source`` as one read-only float64 array: a float64 ``.npy`` file memory-mapped, else read. O(n)."""
-    from persistri.impl.scale.sources import NpyRows, read_block
-
-    files = {b.data.path for b in source.blocks if isinstance(b.data, NpyRows)}
-    if len(files) == 1 and all(isinstance(b.data, NpyRows) for b in source.blocks):
-        mapped = np.load(files.pop(), mmap_mode="r", allow_pickle=False)
-        if mapped.dtype == np.float64 and mapped.shape == (source.n, 3):
-            out: FloatArray = mapped  # validated block by block when the hull was computed
-            return out
-    parts = []
-    for b in source.blocks:
-        data = b.data.compute(scheduler="synchronous") if type(b.data).__module__.startswith("dask") else b.data
-        parts.append(read_block(data, b.start, source.what))
-    return read_only(np.concatenate(parts) if parts else np.zeros((0, 3)))

@@ -12,7 +12,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 HALVES = {"api": "persistri", "spec": "persistri.spec", "impl": "persistri.impl"}
-PRIVATE_PUBLIC_API = {"persistri._arrays", "persistri._hull", "persistri._delaunay"}
+PRIVATE_PUBLIC_API = {"persistri._arrays", "persistri._hull", "persistri._hull_chunked", "persistri._delaunay"}
 """The public package's private modules: documented through the names they define (``::: persistri.ConvexHull``)."""
 
 

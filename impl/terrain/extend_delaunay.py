@@ -157,6 +157,7 @@ def extend_delaunay(tri: DelaunayTriangulation, points: ArrayLike, *, check: boo
         complex=T.complex,
         structure=structure,
         seed=tri.seed,
+        backend=tri.backend,
         labels=labels,
         infinite=tri.infinite,
         stats=tri.stats,

@@ -64,6 +64,7 @@ class DelaunayTriangulation:
       later row is not a vertex (its earlier twin is);
     * ``complex`` / ``structure`` — the final persistent complex (ghost triangles
       on the hull edges included) and the structure that reads it;
+    * ``seed``, ``backend`` — the run's insertion order and ``ORD_MAP`` backend;
     * ``stats`` — the counts, when a :class:`Stats` was given;
     * ``labels`` — the input row of each vertex label of the complex (``-1`` at the
       label of the symbolic infinite vertex, ``infinite``): what reading a version, and
@@ -78,6 +79,7 @@ class DelaunayTriangulation:
     complex: Complex[TriDatum]
     structure: TwoComplex[TriDatum]
     seed: int
+    backend: str
     labels: IntArray
     infinite: int
     stats: Stats | None = field(default=None, compare=False)
@@ -334,6 +336,7 @@ def delaunay(
         complex=T.complex,
         structure=structure,
         seed=int(seed),
+        backend=backend,
         labels=labels,
         infinite=int(T.infinite),
         stats=stats,

@@ -1,0 +1,122 @@
+"""scipy's constructor arguments on persistri.ConvexHull and persistri.Delaunay: incremental mode, qhull_options.
+
+Code written for scipy.spatial must run unchanged on persistri's classes, with
+the same meaning: the drop-in tests run one function on both modules.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+import persistri
+
+scipy_spatial = pytest.importorskip("scipy.spatial")
+
+
+def _triangles(simplices: np.ndarray) -> set[frozenset[int]]:
+    return {frozenset(map(int, t)) for t in simplices}
+
+
+def _scipy_style_delaunay(module: Any, pts: np.ndarray) -> Any:
+    """What scipy's documentation shows for incremental mode: construct, add, add again, close."""
+    tri = module.Delaunay(pts[:40], incremental=True)
+    tri.add_points(pts[40:90])
+    tri.add_points(pts[90:])
+    tri.close()
+    return tri
+
+
+def _scipy_style_hull(module: Any, pts: np.ndarray) -> Any:
+    hull = module.ConvexHull(pts[:30], True)  # incremental, by position as scipy's signature has it
+    hull.add_points(pts[30:])
+    hull.close()
+    return hull
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_scipy_incremental_code_runs_unchanged(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    pts2 = rng.random((150, 2))
+    ours, theirs = _scipy_style_delaunay(persistri, pts2), _scipy_style_delaunay(scipy_spatial, pts2)
+    assert ours.npoints == theirs.npoints == 150
+    assert _triangles(ours.simplices) == _triangles(theirs.simplices)
+    pts3 = rng.standard_normal((120, 3))
+    ours_h, theirs_h = _scipy_style_hull(persistri, pts3), _scipy_style_hull(scipy_spatial, pts3)
+    assert sorted(ours_h.vertices.tolist()) == sorted(theirs_h.vertices.tolist())
+    assert _triangles(ours_h.simplices) == _triangles(theirs_h.simplices)
+
+
+def test_incremental_delaunay_changes_in_place_and_keeps_its_versions() -> None:
+    rng = np.random.default_rng(1)
+    pts = rng.random((300, 2))
+    tri = persistri.Delaunay(pts[:200], False, True, history=True)  # scipy's positions: furthest_site, incremental
+    before, result_before = tri.simplices, tri.result
+    assert tri.add_points(pts[200:]) is tri
+    assert tri.npoints == 300 and np.array_equal(tri.simplices, persistri.Delaunay(pts).simplices)
+    # What was read before is a value: unchanged, and the old version is still there underneath.
+    assert before.shape[0] < tri.nsimplex and np.array_equal(before, result_before.triangles)
+    assert tri.history is not None and result_before.history is not None
+    assert tri.history.versions[: len(result_before.history)] == result_before.history.versions
+    tri.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        tri.add_points([[0.5, 0.5]])
+    assert tri.npoints == 300
+
+
+def test_incremental_hull_changes_in_place() -> None:
+    rng = np.random.default_rng(2)
+    pts = rng.standard_normal((200, 3))
+    hull = persistri.ConvexHull(pts[:100], incremental=True, history=True)
+    old = hull.result
+    assert hull.add_points(pts[100:]) is hull
+    assert hull.npoints == 200 and old.points.shape[0] == 100
+    assert sorted(hull.vertices.tolist()) == sorted(persistri.ConvexHull(pts).vertices.tolist())
+    hull.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        hull.add_points(pts[:3])
+
+
+def test_without_incremental_add_points_returns_new_objects_even_after_close() -> None:
+    tri = persistri.Delaunay([[0, 0], [4, 0], [0, 4]])
+    tri.close()
+    more = tri.add_points([[1, 1]])
+    assert more is not tri and (tri.npoints, more.npoints) == (3, 4)
+    hull = persistri.ConvexHull(np.eye(3).tolist() + [[0, 0, 0]])
+    hull.close()
+    assert hull.add_points([[1, 1, 1]]).npoints == 5 and hull.npoints == 4
+
+
+@pytest.mark.parametrize("incremental", [False, True])
+def test_restart_recomputes_the_same_result(incremental: bool) -> None:
+    rng = np.random.default_rng(3)
+    pts = rng.random((120, 2))
+    a = persistri.Delaunay(pts[:80], incremental=incremental, history=True)
+    b = persistri.Delaunay(pts[:80], incremental=incremental, history=True)
+    cont, fresh = a.add_points(pts[80:]), b.add_points(pts[80:], restart=True)
+    assert np.array_equal(cont.simplices, fresh.simplices)
+    assert fresh.history is not None and len(fresh.history) == len(cont.history or ())
+    pts3 = rng.standard_normal((100, 3))
+    h1 = persistri.ConvexHull(pts3[:60], incremental=incremental).add_points(pts3[60:], True)
+    assert sorted(h1.vertices.tolist()) == sorted(persistri.ConvexHull(pts3).vertices.tolist())
+
+
+def test_qhull_options_moot_ones_accepted_others_named() -> None:
+    pts = np.random.default_rng(4).random((30, 2))
+    for options in ("Qbb Qc Qz Q12", "Qbb Qc Qz Qx Q12", "QJ", "Qt Pp", ""):
+        assert persistri.Delaunay(pts, qhull_options=options).nsimplex > 0
+    assert persistri.ConvexHull(np.random.default_rng(5).random((20, 3)), False, "Qx").nsimplex > 0
+    with pytest.raises(ValueError, match=r"'QG4'.*would change the result"):
+        persistri.ConvexHull(np.random.default_rng(5).random((20, 3)), qhull_options="Qt QG4")
+    with pytest.raises(ValueError, match=r"'Qu'"):
+        persistri.Delaunay(pts, qhull_options="Qbb Qu")
+    with pytest.raises(TypeError, match="qhull_options must be a string"):
+        persistri.Delaunay(pts, qhull_options=3)  # type: ignore[arg-type]  # deliberately wrong
+
+
+def test_furthest_site_is_refused_clearly() -> None:
+    with pytest.raises(NotImplementedError, match="furthest_site"):
+        persistri.Delaunay([[0, 0], [1, 0], [0, 1]], furthest_site=True)
+    assert persistri.Delaunay([[0, 0], [1, 0], [0, 1]], False).furthest_site is False
