@@ -345,7 +345,10 @@ def test_the_in_place_determinant_is_the_proved_one_bit_for_bit(
         det, _ = fp.plane_side_terms(nx, ny, nz, px, py, pz, ax, ay, az, q[:, 0], q[:, 1], q[:, 2])
         det2 = fp.plane_side_det_into(nx, ny, nz, ax, ay, az, q[:, 0].copy(), q[:, 1].copy(), q[:, 2].copy())
         det3 = [fp.plane_side_det(nx, ny, nz, ax, ay, az, qx, qy, qz) for qx, qy, qz in qs]
-    assert det.tobytes() == det2.tobytes() == np.array(det3, dtype=np.float64).tobytes()
+        # The kernel passes the plane's numbers as 0-d arrays: the same float64 operands.
+        zero_d = [np.asarray(v) for v in (nx, ny, nz, ax, ay, az)]
+        det4 = fp.plane_side_det_into(*zero_d, q[:, 0].copy(), q[:, 1].copy(), q[:, 2].copy())
+    assert det.tobytes() == det2.tobytes() == np.array(det3, dtype=np.float64).tobytes() == det4.tobytes()
 
 
 @pytest.mark.parametrize("kind", ["random", "grid", "offset"])

@@ -309,13 +309,16 @@ def plane_side_det(nx: T, ny: T, nz: T, ax: T, ay: T, az: T, qx: T, qy: T, qz: T
 
 
 def plane_side_det_into(
-    nx: float, ny: float, nz: float, ax: float, ay: float, az: float,
+    nx: float | NDArray[np.float64], ny: float | NDArray[np.float64], nz: float | NDArray[np.float64],
+    ax: float | NDArray[np.float64], ay: float | NDArray[np.float64], az: float | NDArray[np.float64],
     qx: NDArray[np.float64], qy: NDArray[np.float64], qz: NDArray[np.float64],
 ) -> NDArray[np.float64]:
     """:func:`plane_side_det` over float64 arrays, computed in ``qx``, ``qy``, ``qz`` (overwritten; ``qx`` returned).
 
     Bitwise the determinant of :func:`plane_side_terms` and :func:`plane_side_terms_into`:
-    the same operations on the same operands in the same order.  O(len(qx)).
+    the same operations on the same operands in the same order.  The plane's numbers are floats
+    or 0-d float64 arrays of the same values (numpy converts a float operand anew at each of
+    the eight calls; the kernel passes 0-d arrays).  O(len(qx)).
     """
     np.subtract(ax, qx, out=qx)  # aqx = ax - qx
     np.subtract(ay, qy, out=qy)  # aqy = ay - qy

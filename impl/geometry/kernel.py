@@ -166,6 +166,7 @@ class Orient3dKernel:
         small = SCALAR_BELOW
         ndarray = np.ndarray
         intp = np.dtype(np.intp)
+        asarray = np.asarray
         # The scalar paths below run the filter expressions of :mod:`.filter` written out in place
         # (orient3d_terms; plane_terms, then plane_side_terms per point): a call per test costs as much
         # as a third of its arithmetic.  They are the same statements in the same order, so they round
@@ -341,9 +342,15 @@ class Orient3dKernel:
                 neg_mask = det < np.negative(thr, out=qy)  # qy is free again
                 pos_mask = det > thr
             else:
-                det = side_det(nx, ny, nz, ax, ay, az, xs.take(q_arr), qy, zs.take(q_arr))
-                neg_mask = det < -static
-                pos_mask = det > static
+                # The plane's numbers enter as 0-d float64 arrays, the same values: numpy converts a Python
+                # float operand anew at each of the ten calls, a 0-d array not (measured on 2026-11-28: a call
+                # of 64 to 256 points 6.3-7.6 -> 5.6-6.8 µs).
+                det = side_det(
+                    asarray(nx), asarray(ny), asarray(nz), asarray(ax), asarray(ay), asarray(az),
+                    xs.take(q_arr), qy, zs.take(q_arr),
+                )
+                neg_mask = det < asarray(-static)
+                pos_mask = det > asarray(static)
             neg: IntArray = neg_mask.nonzero()[0]
             pos: IntArray = pos_mask.nonzero()[0]
             m = q_arr.size
