@@ -144,11 +144,13 @@ class ScratchComplex:
 def insert_vertex(T: MeshTriangulation, c: Any, p: int, hint: tuple[Tri, MeshDatum]) -> tuple[Tri, MeshDatum]:
     """Insert point ``p`` into the scratch triangulation ``c`` of ``T`` (``T.S`` a :class:`ScratchComplex`) before any
     segment is (no constraint anywhere): ``T.locate`` from ``hint``, then ``T.insert``, step for step — the same walk,
-    the same conflict search, the same fan and data ids, the same dictionary operations in the same order — on the
+    the same conflict search, the same fan and data ids, the same entries stored in the same order — on the
     dictionary itself, with the predicates' orient2d and incircle filters inlined (the same operations as
     :func:`~persistri.impl.geometry.filter.orient2d_terms` and ``incircle_terms``, so their proved bounds hold; the
-    predicates decide exactly whenever a filter cannot).  Returns a finite triangle of the fan (the next walk's
-    hint).  O(walk + cavity).
+    predicates decide exactly whenever a filter cannot), and the fan's ids handed out without a call each.  The
+    cavity's edges are deleted without comparing the third vertex they were read with in the same call, and the
+    fan's stored without a look-up each: one size check afterwards sees a fan edge that was already there.
+    Returns a finite triangle of the fan (the next walk's hint).  O(walk + cavity).
     """
     pred = T.pred
     rows = pred.filter_rows
@@ -273,28 +275,40 @@ def insert_vertex(T: MeshTriangulation, c: Any, p: int, hint: tuple[Tri, MeshDat
     first = succ[inf][0] if inf in succ else boundary[0][0]
     created: list[tuple[Tri, MeshDatum]] = []
     u = first
-    new_datum = T.new_datum
+    tid = T._next_id  # T.new_datum's ids, handed out here in the same order
     while True:
         w, region = succ[u]
         if w == inf:
             break
-        created.append(((u, w, vp), new_datum(region)))
+        created.append(((u, w, vp), (tid, region, ())))
+        tid += 1
         u = w
         if u == first:
             break
     if inf in succ:
         # An open fan: p is on the hull; two ghosts close it, on the new hull edges (p, u) and (first, p).
-        created.append(((u, inf, vp), new_datum(EXTERIOR)))
-        created.append(((inf, first, vp), new_datum(EXTERIOR)))
+        created.append(((u, inf, vp), (tid, EXTERIOR, ())))
+        created.append(((inf, first, vp), (tid + 1, EXTERIOR, ())))
+        tid += 2
+    T._next_id = tid
+    # The cavity's triangles were read from this dictionary in this call, so each edge is there with its third
+    # vertex (a missing one would raise KeyError); the fan's edges are its boundary edges, just freed, and spokes
+    # to the new vertex: none is present, and the size check below would see one that was (a store that replaces).
+    expected = len(edges) + 3 * (len(created) - len(cavity))
     for (ta, tb, tc), _ in cavity.values():
-        for eu, ew, ey in ((ta, tb, tc), (tb, tc, ta), (tc, ta, tb)):
-            gone = edges.pop((eu, ew), None)
-            if gone is None or gone[0] != ey:
-                raise MeshError(f"internal: the scratch triangulation holds no triangle {(eu, ew, ey)}")
+        del edges[(ta, tb)]
+        del edges[(tb, tc)]
+        del edges[(tc, ta)]
     for (ta, tb, tc), d in created:
-        for eu, ew, ey in ((ta, tb, tc), (tb, tc, ta), (tc, ta, tb)):
-            if (eu, ew) in edges:
-                raise MeshError(f"internal: the scratch edge {(int(eu), int(ew))} is already in a triangle")
-            edges[(eu, ew)] = (ey, d)
-            out[eu] = (eu, ew)
-    return next((t, d) for t, d in created if inf not in t)
+        edges[(ta, tb)] = (tc, d)
+        edges[(tb, tc)] = (ta, d)
+        edges[(tc, ta)] = (tb, d)
+        out[ta] = (ta, tb)
+        out[tb] = (tb, tc)
+        out[tc] = (tc, ta)
+    if len(edges) != expected:
+        raise MeshError(f"internal: the fan of point {p} overlaps the scratch triangulation")
+    hint = created[0]
+    if inf in hint[0]:
+        return next((t, d) for t, d in created if inf not in t)
+    return hint
