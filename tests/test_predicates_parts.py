@@ -248,3 +248,23 @@ def test_unique_rows(rows: list[tuple[float, float]]) -> None:
     assert inverse.tolist() == expected_inverse
     if len(rows):
         assert np.array_equal(arr[first][inverse], arr)
+
+
+@given(st.lists(st.tuples(finite, finite, finite), min_size=1, max_size=10), st.sampled_from([1.0, 2.0**-600, 2.0**600, 5e-324]))
+def test_the_filter_copy_is_the_points_times_their_power_of_two(rows: list[tuple[float, float, float]], unit: float) -> None:
+    """The filter's copy of the points is ``ldexp(points, shift)`` exactly, however it is computed (a product by
+    ``2^shift`` where that is a double); rows the filter cannot hold (a non-uniform set) stay NaN."""
+    from persistri.impl.geometry.predicates import Predicates3
+
+    with np.errstate(all="ignore"):
+        pts = np.array(rows, dtype=np.float64) * unit
+    pts = pts[np.isfinite(pts).all(axis=1)] + 0.0
+    if not len(pts):
+        return
+    p = Predicates3(pts)
+    shift, _ = p.filter_scale
+    with np.errstate(all="ignore"):
+        expected = np.ldexp(pts, shift)
+    for j, col in enumerate(p._cols):
+        held = ~np.isnan(col)
+        assert col[held].tobytes() == expected[held, j].tobytes()

@@ -130,7 +130,12 @@ class IndexedPoints:
             # every magnitude <= TOP_MAX, so every row scales exactly and every filtered test is valid; the
             # rows' grains are never read (None).
             if exact_rows:
-                fl[:exact_rows] = np.ldexp(pts[:exact_rows], shift)
+                if -1022 <= shift <= 1023:
+                    # Every scaled coordinate is a double, so the product by the double 2^shift is exact: ldexp's
+                    # values, written in place, without ldexp's per-entry cost (about 48 instructions an entry).
+                    np.multiply(pts[:exact_rows], 2.0**shift, out=fl[:exact_rows])
+                else:
+                    fl[:exact_rows] = np.ldexp(pts[:exact_rows], shift)
             self._grain = None
         else:
             # Some grains are too fine for the filters: each row's grain decides whether its tests may be
