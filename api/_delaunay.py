@@ -63,8 +63,9 @@ class Delaunay:
       ``equations`` (``(m, 4)``), ``plane_distance(xi)`` — float64 measurements like
       scipy's (:mod:`persistri.impl.geometry.barycentric`); the exact decisions are
       ``find_simplex``'s;
-    * ``min_bound``, ``max_bound``, ``furthest_site`` (False), ``close()`` (nothing
-      to release), ``npoints``, ``ndim`` (2), ``nsimplex``, ``seed``, and ``result``,
+    * ``min_bound``, ``max_bound``, ``furthest_site`` (False), ``good`` (all ones, as
+      scipy's without ``QG``), ``close()`` (ends incremental mode, else nothing to
+      release), ``npoints``, ``ndim`` (2), ``nsimplex``, ``seed``, and ``result``,
       the full :class:`~persistri.impl.terrain.scattered.DelaunayTriangulation`.
 
     What persistence adds: ``add_points(points)`` returns a NEW triangulation of
@@ -217,7 +218,7 @@ class Delaunay:
         """
         return self._tri.history
 
-    def find_simplex(self, xi: ArrayLike) -> IntcArray:
+    def find_simplex(self, xi: ArrayLike, bruteforce: bool = False, tol: float | None = None) -> IntcArray:
         """For each point of ``xi`` (shape ``(..., 2)``), a triangle containing it, or -1 outside the hull.
 
         Exact: a point on an edge or a vertex is inside (one of the triangles
@@ -225,8 +226,12 @@ class Delaunay:
         outside; no tolerance, unlike scipy's (:mod:`persistri.impl.terrain.locate`).
         The result has shape ``xi.shape[:-1]``, dtype ``np.intc``.  A NaN or
         infinite coordinate raises :class:`ValueError`.  Expected O(log n) per
-        point (a k-d tree for the start, then a short exact walk).
+        point (a k-d tree for the start, then a short exact walk).  scipy's
+        ``bruteforce`` changes nothing here (every answer is exact already); its
+        ``tol`` must be None or 0, the exact test (a :class:`ValueError` otherwise).
         """
+        if tol is not None and tol != 0:
+            raise ValueError(f"find_simplex: tol={tol!r}: persistri's test is exact (no tolerance); give tol=None or 0")
         flat, lead = self._query(xi, "xi")
         found = locate_points(self._tri.points, self._tri.triangles, self._neighbors, flat)
         out: IntcArray = found.astype(np.intc).reshape(lead)
@@ -327,6 +332,12 @@ class Delaunay:
         eq = self.equations
         out: FloatArray = z @ eq[:, :3].T + eq[:, 3]
         return out
+
+    @property
+    def good(self) -> IntcArray:
+        """``(m,)`` ones: scipy's marks every simplex good (1) when no ``QG`` option is given (persistri refuses
+        ``QGn``: it computes no visibility from a point)."""
+        return read_only(np.ones(self.nsimplex, dtype=np.intc))
 
     @property
     def min_bound(self) -> FloatArray:

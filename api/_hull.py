@@ -74,7 +74,10 @@ class ConvexHull:
     * ``area``, ``volume`` — the surface area, and the enclosed volume computed
       exactly and rounded once;
     * ``duplicates`` — ``(k, 2)``: ``[row, earlier equal row]`` for every input row
-      merged into an earlier, exactly equal one;
+      merged into an earlier, exactly equal one; ``coplanar`` — ``(k, 3)``, scipy's
+      report of points left out, ``[row, a triangle at its twin, the twin]``: here only
+      the merged duplicates of vertices (nothing is left out for round-off); ``good`` —
+      None, as scipy's without ``QG``;
     * ``history`` — every intermediate hull (:class:`~persistri.impl.hull.api.HullHistory`)
       with ``history=True``, else None;
     * ``min_bound``, ``max_bound`` — the input's bounding box (read from the
@@ -382,6 +385,26 @@ class ConvexHull:
         """``(k, 2)``: ``[row, earlier equal row]`` for each input row merged into an exactly equal earlier one."""
         pairs = self._hull.duplicates if self._chunked is None else self._chunked.duplicates
         return read_only(np.array(pairs, dtype=np.intc).reshape(-1, 2))
+
+    @property
+    def coplanar(self) -> IntcArray:
+        """``(k, 3)``: scipy's report of input points that are not vertices, ``[row, a triangle at its twin, the twin]``.
+
+        Qhull lists the points it left out for round-off; nothing is left out here
+        (every extreme point is a vertex), so this holds only the merged duplicates
+        of vertices (:attr:`duplicates`).  O(m) once per call.
+        """
+        dup = np.array(self._hull.duplicates if self._chunked is None else self._chunked.duplicates, dtype=np.intp)
+        dup = dup.reshape(-1, 2)
+        at = np.full(self._n, -1, dtype=np.intp)
+        at[self._simplices.ravel()] = np.repeat(np.arange(self._simplices.shape[0], dtype=np.intp), 3)
+        dup = dup[at[dup[:, 1]] >= 0]
+        return read_only(np.stack([dup[:, 0], at[dup[:, 1]], dup[:, 1]], axis=1).astype(np.intc))
+
+    @property
+    def good(self) -> None:
+        """None, as scipy's without a ``QG`` option (persistri computes no good facets: ``QGn`` is refused)."""
+        return None
 
     @property
     def min_bound(self) -> FloatArray:

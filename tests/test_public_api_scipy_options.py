@@ -120,3 +120,41 @@ def test_furthest_site_is_refused_clearly() -> None:
     with pytest.raises(NotImplementedError, match="furthest_site"):
         persistri.Delaunay([[0, 0], [1, 0], [0, 1]], furthest_site=True)
     assert persistri.Delaunay([[0, 0], [1, 0], [0, 1]], False).furthest_site is False
+
+
+def test_every_public_attribute_of_scipys_objects_exists() -> None:
+    rng = np.random.default_rng(6)
+    p3, p2 = rng.random((40, 3)), rng.random((40, 2))
+    for ours, theirs in (
+        (persistri.ConvexHull(p3), scipy_spatial.ConvexHull(p3)),
+        (persistri.Delaunay(p2), scipy_spatial.Delaunay(p2)),
+    ):
+        missing = [a for a in dir(theirs) if not a.startswith("_") and not hasattr(ours, a)]
+        assert not missing, f"{type(ours).__name__} lacks scipy's {missing}"
+    hull = persistri.ConvexHull(p3)
+    assert hull.good is None and scipy_spatial.ConvexHull(p3).good is None
+    tri, theirs_tri = persistri.Delaunay(p2), scipy_spatial.Delaunay(p2)
+    assert tri.good.dtype == theirs_tri.good.dtype and tri.good.tolist() == theirs_tri.good.tolist()
+
+
+def test_hull_coplanar_reports_the_merged_duplicates_of_vertices() -> None:
+    cube = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=float)
+    pts = np.vstack([cube, [[0.5, 0.5, 0.5]], cube[[3]], [[0.5, 0.5, 0.5]]])  # rows 9, 10 repeat rows 3 and 8
+    hull = persistri.ConvexHull(pts)
+    assert hull.duplicates.tolist() == [[9, 3], [10, 8]]
+    cop = hull.coplanar
+    assert cop.dtype == np.intc and cop.shape == (1, 3)
+    row, facet, twin = cop[0].tolist()
+    assert (row, twin) == (9, 3) and 3 in hull.simplices[facet].tolist()  # the interior centre's repeat is not listed
+    assert persistri.ConvexHull(cube).coplanar.shape == (0, 3)
+
+
+def test_find_simplex_takes_scipys_arguments() -> None:
+    tri = persistri.Delaunay([[0, 0], [2, 0], [0, 2], [2, 2]])
+    q = [[0.5, 0.5], [3.0, 3.0], [2.0, 1.0]]
+    exact = tri.find_simplex(q)
+    assert exact.tolist()[1] == -1 and exact.tolist()[2] >= 0
+    assert np.array_equal(tri.find_simplex(q, bruteforce=True), exact)
+    assert np.array_equal(tri.find_simplex(q, False, 0), exact)
+    with pytest.raises(ValueError, match="exact"):
+        tri.find_simplex(q, tol=1e-9)
