@@ -14,7 +14,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["as_points", "UniqueRows", "unique_rows"]
+__all__ = ["as_points", "UniqueRows", "unique_rows", "appended_rows"]
 
 
 def as_points(points: ArrayLike, dim: int, *, what: str = "points") -> NDArray[np.float64]:
@@ -99,3 +99,25 @@ def unique_rows(points: NDArray[np.float64]) -> UniqueRows:
     inverse = np.empty(n, dtype=np.intp)
     inverse[order] = rank[run]
     return UniqueRows(heads[by_row].astype(np.intp), inverse)
+
+
+def appended_rows(points: NDArray[np.float64], n_old: int) -> tuple[tuple[tuple[int, int], ...], NDArray[np.intp]]:
+    """The rows ``n_old …`` appended to ``points``: which repeat an earlier row, and which are new. O(n log n).
+
+    Returns ``(merged, fresh)``: ``merged`` the pairs ``(row, first equal row)`` for
+    each appended row equal to an earlier one (old or appended), ``fresh`` the
+    appended rows that are the first of their value, in input order — what
+    continuing a run on ``points[:n_old]`` needs, with the same representatives a
+    run on all of ``points`` would take (the first of equal rows).
+
+    >>> merged, fresh = appended_rows(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [2.0, 0.0], [2.0, 0.0]]), 2)
+    >>> merged, fresh.tolist()
+    (((2, 1), (4, 3)), [3])
+    """
+    uniq = unique_rows(points)
+    rep = uniq.first[uniq.inverse[n_old:]]
+    mine = np.arange(n_old, points.shape[0], dtype=np.intp)
+    repeat = rep != mine
+    merged = tuple(zip(mine[repeat].tolist(), rep[repeat].tolist()))
+    fresh: NDArray[np.intp] = mine[~repeat]
+    return merged, fresh

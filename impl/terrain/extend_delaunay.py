@@ -54,7 +54,7 @@ from persistri.impl.collector import collector_paused
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Vertex
-from persistri.impl.geometry.points import as_points, unique_rows
+from persistri.impl.geometry.points import appended_rows, as_points
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.terrain.delaunay import Triangulator
 from persistri.impl.terrain.insertion import TriDatum, canonical_triangles, enter
@@ -121,17 +121,12 @@ def extend_delaunay(tri: DelaunayTriangulation, points: ArrayLike, *, check: boo
     if not isinstance(tri, DelaunayTriangulation):
         raise TypeError(f"extend_delaunay: tri must be a DelaunayTriangulation made by delaunay, not {type(tri).__name__}")
     new = as_points(points, 2, what="points")
-    n_old, k = tri.points.shape[0], new.shape[0]
+    n_old = tri.points.shape[0]
     arr = np.concatenate([tri.points, new])
     arr.setflags(write=False)
 
-    # A row's representative is its first equal row (an old one if there is one), as delaunay's: the old rows keep
-    # theirs, since the concatenation only appends.
-    uniq = unique_rows(arr)
-    rep = uniq.first[uniq.inverse[n_old:]]
-    mine = np.arange(n_old, n_old + k, dtype=np.intp)
-    merged = tuple((int(r), int(f)) for r, f in zip(mine[rep != mine].tolist(), rep[rep != mine].tolist()))
-    fresh = mine[rep == mine]
+    # Each row's representative is its first equal row, as delaunay's (the old rows keep theirs: this only appends).
+    merged, fresh = appended_rows(arr, n_old)
     m_old = tri.labels.size
     labels = np.concatenate([tri.labels, fresh])
     # The predicates' rows, by label; the infinite vertex's slot holds a stand-in (label 0's point), never read.
