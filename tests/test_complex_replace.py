@@ -350,3 +350,37 @@ def test_a_cone_from_a_fresh_vertex_is_inserted_in_the_update_s_descent() -> Non
     old = _tree_nodes(c.rep[1])
     assert sum(i not in old for i in _tree_nodes(c2.rep[1])) == sum(i not in old for i in _tree_nodes(want[1]))
     assert items_of(C, c) == before
+
+
+def test_group_names_the_apex_of_a_cone_and_nothing_else() -> None:
+    """``group``'s third result is the vertex every added triangle ends with when it is one object in no removed
+    triangle (the batched path then skips the presence checks), else None: a later triangle that ends elsewhere,
+    an apex that loses a triangle, or no added triangle at all give None; the changes are the same either way."""
+    vs = fresh(N_VERTS + 2)
+    C = two_complex("red_black")
+    c = build(C, vs, ICOSA)
+    v0 = vs[0]
+    star = [tuple(vs[i] for i in t) for t in ICOSA if 0 in t]
+    link = [(t[(t.index(v0) + 1) % 3], t[(t.index(v0) + 2) % 3]) for t in star]
+    p, q = vs[N_VERTS], vs[N_VERTS + 1]
+    cone = [((u, w, p), i) for i, (u, w) in enumerate(link)]
+    changes, _, apex = group(star, cone, c.lineage)
+    assert apex is p
+    assert len(changes[v0][1]) == len(changes[p][1]) == 0 and all(len(changes[u][1]) == 1 for u, _ in link)
+    assert [e[:2] for e in changes[p][2]] == link
+    two_apexes = cone[:-1] + [((link[-1][0], link[-1][1], q), 9)]
+    assert group(star, two_apexes, c.lineage)[2] is None
+    first_elsewhere = [((link[0][0], link[0][1], q), 9)] + cone[1:]
+    assert group(star, first_elsewhere, c.lineage)[2] is None
+    a, b, d = star[0]
+    apex_removed = [((b, a, d), 0)]  # d loses the triangle (a, b, d): it has a list
+    assert group([star[0]], apex_removed, c.lineage)[2] is None
+    assert group(star, [], c.lineage)[2] is None
+    for removed, added in ((star, cone), (star, two_apexes), (star, first_elsewhere)):
+        got = C.replace(c, removed, added)
+        r = c
+        for s in removed:
+            r = C.rem(r, s)
+        for s, x in added:
+            r = C.add(r, s, x)
+        assert items_of(C, got) == items_of(C, r)
