@@ -105,6 +105,26 @@ def test_cocircular_zeros_go_to_sos_in_every_order() -> None:
         assert k.incircle(*quad) == p.incircle(*quad)
 
 
+@pytest.mark.parametrize(
+    "pts",
+    [
+        [[0.0, 0.0], [1e-300, 1.0], [1e300, 2.0], [3.0, 1e-200], [5.0, 7.0], [-1e300, 1e-300], [2.0, 2.0]],
+        [[0.1, 0.2], [1e200, 3e-100], [2.5, 1e-250], [7.0, 8.0], [1e-5, 1e5], [0.0, 0.0], [1e-250, 0.0]],
+    ],
+)
+def test_a_set_needing_grain_checks_gets_the_checked_signs(pts: list[list[float]]) -> None:
+    """No uniform filter scale (``filter_scale[1]`` False): the kernel's thresholds are infinite, so no float
+    decides, and every test answers what the checked predicate answers (true zeros and SoS included)."""
+    p = Predicates2(np.array(pts, dtype=float))
+    assert p.filter_scale[1] is False and not p.kernel().exact_floats
+    k = p.kernel()
+    for a, b, c in itertools.permutations(range(len(pts)), 3):
+        assert k.orient2d(a, b, c) == p.orient2d(a, b, c)
+        assert k.orient2d_sign(a, b, c) == p.orient2d_sign(a, b, c)
+    for a, b, c, d in itertools.permutations(range(len(pts)), 4):
+        assert k.incircle(a, b, c, d) == p.incircle(a, b, c, d), (a, b, c, d)
+
+
 def test_counted_runs_count_as_the_checked_predicates() -> None:
     pts = np.array([[x, y] for y in range(5) for x in range(5)], dtype=float)
     s1, s2 = Stats(), Stats()

@@ -49,7 +49,6 @@ error (a repeated index reaches SoS, which raises :class:`ValueError`).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Final
 
 from persistri.impl.geometry.filter import (
@@ -60,6 +59,7 @@ from persistri.impl.geometry.filter import (
 )
 
 if TYPE_CHECKING:
+    from persistri.impl.geometry.indexed_points import RowTable
     from persistri.impl.geometry.predicates import Predicates2
 
 __all__ = ["Delaunay2Kernel", "INCIRCLE_EXACT_SPAN", "ORIENT2D_EXACT_SPAN", "exact_float_spans"]
@@ -99,189 +99,204 @@ class Delaunay2Kernel:
     Made by :meth:`~persistri.impl.geometry.predicates.Predicates2.kernel`; the same
     signs as the checked methods of the same names (module docstring):
 
-    * :attr:`orient2d` ``(a, b, c) -> ±1`` — SoS for exact zeros;
-    * :attr:`orient2d_sign` ``(a, b, c) -> -1, 0, +1`` — the true sign;
-    * :attr:`incircle` ``(a, b, c, d) -> ±1`` — +1 when ``d`` is inside the circle
+    * :meth:`orient2d` ``(a, b, c) -> ±1`` — SoS for exact zeros;
+    * :meth:`orient2d_sign` ``(a, b, c) -> -1, 0, +1`` — the true sign;
+    * :meth:`incircle` ``(a, b, c, d) -> ±1`` — +1 when ``d`` is inside the circle
       through ``a, b, c`` (counterclockwise); SoS for cocircular points.
 
     Each is O(1): about half a microsecond interpreted.  A point set that needs
     per-test grain checks (``filter_scale[1]`` False) gets the checked methods.
+
+    Methods of one object, called as ``kernel.incircle(…)``: compiled by mypyc (the twin), a
+    compiled caller calls them directly, where a function held in an attribute is called
+    through Python's call protocol (its arguments parsed and its result boxed at every test);
+    interpreted, a method call costs what a closure's does (0.6 % more a test, measured).
     """
 
-    __slots__ = ("orient2d", "orient2d_sign", "incircle", "exact_floats", "exact_orient2d")
+    __slots__ = ("exact_floats", "exact_orient2d", "_pred", "_rows", "_checked", "_o2_static", "_ic_static")
 
-    orient2d: Callable[[int, int, int], int]
-    orient2d_sign: Callable[[int, int, int], int]
-    incircle: Callable[[int, int, int, int], int]
     exact_floats: bool
     exact_orient2d: bool
+    _pred: Predicates2
+    _rows: RowTable
+    _checked: bool
+    _o2_static: float
+    _ic_static: float
 
     def __init__(self, pred: Predicates2) -> None:
         exact_o, exact_i = exact_float_spans(pred)
         self.exact_floats = exact_i
         self.exact_orient2d = exact_o
-        if not pred._uniform:
-            self.orient2d = pred.orient2d
-            self.orient2d_sign = pred.orient2d_sign
-            self.incircle = pred.incircle
+        self._pred = pred
+        self._rows = pred._rows
+        self._checked = not pred._uniform
+        # The semi-static thresholds (a test whose determinant exceeds one in magnitude is decided by its sign):
+        # the box's, or 0 where the float determinant is exact (only an exact zero is left: SoS), or +inf where
+        # the filters need per-test grain checks (no float decides: the checked method does).
+        if self._checked:
+            self._o2_static = self._ic_static = math.inf
             return
-        rows = pred._rows
-        row = pred._row  # makes a lazy row: rows[i] unpacks to ValueError until then
-        checked_o, checked_sign, checked_i = pred.orient2d, pred.orient2d_sign, pred.incircle
-        exact_incircle = pred._incircle_exact
-        exact_orient = pred._orient2d_exact
-        sos_incircle = pred._sos_incircle
-        sos2 = pred._sos2
         # The box of the filter copy: the input's, times 2^shift (exact: a power of two).
         shift = pred.filter_scale[0]
         (xlo, xhi), (ylo, yhi) = pred._extents() if len(pred) else [(0.0, 0.0), (0.0, 0.0)]
         xspan, yspan = math.ldexp(xhi - xlo, shift), math.ldexp(yhi - ylo, shift)
-        o2_static = orient2d_box_threshold(xspan, yspan)
-        ic_static = incircle_box_threshold(xspan, yspan)
+        self._o2_static = 0.0 if exact_o else orient2d_box_threshold(xspan, yspan)
+        self._ic_static = 0.0 if exact_i else incircle_box_threshold(xspan, yspan)
+
+    # The filter expressions of :mod:`.filter` are written out in place (a call per test costs a
+    # sixth of the test); they are the same statements in the same order, so they round alike
+    # (tests/test_terrain_kernel.py compares them with the functions' bodies).
+    # The three tests take their indices as objects (Any, not int): compiled by mypyc, an int parameter
+    # is unboxed on entry and boxed again for every ``rows[i]``; the callers pass the vertices (int
+    # objects) they hold.  Interpreted, nothing changes.
+
+    def _incircle_zero(self, a: Any, b: Any, c: Any, d: Any) -> int:
+        """SoS of an exact-float zero: the first term of Λ4 (orient2d of the three largest indices), then the rest."""
+        i0, i1, i2, i3 = sorted((a, b, c, d))
+        inversions = (a > b) + (a > c) + (a > d) + (b > c) + (b > d) + (c > d)
+        rows = self._rows
+        try:
+            px, py = rows[i1]
+            qx, qy = rows[i2]
+            rx, ry = rows[i3]
+        except ValueError:
+            row = self._pred._row
+            (px, py), (qx, qy), (rx, ry) = row(i1), row(i2), row(i3)
+        first = (px - rx) * (qy - ry) - (py - ry) * (qx - rx)  # exact: orient2d on the exact-float path
+        if first == 0.0:
+            return self._pred._sos_incircle(a, b, c, d)
+        return (1 if first > 0.0 else -1) * (-1 if inversions & 1 else 1)
+
+    def incircle(self, a: Any, b: Any, c: Any, d: Any) -> int:
+        """±1: +1 when ``d`` is inside the circle through ``a, b, c`` (counterclockwise); SoS for cocircular points. O(1)."""
+        pred = self._pred
+        if pred.stats is not None:
+            return pred.incircle(a, b, c, d)
+        rows = self._rows
+        try:
+            ax, ay = rows[a]
+            bx, by = rows[b]
+            cx, cy = rows[c]
+            dx, dy = rows[d]
+        except ValueError:
+            row = pred._row
+            (ax, ay), (bx, by), (cx, cy), (dx, dy) = row(a), row(b), row(c), row(d)
+        # filter.incircle_terms:
+        adx = ax - dx
+        bdx = bx - dx
+        cdx = cx - dx
+        ady = ay - dy
+        bdy = by - dy
+        cdy = cy - dy
+        bdxcdy = bdx * cdy
+        cdxbdy = cdx * bdy
+        alift = adx * adx + ady * ady
+        cdxady = cdx * ady
+        adxcdy = adx * cdy
+        blift = bdx * bdx + bdy * bdy
+        adxbdy = adx * bdy
+        bdxady = bdx * ady
+        clift = cdx * cdx + cdy * cdy
+        det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady)
+        ic_static = self._ic_static
+        if det > ic_static:
+            return 1
+        if det < -ic_static:
+            return -1
+        if self.exact_floats:
+            return self._incircle_zero(a, b, c, d)  # the exact determinant is 0
+        if self._checked:
+            return pred.incircle(a, b, c, d)
+        permanent = (
+            (abs(bdxcdy) + abs(cdxbdy)) * alift
+            + (abs(cdxady) + abs(adxcdy)) * blift
+            + (abs(adxbdy) + abs(bdxady)) * clift
+        )
+        # end of filter.incircle_terms
+        thr = ERRBOUND_INCIRCLE * permanent
+        if det > thr:
+            return 1
+        if det < -thr:
+            return -1
+        return pred._incircle_exact(a, b, c, d, True)
+
+    # orient2d and orient2d_sign each write the determinant out (a helper returning it would box a
+    # tuple of three floats per test when compiled).
+
+    def orient2d(self, a: Any, b: Any, c: Any) -> int:
+        """±1: the SoS sign of ``det[[a, 1], [b, 1], [c, 1]]``; +1 when ``a, b, c`` turn counterclockwise. O(1)."""
+        pred = self._pred
+        if pred.stats is not None:
+            return pred.orient2d(a, b, c)
+        rows = self._rows
+        try:
+            ax, ay = rows[a]
+            bx, by = rows[b]
+            cx, cy = rows[c]
+        except ValueError:
+            row = pred._row
+            (ax, ay), (bx, by), (cx, cy) = row(a), row(b), row(c)
+        # filter.orient2d_terms (the permanent is computed below when needed):
+        acx = ax - cx
+        bcx = bx - cx
+        acy = ay - cy
+        bcy = by - cy
+        detleft = acx * bcy
+        detright = acy * bcx
+        det = detleft - detright
+        # end of filter.orient2d_terms
+        o2_static = self._o2_static
+        if det > o2_static:
+            return 1
+        if det < -o2_static:
+            return -1
+        if self.exact_orient2d:
+            return pred._sos2(a, b, c)  # the exact determinant is 0
+        if self._checked:
+            return pred.orient2d(a, b, c)
         o2_errbound = ERRBOUND_ORIENT2D
-        ic_errbound = ERRBOUND_INCIRCLE
-        # The filter expressions of :mod:`.filter` are written out in place (a call per test costs a
-        # sixth of the test); they are the same statements in the same order, so they round alike
-        # (tests/test_terrain_kernel.py compares them with the functions' bodies).
+        thr = o2_errbound * (abs(detleft) + abs(detright))
+        if det > thr:
+            return 1
+        if det < -thr:
+            return -1
+        return pred._orient2d_exact(a, b, c, True)
 
-        def incircle_zero(a: int, b: int, c: int, d: int) -> int:
-            """SoS of an exact-float zero: the first term of Λ4 (orient2d of the three largest indices), then the rest."""
-            i0, i1, i2, i3 = sorted((a, b, c, d))
-            inversions = (a > b) + (a > c) + (a > d) + (b > c) + (b > d) + (c > d)
-            try:
-                px, py = rows[i1]
-                qx, qy = rows[i2]
-                rx, ry = rows[i3]
-            except ValueError:
-                (px, py), (qx, qy), (rx, ry) = row(i1), row(i2), row(i3)
-            first = (px - rx) * (qy - ry) - (py - ry) * (qx - rx)  # exact: orient2d on the exact-float path
-            if first == 0.0:
-                return sos_incircle(a, b, c, d)
-            return (1 if first > 0.0 else -1) * (-1 if inversions & 1 else 1)
-
-        # The three tests take their indices as objects (Any, not int): compiled by mypyc, an int parameter
-        # is unboxed on entry and boxed again for every ``rows[i]``; the callers pass the vertices (int
-        # objects) they hold.  Interpreted, nothing changes.
-
-        def incircle(a: Any, b: Any, c: Any, d: Any) -> int:
-            if pred.stats is not None:
-                return checked_i(a, b, c, d)
-            try:
-                ax, ay = rows[a]
-                bx, by = rows[b]
-                cx, cy = rows[c]
-                dx, dy = rows[d]
-            except ValueError:
-                (ax, ay), (bx, by), (cx, cy), (dx, dy) = row(a), row(b), row(c), row(d)
-            # filter.incircle_terms:
-            adx = ax - dx
-            bdx = bx - dx
-            cdx = cx - dx
-            ady = ay - dy
-            bdy = by - dy
-            cdy = cy - dy
-            bdxcdy = bdx * cdy
-            cdxbdy = cdx * bdy
-            alift = adx * adx + ady * ady
-            cdxady = cdx * ady
-            adxcdy = adx * cdy
-            blift = bdx * bdx + bdy * bdy
-            adxbdy = adx * bdy
-            bdxady = bdx * ady
-            clift = cdx * cdx + cdy * cdy
-            det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady)
-            if exact_i:
-                if det > 0.0:
-                    return 1
-                if det < 0.0:
-                    return -1
-                return incircle_zero(a, b, c, d)
-            if det > ic_static:
-                return 1
-            if det < -ic_static:
-                return -1
-            permanent = (
-                (abs(bdxcdy) + abs(cdxbdy)) * alift
-                + (abs(cdxady) + abs(adxcdy)) * blift
-                + (abs(adxbdy) + abs(bdxady)) * clift
-            )
-            # end of filter.incircle_terms
-            thr = ic_errbound * permanent
-            if det > thr:
-                return 1
-            if det < -thr:
-                return -1
-            return exact_incircle(a, b, c, d, True)
-
-        # orient2d and orient2d_sign each write the determinant out (a helper returning it would box a
-        # tuple of three floats per test when compiled).
-
-        def orient2d(a: Any, b: Any, c: Any) -> int:
-            if pred.stats is not None:
-                return checked_o(a, b, c)
-            try:
-                ax, ay = rows[a]
-                bx, by = rows[b]
-                cx, cy = rows[c]
-            except ValueError:
-                (ax, ay), (bx, by), (cx, cy) = row(a), row(b), row(c)
-            # filter.orient2d_terms (the permanent is computed below when needed):
-            acx = ax - cx
-            bcx = bx - cx
-            acy = ay - cy
-            bcy = by - cy
-            detleft = acx * bcy
-            detright = acy * bcx
-            det = detleft - detright
-            # end of filter.orient2d_terms
-            if det > o2_static:
-                return 1
-            if det < -o2_static:
-                return -1
-            if exact_o:
-                if det > 0.0:
-                    return 1
-                if det < 0.0:
-                    return -1
-                return sos2(a, b, c)
-            thr = o2_errbound * (abs(detleft) + abs(detright))
-            if det > thr:
-                return 1
-            if det < -thr:
-                return -1
-            return exact_orient(a, b, c, True)
-
-        def orient2d_sign(a: Any, b: Any, c: Any) -> int:
-            if pred.stats is not None:
-                return checked_sign(a, b, c)
-            try:
-                ax, ay = rows[a]
-                bx, by = rows[b]
-                cx, cy = rows[c]
-            except ValueError:
-                (ax, ay), (bx, by), (cx, cy) = row(a), row(b), row(c)
-            # filter.orient2d_terms (the permanent is computed below when needed):
-            acx = ax - cx
-            bcx = bx - cx
-            acy = ay - cy
-            bcy = by - cy
-            detleft = acx * bcy
-            detright = acy * bcx
-            det = detleft - detright
-            # end of filter.orient2d_terms
-            if det > o2_static:
-                return 1
-            if det < -o2_static:
-                return -1
-            if exact_o:
-                return 1 if det > 0.0 else (-1 if det < 0.0 else 0)
-            thr = o2_errbound * (abs(detleft) + abs(detright))
-            if det > thr:
-                return 1
-            if det < -thr:
-                return -1
-            return exact_orient(a, b, c, False)
-
-        self.orient2d = orient2d
-        self.orient2d_sign = orient2d_sign
-        self.incircle = incircle
+    def orient2d_sign(self, a: Any, b: Any, c: Any) -> int:
+        """-1, 0 or +1: the true sign of ``det[[a, 1], [b, 1], [c, 1]]`` (no perturbation). O(1)."""
+        pred = self._pred
+        if pred.stats is not None:
+            return pred.orient2d_sign(a, b, c)
+        rows = self._rows
+        try:
+            ax, ay = rows[a]
+            bx, by = rows[b]
+            cx, cy = rows[c]
+        except ValueError:
+            row = pred._row
+            (ax, ay), (bx, by), (cx, cy) = row(a), row(b), row(c)
+        # filter.orient2d_terms (the permanent is computed below when needed):
+        acx = ax - cx
+        bcx = bx - cx
+        acy = ay - cy
+        bcy = by - cy
+        detleft = acx * bcy
+        detright = acy * bcx
+        det = detleft - detright
+        # end of filter.orient2d_terms
+        o2_static = self._o2_static
+        if det > o2_static:
+            return 1
+        if det < -o2_static:
+            return -1
+        if self.exact_orient2d:
+            return 0  # the exact determinant
+        if self._checked:
+            return pred.orient2d_sign(a, b, c)
+        o2_errbound = ERRBOUND_ORIENT2D
+        thr = o2_errbound * (abs(detleft) + abs(detright))
+        if det > thr:
+            return 1
+        if det < -thr:
+            return -1
+        return pred._orient2d_exact(a, b, c, False)

@@ -63,10 +63,9 @@ Points are indices into the predicates' point array; each is a
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
@@ -76,21 +75,20 @@ from persistri.impl.stats import Stats
 from persistri.impl.terrain.errors import TriangulationCheckError
 from persistri.impl.terrain.insertion import (
     EMPTY,
-    LARGE_FAN,
     NO_SECTOR,
-    FanSort,
     Insertion,
     IntArray,
     Samples,
     Triangle,
     TriDatum,
     canonical_triangles,
+    _frozen,
     enter,
+    fan_samples,
     reindex,
     sample_dtype,
     third,
 )
-from persistri.impl.terrain.sectors import fan_lists, fan_sectors
 from persistri.impl.terrain.walk import walk, walk_from_fan
 
 __all__ = [
@@ -104,16 +102,6 @@ __all__ = [
     "sample_dtype",
     "canonical_triangles",
 ]
-
-_A = TypeVar("_A", bound=NDArray[Any])
-_R = TypeVar("_R")
-_S = TypeVar("_S")
-
-
-def _frozen(a: _A) -> _A:
-    a.setflags(write=False)
-    return a
-
 
 class Triangulator:
     """The state of an incremental Delaunay triangulation: the current complex version and its bookkeeping.
@@ -347,25 +335,31 @@ class Triangulator:
         datum: tuple[Any, ...] = rec[1]
         removed: list[Any] = [sid]
         removed_tris = [tri0]
-        lists = [datum[1]]
+        part: Any = datum[1]
+        lists: list[Samples] = [] if part is EMPTY else [part]  # the removed triangles' sample lists (the scattered points have none)
         inside = {sid}
         rejected: set[int] = set()
-        succ: dict[Vertex, Vertex] = {}  # the cavity's boundary edges (u, w), as u -> w
-        n_boundary = 0
+        # The cavity's boundary edges (u, w) in the order found, by their first vertices u: clockwise around the
+        # cavity (the stack expands an edge into the far triangle's other two edges, last one first: the reverse
+        # of the counterclockwise order), so that edge i's w is edge i-1's u.  check=True keeps the ws and asserts it.
+        bound: list[Any] = []
+        ends: list[Any] = []
         inf = self.infinite
-        incircle = self.kernel.incircle
+        kern = self.kernel  # its tests called as methods: compiled, a direct call each
         # p as an object, for the kernel's tests (compiled, an int local is boxed at every call).
         pp: Any = p
         # Each entry: an edge (u, w) of a cavity triangle whose far side is still to be decided.
         # A triangle entered across (w, u) is found as (w, u, x): only its other two edges are queued.
         # (edges.pop and edges.append written out, not bound to locals: compiled, they are then list operations.)
         edges = [(a, b), (b, c), (c, a)]
+        row_w: dict[Any, tuple[Any, ...]]  # the index's row of w (a dict: compiled, its operations are direct)
         while edges:
             u, w = edges.pop()
             # The triangle (w, u, x) across (u, w) (from the index, in the rotation it was made in): x and its datum.
-            ntri: Any
+            ntri: tuple[Any, ...]
             if index is not None:
-                nb: Any = index[w].get(u)
+                row_w = index[w]
+                nb: Any = row_w.get(u)
                 if check:
                     self._check_indexed(w, u, nb)
                 rec = nb
@@ -381,6 +375,10 @@ class Triangulator:
             datum = rec[1]
             nid = datum[0]
             if nid in inside:
+                # Both sides of (u, w) are in the cavity: (w, u) leaves the index now, (u, w) when it is looked up
+                # from the other side (each directed edge is looked up once: only from the triangle across it).
+                if index is not None:
+                    del row_w[u]
                 continue
             if nid not in rejected:
                 if x is inf:
@@ -390,64 +388,59 @@ class Triangulator:
                 elif u is inf:
                     hit = self.ghost_conflict(x, w, p)
                 else:
-                    hit = incircle(w, u, x, pp) > 0
+                    hit = kern.incircle(w, u, x, pp) > 0
                 if hit:
+                    if index is not None:
+                        # (u, w) and (w, u) are inside the cavity and looked up no more ((w, u) is the entry of
+                        # the triangle entered, whose other two edges only are queued): both leave the index.
+                        del row_w[u]
+                        del index[u][w]
                     inside.add(nid)
                     removed.append(nid)
                     removed_tris.append(ntri)
-                    lists.append(datum[1])
+                    part = datum[1]
+                    if part is not EMPTY:
+                        lists.append(part)
                     edges.append((u, x))
                     edges.append((x, w))
                     continue
                 rejected.add(nid)
-            succ[u] = w
-            n_boundary += 1
+            bound.append(u)
+            if check:
+                ends.append(w)
 
-        # The cavity boundary as one cycle; a ghost edge puts ∞ on it (the point is on or beyond the hull).
-        if check and len(succ) != n_boundary:
-            raise TriangulationCheckError(f"insert: the cavity of point {p} is not a disc (its boundary is not one cycle)")
-        closed = inf not in succ
-        first = next(iter(succ)) if closed else succ[inf]
-        ring = [first]
-        v = succ[first]
-        while v is not first and v is not inf:
-            ring.append(v)
-            v = succ[v]
-        if check and len(ring) + (0 if closed else 1) != n_boundary:
-            raise TriangulationCheckError(f"insert: the cavity boundary of point {p} is not a simple cycle")
+        # The cavity boundary as one cycle, counterclockwise; a ghost edge puts ∞ on it (the point is on or beyond
+        # the hull): the fan is then open, from the vertex after ∞ to the vertex before it.
+        k = len(bound)
+        if check:
+            if len(set(bound)) != k:
+                raise TriangulationCheckError(f"insert: the cavity of point {p} is not a disc (its boundary is not one cycle)")
+            if any([ends[i] is not bound[i - 1] for i in range(k)]):
+                raise TriangulationCheckError(f"insert: the cavity boundary of point {p} is not a simple cycle")
+        closed = inf not in bound
         if closed:
-            ring.append(first)  # the fan's boundary, closed: the first vertex repeated at the end
+            # bound = [b0, b1, …, b(k-1)] clockwise: the fan's boundary b0, b(k-1), …, b1, b0 (closed: b0 repeated).
+            ring = bound[k - 1 : 0 : -1]
+            ring.insert(0, bound[0])
+            ring.append(bound[0])
+        else:
+            # ∞ = b(j): the open fan b(j-1), b(j-2), …, b(j+1) (indices modulo k).
+            j = bound.index(inf)
+            ring = bound[j - 1 :: -1] + bound[k - 1 : j : -1] if j else bound[k - 1 : 0 : -1]
         nfan = len(ring) - 1
 
-        # Pool the samples of the removed finite triangles and sort them into the fan's sectors.
-        # The scattered Delaunay's lists are all EMPTY: identity first spares a numpy attribute read each.
-        sized = [s for s in lists if s is not EMPTY and s.size]
-        total = sum([s.size for s in sized])
-        parts: list[Samples] | None = None
-        sector: IntArray | None = None
-        if nfan > 1 and (total > LARGE_FAN + 1 or (total == LARGE_FAN + 1 and not any([bool((s == p).any()) for s in sized]))):
-            # Millions of samples (a large grid's first insertions): one array per triangle, made in blocks
-            # from the cavity's lists without pooling them (fan_lists: no array of the pool's size but the result).
-            parts = self._into_sectors(fan_lists, p, ring, closed, sized)
-            counts = [part.size for part in parts]
-            samples: Samples | None = None
-            pooled = EMPTY
+        # The samples of the removed finite triangles, sorted into the fan's sectors and cut into the fan
+        # triangles' lists (insertion.fan_samples); the scattered Delaunay's triangles have none.
+        own: list[Samples]
+        samples: Samples | None
+        counts: list[int]
+        sector: IntArray | None
+        if lists:
+            own, samples, counts, sector = fan_samples(
+                self.pred, p, lists, ring, closed, nfan, exact_floats=self.small_integers, check=check
+            )
         else:
-            pooled = sized[0] if len(sized) == 1 else (np.concatenate(sized) if sized else EMPTY)
-            if pooled is not EMPTY and pooled.size:
-                pooled = pooled[pooled != p]
-            if pooled is not EMPTY and pooled.size and nfan > 1:
-                order, sector = self._into_sectors(fan_sectors, p, ring, closed, pooled)
-                pooled = pooled[order]
-                counts = np.bincount(sector, minlength=nfan).tolist()
-            elif pooled is EMPTY:
-                sector = NO_SECTOR
-                counts = [0] * nfan
-            else:
-                sector = np.zeros(pooled.size, dtype=np.intp) if pooled.size else NO_SECTOR
-                counts = [0] * nfan
-                counts[0] = pooled.size
-            samples = pooled if pooled is EMPTY else _frozen(pooled)
+            own, samples, counts, sector = [EMPTY] * nfan, EMPTY, [0] * nfan, NO_SECTOR
 
         # The new version: the cavity removed, the fan added (one replace, or the paper's rem and add each).
         tri_of = self.tri_of
@@ -455,15 +448,8 @@ class Triangulator:
             del tri_of[rid]
         created: list[tuple[Any, ...]] = []  # (id, triangle) pairs, kept boxed
         fan: list[tuple[Any, ...]] = []  # (triangle, datum) pairs, kept boxed (see above)
-        start_at = 0
         tid = self._next_id
         u = ring[0]
-        # The pool is cut into arrays of their own, not views: a view keeps the whole pooled array alive as
-        # long as any one of the fan's triangles lives (on a 2,048² grid, kept only for the final mesh, the
-        # pools held 92 MB for 32 MB of live samples at the end of the run, measured); a copy costs about
-        # 0.1 µs more than a view.
-        whole = 0 if pooled is EMPTY else pooled.size
-        own: list[Samples] = []
         for i in range(nfan):
             w = ring[i + 1]
             tri: Any = (u, w, vp)
@@ -471,17 +457,7 @@ class Triangulator:
                 raise TriangulationCheckError(f"insert: point {p} makes the flat or inverted triangle {tri}")
             tid_obj: Any = tid  # boxed once (compiled), stored three times
             tri_of[tid_obj] = tri  # as _new_id, inlined: once per fan triangle
-            cnt = counts[i]
-            if not cnt:
-                part = EMPTY
-            elif parts is not None:
-                part = _frozen(parts[i])
-            else:
-                stop = start_at + cnt
-                part = pooled if cnt == whole else _frozen(pooled[start_at:stop].copy())
-                start_at = stop
-            fan.append((tri, (tid_obj, part)))
-            own.append(part)
+            fan.append((tri, (tid_obj, own[i])))
             created.append((tid_obj, tri))
             tid += 1
             u = w
@@ -499,37 +475,8 @@ class Triangulator:
             cx = S.replace(cx, removed_tris, fan)
         self.complex = cx
         if index is not None:
-            reindex(index, removed_tris, succ, fan, ring, nfan, vp)
-        return Insertion(
-            p, cx, removed, created, samples, counts, not closed, ring,
-            sector if sector is None or sector is NO_SECTOR else _frozen(sector), own,
-        )
-
-    def _into_sectors(self, sort: FanSort[_S, _R], p: int, ring: list[Vertex], closed: bool, pooled: _S) -> _R:
-        """The pooled samples sorted into the fan's sectors by ``sort``; fan triangle ``i`` is ``(ring[i], ring[i+1], p)``.
-
-        ``sort`` is :func:`~persistri.impl.terrain.sectors.fan_sectors` (``(order, i)``: the
-        samples, one array without ``p``, sorted by triangle) or, for very many samples,
-        :func:`~persistri.impl.terrain.sectors.fan_lists` (the cavity's lists, ``p`` among
-        them, to one array per triangle): the sector
-        test of :mod:`persistri.impl.terrain.sectors`, true orient2d signs against the ray to
-        every boundary vertex (the two ends of an open chain are known: ``p`` split a hull edge
-        and every sample is on its inner side).  A sample in no sector is a
-        :class:`TriangulationCheckError`.  O(len(pooled) · len(ring)).
-        """
-        try:
-            return sort(
-                self.pred,
-                p,
-                np.fromiter(ring, dtype=np.intp, count=len(ring)),
-                pooled,
-                closed,
-                exact_floats=self.small_integers,
-                stats=self.pred.stats,
-                check=self.check,
-            )
-        except ValueError as exc:
-            raise TriangulationCheckError(f"inserting point {p}: {exc}") from None
+            reindex(index, fan, ring, nfan, vp)
+        return Insertion(p, cx, removed, created, samples, counts, not closed, ring, sector, own)
 
     # -- point location --------------------------------------------------------------------
 
