@@ -58,8 +58,6 @@ from persistri.impl.geometry.filter import (
     T,
     _abs,
     choose_scaling,
-    incircle_terms,
-    orient2d_terms,
 )
 from persistri.impl.geometry.points import as_points
 from persistri.impl.geometry.sos import sort_with_parity, sos_orient2d, sos_orient3d
@@ -253,6 +251,20 @@ class GrowingPredicates2:
 
         Point ``i`` is ``pairs[k] · 2^E`` exactly.  O(bits).
         """
+        if len(indices) == 3:
+            # The common case (a triangle, an orientation), written out: the same pairs.
+            ex = self._exact
+            xa, ya, ea = ex[indices[0]]
+            xb, yb, eb = ex[indices[1]]
+            xc, yc, ec = ex[indices[2]]
+            e = ea if ea < eb else eb
+            if ec < e:
+                e = ec
+            return [
+                (xa, ya) if ea == e else (xa << (ea - e), ya << (ea - e)),
+                (xb, yb) if eb == e else (xb << (eb - e), yb << (eb - e)),
+                (xc, yc) if ec == e else (xc << (ec - e), yc << (ec - e)),
+            ], e
         parts = list(map(self._exact.__getitem__, indices))  # no comprehension: no function frame per call
         e = parts[0][2]
         for part in parts:
@@ -289,13 +301,23 @@ class GrowingPredicates2:
         ax, ay = rows[a]
         bx, by = rows[b]
         cx, cy = rows[c]
-        det, perm = orient2d_terms(ax, ay, bx, by, cx, cy)
-        thr = ERRBOUND_ORIENT2D * perm
+        # orient2d_terms(ax, ay, bx, by, cx, cy), operation for operation (its proved bound holds); counted only
+        # when a Stats is attached.
+        acx = ax - cx
+        bcx = bx - cx
+        acy = ay - cy
+        bcy = by - cy
+        detleft = acx * bcy
+        detright = acy * bcx
+        det = detleft - detright
+        thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
         if det > thr:
-            self._count(False)
+            if self.stats is not None:
+                self._count(False)
             return 1
         if det < -thr:
-            self._count(False)
+            if self.stats is not None:
+                self._count(False)
             return -1
         self._count(True)
         (pa, pb, pc), _ = self.integers(a, b, c)
@@ -324,13 +346,33 @@ class GrowingPredicates2:
         bx, by = rows[b]
         cx, cy = rows[c]
         dx, dy = rows[d]
-        det, perm = incircle_terms(ax, ay, bx, by, cx, cy, dx, dy)
-        thr = ERRBOUND_INCIRCLE * perm
+        # incircle_terms(ax, ay, bx, by, cx, cy, dx, dy), operation for operation (its proved bound holds).
+        adx = ax - dx
+        bdx = bx - dx
+        cdx = cx - dx
+        ady = ay - dy
+        bdy = by - dy
+        cdy = cy - dy
+        bdxcdy = bdx * cdy
+        cdxbdy = cdx * bdy
+        alift = adx * adx + ady * ady
+        cdxady = cdx * ady
+        adxcdy = adx * cdy
+        blift = bdx * bdx + bdy * bdy
+        adxbdy = adx * bdy
+        bdxady = bdx * ady
+        clift = cdx * cdx + cdy * cdy
+        det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady)
+        thr = ERRBOUND_INCIRCLE * (
+            (abs(bdxcdy) + abs(cdxbdy)) * alift + (abs(cdxady) + abs(adxcdy)) * blift + (abs(adxbdy) + abs(bdxady)) * clift
+        )
         if det > thr:
-            self._count(False)
+            if self.stats is not None:
+                self._count(False)
             return 1
         if det < -thr:
-            self._count(False)
+            if self.stats is not None:
+                self._count(False)
             return -1
         self._count(True)
         (pa, pb, pc, pd), _ = self.integers(a, b, c, d)
@@ -347,13 +389,22 @@ class GrowingPredicates2:
         ax, ay = rows[a]
         bx, by = rows[b]
         px, py = rows[p]
-        det, perm = dot_terms(ax, ay, bx, by, px, py)
-        thr = ERRBOUND_DOT * perm
+        # dot_terms(ax, ay, bx, by, px, py), operation for operation (its proved bound holds).
+        apx = ax - px
+        bpx = bx - px
+        apy = ay - py
+        bpy = by - py
+        left = apx * bpx
+        right = apy * bpy
+        det = left + right
+        thr = ERRBOUND_DOT * (abs(left) + abs(right))
         if det > thr:
-            self._count(False)
+            if self.stats is not None:
+                self._count(False)
             return 1
         if det < -thr:
-            self._count(False)
+            if self.stats is not None:
+                self._count(False)
             return -1
         self._count(True)
         ((iax, iay), (ibx, iby), (ipx, ipy)), _ = self.integers(a, b, p)
