@@ -377,6 +377,50 @@ def test_nodata_rules() -> None:
         greedy_insertion(h, max_error=0, nodata=float("inf"))
 
 
+@pytest.mark.parametrize("size", [5, 128, 129, 700, 5000])
+def test_queue_chooses_the_first_sample_of_largest_error(size: int) -> None:
+    """GreedyRun._queue, on a list (up to 128 samples) or by numpy over the whole fan (above), queues for each
+    triangle with samples the first of its samples of largest error, when that error is positive: ties (few
+    distinct errors), zero errors, triangles without samples and one-sample triangles included."""
+    from persistri.impl.complex.two_complex import TwoComplex
+    from persistri.impl.maps import backend as map_backend
+    from persistri.impl.terrain.greedy_run import GreedyRun
+
+    z = np.zeros(100 * 100)
+    run = GreedyRun(z, (100, 100), TwoComplex(map_backend("red_black"), None), None, False)
+    keys = run.keys
+    rng = np.random.default_rng(size)
+    checked = 0
+    for trial in range(40):
+        k = int(rng.integers(1, 9))
+        cuts = np.sort(rng.integers(0, size + 1, k - 1))
+        counts = np.diff(np.concatenate(([0], cuts, [size]))).tolist()
+        if trial % 3 == 0 and k > 1:  # empty triangles between full ones
+            counts[int(rng.integers(1, k))] += counts[0]
+            counts[0] = 0
+        assert sum(counts) == size
+        err = rng.integers(0, 4, size).astype(np.float64) / 3.0  # few distinct values: ties everywhere
+        if trial % 5 == 0:
+            err[: size // 2] = 0.0
+        samples = rng.permutation(z.size)[:size].astype(np.int32)
+        tids = [1000 + 7 * i for i in range(k)]
+        expected = []
+        start = 0
+        for tid, cnt in zip(tids, counts):
+            if cnt:
+                part = err[start : start + cnt]
+                first = start + int(np.flatnonzero(part == part.max())[0])
+                if err[first] > 0.0:
+                    expected.append((float(err[first]), tid, int(samples[first])))
+            start += cnt
+        run.heap = []
+        run._queue(tids, counts, samples, err)
+        got = sorted((keys.error(key), keys.tid(key), keys.sample(key)) for key in run.heap)
+        assert got == sorted(expected)
+        checked += len(expected)
+    assert checked > 40
+
+
 @pytest.mark.parametrize("seed", [0, 1])
 def test_small_fan_errors_queue_what_numpy_queues(seed: int) -> None:
     """GreedyRun._queue_small (Python floats, one loop) pushes exactly the keys that fan_plane_errors then
