@@ -15,15 +15,14 @@ indices.
 
 from __future__ import annotations
 
-import gc
 from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from persistri.impl.collector import collector_paused
 from persistri.impl.complex.ephemeral import EphemeralTwoComplex
 from persistri.impl.complex.simpcomp import two_complex
 from persistri.impl.complex.structure import Complex
@@ -248,20 +247,8 @@ def convex_hull(
         raise ValueError("convex_hull: the ephemeral complex keeps no old versions, so history=True is impossible")
     # Persistent nodes form no reference cycles, so the cyclic collector only costs time here — a
     # great deal of it: each full collection walks every node of every version kept so far.
-    with _collector_paused():
+    with collector_paused(promote=False):
         return _convex_hull(arr, structure, backend, seed, check, history, stats, progress, stepwise, labels)
-
-
-@contextmanager
-def _collector_paused() -> Iterator[None]:
-    """Python's cyclic garbage collector off for the block, restored (if it was on) however the block ends."""
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if enabled:
-            gc.enable()
 
 
 def _convex_hull(

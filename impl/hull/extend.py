@@ -85,12 +85,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from persistri.impl.collector import collector_paused
 from persistri.impl.complex.ephemeral import EphemeralTwoComplex
 from persistri.impl.complex.structure import Complex
-from persistri.impl.geometry.points import as_points, unique_rows
+from persistri.impl.geometry.points import appended_rows, as_points
 from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.geometry.zorder import morton_order
-from persistri.impl.hull.api import Hull, HullHistory, _as_rows, _collector_paused, _corners, _triangles, _vertex_rows
+from persistri.impl.hull.api import Hull, HullHistory, _as_rows, _corners, _triangles, _vertex_rows
 from persistri.impl.hull.bulldozer import Bulldozer, BulldozerCheckError, FaceDatum
 from persistri.impl.hull.slivers import remove_slivers
 from persistri.impl.progress import progress_callback
@@ -153,7 +154,7 @@ def extend_hull(hull: Hull, new_points: ArrayLike, *, check: bool = False, progr
         )
     if hull.tetra is None or hull.bulldozed is None or hull.bulldozed_faces is None or hull.rows is None:
         raise ValueError("extend_hull: this hull does not record the bulldozer run it came from (made by convex_hull?)")
-    with _collector_paused():  # as convex_hull: persistent nodes form no cycles
+    with collector_paused(promote=False):  # as convex_hull: persistent nodes form no cycles
         return _extend(hull, new, check, progress)
 
 
@@ -162,17 +163,13 @@ def _extend(hull: Hull, new: NDArray[np.float64], check: bool, progress: bool | 
     assert hull.tetra is not None and hull.bulldozed is not None and hull.bulldozed_faces is not None
     assert hull.rows is not None
     S = hull.structure
-    n_old, k = hull.points.shape[0], new.shape[0]
+    n_old = hull.points.shape[0]
     points = np.concatenate([hull.points, new])
     points.setflags(write=False)
 
     # Distinct new points: a row's representative is its first equal row (an old one if there is one), as
     # convex_hull's; the old rows keep theirs, since the concatenation only appends.
-    uniq = unique_rows(points)
-    rep = uniq.first[uniq.inverse[n_old:]]
-    mine = np.arange(n_old, n_old + k, dtype=np.intp)
-    merged = tuple((int(r), int(f)) for r, f in zip(mine[rep != mine].tolist(), rep[rep != mine].tolist()))
-    fresh = mine[rep == mine]  # input order
+    merged, fresh = appended_rows(points, n_old)  # fresh: input order
     m_old = hull.rows.size
     by_input: IntArray = np.arange(fresh.size, dtype=np.intp)
     if hull.labels == "spatial" and fresh.size:
