@@ -22,8 +22,11 @@ def collector_paused(*, promote: bool = True) -> Iterator[None]:
     """The cyclic collector off for the block and restored (if it was on) however the block ends.
 
     ``promote``: on leaving, move what the block made to the oldest generation
-    (``gc.freeze()`` then ``gc.unfreeze()``: two list splices), so that the next
-    young collection does not traverse every object the block made.  O(1).
+    (``gc.freeze()`` then ``gc.unfreeze()``: two list splices).  CPython keeps every
+    object made meanwhile in the young generation, and the next young collection
+    would traverse them all (a third of a 5,000-triangle refinement's time); in the
+    oldest generation, where they would be after surviving two collections anyway,
+    reference counting still frees them and a full collection still sees them.  O(1).
     """
     enabled = gc.isenabled()
     gc.disable()
