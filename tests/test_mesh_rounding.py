@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
+from typing import Any
 
 import numpy as np
 import pytest
@@ -305,9 +306,11 @@ def test_dyadic_split_on_the_needle_agrees_with_the_plain_search(monkeypatch: py
     calls: list[tuple[GrowingPredicates2, int, int, Fraction, Fraction, Fraction]] = []
     real = steiner._dyadic_split
 
-    def spy(P: GrowingPredicates2, a: int, b: int, t_lo: Fraction, t_hi: Fraction, wanted: Fraction) -> tuple[Fraction, float, float]:
-        calls.append((P, a, b, t_lo, t_hi, wanted))
-        return real(P, a, b, t_lo, t_hi, wanted)
+    def spy(
+        P: GrowingPredicates2, a: int, b: int, t_lo: Fraction, t_hi: Fraction, wanted: Fraction, reach: Any = None
+    ) -> tuple[Fraction, float, float] | None:
+        calls.append((P, a, b, t_lo, t_hi, wanted))  # the search itself is checked below without a reach
+        return real(P, a, b, t_lo, t_hi, wanted, reach)
 
     monkeypatch.setattr(steiner, "_dyadic_split", spy)
     triangulate(gallery_domain("needle").pslg, min_angle=30)

@@ -43,7 +43,7 @@ from typing import Final
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.angles import angle_at_least
 from persistri.impl.mesh.cdt import SegmentGeometry, param_on_segment
-from persistri.impl.mesh.steiner import PrecisionLimitError, _to_double, split_parameter
+from persistri.impl.mesh.steiner import PrecisionLimitError, _to_double, split_parameter_within
 from persistri.impl.mesh.triangulation import MeshDatum, Tri, constraint_of
 
 __all__ = [
@@ -146,6 +146,21 @@ def _placed_well_at_ends(t: Fraction, wanted: Fraction, a: int, near: Sequence[t
     return True
 
 
+def _reach(wanted: Fraction, a: int, near: Sequence[tuple[int, float]]) -> tuple[int, int]:
+    """``min τ · r`` over ``near`` (as :func:`_placed_well_at_ends` reads it) as an integer pair ``(n, d)``: a split
+    parameter is placed well exactly when it is within ``n / d`` of ``wanted``. O(len(near)) on integers."""
+    wn, wd = wanted.as_integer_ratio()
+    best: tuple[int, int] | None = None
+    for o, tau in near:
+        tn, td = tau.as_integer_ratio()
+        rn = abs(wn) if o == a else abs(wd - wn)  # r = rn / wd
+        cand = (tn * rn, td * wd)
+        if best is None or cand[0] * best[1] < best[0] * cand[1]:
+            best = cand
+    assert best is not None, "near is not empty"
+    return best
+
+
 def shell_exponent(length: float) -> int:
     """The ``k`` with ``1.5 · 2^k <= length < 3 · 2^k`` (``length`` positive and finite). O(1)."""
     k = math.floor(math.log2(length / 3.0)) + 1
@@ -232,13 +247,18 @@ def split_point(
     if wanted is None:
         # (t_first + t_second) / 2, normalised once.
         wanted = Fraction(un * wd + wn * ud, 2 * ud * wd)
+    near = () if tolerances is None else tolerances(s)
     try:
-        t, x, y = split_parameter(P, a, b, first, second, t_first, t_second, wanted)
-        near = () if tolerances is None else tolerances(s)
-        if exact_segments or not near:
-            return t, x, y, shell, False
-        if _placed_well_at_ends(t, wanted, a, near):
-            return t, x, y, shell, False
+        # Only a point placed well can be used at a small input angle (unless exactness was asked first): the
+        # search is told how far from wanted that is, and skips a fallback whose points are all farther.
+        reach = None if exact_segments or not near else _reach(wanted, a, near)
+        found = split_parameter_within(P, a, b, first, second, t_first, t_second, wanted, reach)
+        if found is not None:
+            t, x, y = found
+            if exact_segments or not near:
+                return t, x, y, shell, False
+            if _placed_well_at_ends(t, wanted, a, near):
+                return t, x, y, shell, False
         # The doubles exactly on the segment are too sparse here: the nearest is farther from the shell than a
         # small input angle tolerates, and the refinement would split on forever.  Rounded, as Triangle's are.
     except PrecisionLimitError as exc:

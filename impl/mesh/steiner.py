@@ -43,6 +43,7 @@ __all__ = [
     "circumcenter",
     "steiner_point",
     "split_parameter",
+    "split_parameter_within",
     "point_at",
     "offcenter_constant",
 ]
@@ -136,6 +137,25 @@ def point_at(P: GrowingPredicates2, a: int, b: int, t: Fraction) -> tuple[Fracti
 def split_parameter(
     P: GrowingPredicates2, a: int, b: int, u: int, w: int, t_u: Fraction, t_w: Fraction, wanted: Fraction
 ) -> tuple[Fraction, float, float]:
+    """A point of two doubles exactly on the subsegment ``uw`` of segment ``ab``, strictly inside it, near ``wanted``
+    (:func:`split_parameter_within` with no reach: never None). O(1) integer operations, or O(_LEVELS) for the
+    fallback."""
+    found = split_parameter_within(P, a, b, u, w, t_u, t_w, wanted, None)
+    assert found is not None, "with no reach the search returns a point or raises"
+    return found
+
+
+def split_parameter_within(
+    P: GrowingPredicates2,
+    a: int,
+    b: int,
+    u: int,
+    w: int,
+    t_u: Fraction,
+    t_w: Fraction,
+    wanted: Fraction,
+    reach: tuple[int, int] | None,
+) -> tuple[Fraction, float, float] | None:
     """A point of two doubles exactly on the subsegment ``uw`` of segment ``ab``, strictly inside it, near ``wanted``.
 
     ``u = a + t_u (b − a)`` and ``w = a + t_w (b − a)`` (``t_u < t_w``); ``wanted`` is
@@ -154,8 +174,14 @@ def split_parameter(
     strictly inside.  **Otherwise** (a coordinate of ``u`` or ``w`` finer than the
     grid), dyadic parameters near ``wanted`` are tried, finest first, for points
     whose two coordinates are doubles (tested exactly).
-    :class:`PrecisionLimitError` if neither finds a point.  O(1) integer operations,
-    or O(_LEVELS) rational ones for the fallback.
+    :class:`PrecisionLimitError` if neither finds a point.
+
+    ``reach = (rn, rd)``: the caller can use only a point whose parameter lies within
+    ``rn / rd`` of ``wanted`` (a split point at a small input angle,
+    :func:`~persistri.impl.mesh.splitting.placement_tolerances`).  The fallback's points all lie
+    on the grid of its level bound (below); when no point of that grid is within reach, None
+    is returned at once instead of a point the caller would not use or the error.  O(1)
+    integer operations, or O(_LEVELS) for the fallback.
     """
     un, ud = t_u.as_integer_ratio()
     vn, vd = t_w.as_integer_ratio()
@@ -196,7 +222,7 @@ def split_parameter(
                         if fx is not None and fy is not None:
                             # t_u + (cand / G) (t_w − t_u), one normalisation.
                             return Fraction(un * G * vd + cand * span, ud * G * vd), fx, fy
-    return _dyadic_split(P, a, b, t_u, t_w, wanted)
+    return _dyadic_split(P, a, b, t_u, t_w, wanted, reach)
 
 
 def _congruence(c: int, d: int, bits: int) -> tuple[int, int] | None:
@@ -215,8 +241,14 @@ def _congruence(c: int, d: int, bits: int) -> tuple[int, int] | None:
 
 
 def _dyadic_split(
-    P: GrowingPredicates2, a: int, b: int, t_lo: Fraction, t_hi: Fraction, wanted: Fraction
-) -> tuple[Fraction, float, float]:
+    P: GrowingPredicates2,
+    a: int,
+    b: int,
+    t_lo: Fraction,
+    t_hi: Fraction,
+    wanted: Fraction,
+    reach: tuple[int, int] | None = None,
+) -> tuple[Fraction, float, float] | None:
     """:func:`split_parameter`'s fallback: dyadic ``t`` in the middle half of ``(t_lo, t_hi)`` near ``wanted``.
 
     On integers: with ``t = j / 2^k`` the point is ``(a·2^k + j (b − a)) · 2^(ex − k)`` in the units ``2^ex`` of
@@ -251,6 +283,8 @@ def _dyadic_split(
     other = _dyadic_level_bound(ay, dy, lon, lod, hin, hid)
     if bound is None or (other is not None and other < bound):
         bound = other
+    if reach is not None and bound is not None and not _grid_within(bound, wanted, reach):
+        return None  # every candidate the loop below could return is farther from wanted than the caller can use
     start = fine
     if bound is not None and 0 <= bound < fine:
         start = min(fine, max(bound, _last_reducing_level(tn, td, bound)))
@@ -280,6 +314,21 @@ def _dyadic_split(
         f"for parameters in ({float(t_lo)!r}, {float(t_hi)!r}): the subsegment is at the limit of double precision "
         "(round the input coordinates to fewer significant bits, or ask for a coarser mesh)"
     )
+
+
+def _grid_within(bound: int, wanted: Fraction, reach: tuple[int, int]) -> bool:
+    """Whether a multiple of ``2^-bound`` lies within ``reach = (rn, rd)`` (``rn / rd``) of ``wanted``: the candidates
+    :func:`_dyadic_split` can return are ``j / 2^k`` of level at most ``bound`` in lowest terms, all on that grid (none
+    when ``bound < 0``: every level is at least 0). O(1) on integers."""
+    if bound < 0:
+        return False
+    wn, wd = wanted.as_integer_ratio()
+    rn, rd = reach
+    scaled = wn << bound  # wanted · 2^bound = scaled / wd
+    m = scaled // wd
+    lo = scaled - m * wd  # wanted − m / 2^bound = lo / (wd · 2^bound), and (m + 1) / 2^bound − wanted = hi / (…)
+    hi = wd - lo
+    return min(lo, hi) * rd <= rn * (wd << bound)
 
 
 def _last_reducing_level(tn: int, td: int, bound: int) -> int:
