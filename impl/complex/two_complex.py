@@ -363,7 +363,10 @@ class TwoComplex(TwoComplexRep[D]):
         triangle (:mod:`~persistri.impl.complex.replace`): O(V_t·lg V + Σ δ)
         with V_t the vertices touched and δ their list lengths.
         """
-        removed, added = arguments(removed, added)
+        tr = type(removed)
+        ta = type(added)
+        if (tr is not list and tr is not tuple) or (ta is not list and ta is not tuple):  # inline: a call costs more
+            removed, added = arguments(removed, added)
         try:
             fam, rep, lin = c
             if fam is not self.family and fam != self.family:  # equal: e.g. a counted twin's complex
