@@ -27,10 +27,8 @@ points from is append-only, so a point index means one point in every future).
 
 from __future__ import annotations
 
-import gc
 import math
 from collections.abc import Callable, Iterator, Mapping
-from contextlib import contextmanager
 from itertools import chain
 from operator import itemgetter
 from dataclasses import dataclass
@@ -40,6 +38,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from persistri.impl.collector import collector_paused
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.geometry.growing import GrowingPredicates2
@@ -265,28 +264,6 @@ def _as_domain(domain: PSLG | Mapping[str, Any]) -> PSLG:
     raise TypeError(f"domain must be a PSLG or a dictionary of arrays, not {type(domain).__name__}")
 
 
-@contextmanager
-def _acyclic() -> Iterator[None]:
-    """Run a block that builds only acyclic objects (persistent nodes, tuples) without the cyclic collector.
-
-    Its collections would only cost time, and so would the first one after it: CPython
-    keeps every object made meanwhile in the young generation, and the next young
-    collection would traverse them all (a third of a 5,000-triangle refinement's time).
-    They are promoted to the oldest generation instead (``freeze`` then ``unfreeze``:
-    two list splices), where they would be after surviving two collections anyway;
-    reference counting still frees them, and a full collection still sees them.
-    """
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if enabled:
-            gc.freeze()
-            gc.unfreeze()
-            gc.enable()
-
-
 def _area(max_area: float | None) -> Fraction | None:
     if max_area is None:
         return None
@@ -383,7 +360,7 @@ def _refine_run(
     )
     bar = progress_callback(progress, "refining", None, batch=64)
     try:
-        with _acyclic():
+        with collector_paused():
             result = refiner.run(start, max_steiner=max_steiner, progress=bar)
     finally:
         if bar is not None and hasattr(bar, "close"):
@@ -477,7 +454,7 @@ def triangulate(
     pred = GrowingPredicates2(pslg.vertices)
     structure: TwoComplex[MeshDatum] = TwoComplex(map_backend(backend))
     T = MeshTriangulation(pred, structure)
-    with _acyclic():
+    with collector_paused():
         cdt, geo = constrained_delaunay(T, pslg)
     run = _Run(T, geo, pslg)
     if bound.degrees == 0.0 and max_area is None and not bool(np.any(pslg.regions[:, 3] > 0)):
