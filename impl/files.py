@@ -116,15 +116,63 @@ def _check_shape(path: Path, shape: tuple[int, ...], columns: Sequence[int] | No
         raise InputFileError(path, f"expected {widths(columns)} columns, got shape {shape}")
 
 
-def _read_ply(path: Path) -> NDArray[Any]:
-    import meshio
+def _ply_vertex_header(path: Path) -> tuple[int, list[str]]:
+    """The vertex count and the vertex properties' names that the PLY header of ``path`` announces.
 
+    Checked here, before meshio reads the data: meshio's ``read`` prints and exits the process on a
+    file that is no PLY, its ASCII reader silently returns fewer vertices than announced (a truncated
+    file would be hulled as if complete) and needs x, y, z as the first three properties.
+    O(header lines).
+    """
+    with path.open("rb") as fh:
+        if fh.readline(16).strip() != b"ply":
+            raise InputFileError(path, "not a PLY file (its first line is not 'ply')")
+        count: int | None = None
+        names: list[str] = []
+        element = ""
+        ascii_ = False
+        for _ in range(100_000):
+            raw = fh.readline(4096)
+            if not raw:
+                raise InputFileError(path, "a damaged PLY header (no end_header line)")
+            words = raw.decode("latin-1").split()
+            if words == ["end_header"]:
+                break
+            if words[:2] == ["format", "ascii"]:
+                ascii_ = True
+            elif words[:1] == ["element"]:
+                element = words[1] if len(words) > 1 else ""
+                if element == "vertex":
+                    if len(words) != 3 or not words[2].isdecimal():
+                        raise InputFileError(path, f"a damaged PLY header (line {raw.decode('latin-1').strip()!r})")
+                    count = int(words[2])
+            elif words[:1] == ["property"] and element == "vertex":
+                names.append(words[-1])
+        else:
+            raise InputFileError(path, "a damaged PLY header (no end_header line)")
+    if count is None:
+        raise InputFileError(path, "no points: the PLY file has no vertex element")
+    if count == 0:
+        raise InputFileError(path, "no points: the PLY header announces 0 vertices")
+    if (names[:3] != ["x", "y", "z"]) if ascii_ else not {"x", "y", "z"} <= set(names):
+        shown = ", ".join(names) or "none"
+        where = " as the first three (in ASCII PLY)" if ascii_ else ""
+        raise InputFileError(path, f"PLY vertices with the properties {shown}: persistri reads x, y, z{where}")
+    return count, names
+
+
+def _read_ply(path: Path) -> NDArray[Any]:
+    from meshio import ply
+
+    count, _ = _ply_vertex_header(path)
     try:
-        mesh = meshio.read(path, file_format="ply")
+        mesh = ply.read(path)  # not meshio.read: it prints and exits on a ReadError
     except Exception as exc:  # meshio raises many types for malformed files
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise InputFileError(path, f"cannot read PLY ({first})") from None
     pts: NDArray[Any] = np.asarray(mesh.points)
+    if pts.ndim != 2 or pts.shape[0] != count:
+        raise InputFileError(path, f"truncated: the PLY header announces {count:,} vertices, the file holds {len(pts):,}")
     return pts
 
 

@@ -1,0 +1,48 @@
+"""A new user's pass over the command line (H7, 2026-11-28): each case failed before its fix.
+
+Inputs the user did not write (files of other programs, hostile variants of them) must give one line
+naming the file and exit status 2, or the right answer: never a traceback, an exit from inside a
+library, or an answer computed on part of the input.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from cli_contract import assert_one_line_failure, invoke
+
+_HEADER = "ply\nformat ascii 1.0\nelement vertex {n}\n{props}end_header\n"
+_XYZ = "property float x\nproperty float y\nproperty float z\n"
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "pattern"),
+    [
+        # meshio.read printed "Expected ply" and called sys.exit(1): two lines, exit status 1.
+        ("garbage.ply", "garbage\n", r"not a PLY file"),
+        ("empty.ply", "", r"not a PLY file"),
+        # meshio's ASCII reader returned the 2 vertices present: the hull of part of the file.
+        ("truncated.ply", _HEADER.format(n=4, props=_XYZ) + "0 0 0\n1 0 0\n", r"truncated: .* announces 4 vertices, .* holds 2"),
+        # 'max_rows' must be at least 1 (numpy's words).
+        ("zero.ply", _HEADER.format(n=0, props=_XYZ), r"no points: .* 0 vertices"),
+        # list index out of range (meshio's words).
+        ("xy.ply", _HEADER.format(n=3, props="property float x\nproperty float y\n") + "0 0\n1 0\n0 1\n", r"properties x, y: .*x, y, z"),
+        ("noend.ply", "ply\nformat ascii 1.0\nelement vertex 4\n" + _XYZ, r"no end_header"),
+    ],
+)
+def test_bad_ply_is_one_line(tmp_path: Path, name: str, content: str, pattern: str) -> None:
+    path = tmp_path / name
+    path.write_text(content)
+    for command in (["hull", str(path), "-o", str(tmp_path / "h.obj")], ["delaunay", str(path), "-o", str(tmp_path / "d.obj")]):
+        result, caught = invoke(command)
+        assert_one_line_failure(result, caught, name, pattern)
+    assert not (tmp_path / "h.obj").exists() and not (tmp_path / "d.obj").exists()
+
+
+def test_complete_ply_still_reads(tmp_path: Path) -> None:
+    path = tmp_path / "tet.ply"
+    path.write_text(_HEADER.format(n=4, props=_XYZ + "property uchar red\n") + "0 0 0 1\n1 0 0 2\n0 1 0 3\n0 0 1 4\n")
+    result, caught = invoke(["hull", str(path), "-o", str(tmp_path / "h.npz")])
+    assert result.exit_code == 0, result.output
+    assert "4 faces, 4 vertices" in result.stderr
