@@ -85,7 +85,6 @@ from persistri.impl.terrain.insertion import (
     _frozen,
     enter,
     fan_samples,
-    reindex,
     sample_dtype,
     third,
 )
@@ -131,8 +130,7 @@ class Triangulator:
     of the current version's directed edges (:attr:`edges`: ``edges[u][w]`` is
     the record ``(triangle, datum)`` of the live triangle holding ``(u, w)``, one
     record shared by its three edges; :func:`~persistri.impl.terrain.insertion.third` reads ``x``),
-    updated by every insertion (:func:`~persistri.impl.terrain.insertion.reindex`)
-    with the complex, and answers the walk's and the cavity's neighbour look-ups
+    updated by every insertion with the complex, and answers the walk's and the cavity's neighbour look-ups
     from it instead of the complex's maps: the same answers (``check=True``
     compares each with the complex's), a dictionary read each instead of a tree
     search and a scan of a vertex list.  Like ``tri_of`` it is the run's scratch
@@ -352,6 +350,7 @@ class Triangulator:
         # A triangle entered across (w, u) is found as (w, u, x): only its other two edges are queued.
         # (edges.pop and edges.append written out, not bound to locals: compiled, they are then list operations.)
         edges = [(a, b), (b, c), (c, a)]
+        j = -1
         row_w: dict[Any, tuple[Any, ...]]  # the index's row of w (a dict: compiled, its operations are direct)
         while edges:
             u, w = edges.pop()
@@ -405,6 +404,8 @@ class Triangulator:
                     edges.append((x, w))
                     continue
                 rejected.add(nid)
+            if u is inf:
+                j = len(bound)  # the boundary passes through ∞ (p is on or beyond the hull): an open fan
             bound.append(u)
             if check:
                 ends.append(w)
@@ -417,15 +418,13 @@ class Triangulator:
                 raise TriangulationCheckError(f"insert: the cavity of point {p} is not a disc (its boundary is not one cycle)")
             if any([ends[i] is not bound[i - 1] for i in range(k)]):
                 raise TriangulationCheckError(f"insert: the cavity boundary of point {p} is not a simple cycle")
-        closed = inf not in bound
+        closed = j < 0
         if closed:
             # bound = [b0, b1, …, b(k-1)] clockwise: the fan's boundary b0, b(k-1), …, b1, b0 (closed: b0 repeated).
-            ring = bound[k - 1 : 0 : -1]
+            ring = bound[::-1]
             ring.insert(0, bound[0])
-            ring.append(bound[0])
         else:
             # ∞ = b(j): the open fan b(j-1), b(j-2), …, b(j+1) (indices modulo k).
-            j = bound.index(inf)
             ring = bound[j - 1 :: -1] + bound[k - 1 : j : -1] if j else bound[k - 1 : 0 : -1]
         nfan = len(ring) - 1
 
@@ -450,6 +449,14 @@ class Triangulator:
         fan: list[tuple[Any, ...]] = []  # (triangle, datum) pairs, kept boxed (see above)
         tid = self._next_id
         u = ring[0]
+        # The edge index (edge_index=True), whose cavity's interior edges left it in the search, takes the fan's
+        # edges: each boundary edge (u, w) again, the spokes (w, p) and (p, u) new; one record (triangle, datum)
+        # for the three edges of a triangle, the fan's own.  Each ring vertex's row is read once.
+        row_p: dict[Any, tuple[Any, ...]] = {}
+        row_u = row_p
+        if index is not None:
+            index[vp] = row_p
+            row_u = index[u]
         for i in range(nfan):
             w = ring[i + 1]
             tri: Any = (u, w, vp)
@@ -457,15 +464,26 @@ class Triangulator:
                 raise TriangulationCheckError(f"insert: point {p} makes the flat or inverted triangle {tri}")
             tid_obj: Any = tid  # boxed once (compiled), stored three times
             tri_of[tid_obj] = tri  # as _new_id, inlined: once per fan triangle
-            fan.append((tri, (tid_obj, own[i])))
+            # Any: compiled, a local narrowed to the literal's fixed-length tuple type would be unboxed and boxed
+            # anew at each store (a copy for the fan, another for the index: one record and one datum object each).
+            frec: Any = (tri, (tid_obj, own[i]))
+            fan.append(frec)
             created.append((tid_obj, tri))
+            if index is not None:
+                row_w = index[w]
+                row_u[w] = row_w[vp] = row_p[u] = frec
+                row_u = row_w
             tid += 1
             u = w
         self._next_id = tid
         if not closed:
             # The two ghosts on the new hull edges (ring[-1], p) and (p, ring[0]).
             for tri in ((ring[-1], inf, vp), (inf, ring[0], vp)):
-                fan.append((tri, (self._new_id(tri), EMPTY)))
+                frec = (tri, (self._new_id(tri), EMPTY))
+                fan.append(frec)
+                if index is not None:
+                    ta, tb, tc = tri
+                    index[ta][tb] = index[tb][tc] = index[tc][ta] = frec
         if self.stepwise:
             for tri in removed_tris:
                 cx = S.rem(cx, tri)
@@ -474,8 +492,6 @@ class Triangulator:
         else:
             cx = S.replace(cx, removed_tris, fan)
         self.complex = cx
-        if index is not None:
-            reindex(index, fan, ring, nfan, vp)
         return Insertion(p, cx, removed, created, samples, counts, not closed, ring, sector, own)
 
     # -- point location --------------------------------------------------------------------

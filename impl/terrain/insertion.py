@@ -5,14 +5,15 @@ returns an :class:`Insertion`: the new version, the cavity's triangles, the
 fan's, and the samples (for a terrain: the grid points not yet inserted) each
 fan triangle now holds.  This module holds that record and what it is made of:
 the datum of a triangle ``(id, samples)`` (:data:`TriDatum`), the sample
-lists' dtype (:func:`sample_dtype`), the way a fan's pooled samples are sorted
-into its sectors (:class:`FanSort`), the canonical form of a list of
+lists' dtype (:func:`sample_dtype`), the way a cavity's samples are pooled, sorted
+into the fan's sectors and cut into its triangles' lists (:func:`fan_samples`,
+:class:`FanSort`), the canonical form of a list of
 triangles used to compare meshes (:func:`canonical_triangles`), and what an
 insertion changes besides the complex when the triangulator keeps an index of
 the current version's directed edges (``Triangulator.edges``: ``index[u][w]``
 is the record ``(triangle, datum)`` of the triangle holding ``(u, w)``;
-:func:`enter`, :func:`reindex`, :func:`third`).  The compiled twin compiles it
-with the triangulator (an insertion makes one record).
+:func:`enter`, :func:`third`; :meth:`~persistri.impl.terrain.delaunay.Triangulator.insert` updates it as it
+goes).  The compiled twin compiles it with the triangulator (an insertion makes one record).
 """
 
 from __future__ import annotations
@@ -42,7 +43,6 @@ __all__ = [
     "canonical_triangles",
     "enter",
     "fan_samples",
-    "reindex",
     "sample_dtype",
     "third",
 ]
@@ -280,32 +280,6 @@ def enter(index: dict[Any, dict[Any, tuple[Any, ...]]], tri: Any, datum: Any) ->
             index[u] = {}
     a, b, c = tri
     index[a][b] = index[b][c] = index[c][a] = rec
-
-
-def reindex(index: dict[Any, dict[Any, tuple[Any, ...]]], fan: list[tuple[Any, ...]], ring: list[Any], nfan: int, p: Any) -> None:
-    """Enter an insertion's fan into the edge index ``index``, whose cavity's interior edges have left it: the
-    index of the version after the insertion of ``p``.
-
-    ``fan`` are the new triangles' records: ``fan[i] = ((ring[i], ring[i+1], p), datum)``
-    for ``i < nfan``, then an open fan's two ghosts.  Every boundary edge of the cavity is
-    entered again by the fan triangle on it, and the spokes to ``p`` are new (the cavity's
-    interior edges, which are in no triangle after it, leave the index during the cavity
-    search: :meth:`~persistri.impl.terrain.delaunay.Triangulator.insert`).  Each ring
-    vertex's row is read once (it takes the edges of two fan triangles).  O(k) for ``k``
-    triangles made.
-    """
-    row_p: dict[Any, tuple[Any, ...]] = {}
-    index[p] = row_p
-    u = ring[0]
-    row_u = index[u]
-    for rec, w in zip(fan, ring[1 : nfan + 1]):
-        row_w = index[w]
-        row_u[w] = row_w[p] = row_p[u] = rec
-        u = w
-        row_u = row_w
-    for rec in fan[nfan:]:
-        ta, tb, tc = rec[0]
-        index[ta][tb] = index[tb][tc] = index[tc][ta] = rec
 
 
 def canonical_triangles(tris: IntArray) -> IntArray:
