@@ -46,3 +46,26 @@ def test_complete_ply_still_reads(tmp_path: Path) -> None:
     result, caught = invoke(["hull", str(path), "-o", str(tmp_path / "h.npz")])
     assert result.exit_code == 0, result.output
     assert "4 faces, 4 vertices" in result.stderr
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["hull", "--dist", "onsphere", "-n", "10", "--seed", "-5"],
+        ["delaunay", "{points}", "--seed", "-1"],
+        ["bench", "hull", "--sizes", "10", "--dists", "OnSphere", "--seed", "-1"],
+        ["bench", "delaunay", "--sizes", "10", "--seed", "-1"],
+        ["experiments", "fig6", "--quick", "--out", "{out}", "--seeds", "-1"],
+    ],
+)
+def test_negative_seed_is_a_usage_error_naming_the_option(tmp_path: Path, command: list[str]) -> None:
+    """numpy's "expected non-negative integer" came after the input was read, blamed on the input file
+    (``persistri: points.csv: expected non-negative integer``), or on nothing at all."""
+    points = tmp_path / "points.csv"
+    points.write_text("0,0\n1,0\n0,1\n")
+    args = [a.format(points=points, out=tmp_path / "out") for a in command]
+    result, _ = invoke(args)
+    assert result.exit_code == 2, result.output
+    assert "--seed" in result.stderr, result.stderr
+    assert "points.csv" not in result.stderr and "Traceback" not in result.output
+    assert not (tmp_path / "out").exists()

@@ -117,7 +117,7 @@ def terrain(
     help="Point counts, separated by commas.",
 )
 @click.option("--repeat", type=click.IntRange(min=1), default=1, show_default=True, help="Timed runs per figure; the best is kept.")
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the points and of the insertion order.")
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of the points and of the insertion order.")
 @click.option("--backend", default="red_black", show_default=True, help="ORD_MAP backend of the complex.")
 @click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
 def delaunay_(sizes: tuple[int, ...], repeat: int, seed: int, backend: str, as_json: bool) -> None:
@@ -162,7 +162,7 @@ def delaunay_(sizes: tuple[int, ...], repeat: int, seed: int, backend: str, as_j
     help="ORD_MAP backends of the complex, separated by commas (the ephemeral baseline always runs too).",
 )
 @click.option("--repeat", type=click.IntRange(min=1), default=1, show_default=True, help="Timed runs per figure; the best is kept.")
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the points and of the insertion order.")
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of the points and of the insertion order.")
 @click.option("--memory", is_flag=True, help="Also measure the memory of keeping every intermediate hull (tracemalloc; slow).")
 @click.option("--memory-n", type=click.IntRange(min=4), default=16384, show_default=True, help="Points for --memory.")
 @click.option("--memory-dist", default="InBall", show_default=True, help="Distribution for --memory.")

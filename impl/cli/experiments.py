@@ -74,6 +74,8 @@ def _ints(text: str, what: str) -> tuple[int, ...]:
         raise click.BadParameter(f"{text!r}: give integers separated by commas", param_hint=what) from None
     if not items:
         raise click.BadParameter("give at least one", param_hint=what)
+    if any(i < 0 for i in items):
+        raise click.BadParameter(f"{text!r}: seeds are non-negative integers", param_hint=what)
     return items
 
 
