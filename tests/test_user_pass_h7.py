@@ -69,3 +69,26 @@ def test_negative_seed_is_a_usage_error_naming_the_option(tmp_path: Path, comman
     assert "--seed" in result.stderr, result.stderr
     assert "points.csv" not in result.stderr and "Traceback" not in result.output
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-inf"])
+def test_terrain_max_error_not_finite_is_a_usage_error(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, value: str) -> None:
+    """It was ``persistri: grid.csv: max_error must be a finite number >= 0, got nan``, found after reading the
+    grid and blamed on it; click's own range check already named the option for -1."""
+    from cli_contract import forbid
+
+    grid = tmp_path / "grid.csv"
+    grid.write_text("1,2,3\n4,5,6\n7,8,10\n")
+    forbid(monkeypatch, "persistri.impl.cli.terrain:read_grid")
+    result, _ = invoke(["terrain", str(grid), "--max-error", value, "-o", str(tmp_path / "t.ply")])
+    assert result.exit_code == 2, result.output
+    assert "--max-error" in result.stderr and "grid.csv" not in result.stderr, result.stderr
+
+
+def test_terrain_help_says_every_geotiff_needs_the_extra() -> None:
+    """The help said that compressed GeoTIFFs need persistri[geotiff]; an uncompressed one needs it too
+    (tifffile reads them all), so a user without the extra met 'reading GeoTIFF needs tifffile'."""
+    result, _ = invoke(["terrain", "--help"])
+    text = " ".join(result.output.split())
+    assert "GeoTIFFs may be compressed" not in text
+    assert "GeoTIFFs, compressed or not" in text and "persistri[geotiff]" in text

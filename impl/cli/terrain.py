@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import click
@@ -125,8 +126,8 @@ def terrain(
     world, and for a georeferenced input transform (x0, y0, dx, dy) and crs
     (EPSG:nnnn or WKT).  The CRS comes from the GeoTIFF's GeoKeys or from a .prj
     beside an .asc; with --world a .ply/.obj/.stl/.off gets it as WKT in a .prj
-    file of the same name (mesh.ply -> mesh.prj).  GeoTIFFs may be compressed
-    (LZW, deflate, zstd, PackBits; tiled or in strips): pip install
+    file of the same name (mesh.ply -> mesh.prj).  GeoTIFFs, compressed or
+    not (LZW, deflate, zstd, PackBits; tiled or in strips), need pip install
     'persistri[geotiff]'.
 
     With --tile (or --workers N ≥ 2, or --scheduler) the grid is meshed by
@@ -140,6 +141,8 @@ def terrain(
     err = stderr_console()
     if max_error is None and max_points is None:
         raise click.UsageError("give --max-error, --max-points or both")
+    if max_error is not None and not math.isfinite(max_error):
+        raise click.BadParameter(f"{max_error} is not a finite height", param_hint="--max-error")
     if tile is not None or scheduler is not None or (workers is not None and workers > 1) or tile_output is not None:
         _tiled(source, max_error, max_points, output, plot, nodata, world, backend, check, show_stats, quiet,
                workers, tile, scheduler, tile_output)
