@@ -92,3 +92,14 @@ def test_terrain_help_says_every_geotiff_needs_the_extra() -> None:
     text = " ".join(result.output.split())
     assert "GeoTIFFs may be compressed" not in text
     assert "GeoTIFFs, compressed or not" in text and "persistri[geotiff]" in text
+
+
+def test_bench_terrain_without_pydelatin_names_the_package(monkeypatch: pytest.MonkeyPatch) -> None:
+    """It was ``internal error: ModuleNotFoundError: No module named 'pydelatin' (a bug in persistri; …)``
+    after reading the grid; ``bench mesh`` already named its missing peer (Triangle) in one line."""
+    import sys
+
+    monkeypatch.setitem(sys.modules, "pydelatin", None)  # import pydelatin now raises ImportError
+    result, caught = invoke(["bench", "terrain", "--sizes", "10"])
+    line = assert_one_line_failure(result, caught, "pydelatin", r"not installed: pip install pydelatin")
+    assert "internal error" not in line

@@ -58,13 +58,18 @@ def terrain(
     the final mesh alone.  --max-error (or --relief) refines both meshers to
     that error and compares their times instead; --peak-memory adds their peak
     memory.  --grid synthetic:2048 is a 2,048 × 2,048 fractal terrain
-    (persistri.impl.terrain.synthetic).
+    (persistri.impl.terrain.synthetic).  Needs the pydelatin package (pip
+    install pydelatin).
     """
     from persistri.impl.bench.terrain import run_terrain_bench, terrain_table
     from persistri.impl.bench.terrain_target import relief, run_to_error, target_table
     from persistri.impl.terrain.grids import GRID_FORMATS, as_heights, read_grid
     from persistri.impl.terrain.synthetic import parse_synthetic, synthetic_dem
 
+    try:
+        import pydelatin  # noqa: F401  (the peer: checked before anything is read or measured)
+    except ImportError:
+        fail("bench terrain compares with pydelatin, which is not installed: pip install pydelatin (or pip install 'persistri[dev]')")
     err = stderr_console()
     target = max_error is not None or relief_fraction is not None
     if max_error is not None and relief_fraction is not None:
