@@ -155,6 +155,8 @@ def _select(
         if k is None:
             # The header meant is the first line naming any of them, else the first line.
             k = next((j for j, i in enumerate(content[:100]) if set(named) & set(_names(lines[i], delimiter))), 0)
+            if not _is_header(lines[content[k]]):
+                raise InputFileError(path, "has no header line to name columns by (its first line is data): choose them by number (from 0)")
             header = _names(lines[content[k]], delimiter)
             missing = [f for f in fields if isinstance(f, str) and f.strip().lower() not in header]
             listed = ", ".join(repr(f) for f in missing)

@@ -103,3 +103,36 @@ def test_bench_terrain_without_pydelatin_names_the_package(monkeypatch: pytest.M
     result, caught = invoke(["bench", "terrain", "--sizes", "10"])
     line = assert_one_line_failure(result, caught, "pydelatin", r"not installed: pip install pydelatin")
     assert "internal error" not in line
+
+
+@pytest.mark.parametrize(
+    ("command", "option", "pattern"),
+    [
+        # Was "four.csv: line 1: expected 3 numbers, got 2": the file blamed for the option's count.
+        (["hull", "{tet}", "--columns", "0,1"], True, r"0,1 names 2 columns; give 3 \(x,y,z\)"),
+        (["delaunay", "{tet}", "--columns", "0,1,2,0"], True, r"names 4 columns; give 2 or 3"),
+        # Was "no column '-1' in the header (0, 0, 0)": a number read as a name, a data line as the header.
+        (["hull", "{tet}", "--columns", "-1,0,1"], True, r"count from 0, got -1"),
+        # Was "no columns 'a', 'b', 'c' in the header (0, 0, 0)": the file has no header at all.
+        (["hull", "{tet}", "--columns", "a,b,c"], False, r"tet.csv: has no header line to name columns by"),
+    ],
+)
+def test_columns_mistakes_name_what_is_wrong(tmp_path: Path, command: list[str], option: bool, pattern: str) -> None:
+    import re
+
+    tet = tmp_path / "tet.csv"
+    tet.write_text("0,0,0\n1,0,0\n0,1,0\n0,0,1\n")
+    result, _ = invoke([a.format(tet=tet) for a in command] + ["-o", str(tmp_path / "m.obj")])
+    assert result.exit_code == 2, result.output
+    assert re.search(pattern, result.stderr), result.stderr
+    assert ("--columns" in result.stderr) == option and "line 1" not in result.stderr, result.stderr
+    assert "in the header (0, 0, 0)" not in result.stderr
+
+
+def test_columns_by_name_still_pick_from_a_real_header(tmp_path: Path) -> None:
+    survey = tmp_path / "survey.csv"
+    survey.write_text("# survey\nid;east;north;height;note\n1;0;0;0;a\n2;1;0;0;b\n3;0;1;0;c\n4;0;0;1;d\n")
+    result, _ = invoke(["hull", str(survey), "--columns", "east,north,height", "-o", str(tmp_path / "h.npz")])
+    assert result.exit_code == 0, result.output
+    result, _ = invoke(["hull", str(survey), "--columns", "east,north,heigth", "-o", str(tmp_path / "h.npz")])
+    assert "no column 'heigth' in the header (id, east, north, height, note)" in result.stderr, result.stderr

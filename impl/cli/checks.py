@@ -35,7 +35,7 @@ import click
 
 from persistri.impl.cli.errors import error_line, fail
 
-__all__ = ["PLOT_FORMATS", "check_backend", "check_input", "check_output_dir", "parse_columns", "Outputs", "Staging"]
+__all__ = ["PLOT_FORMATS", "check_backend", "check_column_count", "check_input", "check_output_dir", "parse_columns", "Outputs", "Staging"]
 
 PLOT_FORMATS: Final = (".png", ".pdf", ".svg")
 """The formats ``--plot`` writes (matplotlib chooses by extension)."""
@@ -81,7 +81,18 @@ def parse_columns(ctx: click.Context, param: click.Parameter, value: str | None)
     items = [item.strip() for item in value.split(",")]
     if not all(items):
         raise click.BadParameter(f"an empty column in {value!r}: give numbers (from 0) or header names, comma-separated")
+    negative = [item for item in items if item.startswith("-") and item[1:].isdecimal()]
+    if negative:
+        raise click.BadParameter(f"column numbers count from 0, got {negative[0]}")
     return [int(item) if item.isdecimal() else item for item in items]
+
+
+def check_column_count(columns: Sequence[str | int] | None, counts: Sequence[int], reads: str) -> None:
+    """Fail with a usage error naming ``--columns`` unless it chooses one of ``counts`` columns (``reads``: "x,y,z")."""
+    if columns is not None and len(columns) not in counts:
+        want = " or ".join(str(c) for c in counts)
+        shown = ",".join(str(c) for c in columns)
+        raise click.BadParameter(f"{shown} names {len(columns)} columns; give {want} ({reads})", param_hint="--columns")
 
 
 def check_backend(name: str) -> None:

@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_input, parse_columns
+from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_column_count, check_input, parse_columns
 from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.errors import about
 from persistri.impl.cli.hull import stats_table
@@ -51,6 +51,7 @@ def delaunay_command(
     from persistri.impl.terrain.scattered import delaunay
 
     err = stderr_console()
+    check_column_count(columns, (2, 3), "x,y or x,y,z")
     check_input(input_path, POINT_FORMATS, kind="point")
     outputs = Outputs()
     outputs.file(output, MESH_FORMATS, what="mesh")

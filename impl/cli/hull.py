@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 from rich.table import Table
 
-from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_input, parse_columns
+from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_column_count, check_input, parse_columns
 from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.errors import about, error_line, fail
 from persistri.impl.files import MESH_FORMATS, POINT_FORMATS, read_points, write_mesh
@@ -127,6 +127,7 @@ def hull(
     directory = input_path is not None and input_path.is_dir()
     if columns is not None and (input_path is None or directory):
         raise click.UsageError("--columns chooses the columns of an input file: not for --dist or a directory")
+    check_column_count(columns, (3,), "x,y,z")
     if input_path is not None and not directory:
         check_input(input_path, POINT_FORMATS, kind="point")
     outputs = Outputs()
