@@ -136,3 +136,25 @@ def test_columns_by_name_still_pick_from_a_real_header(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     result, _ = invoke(["hull", str(survey), "--columns", "east,north,heigth", "-o", str(tmp_path / "h.npz")])
     assert "no column 'heigth' in the header (id, east, north, height, note)" in result.stderr, result.stderr
+
+
+def test_delaunay_warns_when_merged_rows_have_another_z(tmp_path: Path) -> None:
+    """Rows with equal x, y but different z were merged as "exactly equal rows", the second z dropped in
+    silence: a TIN with a height the survey did not measure there, and nothing said."""
+    survey = tmp_path / "xyzi.csv"
+    survey.write_text("X,Y,Z,intensity\n0,0,0,5\n1,0,0,6\n0,1,0,7\n0,0,1,8\n")
+    for quiet in ([], ["--quiet"]):
+        result, _ = invoke(["delaunay", str(survey), "-o", str(tmp_path / "t.npz"), *quiet])
+        assert result.exit_code == 0, result.output
+        assert "warning: " in result.stderr and "row 3 has the x, y of row 0 but another z (1.0, not 0.0)" in result.stderr
+        assert ("delaunay of" in result.stderr) == (not quiet)
+    result, _ = invoke(["delaunay", str(survey), "-o", str(tmp_path / "t.npz")])
+    said = " ".join(result.stderr.split())
+    assert "1 triangle, 3 vertices" in said and "1 duplicate row merged (row 3 = row 0)" in said, said
+
+
+def test_delaunay_equal_rows_merge_without_a_warning(tmp_path: Path) -> None:
+    pts = tmp_path / "p.csv"
+    pts.write_text("0,0,5\n1,0,6\n0,1,7\n0,0,5\n")
+    result, _ = invoke(["delaunay", str(pts), "-o", str(tmp_path / "t.npz")])
+    assert result.exit_code == 0 and "warning" not in result.stderr, result.stderr

@@ -42,8 +42,9 @@ def delaunay_command(
     """The exact Delaunay triangulation of the points in INPUT (.npy, .csv/.xyz/.txt: rows of x,y or x,y,z;
     a header naming x, y (z) among other columns picks those, --columns any two or three).
 
-    Every distinct point is a vertex (exactly equal rows are merged and
-    reported); triangles are counterclockwise.  A third column (z) is carried
+    Every distinct point is a vertex (rows of equal x, y are merged and
+    reported, with a warning where their z differ: the earlier row's is
+    kept); triangles are counterclockwise.  A third column (z) is carried
     into mesh outputs.  OUTPUT by extension: .npz with the arrays points (the
     input as read), triangles (input row indices) and hull, or .ply, .obj,
     .off, .stl (z = 0 without a third column).
@@ -76,16 +77,33 @@ def delaunay_command(
 
             title = f"{input_path.name}: {len(result.triangles):,} triangles"
             plot_triangulation(result.points, result.triangles, stage(plot), title=title)
+    dup = result.duplicates
+    # Rows merged for their equal x, y whose z differ: the TIN keeps the earlier row's height, said even with --quiet.
+    clashes = [(a, b) for a, b in dup if raw.shape[1] == 3 and raw[a, 2] != raw[b, 2]]
+    if clashes:
+        a, b = clashes[0]
+        more = f" ({len(clashes):,} such rows)" if len(clashes) > 1 else ""
+        err.print(
+            f"persistri: warning: {input_path}: row {a} has the x, y of row {b} but another z "
+            f"({float(raw[a, 2])!r}, not {float(raw[b, 2])!r}): the mesh keeps row {b}'s z{more}",
+            soft_wrap=True, highlight=False, markup=False,
+        )
     if not quiet:
         verified = " (verified exactly)" if check else ""
-        dup = result.duplicates
         shown = ", ".join(f"row {a} = row {b}" for a, b in dup[:5]) + (" …" if len(dup) > 5 else "")
+        what = "row" if len(dup) == 1 else "rows"
         err.print(
-            f"delaunay of {input_path}: {len(result.triangles):,} triangles, {raw.shape[0] - len(dup):,} vertices, "
+            f"delaunay of {input_path}: {_count(len(result.triangles), 'triangle')}, {_count(raw.shape[0] - len(dup), 'vertex')}, "
             f"{len(result.hull):,} on the hull{verified}"
-            + (f"; {len(dup)} duplicate rows merged ({shown})" if dup else "")
+            + (f"; {len(dup):,} duplicate {what} merged ({shown})" if dup else "")
         )
     if show_stats and result.stats is not None:
         stdout_console().print(stats_table(result.stats, f"operation counts ({backend})"))
     if output is None and plot is None and quiet:
         click.echo(f"{len(result.triangles)} triangles")
+
+
+def _count(n: int, noun: str) -> str:
+    """``n`` and ``noun``, plural unless n is 1 (``1 triangle``, ``2 vertices``)."""
+    plural = "vertices" if noun == "vertex" else noun + "s"
+    return f"{n:,} {noun if n == 1 else plural}"
