@@ -158,3 +158,19 @@ def test_delaunay_equal_rows_merge_without_a_warning(tmp_path: Path) -> None:
     pts.write_text("0,0,5\n1,0,6\n0,1,7\n0,0,5\n")
     result, _ = invoke(["delaunay", str(pts), "-o", str(tmp_path / "t.npz")])
     assert result.exit_code == 0 and "warning" not in result.stderr, result.stderr
+
+
+def test_command_list_shows_whole_short_helps() -> None:
+    """``persistri --help`` listed ``experiments  Regenerate the paper's Fig.``: click cuts the first sentence
+    at "Fig." (a period and a space)."""
+    result, _ = invoke(["--help"])
+    line = next(ln for ln in result.output.splitlines() if ln.strip().startswith("experiments"))
+    assert not line.rstrip().endswith("Fig."), line
+    assert "11" in line, line
+
+
+def test_hull_summary_counts_one_duplicate_in_the_singular(tmp_path: Path) -> None:
+    pts = tmp_path / "p.csv"
+    pts.write_text("0,0,0\n-0.0,0,0\n1,0,0\n0,1,0\n0,0,1\n")
+    result, _ = invoke(["hull", str(pts), "-o", str(tmp_path / "h.npz")])
+    assert "4 faces, 4 vertices, 1 duplicate row merged" in result.stderr, result.stderr

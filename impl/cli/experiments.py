@@ -93,7 +93,7 @@ def _bars(console: Console) -> Iterator[Progress]:
         yield progress
 
 
-@click.command("experiments")
+@click.command("experiments", short_help="Regenerate the paper's Figs. 6, 7, 8 and 11 (CSV, PNG, tables).")
 @click.argument("which", nargs=-1, required=True, type=click.Choice([*FIGURES, "all"]))
 @click.option(
     "--out",

@@ -282,5 +282,6 @@ def _summary(
     source = str(input_path) if input_path is not None else f"{dist} n={n} seed={seed}"
     verified = " (verified exactly)" if check else ""
     stderr_console().print(
-        f"hull of {source}: {faces} faces, {vertices} vertices, {duplicates} duplicate rows merged{verified}{more}"
+        f"hull of {source}: {faces} faces, {vertices} vertices, {duplicates} duplicate row{'' if duplicates == 1 else 's'} merged"
+        f"{verified}{more}"
     )
