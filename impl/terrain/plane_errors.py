@@ -105,9 +105,26 @@ def plane_errors(cols: int, z: FloatArray, tri: IntArray, counts: IntArray, samp
         hi = min(m, lo + CHUNK)
         s = samples[lo:hi]
         xs, ys = grid_xy(s, cols)
-        rep = np.searchsorted(ends, np.arange(lo, hi), side="right") if tri.shape[0] > 1 else np.zeros(hi - lo, dtype=np.intp)
+        rep = _owners(ends, counts, lo, hi) if tri.shape[0] > 1 else np.zeros(hi - lo, dtype=np.intp)
         np.abs(z[s] - (za[rep] + gx[rep] * (xs - xa[rep]) + gy[rep] * (ys - ya[rep])), out=err[lo:hi])
     return err
+
+
+def _owners(ends: IntArray, counts: IntArray, lo: int, hi: int) -> IntArray:
+    """The triangle of each of the samples ``lo … hi − 1`` (``hi > lo``), for triangles holding ``counts`` samples
+    one after the other (``ends`` their running sums): ``searchsorted(ends, arange(lo, hi), side="right")``,
+    the same integers, made by two binary searches and one ``repeat`` of the triangles the samples span
+    (a binary search per sample cost a fifth of a 2,048² mesh's error measurement).  O(hi − lo + triangles)."""
+    first = int(np.searchsorted(ends, lo, side="right"))
+    last = int(np.searchsorted(ends, hi - 1, side="right"))
+    held = np.array(counts[first : last + 1], dtype=np.intp)
+    if last == first:
+        held[0] = hi - lo
+    else:
+        held[0] = int(ends[first]) - lo
+        held[-1] = hi - int(ends[last - 1])
+    out: IntArray = np.repeat(np.arange(first, last + 1, dtype=np.intp), held)
+    return out
 
 
 def fan_errors(cols: int, z: FloatArray, p: int, ring: IntArray, fan_index: IntArray, samples: Samples) -> FloatArray:
