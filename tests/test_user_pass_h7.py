@@ -174,3 +174,47 @@ def test_hull_summary_counts_one_duplicate_in_the_singular(tmp_path: Path) -> No
     pts.write_text("0,0,0\n-0.0,0,0\n1,0,0\n0,1,0\n0,0,1\n")
     result, _ = invoke(["hull", str(pts), "-o", str(tmp_path / "h.npz")])
     assert "4 faces, 4 vertices, 1 duplicate row merged" in result.stderr, result.stderr
+
+
+_WKT = (
+    'PROJCS["WGS_1984_UTM_Zone_14N",GEOGCS["GCS_WGS_1984",DATUM["D_WGS_1984",SPHEROID["WGS_1984",6378137.0,'
+    '298.257223563]],PRIMEM["Greenwich",0.0],UNIT["Degree",0.0174532925199433]],PROJECTION["Transverse_Mercator"],'
+    'PARAMETER["False_Easting",500000.0],PARAMETER["False_Northing",0.0],PARAMETER["Central_Meridian",-99.0],'
+    'PARAMETER["Scale_Factor",0.9996],PARAMETER["Latitude_Of_Origin",0.0],UNIT["Meter",1.0]]'
+)
+
+
+def test_terrain_world_checks_its_prj_before_the_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``terrain dem.tif --world -o tin.ply`` with a directory tin.prj computed the mesh, then failed on the
+    .prj after renaming tin.ply into place: exit 2, and a tin.ply left behind."""
+    from cli_contract import forbid
+
+    (tmp_path / "dem.asc").write_text(
+        "ncols 3\nnrows 3\nxllcorner 500000\nyllcorner 4000000\ncellsize 10\n1 2 3\n4 5 6\n7 8 10\n"
+    )
+    (tmp_path / "dem.prj").write_text(_WKT)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "tin.prj").mkdir()
+    forbid(monkeypatch, "persistri.impl.terrain.greedy:greedy_insertion")
+    result, caught = invoke(["terrain", str(tmp_path / "dem.asc"), "--max-points", "4", "--world", "-o", str(out / "tin.ply")])
+    assert_one_line_failure(result, caught, "tin.prj", r"a directory")
+    assert sorted(p.name for p in out.iterdir()) == ["tin.prj"]
+
+
+def test_outputs_are_renamed_all_or_none(tmp_path: Path) -> None:
+    """A target that became a directory after the checks: the other outputs stay unwritten too."""
+    from click import ClickException
+
+    from persistri.impl.cli.checks import Outputs
+
+    outputs = Outputs()
+    first, second = tmp_path / "a.ply", tmp_path / "b.png"
+    outputs.file(first, (".ply",), what="mesh")
+    outputs.file(second, (".png",), what="plot")
+    with pytest.raises(ClickException, match="b.png: cannot write it"):
+        with outputs.staged() as stage:
+            stage(first).write_text("mesh")
+            stage(second).write_text("plot")
+            second.mkdir()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b.png"]

@@ -23,6 +23,7 @@ O(1) each, apart from the writing.
 
 from __future__ import annotations
 
+import errno
 import os
 import secrets
 import tempfile
@@ -243,7 +244,16 @@ class Staging:
         return out
 
     def commit(self) -> None:
-        for temp, target in self._files():
+        files = self._files()
+        # Every target first, so that one that cannot be replaced (made a directory or read-only since the
+        # checks) leaves none of the others renamed into place: all or nothing.
+        for _, target in files:
+            self.current = target
+            if target.is_dir():
+                raise IsADirectoryError(errno.EISDIR, "it is a directory", str(target))
+            if target.exists() and not os.access(target, os.W_OK):
+                raise PermissionError(errno.EACCES, "it exists and is read-only", str(target))
+        for temp, target in files:
             self.current = target
             os.replace(temp, target)
         self.current = None

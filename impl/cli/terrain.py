@@ -157,7 +157,9 @@ def terrain(
         fail(f"{source}: --world needs georeferencing, and this input has none")
     if output is not None:
         with about(output):
-            sidecar_wkt(output, grid.crs, world=world)  # a CRS that cannot be written fails before the run
+            wkt = sidecar_wkt(output, grid.crs, world=world)  # a CRS that cannot be written fails before the run
+        if wkt is not None:  # its .prj beside the mesh: checked as an output too, before the run
+            outputs.file(output.with_suffix(".prj"), (".prj",), what="projection")
     missing = np.isnan(grid.heights)
     if nodata == "error" and bool(missing.any()):
         count = int(missing.sum())
