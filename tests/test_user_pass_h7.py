@@ -218,3 +218,24 @@ def test_outputs_are_renamed_all_or_none(tmp_path: Path) -> None:
             stage(second).write_text("plot")
             second.mkdir()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["b.png"]
+
+
+@pytest.mark.parametrize(
+    ("extra", "pattern"),
+    [
+        # Both ran the suite and reported law failures (exit 1): "FAILED isolation — error: the structure raised …".
+        (["--state", "json:dumps"], r"--state json:dumps: calling it with no arguments failed \(TypeError"),
+        (["--state", "persistri.impl.complex.vertex:VertexState.initial", "--dims", "2,7"], r"--dims 2,7: .* refuses new\(7\); the dimensions it makes: 2"),
+    ],
+)
+def test_conformance_complex_usage_mistakes_exit_2(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, extra: list[str], pattern: str) -> None:
+    pytest.importorskip("hypothesis")
+    (tmp_path / "h7_complexes.py").write_text(
+        "from persistri.impl.complex import complex_structure\nC2 = complex_structure(2, 'red_black')\n"
+    )
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    args = ["conformance", "complex", "h7_complexes:C2", *extra, "--max-examples", "2", "--workload-size", "0", "--stateful-steps", "0"]
+    result, caught = invoke(args)
+    assert_one_line_failure(result, caught, "--", pattern)
+    assert "FAILED" not in result.output

@@ -150,10 +150,10 @@ def maps(ctx: click.Context, target: str, max_examples: int, workload_size: int,
     ctx.exit(0 if report.ok else 1)
 
 
-def _auto_dims(structure: Any) -> tuple[int, ...]:
-    """The dimensions 1–4 whose ``new(n)`` the structure accepts (a structure may make one dimension only)."""
+def _auto_dims(structure: Any, among: Sequence[int] = range(1, 5)) -> tuple[int, ...]:
+    """The dimensions ``among`` (1–4) whose ``new(n)`` the structure accepts (a structure may make one dimension only)."""
     dims = []
-    for n in range(1, 5):
+    for n in among:
         try:
             structure.new(n)
         except Exception:  # noqa: BLE001 - refusing new(n) means: not this dimension
@@ -168,9 +168,9 @@ def _parse_dims(text: str) -> tuple[int, ...] | None:
     try:
         dims = tuple(int(x) for x in text.split(","))
     except ValueError:
-        raise click.BadParameter(f"{text!r}: give 'auto' or dimensions separated by commas (e.g. 2,3)") from None
+        raise click.BadParameter(f"{text!r}: give 'auto' or dimensions separated by commas (e.g. 2,3)", param_hint="--dims") from None
     if not dims or any(n < 1 for n in dims):
-        raise click.BadParameter(f"{text!r}: dimensions are positive integers")
+        raise click.BadParameter(f"{text!r}: dimensions are positive integers", param_hint="--dims")
     return dims
 
 
@@ -231,9 +231,18 @@ def complex_(
         state = load_target(state_target)
     except TargetError as exc:
         _fail(ctx, f"--state: {exc}")
+    if callable(state):  # a function of no arguments returning the state: one that cannot be called is not one
+        try:
+            state()
+        except Exception as exc:  # noqa: BLE001 - whatever it raises, it is no vertex state
+            _fail(ctx, f"--state {state_target}: calling it with no arguments failed ({type(exc).__name__}: {exc})")
     chosen = wanted if wanted is not None else _auto_dims(structure)
     if not chosen:
         _fail(ctx, f"{target} is not a SIMPCOMP structure: new(n) fails for every n in 1..4")
+    refused = [n for n in chosen if n not in _auto_dims(structure, chosen)]
+    if refused:
+        accepted = ", ".join(map(str, _auto_dims(structure))) or "none of 1..4"
+        _fail(ctx, f"--dims {dims}: {target} refuses new({refused[0]}); the dimensions it makes: {accepted}")
     click.echo(f"persistri: running the SIMPCOMP conformance suite on {target} (dims {','.join(map(str, chosen))}) …", err=True)
     from hypothesis.configuration import set_hypothesis_home_dir
 
