@@ -5,7 +5,8 @@ numbers separated by commas, semicolons, tabs or spaces (the delimiter is the
 first of ``,`` ``;`` tab found on the first data line, else whitespace), any
 number of leading header lines (lines whose first — or first chosen — field is
 not a number, e.g. ``x,y,z``), ``#`` comments (whole lines or after the numbers),
-blank lines, Windows line ends and a UTF-8 byte-order mark, read by
+blank lines, Windows line ends, a UTF-8 byte-order mark and fields in double
+quotes (``"1","2","3"``, as spreadsheets export them), read by
 :func:`numpy.loadtxt`.  Columns are chosen by number or by the header's names
 (:data:`Fields`); without a choice a header naming ``x`` and ``y`` (and ``z``)
 among other columns picks those (:data:`XY_NAMES`).  A bad row is found by
@@ -46,7 +47,7 @@ def _delimiter(line: str) -> str | None:
 
 def _loadtxt(lines: Sequence[str], delimiter: str | None, usecols: Sequence[int] | None = None) -> NDArray[np.float64]:
     arr: NDArray[np.float64] = np.loadtxt(
-        lines, delimiter=delimiter, comments="#", ndmin=2, dtype=np.float64, usecols=usecols
+        lines, delimiter=delimiter, comments="#", ndmin=2, dtype=np.float64, usecols=usecols, quotechar='"'
     )
     return arr
 
@@ -59,7 +60,9 @@ def _is_header(line: str, usecols: Sequence[int] | None = None) -> bool:
     With ``usecols`` the first *selected* field decides (a date in an unused
     first column does not make every line a header).
     """
-    fields = np.genfromtxt([line], delimiter=_delimiter(line), comments="#", dtype=None, encoding="utf-8")
+    # Quotes are dropped first: a spreadsheet's "1","2","3" is data, its "x","y","z" a header.
+    bare = line.replace('"', "")
+    fields = np.genfromtxt([bare], delimiter=_delimiter(bare), comments="#", dtype=None, encoding="utf-8")
     names = fields.dtype.names
     # One dtype for every field when they agree (a plain array), else a record of one per field.
     kinds = [fields.dtype[k].kind for k in range(len(names))] if names else [fields.dtype.kind] * max(fields.size, 1)

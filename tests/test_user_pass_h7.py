@@ -239,3 +239,27 @@ def test_conformance_complex_usage_mistakes_exit_2(tmp_path: Path, monkeypatch: 
     result, caught = invoke(args)
     assert_one_line_failure(result, caught, "--", pattern)
     assert "FAILED" not in result.output
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        '"x","y","z"\n"0","0","0"\n"1","0","0"\n"0","1","0"\n"0","0","1"\n',  # a spreadsheet's export
+        '"0","0","0"\n"1","0","0"\n"0","1","0"\n"0","0","1"\n',
+        'x,y,z\n0,0,0\n"1",0,0\n0,"1",0\n0,0,"1"\n',
+    ],
+)
+def test_quoted_numbers_are_read(tmp_path: Path, text: str) -> None:
+    """Was ``no points: 5 lines of text and no row of numbers``: every quoted row taken for a header."""
+    path = tmp_path / "quoted.csv"
+    path.write_text(text)
+    result, _ = invoke(["hull", str(path), "-o", str(tmp_path / "h.npz")])
+    assert result.exit_code == 0, result.output
+    assert "4 faces, 4 vertices" in result.stderr
+
+
+def test_a_quoted_word_in_the_data_is_still_named(tmp_path: Path) -> None:
+    path = tmp_path / "quoted.csv"
+    path.write_text('"x","y","z"\n"0","0","0"\n"1","0","0"\n"0","1","0"\n"0","0","q"\n')
+    result, caught = invoke(["hull", str(path), "-o", str(tmp_path / "h.npz")])
+    assert_one_line_failure(result, caught, "quoted.csv", r'line 5: "q" is not a number')
