@@ -263,3 +263,20 @@ def test_a_quoted_word_in_the_data_is_still_named(tmp_path: Path) -> None:
     path.write_text('"x","y","z"\n"0","0","0"\n"1","0","0"\n"0","1","0"\n"0","0","q"\n')
     result, caught = invoke(["hull", str(path), "-o", str(tmp_path / "h.npz")])
     assert_one_line_failure(result, caught, "quoted.csv", r'line 5: "q" is not a number')
+
+
+def test_tiled_terrain_world_checks_its_prj_before_the_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The tiled path too meshed every tile before failing on a directory tin.prj."""
+    pytest.importorskip("dask")
+    from cli_contract import forbid
+
+    (tmp_path / "dem.asc").write_text(
+        "ncols 3\nnrows 3\nxllcorner 500000\nyllcorner 4000000\ncellsize 10\n1 2 3\n4 5 6\n7 8 10\n"
+    )
+    (tmp_path / "dem.prj").write_text(_WKT)
+    (tmp_path / "tin.prj").mkdir()
+    forbid(monkeypatch, "persistri.impl.scale.terrain:tiled_terrain")
+    args = ["terrain", str(tmp_path / "dem.asc"), "--tile", "3", "--workers", "1", "--max-error", "1", "--world", "-o", str(tmp_path / "tin.ply")]
+    result, caught = invoke(args)
+    assert_one_line_failure(result, caught, "tin.prj", r"a directory")
+    assert not (tmp_path / "tin.ply").exists()

@@ -258,7 +258,9 @@ def _tiled(
         fail(f"{source}: --world needs georeferencing, and this input has none")
     if output is not None:
         with about(output):
-            sidecar_wkt(output, dem.transform.crs if dem.transform is not None else None, world=world)
+            wkt = sidecar_wkt(output, dem.transform.crs if dem.transform is not None else None, world=world)
+        if wkt is not None:  # its .prj beside the mesh: checked before the cluster starts
+            outputs.file(output.with_suffix(".prj"), (".prj",), what="projection")
     size = DEFAULT_TILE if tile is None else tile
     try:
         with connect(workers, scheduler, dashboard=not quiet) as client:
