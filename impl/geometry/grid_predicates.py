@@ -121,6 +121,7 @@ class GridPredicates2(Predicates2):
         self._grain = None
         self._scale = IntegerScale(0, 0)
         self._ints = {}
+        self._sos_rank = None  # Simulation of Simplicity in index order
 
     def __repr__(self) -> str:
         return f"GridPredicates2(shape={self._shape})"

@@ -151,7 +151,10 @@ class Delaunay2Kernel:
     # objects) they hold.  Interpreted, nothing changes.
 
     def _incircle_zero(self, a: Any, b: Any, c: Any, d: Any) -> int:
-        """SoS of an exact-float zero: the first term of Λ4 (orient2d of the three largest indices), then the rest."""
+        """SoS of an exact-float zero: the first term of Λ4 (orient2d of the three largest indices), then the rest.
+        Points ranked otherwise than by index (``Predicates2(sos_rank=…)``) go to the predicates' own SoS."""
+        if self._pred._sos_rank is not None:
+            return self._pred._sos_incircle(a, b, c, d)
         i0, i1, i2, i3 = sorted((a, b, c, d))
         inversions = (a > b) + (a > c) + (a > d) + (b > c) + (b > d) + (c > d)
         rows = self._rows

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from persistri.impl.geometry.exact import incircle_det, orient2d_det
@@ -24,7 +25,7 @@ from persistri.impl.geometry.filter import (
 from persistri.impl.geometry.indexed_points import IndexedPoints, IntArray, SignArray, sign_of
 from persistri.impl.geometry.kernel2d import Delaunay2Kernel
 from persistri.impl.geometry.points import as_points
-from persistri.impl.geometry.sos import sort_with_parity, sos_orient2d, sos_orient3d
+from persistri.impl.geometry.sos import sort_by_rank_with_parity, sort_with_parity, sos_orient2d, sos_orient3d
 from persistri.impl.stats import Stats
 
 __all__ = ["Predicates2"]
@@ -35,15 +36,27 @@ class Predicates2(IndexedPoints):
 
     ``orient2d`` and ``incircle`` with their batch and true-sign variants, for
     the Delaunay terrain (paper §5).  Validation and errors as
-    :class:`~persistri.impl.geometry.predicates3.Predicates3`.
+    :class:`~persistri.impl.geometry.predicates3.Predicates3`.  Simulation of
+    Simplicity perturbs the points in index order, or, given ``sos_rank`` (``n``
+    distinct integers), in the order of their ranks: the indices are then free to
+    follow another order (the scattered Delaunay numbers its points along a
+    Hilbert curve and ranks them by input row).
     """
 
-    __slots__ = ()
+    __slots__ = ("_sos_rank",)
 
-    def __init__(self, points: ArrayLike, *, stats: Stats | None = None) -> None:
+    _sos_rank: list[int] | None
+
+    def __init__(self, points: ArrayLike, *, stats: Stats | None = None, sos_rank: ArrayLike | None = None) -> None:
         pts = as_points(points, 2)
         # Lazy rows: a height grid has millions of points and only its vertices are ever tested one by one.
         self._setup(pts, exact_rows=pts.shape[0], extra=0, stats=stats, lazy_rows=True)
+        self._sos_rank = None
+        if sos_rank is not None:
+            rank = np.asarray(sos_rank)
+            if rank.shape != (pts.shape[0],) or rank.dtype.kind not in "iu" or np.unique(rank).size != rank.size:
+                raise ValueError(f"sos_rank must be {pts.shape[0]} distinct integers, one per point")
+            self._sos_rank = rank.tolist()
 
     def __repr__(self) -> str:
         return f"Predicates2(n={self._n})"
@@ -129,7 +142,11 @@ class Predicates2(IndexedPoints):
         return self._sos2(a, b, c)
 
     def _sos2(self, a: int, b: int, c: int) -> int:
-        order, parity = sort_with_parity((int(a), int(b), int(c)))
+        rank = self._sos_rank
+        if rank is None:
+            order, parity = sort_with_parity((int(a), int(b), int(c)))
+        else:
+            order, parity = sort_by_rank_with_parity((int(a), int(b), int(c)), rank)
         return parity * sos_orient2d(*(self._int(i) for i in order))
 
     def orient2d_batch(self, a: int, b: int, qs: ArrayLike) -> SignArray:
@@ -225,7 +242,11 @@ class Predicates2(IndexedPoints):
         return (x, y, x * x + y * y)
 
     def _sos_incircle(self, a: int, b: int, c: int, d: int) -> int:
-        order, parity = sort_with_parity((int(a), int(b), int(c), int(d)))
+        rank = self._sos_rank
+        if rank is None:
+            order, parity = sort_with_parity((int(a), int(b), int(c), int(d)))
+        else:
+            order, parity = sort_by_rank_with_parity((int(a), int(b), int(c), int(d)), rank)
         return parity * sos_orient3d(*(self._lifted(i) for i in order))
 
     def incircle_batch(self, a: int, b: int, c: int, qs: ArrayLike) -> SignArray:

@@ -43,6 +43,7 @@ __all__ = [
     "ORIENT2D_SOS",
     "ORIENT3D_SOS",
     "sort_with_parity",
+    "sort_by_rank_with_parity",
     "minor",
     "perturbed_sign",
     "sos_orient2d",
@@ -110,6 +111,20 @@ def sort_with_parity(indices: Sequence[int]) -> tuple[list[int], int]:
             elif indices[p] == indices[q]:
                 raise ValueError(f"point indices must be distinct, got {tuple(indices)}")
     return sorted(indices), -1 if inversions & 1 else 1
+
+
+def sort_by_rank_with_parity(indices: Sequence[int], rank: Sequence[int]) -> tuple[list[int], int]:
+    """``(indices sorted by rank, parity)``: :func:`sort_with_parity` with the perturbation order ``rank[i]``
+    in place of the index ``i`` (distinct ranks; equal indices raise :class:`ValueError`).  O(k²) for k <= 4.
+
+    A point's infinitesimal perturbation depends only on its place in this order
+    (Edelsbrunner and Mücke): ranking points by anything other than their indices
+    — their input rows, say, while the indices follow a space-filling curve — breaks
+    every tie as an index order equal to the ranks would.
+    """
+    keys = [rank[i] for i in indices]
+    _, parity = sort_with_parity(keys)
+    return [i for _, i in sorted(zip(keys, indices))], parity
 
 
 def minor(matrix: Sequence[Sequence[R]], rows: Sequence[int], cols: Sequence[int]) -> R:

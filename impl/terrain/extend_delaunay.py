@@ -11,16 +11,16 @@ datum, vertex list and map node the new points leave alone (paper §1's
 What continuing needs, and how it is kept exact:
 
 1. **Labels.**  A vertex's label is its index in the predicates' point array.
-   The old run labelled its distinct points ``0 … m−1`` and gave the symbolic
-   infinite vertex the label ``m``; the new distinct points take the labels after
-   the old ones (``m+1, m+2, …``, in input order), and the predicates are rebuilt
-   over the old points, a stand-in row at ``m`` (never read: no test takes the
-   infinite vertex as a point; the ghost rule decides those) and the new points.
-   Every old decision stands: the exact signs are of the same rationals, and
-   Simulation of Simplicity depends only on the *order* of the labels, which is
-   the input rows' order among the old points and the new ones alike.  So the
-   result is exactly the triangulation of the whole input computed in one run —
-   cocircular and collinear ties included (tested on grids).
+   The old run numbered its distinct points ``0 … m−1`` along a Hilbert curve
+   and gave the symbolic infinite vertex the label ``m``; the new distinct points
+   take the labels after those (``m+1, m+2, …``, along a Hilbert curve of their
+   own), and the predicates are rebuilt over the old points, a stand-in row at
+   ``m`` (never read: no test takes the infinite vertex as a point; the ghost rule
+   decides those) and the new points.  Every old decision stands: the exact
+   signs are of the same rationals, and Simulation of Simplicity ranks the points
+   by input row (``Predicates2(sos_rank=…)``), in the first run and here alike —
+   so the result is exactly the triangulation of the whole input computed in one
+   run, cocircular and collinear ties included (tested on grids).
 2. **The triangulator's scratch.**  The live-triangle index and the edge index
    of the last version are read back from the complex (its triangles and data,
    the same objects), and the vertices are the complex's own, so new triangles
@@ -58,7 +58,14 @@ from persistri.impl.geometry.points import appended_rows, as_points
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.terrain.delaunay import Triangulator
 from persistri.impl.terrain.insertion import TriDatum, canonical_triangles, enter
-from persistri.impl.terrain.scattered import DelaunayTriangulation, insertion_order, run_insertions, verify_result
+from persistri.impl.terrain.scattered import (
+    DelaunayTriangulation,
+    hilbert_keys,
+    hull_rows,
+    insertion_order,
+    run_insertions,
+    verify_result,
+)
 
 __all__ = ["extend_delaunay", "resume_triangulator"]
 
@@ -128,16 +135,20 @@ def extend_delaunay(tri: DelaunayTriangulation, points: ArrayLike, *, check: boo
     # Each row's representative is its first equal row, as delaunay's (the old rows keep theirs: this only appends).
     merged, fresh = appended_rows(arr, n_old)
     m_old = tri.labels.size
+    # The new points' labels follow the Hilbert curve among themselves, after the old ones (scattered.py says why).
+    keys = hilbert_keys(arr[fresh])
+    fresh = fresh[np.argsort(keys, kind="stable")]
     labels = np.concatenate([tri.labels, fresh])
     # The predicates' rows, by label; the infinite vertex's slot holds a stand-in (label 0's point), never read.
+    # Simulation of Simplicity ranks the points by input row (the stand-in below them all), as the first run did.
     stand_in = np.where(labels >= 0, labels, labels[0])
     structure = tri.structure
-    pred = Predicates2(arr[stand_in], stats=structure.stats)
+    pred = Predicates2(arr[stand_in], stats=structure.stats, sos_rank=labels)
     with collector_paused():
         T = resume_triangulator(pred, structure, tri.complex, tri.infinite, check=check)
 
     drawn = int(np.random.default_rng((tri.seed, m_old)).integers(1 << 62))
-    order = (insertion_order(arr[fresh], drawn) + m_old).tolist()
+    order = (insertion_order(arr[fresh], drawn, np.sort(keys)) + m_old).tolist()
     versions: list[Complex[TriDatum]] | None = None if tri.history is None else []
     triangles, cycle = run_insertions(T, order, versions, check=check)
     history = None
@@ -147,7 +158,7 @@ def extend_delaunay(tri: DelaunayTriangulation, points: ArrayLike, *, check: boo
     result = DelaunayTriangulation(
         points=arr,
         triangles=canonical_triangles(labels[triangles]),
-        hull=labels[cycle],
+        hull=hull_rows(labels, cycle),
         duplicates=tri.duplicates + merged,
         complex=T.complex,
         structure=structure,
