@@ -284,3 +284,20 @@ def test_a_large_polygon_validates() -> None:
     pts = np.stack([np.cos(t) * (1 + 0.1 * np.cos(7 * t)), np.sin(t) * (1 + 0.1 * np.cos(7 * t))], axis=1)
     p = as_pslg(pts, np.stack([np.arange(n), (np.arange(n) + 1) % n], axis=1))
     assert p.segments.shape == (n, 2) and not p.notes
+
+
+def test_coordinates_too_large_for_the_refinement_are_refused_clearly() -> None:
+    from persistri.impl.mesh.api import triangulate
+    from persistri.impl.mesh.domain import COORDINATE_LIMIT
+    from persistri.impl.mesh.verify import verify_mesh
+
+    big = 3.35e153  # just below 2^510: squared lengths and circumcentres stay doubles
+    square = [[-big, -big], [big, -big], [big, big], [-big, big]]
+    ring = [[0, 1], [1, 2], [2, 3], [3, 0]]
+    mesh = triangulate(as_pslg(square, ring), min_angle=30, max_area=1e306)
+    assert verify_mesh(mesh.domain, mesh.vertices, mesh.triangles, min_angle=30).ok
+    for bad in ([[COORDINATE_LIMIT, 0.0]], [[0.0, -1e300]]):
+        with pytest.raises(DomainError, match=r"vertices row 4 .*2\^510.*scale the domain down"):
+            as_pslg(square + bad, ring)
+    with pytest.raises(DomainError, match=r"holes row 0 .*2\^510"):
+        as_pslg(square, ring, holes=[[1e200, 0.0]])

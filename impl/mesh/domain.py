@@ -25,7 +25,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any
+from typing import Any, Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -164,14 +164,27 @@ def _int_array(values: ArrayLike, what: str, width: int | None) -> NDArray[np.in
     return raw.astype(np.intp)
 
 
+COORDINATE_LIMIT: Final = 2.0**510
+"""Coordinates are below this in magnitude (≈ 3.4·10^153): the refinement measures squared lengths, areas and
+circumcentres in doubles (its choices; every decision is exact), and twice this squared is the largest double."""
+
+
 def _real_rows(values: ArrayLike, what: str, width: int) -> NDArray[np.float64]:
     raw = np.asarray(values) if not isinstance(values, (str, bytes)) else values
     if isinstance(raw, np.ndarray) and raw.size == 0:
         return np.zeros((0, width), dtype=np.float64)
     try:
-        return as_points(values, width, what=what)
+        out = as_points(values, width, what=what)
     except (TypeError, ValueError) as exc:
         raise DomainError(str(exc)) from None
+    big = np.flatnonzero((np.abs(out) >= COORDINATE_LIMIT).any(axis=1))
+    if big.size:
+        k = int(big[0])
+        raise DomainError(
+            f"{what} row {k} {tuple(out[k].tolist())}: a coordinate of magnitude 2^510 (about 3.4e153) or more; "
+            f"the mesh measures squared lengths in doubles: scale the domain down"
+        )
+    return out
 
 
 # -- validation -------------------------------------------------------------------------------
@@ -193,7 +206,8 @@ def as_pslg(
 
     Refused, always (vertex and segment numbers are input rows):
 
-    * NaN or infinite coordinates, wrong shapes, non-integer or out-of-range segment indices;
+    * NaN or infinite coordinates, coordinates of magnitude :data:`COORDINATE_LIMIT` (2^510) or more,
+      wrong shapes, non-integer or out-of-range segment indices;
     * a segment joining a vertex to itself, or two vertices at the same point;
     * two segments that cross without a shared vertex (their exact crossing point is
       not representable: split them yourself where you want the vertex);
@@ -434,8 +448,8 @@ def domain_of(pslg: PSLG, *, scale: IntegerScale | None = None, pred: Predicates
             raise DomainError(f"region {k} at {point_text(pslg.regions[k, :2])} lies in a hole (the face of a hole point)")
     if faces.n_faces == 0:
         raise DomainError(
-            "the segments enclose no region: the domain is empty (close the boundary, or pass convex=True "
-            "to mesh the convex hull)"
+            "the segments enclose no region: the domain is empty (close the boundary, or mesh the convex hull: "
+            "as_pslg(..., convex=True), --convex on the command line)"
         )
     if not kept.any():
         f = int(hole_face[0])
