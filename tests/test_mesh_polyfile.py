@@ -205,3 +205,15 @@ def test_writers_refuse_bad_arrays(tmp_path: Path) -> None:
         write_ele(tmp_path / "x.ele", [[0.5, 1, 2]])
     with pytest.raises(ValueError, match="first_number must be 0 or 1"):
         write_node(tmp_path / "x.node", [[0, 0], [1, 0], [0, 1]], first_number=2)
+
+
+def test_read_poly_reads_a_node_file_as_its_convex_hull(tmp_path: Path) -> None:
+    """`persistri mesh dots.node` meshes the convex hull of the points; read_poly gives the same domain."""
+    from persistri.impl.cli.mesh import read_domain
+
+    path = tmp_path / "dots.node"
+    write_node(path, np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.3]]), first_number=0)
+    d = read_poly(path)
+    assert sorted(map(sorted, d.segments.tolist())) == [[0, 1], [0, 3], [1, 2], [2, 3]]
+    assert np.array_equal(d.vertices, read_domain(str(path)).vertices)
+    assert read_poly(path, validate=False).segments.shape == (0, 2)

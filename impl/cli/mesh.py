@@ -73,16 +73,12 @@ def read_domain(source: str, *, convex: bool = False) -> PSLG:
     """
     from persistri.impl.mesh.domain import as_pslg
     from persistri.impl.mesh.gallery import gallery_domain
-    from persistri.impl.mesh.polyfile import read_node, read_poly
+    from persistri.impl.mesh.polyfile import read_poly
 
     if source.lower() in GALLERY:
         pslg = gallery_domain(source.lower()).pslg
         return as_pslg(pslg.vertices, pslg.segments, pslg.holes, pslg.regions, convex=True) if convex else pslg
-    path = Path(source)
-    if path.suffix.lower() == ".node":
-        node = read_node(path)
-        return as_pslg(node.vertices, vertex_markers=node.markers, vertex_attributes=node.attributes, convex=True)
-    return read_poly(path, convex=convex)
+    return read_poly(Path(source), convex=convex)  # a .node file: the convex hull of its points
 
 
 def _first_number(source: str) -> int:
