@@ -129,7 +129,8 @@ class Delaunay:
         check_qhull_options(qhull_options, "Delaunay")
         self._incremental = bool(incremental)
         self._closed = False
-        self._adopt(delaunay(points, backend=backend, seed=seed, check=check, stats=stats, history=history), check)
+        pts = as_points(points, 2, what="points")  # errors name the argument as the user passed it
+        self._adopt(delaunay(pts, backend=backend, seed=seed, check=check, stats=stats, history=history), check)
 
     def _adopt(self, tri: DelaunayTriangulation, check: bool) -> None:
         self._tri = tri
@@ -187,8 +188,6 @@ class Delaunay:
         chk = self._check if check is None else check
         old = self._tri
         if restart:
-            from persistri.impl.geometry.points import as_points
-
             rows = np.concatenate([old.points, as_points(points, 2, what="points")])
             new = delaunay(rows, backend=old.backend, seed=old.seed, check=chk, history=old.history is not None)
         else:

@@ -233,3 +233,17 @@ def test_vertices_numbered_along_the_curve_share_the_maps_paths() -> None:
         seen.update(id(x) for x in nodes(v.rep[1]))
     per_version = len(seen) / len(versions)
     assert per_version < 32, per_version
+
+
+def test_history_index_errors_name_the_range() -> None:
+    t = persistri.Delaunay(np.random.default_rng(0).random((10, 2)), history=True)
+    assert t.history is not None
+    with pytest.raises(IndexError, match=r"version 100 of a history of 8 versions \(0 to 7\)"):
+        t.history.simplices(100)
+    assert t.history[-1] is t.history.versions[-1]
+    hull = persistri.ConvexHull(np.random.default_rng(0).random((20, 3)), history=True)
+    assert hull.history is not None
+    with pytest.raises(IndexError, match="version -99 of a history of"):
+        hull.history[-99]
+    with pytest.raises(ValueError, match=r"^points must be an \(n, 2\) array"):
+        persistri.Delaunay(np.zeros((10, 3)))

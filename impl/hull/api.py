@@ -119,6 +119,10 @@ class HullHistory:
         return len(self.versions)
 
     def __getitem__(self, k: int) -> Complex[FaceDatum]:
+        """Version ``k`` (negative ``k`` counts from the end); :class:`IndexError` naming the range otherwise. O(1)."""
+        n = len(self.versions)
+        if not -n <= k < n:
+            raise IndexError(f"version {k} of a history of {n} versions (0 to {n - 1})")
         return self.versions[k]
 
     def __iter__(self) -> Iterator[Complex[FaceDatum]]:
@@ -126,7 +130,7 @@ class HullHistory:
 
     def simplices(self, k: int) -> IntArray:
         """The outward triangles of version ``k`` as input rows (like :attr:`Hull.simplices`). O(size)."""
-        return _triangles(self.structure, self.versions[k], self.rows)
+        return _triangles(self.structure, self[k], self.rows)
 
     def vertices(self, k: int) -> IntArray:
         """The sorted input rows that are vertices of version ``k``."""
@@ -134,7 +138,7 @@ class HullHistory:
 
     def pending(self, k: int) -> IntArray:
         """The input rows still outside version ``k`` (the union of its conflict lists), sorted."""
-        lists = [np.asarray(x[1], dtype=np.intp) for _, x in self.structure.items(self.versions[k])]
+        lists = [np.asarray(x[1], dtype=np.intp) for _, x in self.structure.items(self[k])]
         if not lists:
             return np.zeros(0, dtype=np.intp)
         return np.sort(self.rows[np.concatenate(lists)])

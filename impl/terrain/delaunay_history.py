@@ -72,6 +72,10 @@ class DelaunayHistory:
         return len(self.versions)
 
     def __getitem__(self, k: int) -> Complex[TriDatum]:
+        """Version ``k`` (negative ``k`` counts from the end); :class:`IndexError` naming the range otherwise. O(1)."""
+        n = len(self.versions)
+        if not -n <= k < n:
+            raise IndexError(f"version {k} of a history of {n} versions (0 to {n - 1})")
         return self.versions[k]
 
     def __iter__(self) -> Iterator[Complex[TriDatum]]:
@@ -80,7 +84,7 @@ class DelaunayHistory:
     def simplices(self, k: int) -> IntArray:
         """The triangles of version ``k`` as input rows, counterclockwise, canonical (each rotated to start
         at its smallest row, rows sorted: the form of :attr:`DelaunayTriangulation.triangles`). O(m log m)."""
-        every = read_labels(self.structure, self.versions[k])
+        every = read_labels(self.structure, self[k])
         finite = every[~(every == self.infinite).any(axis=1)]
         return canonical_triangles(self.labels[finite])
 
