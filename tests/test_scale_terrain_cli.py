@@ -92,7 +92,8 @@ def test_no_data_is_refused_unless_a_rule_is_given(tmp_path: Path) -> None:
     np.save(path, h)
     code, text = invoke("terrain", str(path), "--max-error", "5", "--tile", "17", "--workers", "1")
     assert code == 2
-    one_error_line(text, r"holes\.npy: 1 no-data cell \(NaN\), the first at \(row 5, col 7\)")
+    one_error_line(text, r"holes\.npy: 1 no-data cell \(NaN\), the first at \(row 5, col 7\); .*--nodata fill, min")
+    assert "nodata=" not in text  # the command's words, not the API's
     code, text = invoke("terrain", str(path), "--max-error", "5", "--tile", "17", "--workers", "1", "--nodata", "fill")
     assert code == 0, text
 

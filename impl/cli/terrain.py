@@ -162,12 +162,8 @@ def terrain(
             outputs.file(output.with_suffix(".prj"), (".prj",), what="projection")
     missing = np.isnan(grid.heights)
     if nodata == "error" and bool(missing.any()):
-        count = int(missing.sum())
         row, col = (int(v) for v in np.argwhere(missing)[0])
-        fail(
-            f"{source}: {count} no-data cell{'s' if count != 1 else ''} (NaN), the first at (row {row}, col {col}); "
-            "say how to treat them: --nodata fill, min or a height"
-        )
+        fail(_no_data(source, int(missing.sum()), row, col))
     stats = Stats() if show_stats else None
     with about(source):
         tin = greedy_insertion(
@@ -210,6 +206,14 @@ def terrain(
         click.echo(f"{tin.n_points} points, {len(tin.triangles)} triangles, max error {tin.max_error:.6g}")
 
 
+def _no_data(source: str, count: int, row: int, col: int) -> str:
+    """The one line for a grid with no-data cells and ``--nodata error`` (the default)."""
+    return (
+        f"{source}: {count} no-data cell{'s' if count != 1 else ''} (NaN), the first at (row {row}, col {col}); "
+        "say how to treat them: --nodata fill, min or a height"
+    )
+
+
 def _tiled(
     source: str,
     max_error: float | None,
@@ -240,7 +244,7 @@ def _tiled(
         fail("give either --workers or --scheduler, not both (a cluster has its own workers)")
     try:
         from persistri.impl.scale.cluster import ClusterError, connect
-        from persistri.impl.scale.terrain import DEFAULT_TILE, tiled_terrain, write_tile_meshes
+        from persistri.impl.scale.terrain import DEFAULT_TILE, MissingHeights, tiled_terrain, write_tile_meshes
         from persistri.impl.scale.terrain_source import LAZY_FORMATS, open_dem
     except ImportError as exc:
         fail(f"meshing by tiles needs Dask: pip install 'persistri[dask]' ({exc})")
@@ -269,8 +273,11 @@ def _tiled(
                 n = len(client.scheduler_info().get("workers", {}))
                 err.print(f"Dask cluster: {n} worker{'s' if n != 1 else ''}" + (f", dashboard {link}" if link else ""))
             with about(source):
-                tin = tiled_terrain(dem, max_error=max_error, tile=size, client=client, nodata=nodata,
-                                    backend=backend, progress=not quiet, keep_tiles=tile_output is not None)
+                try:
+                    tin = tiled_terrain(dem, max_error=max_error, tile=size, client=client, nodata=nodata,
+                                        backend=backend, progress=not quiet, keep_tiles=tile_output is not None)
+                except MissingHeights as exc:  # in the command's words
+                    fail(_no_data(source, exc.count, *exc.first))
     except ClusterError as exc:
         fail(error_line(exc))
     except ValueError as exc:  # connect's own checks of --workers and --scheduler

@@ -98,10 +98,22 @@ __all__ = [
     "mesh_tile_piece",
     "tile_tin",
     "write_tile_meshes",
+    "MissingHeights",
 ]
 
 IntArray = NDArray[np.intp]
 FloatArray = NDArray[np.float64]
+
+class MissingHeights(ValueError):
+    """No-data cells in a grid meshed with ``nodata="error"``: how many, and the first as ``(row, col)``."""
+
+    def __init__(self, name: str, count: int, first: tuple[int, int]) -> None:
+        self.name, self.count, self.first = name, count, first
+        super().__init__(
+            f"{name}: {count} no-data cell{'s' if count != 1 else ''} (NaN), the first at (row {first[0]}, col "
+            f"{first[1]}); say how to treat them with nodata='fill', 'min' or a height"
+        )
+
 
 DEFAULT_TILE: Final = 1025
 """Samples a side of a tile when none is given: 1024 cells, about a million samples (a few hundred MB per worker)."""
@@ -314,11 +326,7 @@ def tiled_terrain(
     found = survey(dem, client=client, chunks=max(256, min(tile, 4096)))
     if found.missing:
         if rule.kind == "error":
-            r, c = found.first_missing or (0, 0)
-            raise ValueError(
-                f"{dem.name}: {found.missing} no-data cell{'s' if found.missing != 1 else ''} (NaN), the first at "
-                f"(row {r}, col {c}); say how to treat them with nodata='fill', 'min' or a height"
-            )
+            raise MissingHeights(dem.name, found.missing, found.first_missing or (0, 0))
         if rule.kind == "min":
             rule = NodataRule("min", found.lowest, reach)
     # A grid held in memory goes as its array, which the cluster receives once (tasks.run scatters it).
