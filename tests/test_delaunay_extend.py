@@ -247,3 +247,11 @@ def test_history_index_errors_name_the_range() -> None:
         hull.history[-99]
     with pytest.raises(ValueError, match=r"^points must be an \(n, 2\) array"):
         persistri.Delaunay(np.zeros((10, 3)))
+
+
+def test_histories_slice_like_tuples() -> None:
+    t = persistri.Delaunay(np.random.default_rng(1).random((12, 2)), history=True)
+    hull = persistri.ConvexHull(np.random.default_rng(1).random((20, 3)), history=True)
+    for h in (t.history, hull.history):
+        assert h is not None
+        assert h[:3] == h.versions[:3] and h[-2:] == h.versions[-2:] and h[::2] == h.versions[::2]

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -118,8 +118,17 @@ class HullHistory:
     def __len__(self) -> int:
         return len(self.versions)
 
-    def __getitem__(self, k: int) -> Complex[FaceDatum]:
-        """Version ``k`` (negative ``k`` counts from the end); :class:`IndexError` naming the range otherwise. O(1)."""
+    @overload
+    def __getitem__(self, k: int) -> Complex[FaceDatum]: ...
+
+    @overload
+    def __getitem__(self, k: slice) -> tuple[Complex[FaceDatum], ...]: ...
+
+    def __getitem__(self, k: int | slice) -> Complex[FaceDatum] | tuple[Complex[FaceDatum], ...]:
+        """Version ``k`` (negative ``k`` counts from the end; a slice gives a tuple of versions);
+        :class:`IndexError` naming the range for a ``k`` outside it. O(1) (a slice: O(its length))."""
+        if isinstance(k, slice):
+            return self.versions[k]
         n = len(self.versions)
         if not -n <= k < n:
             raise IndexError(f"version {k} of a history of {n} versions (0 to {n - 1})")

@@ -30,6 +30,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from itertools import chain
 from operator import itemgetter
+from typing import overload
 
 import numpy as np
 from numpy.typing import NDArray
@@ -71,8 +72,17 @@ class DelaunayHistory:
     def __len__(self) -> int:
         return len(self.versions)
 
-    def __getitem__(self, k: int) -> Complex[TriDatum]:
-        """Version ``k`` (negative ``k`` counts from the end); :class:`IndexError` naming the range otherwise. O(1)."""
+    @overload
+    def __getitem__(self, k: int) -> Complex[TriDatum]: ...
+
+    @overload
+    def __getitem__(self, k: slice) -> tuple[Complex[TriDatum], ...]: ...
+
+    def __getitem__(self, k: int | slice) -> Complex[TriDatum] | tuple[Complex[TriDatum], ...]:
+        """Version ``k`` (negative ``k`` counts from the end; a slice gives a tuple of versions);
+        :class:`IndexError` naming the range for a ``k`` outside it. O(1) (a slice: O(its length))."""
+        if isinstance(k, slice):
+            return self.versions[k]
         n = len(self.versions)
         if not -n <= k < n:
             raise IndexError(f"version {k} of a history of {n} versions (0 to {n - 1})")
