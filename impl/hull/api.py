@@ -15,9 +15,8 @@ indices.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any, overload
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -26,6 +25,7 @@ from persistri.impl.collector import collector_paused
 from persistri.impl.complex.ephemeral import EphemeralTwoComplex
 from persistri.impl.complex.simpcomp import two_complex
 from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.versions import Versions
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.geometry.points import as_points, unique_rows
 from persistri.impl.geometry.zorder import morton_order
@@ -101,7 +101,7 @@ def _vertex_rows(simplices: IntArray, n_rows: int) -> IntArray:
 
 
 @dataclass(frozen=True)
-class HullHistory:
+class HullHistory(Versions[FaceDatum]):
     """Every hull version of a run, oldest first: time travel (the versions share structure).
 
     ``versions[0]`` is the first tetrahedron; ``versions[k]`` the hull after the
@@ -115,27 +115,6 @@ class HullHistory:
     versions: tuple[Complex[FaceDatum], ...]
     inserted: tuple[int, ...]
 
-    def __len__(self) -> int:
-        return len(self.versions)
-
-    @overload
-    def __getitem__(self, k: int) -> Complex[FaceDatum]: ...
-
-    @overload
-    def __getitem__(self, k: slice) -> tuple[Complex[FaceDatum], ...]: ...
-
-    def __getitem__(self, k: int | slice) -> Complex[FaceDatum] | tuple[Complex[FaceDatum], ...]:
-        """Version ``k`` (negative ``k`` counts from the end; a slice gives a tuple of versions);
-        :class:`IndexError` naming the range for a ``k`` outside it. O(1) (a slice: O(its length))."""
-        if isinstance(k, slice):
-            return self.versions[k]
-        n = len(self.versions)
-        if not -n <= k < n:
-            raise IndexError(f"version {k} of a history of {n} versions (0 to {n - 1})")
-        return self.versions[k]
-
-    def __iter__(self) -> Iterator[Complex[FaceDatum]]:
-        return iter(self.versions)
 
     def simplices(self, k: int) -> IntArray:
         """The outward triangles of version ``k`` as input rows (like :attr:`Hull.simplices`). O(size)."""

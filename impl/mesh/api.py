@@ -28,7 +28,7 @@ points from is append-only, so a point index means one point in every future).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Mapping
 from itertools import chain
 from operator import itemgetter
 from dataclasses import dataclass
@@ -40,6 +40,7 @@ from numpy.typing import NDArray
 
 from persistri.impl.collector import collector_paused
 from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.versions import Versions
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.maps import backend as map_backend
@@ -110,7 +111,7 @@ def _arrays(run: _Run, c: Complex[MeshDatum]) -> MeshArrays:
     )
 
 
-class MeshHistory:
+class MeshHistory(Versions[MeshDatum]):
     """Every version of one refinement, oldest first: ``history[k]`` is the complex after ``k`` insertions.
 
     ``history[0]`` is the version the run started from (the CDT, or the mesh
@@ -145,14 +146,6 @@ class MeshHistory:
         self.undone: tuple[Undone, ...] = undone
         self.blocked: tuple[Blocked, ...] = blocked
 
-    def __len__(self) -> int:
-        return len(self.versions)
-
-    def __getitem__(self, k: int) -> Complex[MeshDatum]:
-        return self.versions[k]
-
-    def __iter__(self) -> Iterator[Complex[MeshDatum]]:
-        return iter(self.versions)
 
     @property
     def structure(self) -> TwoComplex[MeshDatum]:

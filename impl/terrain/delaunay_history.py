@@ -26,16 +26,15 @@ its history too.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 from dataclasses import dataclass
 from itertools import chain
 from operator import itemgetter
-from typing import overload
 
 import numpy as np
 from numpy.typing import NDArray
 
 from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.versions import Versions
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.terrain.insertion import TriDatum, canonical_triangles
 
@@ -53,7 +52,7 @@ def read_labels(structure: TwoComplex[TriDatum], c: Complex[TriDatum]) -> IntArr
 
 
 @dataclass(frozen=True, eq=False)
-class DelaunayHistory:
+class DelaunayHistory(Versions[TriDatum]):
     """Every version of a scattered Delaunay run, oldest first (module docstring).
 
     * ``structure`` — the structure that reads the versions;
@@ -69,27 +68,6 @@ class DelaunayHistory:
     labels: IntArray
     infinite: int
 
-    def __len__(self) -> int:
-        return len(self.versions)
-
-    @overload
-    def __getitem__(self, k: int) -> Complex[TriDatum]: ...
-
-    @overload
-    def __getitem__(self, k: slice) -> tuple[Complex[TriDatum], ...]: ...
-
-    def __getitem__(self, k: int | slice) -> Complex[TriDatum] | tuple[Complex[TriDatum], ...]:
-        """Version ``k`` (negative ``k`` counts from the end; a slice gives a tuple of versions);
-        :class:`IndexError` naming the range for a ``k`` outside it. O(1) (a slice: O(its length))."""
-        if isinstance(k, slice):
-            return self.versions[k]
-        n = len(self.versions)
-        if not -n <= k < n:
-            raise IndexError(f"version {k} of a history of {n} versions (0 to {n - 1})")
-        return self.versions[k]
-
-    def __iter__(self) -> Iterator[Complex[TriDatum]]:
-        return iter(self.versions)
 
     def simplices(self, k: int) -> IntArray:
         """The triangles of version ``k`` as input rows, counterclockwise, canonical (each rotated to start
