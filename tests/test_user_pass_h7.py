@@ -280,3 +280,14 @@ def test_tiled_terrain_world_checks_its_prj_before_the_run(tmp_path: Path, monke
     result, caught = invoke(args)
     assert_one_line_failure(result, caught, "tin.prj", r"a directory")
     assert not (tmp_path / "tin.ply").exists()
+
+
+def test_an_output_named_only_by_its_extension_is_refused_plainly(tmp_path: Path) -> None:
+    result, caught = invoke(["hull", "--dist", "inball", "-n", "100", "-o", str(tmp_path / ".ply")])
+    assert_one_line_failure(result, caught, ".ply", r"a name that is only an extension; give a file name, such as mesh\.ply")
+
+
+def test_a_file_name_with_a_newline_stays_one_error_line(tmp_path: Path) -> None:
+    name = "a\nb.csv"
+    result, caught = invoke(["hull", str(tmp_path / name), "-o", str(tmp_path / "h.ply")])
+    assert_one_line_failure(result, caught, "a\\nb.csv", r"no such file")

@@ -42,6 +42,11 @@ PLOT_FORMATS: Final = (".png", ".pdf", ".svg")
 """The formats ``--plot`` writes (matplotlib chooses by extension)."""
 
 
+def _extension(path: Path) -> str:
+    """``path``'s extension for a message: the suffix, or what is missing."""
+    return path.suffix.lower() or "(no extension)"
+
+
 def _formats(formats: Sequence[str]) -> str:
     return ", ".join(formats)
 
@@ -62,7 +67,7 @@ def check_input(path: Path, formats: Sequence[str], *, kind: str, words: Sequenc
     suffix = path.suffix.lower()
     if suffix not in formats:
         also = f" or {', '.join(words)}" if words else ""
-        fail(f"{path}: unknown {kind} format {suffix or '(no extension)'}; use one of {_formats(formats)}{also}")
+        fail(f"{path}: unknown {kind} format {_extension(path)}; use one of {_formats(formats)}{also}")
     try:
         with path.open("rb"):
             pass
@@ -171,7 +176,9 @@ class Outputs:
             fail(f"{path}: a directory; give a file name")
         suffix = path.suffix.lower()
         if suffix not in formats:
-            fail(f"{path}: unknown {what} format {suffix or '(no extension)'}; use one of {_formats(formats)}")
+            if path.name.lower() in formats:
+                fail(f"{path}: a name that is only an extension; give a file name, such as mesh{path.name}")
+            fail(f"{path}: unknown {what} format {_extension(path)}; use one of {_formats(formats)}")
         key = Path(os.path.abspath(path))
         if key in self._targets:
             fail(f"{path}: named as two outputs")

@@ -42,8 +42,12 @@ class CliError(click.ClickException):
     exit_code = EXIT_FAILURE
 
     def show(self, file: IO[Any] | None = None) -> None:
-        """Print the one line on stderr (click's ``Error:`` prefix and usage text are not used)."""
-        click.echo(f"persistri: {self.format_message()}", err=True)
+        """Print the one line on stderr (click's ``Error:`` prefix and usage text are not used); a control
+        character in it (a file name may hold a newline) is printed escaped, so it stays one line."""
+        text = self.format_message()
+        if not text.isprintable():
+            text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+        click.echo(f"persistri: {text}", err=True)
 
 
 def fail(message: str) -> NoReturn:
