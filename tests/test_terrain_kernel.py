@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import ast
+import inspect
 import itertools
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +17,7 @@ from test_predicates_2d import CIRCLE, planar_sets
 from test_predicates_kernel import _contains_in_order, _dumps, _filter_body
 
 from persistri.impl.geometry import filter as fp
+from persistri.impl.geometry.growing import dot_terms
 from persistri.impl.geometry.kernel2d import INCIRCLE_EXACT_SPAN, ORIENT2D_EXACT_SPAN, exact_float_spans
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.geometry.sos import ORIENT3D_SOS
@@ -190,3 +193,23 @@ def test_the_box_thresholds_bound_every_tests_own_threshold(pts: list[tuple[floa
             own = fp.ERRBOUND_INCIRCLE * perm
             if own == own:
                 assert own <= ic or ic != ic, (own, ic)
+
+
+
+@pytest.mark.parametrize(
+    ("growing_fn", "filter_fn"),
+    [("orient2d_sign", fp.orient2d_terms), ("incircle_sign", fp.incircle_terms), ("dot_sign", dot_terms)],
+)
+def test_the_growing_predicates_written_out_filters_are_the_proved_functions(growing_fn: str, filter_fn: object) -> None:
+    """GrowingPredicates2 (the quality mesh's) writes its filters out as the 2D kernel does: the proved
+    function's statements in order, and its permanent (the value of the statement before its ``return``)
+    inside the threshold, so that they round alike."""
+    tree = ast.parse(Path(fp.__file__).with_name("growing.py").read_text(encoding="utf-8"))
+    found = [f for f in ast.walk(tree) if isinstance(f, ast.FunctionDef) and f.name == growing_fn]
+    assert len(found) == 1, growing_fn
+    run, _ = _filter_body(filter_fn)  # type: ignore[arg-type]
+    assert _contains_in_order(found[0], run[:-1])
+    fn = ast.parse(textwrap.dedent(inspect.getsource(filter_fn))).body[0]  # type: ignore[arg-type]
+    assert isinstance(fn, ast.FunctionDef) and isinstance(fn.body[-2], ast.Assign)
+    permanent = ast.dump(ast.parse(ast.unparse(fn.body[-2].value).replace("_abs(", "abs("), mode="eval").body)
+    assert any(ast.dump(n) == permanent for n in ast.walk(found[0]) if isinstance(n, ast.expr))
