@@ -54,16 +54,25 @@ class Lineage:
     """The identity of one family of vertex states, made by :meth:`VertexState.initial`.
 
     Compared by identity only.  Copying (shallow or deep) returns the same
-    token, so a copied vertex stays in its lineage.
+    token, so a copied vertex stays in its lineage; unpickling makes a new
+    token (one per pickle, shared by the vertices and states it held).
+
+    A lineage also holds what its vertices do not: the classes of its
+    vertices (made on first use, see :class:`Vertex`) and, for vertices whose
+    point is neither ``None`` nor their own label, the table of their points.
     """
 
-    __slots__ = ("number",)
+    __slots__ = ("number", "_kinds", "_points")
 
     number: int
     """A serial number, for messages only (``L3``)."""
+    _kinds: dict[str, type[Vertex]]
+    _points: dict[Vertex, Any] | None
 
     def __init__(self) -> None:
         self.number = next(_lineage_numbers)
+        self._kinds = {}
+        self._points = None
 
     def __copy__(self) -> Lineage:
         return self
@@ -71,8 +80,40 @@ class Lineage:
     def __deepcopy__(self, memo: dict[int, Any]) -> Lineage:
         return self
 
+    def __reduce__(self) -> tuple[Any, tuple[int]]:
+        return (_unpickled_lineage, (self.number,))
+
     def __repr__(self) -> str:
         return f"L{self.number}"
+
+    def _kind(self, kind: str) -> type[Vertex]:
+        """The class of this lineage's vertices of one ``kind`` (made on first use).  O(1) amortised."""
+        cls = self._kinds.get(kind)
+        if cls is None:
+            ns: dict[str, Any] = {"lineage": self, "__module__": __name__, "__qualname__": "Vertex"}
+            if kind == "none":
+                ns["point"] = None
+            elif kind == "label":
+                ns["point"] = property(int, doc="``loc v``: the vertex's own label.")
+            elif kind == "table":
+                points: dict[Vertex, Any] = {}
+                self._points = points
+                ns["point"] = property(points.__getitem__, doc="``loc v``: from the lineage's table.")
+            if kind != "loose":
+                ns["__slots__"] = ()  # "loose": a per-instance __dict__ holds the point
+            cls = type("Vertex", (Vertex,), ns)
+            self._kinds[kind] = cls
+        return cls
+
+
+def _unpickled_lineage(number: int) -> Lineage:
+    """A fresh lineage for an unpickled one (the number kept for messages)."""
+    lin = Lineage()
+    lin.number = number
+    return lin
+
+
+_MISSING: Any = object()
 
 
 class Vertex(int):
@@ -81,7 +122,27 @@ class Vertex(int):
     Ordered, hashed and compared for equality as its label (C speed).  Made by
     :meth:`IntVertex.new`; constructing one directly is possible but bypasses
     the state, so labels are no longer guaranteed unique.
+
+    A vertex is as small as an ``int`` (no per-instance ``__dict__``; CPython
+    allows no slots on a subclass of ``int``): ``Vertex(label, point, lineage)``
+    returns an instance of a subclass that its lineage makes once, whose class
+    attribute is the lineage and whose ``point`` is one of
+
+    * ``None`` (a class attribute), for vertices made without a point;
+    * the label itself (``int(v)``), for a point that is the ``int`` label
+      (the hull's vertices are their input rows);
+    * otherwise an entry of the lineage's table, keyed by the vertex.  The
+      table keeps each such vertex and its point as long as the lineage lives
+      (a vertex made and dropped is not freed before its lineage is).  A
+      second vertex of a label already in the table with another point (two
+      branches forked from one state) gets a class of its own with a
+      ``__dict__`` ("loose"), so no vertex's point ever changes.
+
+    ``type(v)`` is therefore a subclass of :class:`Vertex`, never
+    :class:`Vertex` itself: test with ``isinstance``.  All O(1).
     """
+
+    __slots__ = ()
 
     point: Any
     """``loc v``: where the vertex is; opaque to the complex."""
@@ -89,12 +150,21 @@ class Vertex(int):
     """The state lineage the vertex was made in."""
 
     def __new__(cls, label: int, point: Any, lineage: Lineage) -> Vertex:
-        v = int.__new__(cls, label)
+        kinds = lineage._kinds
+        if point is None:
+            return int.__new__(kinds.get("none") or lineage._kind("none"), label)
+        if type(point) is int and point == label:
+            return int.__new__(kinds.get("label") or lineage._kind("label"), label)
+        v: Vertex = int.__new__(kinds.get("table") or lineage._kind("table"), label)
+        points = lineage._points
+        assert points is not None  # made with the "table" class
+        old = points.setdefault(v, point)
+        if old is point:
+            return v
+        loose: Vertex = int.__new__(lineage._kind("loose"), label)
         # Written into __dict__ directly: __setattr__ is closed to keep vertices immutable.
-        d = v.__dict__
-        d["point"] = point
-        d["lineage"] = lineage
-        return v
+        loose.__dict__["point"] = point
+        return loose
 
     def __setattr__(self, name: str, value: Any) -> NoReturn:
         raise AttributeError(f"vertex {self!r} is immutable (cannot set {name!r})")
@@ -102,8 +172,9 @@ class Vertex(int):
     def __delattr__(self, name: str) -> NoReturn:
         raise AttributeError(f"vertex {self!r} is immutable (cannot delete {name!r})")
 
-    def __getnewargs__(self) -> tuple[int, Any, Lineage]:  # type: ignore[override]  # int's takes no extras; ours rebuilds point and lineage
-        return (int(self), self.point, self.lineage)
+    def __reduce__(self) -> tuple[Any, tuple[int, Any, Lineage]]:
+        # Rebuilt through Vertex(...), which finds the (new) lineage's class: the classes are not picklable.
+        return (Vertex, (int(self), self.point, self.lineage))
 
     def __repr__(self) -> str:
         return f"v{int(self)}"
