@@ -48,6 +48,11 @@ class TestHamt(OrdMapConformance):
     structure = _load("hamt")
 
 
+@_needs("red_black_arena")
+class TestRedBlackArena(OrdMapConformance):
+    structure = _load("red_black_arena")
+
+
 @_needs("immutables")
 class TestImmutables(OrdMapConformance):
     structure = _load("immutables")
@@ -59,7 +64,7 @@ class TestPyrsistent(OrdMapConformance):
 
 
 def test_every_backend_has_a_conformance_class() -> None:
-    covered = {"assoc_list", "red_black", "hamt", "immutables", "pyrsistent"}
+    covered = {"assoc_list", "red_black", "hamt", "red_black_arena", "immutables", "pyrsistent"}
     assert covered == set(BACKENDS)
 
 

@@ -1,14 +1,16 @@
 """Persistent map backends, each an ``ORD_MAP`` structure (:class:`persistri.spec.OrdMap`).
 
-=================  ==============================================  =======================
-name               structure                                        module
-=================  ==============================================  =======================
-``assoc_list``     sorted association list (teaching baseline)      :mod:`.assoc_list`
-``red_black``      Okasaki red-black tree, Kahrs deletion           :mod:`.red_black`
-``hamt``           Bagwell hash array mapped trie                   :mod:`.hamt`
-``immutables``     adapter for ``immutables.Map`` (C HAMT)          :mod:`.immutables_adapter`
-``pyrsistent``     adapter for ``pyrsistent.pmap``                  :mod:`.pyrsistent_adapter`
-=================  ==============================================  =======================
+=====================  ==============================================  ============================
+name                   structure                                       module
+=====================  ==============================================  ============================
+``assoc_list``         sorted association list (teaching baseline)     :mod:`.assoc_list`
+``red_black``          Okasaki red-black tree, Kahrs deletion          :mod:`.red_black`
+``hamt``               Bagwell hash array mapped trie                  :mod:`.hamt`
+``red_black_arena``    the red-black tree in an append-only arena      :mod:`.red_black_arena`
+                       (compact histories; old nodes never freed)
+``immutables``         adapter for ``immutables.Map`` (C HAMT)         :mod:`.immutables_adapter`
+``pyrsistent``         adapter for ``pyrsistent.pmap``                 :mod:`.pyrsistent_adapter`
+=====================  ==============================================  ============================
 
 :func:`backend` resolves a name to its structure (importing the module on first use,
 so an adapter's third-party package is needed only when it is asked for).
@@ -25,6 +27,7 @@ BACKENDS: dict[str, str] = {
     "assoc_list": "persistri.impl.maps.assoc_list:assoc_list",
     "red_black": "persistri.impl.maps.red_black:red_black",
     "hamt": "persistri.impl.maps.hamt:hamt",
+    "red_black_arena": "persistri.impl.maps.red_black_arena:red_black_arena",
     "immutables": "persistri.impl.maps.immutables_adapter:immutables_map",
     "pyrsistent": "persistri.impl.maps.pyrsistent_adapter:pyrsistent_map",
 }

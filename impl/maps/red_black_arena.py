@@ -1,0 +1,432 @@
+"""The red-black tree in an append-only arena: ``ORD_MAP`` for keeping whole histories compactly (paper §2, §4).
+
+The same tree as :mod:`persistri.impl.maps.red_black` — Okasaki's insertion,
+Kahrs' deletion, the same shapes, colours and search paths, hence the same
+key comparisons (§4) and the same number of new nodes per operation — stored
+differently: a node is not a 5-tuple but an index into an :class:`Arena`, five
+parallel arrays (key, value, left, right, colour).  A tuple node costs 80
+bytes; an arena node 25 (two list slots of 8, two 32-bit indices, one byte of
+colour).  A history of versions keeps every node its operations made, so this
+is the representation that makes a kept history small: the full history of a
+16K-point bulldozer hull holds a red-black node 19.5 times per inserted point
+(docs/performance.md, "Memory of a full history").
+
+Representation
+--------------
+A map value is the 3-tuple ``(number of items, root index, arena)``; the empty
+map is ``(0, 0, None)`` (index 0 is the empty leaf, and an arena is made by the
+first insertion).  Every map derived from one map shares its arena: operations
+append the nodes they make and return a new root, as path copying does with
+tuples.  **Nothing written is ever overwritten**, so every version ever
+returned stays valid: persistence by construction.  Along every path of a tree
+the node indices decrease (a child is made before its parent), which
+:meth:`ArenaRedBlackMap._check` checks with the red-black invariants of
+:mod:`persistri.impl.maps.red_black`.
+
+The trade
+---------
+**Nodes of dropped versions are not freed**: the arena only grows, and what it
+holds is freed when no map of it remains.  Keeping every version (a history,
+time travel) costs about a third of the tuple tree's memory; dropping old
+versions as the algorithms go (the default, ``history=False``) keeps them all
+anyway — a run that would free the tuple tree's old paths keeps their arena
+nodes to the end.  So this is the backend for keeping histories, not the
+default.  A failed operation (a combining function that raises, a key that
+cannot be ordered) may leave unreachable nodes behind; they are never read.
+Pickling a version pickles its whole arena.  One writer per arena at a time
+(see :class:`~persistri.impl.maps.red_black_arena_tree.Arena`); readers are
+free.  Time: each node field is a subscript of an array instead of a field of
+a tuple, and each new node five appends; docs/performance.md has the
+measured cost.
+
+=====================  ==========  ==============================================
+operation              time        notes
+=====================  ==========  ==============================================
+find, lookup, inDomain O(lg n)     one ``<`` a level (Andersson's descent)
+insert, insert_absent  O(lg n)     O(lg n) new nodes, as the tuple tree
+insertWith             O(lg n)     one descent when the key is present
+adjust_many,           O(k lg n)   several keys in one descent (persistri's
+adjust_sorted,                     addition, as the tuple tree's)
+adjust_insert
+remove                 O(lg n)     Kahrs' delete
+numItems, isEmpty      O(1)        the size is stored
+listItemsi, foldli     O(n)        iterative in-order walk
+=====================  ==========  ==============================================
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, Final, Generic, TypeAlias, TypeVar
+
+from persistri.impl.maps import red_black_arena_adjust as _adjust
+from persistri.impl.maps import red_black_arena_tree as _tree
+from persistri.impl.maps.red_black_arena_tree import BLACK, NIL, RED, Arena, FailedWith
+from persistri.spec.option import Option
+from persistri.spec.ord_map import NotFound
+from persistri.spec.order import NATURAL_ORDER, Comparable, NaturalOrder
+
+__all__ = ["ArenaRedBlackMap", "ArenaMap", "Arena", "RED", "BLACK", "NIL", "red_black_arena"]
+
+K = TypeVar("K", bound=Comparable)
+V = TypeVar("V")
+B = TypeVar("B")
+
+ArenaMap: TypeAlias = tuple[int, int, "Arena | None"]
+"""An arena red-black map: ``(number of items, root index, arena)``; ``(0, 0, None)`` is empty."""
+
+_NAME: Final = "red_black_arena"
+
+_EMPTY: Final[ArenaMap] = (0, NIL, None)
+
+
+def _key_error(k: object, exc: TypeError) -> TypeError:
+    return TypeError(f"{_NAME}: key {k!r} is not ordered with the keys of this map ({exc})")
+
+
+def _check_orderable(k: Any) -> None:
+    """Reject a key that Python cannot order even against itself (e.g. ``object()``)."""
+    try:
+        k < k  # noqa: B015 - evaluated for its TypeError only
+    except TypeError:
+        raise TypeError(f"{_NAME}: key {k!r} of type {type(k).__name__} is not orderable (no '<')") from None
+
+
+def _blacken(A: Arena, t: int) -> int:
+    """The root ``t``, black (a black copy if it is red)."""
+    if A.red[t]:
+        return A.node(BLACK, A.left[t], A.key[t], A.val[t], A.right[t])
+    return t
+
+
+class ArenaRedBlackMap(Generic[K, V]):
+    """``structure ArenaRedBlackMap : ORD_MAP``: persistent red-black trees in an append-only arena (module docstring).
+
+    Keys must be totally ordered by Python's ``<`` among themselves; a key that
+    cannot be compared with the map's keys raises :class:`TypeError` naming it.
+    """
+
+    __slots__ = ()
+
+    name = _NAME
+
+    @property
+    def Key(self) -> NaturalOrder[Any]:
+        """Keys are ordered by Python's natural order (``<``, ``==``)."""
+        return NATURAL_ORDER
+
+    def empty(self) -> ArenaMap:
+        """The empty map (no arena yet). O(1)."""
+        return _EMPTY
+
+    def isEmpty(self, m: ArenaMap, /) -> bool:
+        """Whether ``m`` is empty. O(1)."""
+        return m[0] == 0
+
+    def singleton(self, k: K, v: V, /) -> ArenaMap:
+        """The map ``{k ↦ v}``: one black node in a new arena. O(1)."""
+        _check_orderable(k)
+        A = Arena()
+        return (1, A.node(BLACK, NIL, k, v, NIL), A)
+
+    def insert(self, m: ArenaMap, k: K, v: V, /) -> ArenaMap:
+        """``m`` with ``k ↦ v``, replacing an earlier value of ``k`` (and its key object).
+
+        Okasaki's insertion: O(lg n) time, O(lg n) new nodes.
+        """
+        n, t, A = m
+        if not t or A is None:
+            _check_orderable(k)
+            if A is None:
+                A = Arena()
+            return (n + 1, A.node(BLACK, NIL, k, v, NIL), A)
+        try:
+            new = _tree.ins(A, t, k, v)
+        except TypeError as exc:
+            raise _key_error(k, exc) from None
+        if not new:
+            return (n, _tree.replace(A, t, k, v), A)
+        return (n + 1, _blacken(A, new), A)
+
+    def insert_absent(self, m: ArenaMap, k: K, v: V, /) -> ArenaMap:
+        """``m`` with ``k ↦ v`` for a key known not to be in ``m`` and ordered with its keys: nothing is checked.
+
+        As :meth:`~persistri.impl.maps.red_black.RedBlackMap.insert_absent`.  O(lg n).
+        """
+        n, t, A = m
+        if A is None:
+            A = Arena()
+        return (n + 1, _blacken(A, _tree.ins_absent(A, t, k, v)), A)
+
+    def insertWith(self, f: Callable[[V, V], V], m: ArenaMap, k: K, v: V, /) -> ArenaMap:
+        """``m`` with ``k ↦ f(old, v)`` if ``k ↦ old`` is in ``m``, else ``k ↦ v``.
+
+        O(lg n) plus one call of ``f``.  Exceptions raised by ``f`` propagate
+        unchanged, and ``m`` is unaffected.  A present key costs one descent.
+        """
+        n, t, A = m
+        if not t or A is None:
+            return self.insert(m, k, v)
+        try:
+            new = _tree.update(A, t, k, f, v)
+        except FailedWith as failed:
+            raise failed.exc from None
+        except TypeError as exc:
+            raise _key_error(k, exc) from None
+        if not new:
+            return self.insert(m, k, v)
+        return (n, new, A)
+
+    def adjust_many(
+        self, f: Callable[[V, V], V], m: ArenaMap, items: list[tuple[K, V]], /
+    ) -> tuple[ArenaMap, list[tuple[K, V]]]:
+        """``(m', absent)``: ``m`` with ``k ↦ f(old, v)`` for each ``(k, v)`` of ``items`` whose key is in ``m``,
+        and the items whose key is not (as :meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_many`:
+        strictly increasing keys, else ValueError).  O(k + new nodes)."""
+        n, t, A = m
+        for j in range(1, len(items)):
+            try:
+                ordered = items[j - 1][0] < items[j][0]
+            except TypeError as exc:
+                raise _key_error(items[j][0], exc) from None
+            if not ordered:
+                raise ValueError(f"{_NAME}: adjust_many needs strictly increasing keys, got {items[j - 1][0]!r} "
+                                 f"before {items[j][0]!r}")
+        if not t or A is None or not items:
+            return m, list(items)
+        keys = [k for k, _ in items]
+        vals = [v for _, v in items]
+        absent: list[int] = []
+        try:
+            new = _adjust.adjust(A, t, keys, vals, 0, len(keys), f, absent, [])
+        except FailedWith as failed:
+            raise failed.exc from None
+        except TypeError as exc:
+            raise _key_error(items[0][0], exc) from None
+        return (n, new, A), [items[i] for i in absent]
+
+    def adjust_sorted(
+        self, f: Callable[[V, V], V], m: ArenaMap, keys: list[K], vals: list[V], /
+    ) -> tuple[ArenaMap, list[int], list[int]]:
+        """``(m', absent, emptied)``: :meth:`adjust_many` for keys known to be strictly increasing and ordered
+        with the map's, nothing checked (as :meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_sorted`).
+        O(k + new nodes)."""
+        n, t, A = m
+        if not t or A is None or not keys:
+            return m, list(range(len(keys))), []
+        absent: list[int] = []
+        emptied: list[int] = []
+        try:
+            new = _adjust.adjust(A, t, keys, vals, 0, len(keys), f, absent, emptied)
+        except FailedWith as failed:
+            raise failed.exc from None
+        return (n, new, A), absent, emptied
+
+    def adjust_insert(
+        self, f: Callable[[V, V], V], m: ArenaMap, keys: list[K], vals: list[V], j: int, v: V, /
+    ) -> tuple[ArenaMap, list[int], list[int], bool]:
+        """``(m', absent, emptied, inserted)``: :meth:`adjust_sorted`, and ``keys[j] ↦ v`` inserted in the same
+        descent if ``keys[j]`` is not in ``m`` (as :meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_insert`:
+        the same trees as :meth:`adjust_sorted` then :meth:`insert_absent`).  O(k + new nodes)."""
+        n, t, A = m
+        if not t or A is None or not keys:
+            return m, list(range(len(keys))), [], False
+        absent: list[int] = []
+        emptied: list[int] = []
+        new = [v]
+        try:
+            root = _adjust.adjust_insert(A, t, keys, vals, 0, len(keys), f, absent, emptied, j, new)
+        except FailedWith as failed:
+            raise failed.exc from None
+        if new:
+            return (n, root, A), absent, emptied, False
+        return (n + 1, _blacken(A, root), A), absent, emptied, True
+
+    def find(self, m: ArenaMap, k: K, /) -> Option[V]:
+        """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``. O(lg n)."""
+        n, t, A = m
+        if not t or A is None:
+            return None
+        try:
+            node = _tree.search(A, t, k)
+        except TypeError as exc:
+            raise _key_error(k, exc) from None
+        return (A.val[node],) if node else None
+
+    find_unchecked = staticmethod(_tree.find)
+    """``find`` for a key known to be ordered with the map's keys (a comparison's TypeError is not reworded):
+    persistri's addition, for the 2-complex's walks."""
+
+    def lookup(self, m: ArenaMap, k: K, /) -> V:
+        """The value of ``k``; raises :class:`NotFound` if absent. O(lg n)."""
+        found = self.find(m, k)
+        if found is None:
+            raise NotFound(k)
+        value: V = found[0]
+        return value
+
+    def inDomain(self, m: ArenaMap, k: K, /) -> bool:
+        """Whether ``k`` is in ``m``. O(lg n)."""
+        return self.find(m, k) is not None
+
+    def remove(self, m: ArenaMap, k: K, /) -> tuple[ArenaMap, V]:
+        """``(m without k, value of k)``; raises :class:`NotFound` if absent (``m`` is unaffected).
+
+        Kahrs' deletion after a search for the value: O(lg n) time, O(lg n) new nodes.
+        """
+        n, t, A = m
+        if not t or A is None:
+            raise NotFound(k)
+        try:
+            node = _tree.search(A, t, k)
+        except TypeError as exc:
+            raise _key_error(k, exc) from None
+        if not node:
+            raise NotFound(k)
+        value: V = A.val[node]
+        new = _tree.delete(A, t, k)
+        return (n - 1, _blacken(A, new) if new else NIL, A), value
+
+    def numItems(self, m: ArenaMap, /) -> int:
+        """The number of items. O(1)."""
+        return m[0]
+
+    def _inorder(self, m: ArenaMap) -> list[int]:
+        """The nodes of ``m`` in increasing key order.  O(n), iterative."""
+        out: list[int] = []
+        t, A = m[1], m[2]
+        if not t or A is None:
+            return out
+        left = A.left
+        right = A.right
+        stack: list[int] = []
+        while True:
+            while t:
+                stack.append(t)
+                t = left[t]
+            if not stack:
+                return out
+            t = stack.pop()
+            out.append(t)
+            t = right[t]
+
+    def listItemsi(self, m: ArenaMap, /) -> list[tuple[K, V]]:
+        """The items in increasing key order. O(n), iterative."""
+        A = m[2]
+        if A is None:
+            return []
+        key = A.key
+        val = A.val
+        return [(key[t], val[t]) for t in self._inorder(m)]
+
+    def listKeys(self, m: ArenaMap, /) -> list[K]:
+        """The keys in increasing order. O(n), iterative."""
+        A = m[2]
+        if A is None:
+            return []
+        key = A.key
+        return [key[t] for t in self._inorder(m)]
+
+    def foldli(self, f: Callable[[K, V, B], B], init: B, m: ArenaMap, /) -> B:
+        """``f`` folded over the items in increasing key order. O(n) calls of ``f``, iterative."""
+        acc = init
+        A = m[2]
+        if A is None:
+            return acc
+        key = A.key
+        val = A.val
+        for t in self._inorder(m):
+            acc = f(key[t], val[t], acc)
+        return acc
+
+    # -- instrumentation and invariants ---------------------------------------
+
+    def search_cost(self, m: ArenaMap, k: K, /) -> int:
+        """The key comparisons a search for ``k`` makes: the tree nodes on its search path (paper §4).
+
+        The same count as the tuple tree's (the same tree).  O(lg n).
+        """
+        cost = 0
+        t, A = m[1], m[2]
+        if A is None:
+            return 0
+        try:
+            while t:
+                cost += 1
+                y = A.key[t]
+                if k < y:
+                    t = A.left[t]
+                elif y < k:
+                    t = A.right[t]
+                else:
+                    break
+        except TypeError as exc:
+            raise _key_error(k, exc) from None
+        return cost
+
+    def _check(self, m: ArenaMap, /) -> None:
+        """Assert every representation invariant of ``m``. O(n).
+
+        The arena's arrays are of one length, with the empty leaf at 0; every
+        index of the tree is in the arena and smaller than its parent's (made
+        before it); and the red-black invariants of
+        :meth:`~persistri.impl.maps.red_black.RedBlackMap._check`: search
+        order, no red node with a red child, equal black heights, a black root,
+        the stored size.  Raises :class:`AssertionError` naming the first
+        violation found.
+        """
+        assert isinstance(m, tuple) and len(m) == 3, f"{_NAME}: a map is (size, root, arena), got {m!r}"
+        n, root, A = m
+        assert isinstance(n, int) and isinstance(root, int), f"{_NAME}: size and root are ints, got {m!r}"
+        if A is None:
+            assert root == NIL and n == 0, f"{_NAME}: a map without an arena must be empty, got {m!r}"
+            return
+        assert isinstance(A, Arena), f"{_NAME}: the third field is not an arena: {A!r}"
+        size = len(A.key)
+        assert len(A.val) == len(A.left) == len(A.right) == len(A.red) == size, (
+            f"{_NAME}: the arena's arrays have unequal lengths"
+        )
+        assert A.left[NIL] == NIL and A.right[NIL] == NIL and A.red[NIL] == BLACK, (
+            f"{_NAME}: the empty leaf (index 0) has been written"
+        )
+        assert 0 <= root < size, f"{_NAME}: root {root} outside the arena of {size} nodes"
+        assert not A.red[root], f"{_NAME}: the root is not black"
+        count = 0
+        leaf_blacks: int | None = None
+        # (node, its parent's index, black nodes above it, lower bound, upper bound, key of its parent if red);
+        # a bound or key is a 1-tuple so that None can mean "none" whatever the keys are.
+        stack: list[tuple[int, int, int, tuple[Any] | None, tuple[Any] | None, tuple[Any] | None]] = [
+            (root, size, 0, None, None, None)
+        ]
+        while stack:
+            t, parent, blacks, lo, hi, red_parent = stack.pop()
+            if not t:
+                if leaf_blacks is None:
+                    leaf_blacks = blacks
+                assert blacks == leaf_blacks, (
+                    f"{_NAME}: unequal black heights: {leaf_blacks} and {blacks} black nodes "
+                    "on two root-to-leaf paths"
+                )
+                continue
+            assert 0 < t < parent, f"{_NAME}: node {t} under node {parent}: a child must be made before its parent"
+            c, k = A.red[t], A.key[t]
+            assert c == RED or c == BLACK, f"{_NAME}: node {k!r} has colour {c!r}, not RED or BLACK"
+            if lo is not None:
+                assert lo[0] < k, f"{_NAME}: keys out of order: {k!r} in the right subtree of {lo[0]!r}"
+            if hi is not None:
+                assert k < hi[0], f"{_NAME}: keys out of order: {k!r} in the left subtree of {hi[0]!r}"
+            if red_parent is not None:
+                assert not c, f"{_NAME}: red node {red_parent[0]!r} has a red child {k!r}"
+            count += 1
+            below = blacks + (0 if c else 1)
+            here = (k,) if c else None
+            stack.append((A.right[t], t, below, (k,), hi, here))
+            stack.append((A.left[t], t, below, lo, (k,), here))
+        assert count == n, f"{_NAME}: stored size {n} but {count} nodes"
+
+    def __repr__(self) -> str:
+        return _NAME
+
+
+red_black_arena: ArenaRedBlackMap[Any, Any] = ArenaRedBlackMap()
+"""The arena red-black tree structure, polymorphic in keys and values."""

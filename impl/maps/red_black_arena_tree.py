@@ -1,0 +1,470 @@
+"""The arena red-black tree's nodes and the algorithms over them: Okasaki's insertion, Kahrs' deletion (paper §2, §4).
+
+:mod:`persistri.impl.maps.red_black_arena` is the ``ORD_MAP`` structure built
+on these functions; its docstring describes the representation, the trade it
+makes and the costs.  This module holds the arena and the node algorithms of
+:mod:`persistri.impl.maps.red_black_tree` transcribed to it, clause for clause
+(the same trees, the same rewrites, the same number of new nodes); the batched
+update of several keys in one descent is in
+:mod:`persistri.impl.maps.red_black_arena_adjust`.
+
+A node is an index into the arena's five parallel arrays — key, value, left
+child, right child, colour — and a tree is the index of its root; index 0 is
+the empty leaf (a black node whose fields are never read), so ``if t:`` tests
+for a node and ``red[t]`` is false for the leaf, as the empty tree counts as
+black.  Nodes are only ever appended (:meth:`Arena.node`): no index is written
+twice, so every tree ever returned stays valid — persistence by construction,
+the same path copying as the tuple tree's with indices instead of references.
+A child is always made before its parent, so along every path the indices
+decrease (checked by the structure's ``_check``).
+
+The functions trust their arguments: valid trees of the arena they are given,
+and keys that Python can order among the tree's (the structure checks).
+Recursion depth is the tree height.
+"""
+
+from __future__ import annotations
+
+from array import array
+from collections.abc import Callable
+from typing import Any, Final, TypeAlias
+
+__all__ = [
+    "RED",
+    "BLACK",
+    "NIL",
+    "Arena",
+    "Combine",
+    "FailedWith",
+    "search",
+    "find",
+    "ins",
+    "ins_absent",
+    "replace",
+    "update",
+    "balance",
+    "balleft",
+    "balright",
+    "app",
+    "delete",
+]
+
+RED: Final = 1
+"""The colour of a red node (``arena.red[t]``)."""
+
+BLACK: Final = 0
+"""The colour of a black node, and of the empty leaf :data:`NIL`."""
+
+NIL: Final = 0
+"""The empty tree: the index of the arena's placeholder leaf."""
+
+Combine: TypeAlias = Callable[[Any, Any], Any]
+"""``insertWith``'s function: ``(old value, given value) -> new value``."""
+
+_NAME: Final = "red_black_arena"
+
+
+class Arena:
+    """The append-only store of one family of red-black trees: five parallel arrays indexed by node.
+
+    ``key`` and ``val`` are lists (references to the map's keys and values),
+    ``left`` and ``right`` typed arrays of 32-bit node indices, ``red`` a
+    ``bytearray`` of colours: 25 bytes a node, where a node tuple of
+    :mod:`~persistri.impl.maps.red_black_tree` takes 80.  Slot 0 is the empty
+    leaf.  Nothing is ever removed or overwritten: the arena grows by
+    :meth:`node` only, and what it holds is freed when no map of it remains.
+
+    One writer at a time: the five appends of :meth:`node` are not atomic, so
+    two threads adding versions to one arena at once may build wrong *new*
+    nodes (never damaging an existing one).  Reading is free.
+    """
+
+    __slots__ = ("key", "val", "left", "right", "red")
+
+    key: list[Any]
+    val: list[Any]
+    left: array[int]
+    right: array[int]
+    red: bytearray
+
+    def __init__(self) -> None:
+        self.key = [None]
+        self.val = [None]
+        self.left = array("i", (NIL,))
+        self.right = array("i", (NIL,))
+        self.red = bytearray(1)
+
+    def node(self, c: int, l: int, k: Any, v: Any, r: int) -> int:
+        """A new node ``(c, l, k, v, r)``: its index.  O(1) amortised."""
+        n = len(self.key)
+        self.key.append(k)
+        self.val.append(v)
+        self.left.append(l)
+        self.right.append(r)
+        self.red.append(c)
+        return n
+
+    def __len__(self) -> int:
+        """The nodes made so far, the empty leaf included."""
+        return len(self.key)
+
+    def __repr__(self) -> str:
+        return f"<{_NAME} arena of {len(self.key) - 1} nodes>"
+
+
+# -- search -------------------------------------------------------------------
+
+
+def search(A: Arena, t: int, k: Any) -> int:
+    """The node holding ``k`` in ``t``, or :data:`NIL`; comparisons may raise TypeError.
+
+    One ``<`` per level (Andersson's descent, as
+    :func:`~persistri.impl.maps.red_black_tree.search`).  O(lg n).
+    """
+    key = A.key
+    left = A.left
+    right = A.right
+    cand = NIL
+    while t:
+        if k < key[t]:
+            t = left[t]
+        else:
+            cand = t
+            t = right[t]
+    if cand and not key[cand] < k:
+        return cand
+    return NIL
+
+
+def find(m: tuple[Any, ...], k: Any) -> tuple[Any, ...] | None:
+    """``find`` of the map ``m = (size, root, arena)``: ``(v,)`` if ``k ↦ v`` is in it, else None; for a key
+    known to be ordered with the map's keys.  O(lg n), one ``<`` per level."""
+    t: int = m[1]
+    if not t:
+        return None
+    A: Arena = m[2]
+    key = A.key
+    left = A.left
+    right = A.right
+    cand = NIL
+    while t:
+        if k < key[t]:
+            t = left[t]
+        else:
+            cand = t
+            t = right[t]
+    if cand and not key[cand] < k:
+        return (A.val[cand],)
+    return None
+
+
+# -- insertion (Okasaki 1999) ----------------------------------------------------
+
+
+def _balance_left(A: Arena, n: int, y: Any, yv: Any, b: int) -> int:
+    """The black node ``(n, y, b)`` whose left child ``n`` is red: Okasaki's two left clauses, or the node."""
+    left = A.left
+    right = A.right
+    red = A.red
+    nl = left[n]
+    if red[nl]:
+        # balance B (T R (T R a x b) y c) z d = T R (T B a x b) y (T B c z d)
+        key = A.key
+        val = A.val
+        node = A.node
+        return node(
+            RED, node(BLACK, left[nl], key[nl], val[nl], right[nl]), key[n], val[n], node(BLACK, right[n], y, yv, b)
+        )
+    nr = right[n]
+    if red[nr]:
+        # balance B (T R a x (T R b y c)) z d = T R (T B a x b) y (T B c z d)
+        key = A.key
+        val = A.val
+        node = A.node
+        return node(
+            RED, node(BLACK, nl, key[n], val[n], left[nr]), key[nr], val[nr], node(BLACK, right[nr], y, yv, b)
+        )
+    return A.node(BLACK, n, y, yv, b)
+
+
+def _balance_right(A: Arena, a: int, y: Any, yv: Any, n: int) -> int:
+    """The black node ``(a, y, n)`` whose right child ``n`` is red: Okasaki's two right clauses, or the node."""
+    left = A.left
+    right = A.right
+    red = A.red
+    nl = left[n]
+    if red[nl]:
+        # balance B a x (T R (T R b y c) z d) = T R (T B a x b) y (T B c z d)
+        key = A.key
+        val = A.val
+        node = A.node
+        return node(
+            RED, node(BLACK, a, y, yv, left[nl]), key[nl], val[nl], node(BLACK, right[nl], key[n], val[n], right[n])
+        )
+    nr = right[n]
+    if red[nr]:
+        # balance B a x (T R b y (T R c z d)) = T R (T B a x b) y (T B c z d)
+        key = A.key
+        val = A.val
+        node = A.node
+        return node(
+            RED, node(BLACK, a, y, yv, nl), key[n], val[n], node(BLACK, left[nr], key[nr], val[nr], right[nr])
+        )
+    return A.node(BLACK, a, y, yv, n)
+
+
+def ins(A: Arena, t: int, k: Any, v: Any) -> int:
+    """Okasaki's ``ins``: ``t`` with a new red leaf ``k ↦ v``, or :data:`NIL` when ``k`` is already in ``t``.
+
+    As :func:`~persistri.impl.maps.red_black_tree.ins`: the result keeps the
+    black height of ``t`` and may be red with a red child (only when ``t`` is
+    red); nothing is made for a present key.
+    """
+    if not t:
+        return A.node(RED, NIL, k, v, NIL)
+    y = A.key[t]
+    if k < y:
+        n = ins(A, A.left[t], k, v)
+        if not n:
+            return NIL
+        if not A.red[t]:
+            if A.red[n]:
+                return _balance_left(A, n, y, A.val[t], A.right[t])
+            return A.node(BLACK, n, y, A.val[t], A.right[t])
+        return A.node(RED, n, y, A.val[t], A.right[t])
+    if y < k:
+        n = ins(A, A.right[t], k, v)
+        if not n:
+            return NIL
+        if not A.red[t]:
+            if A.red[n]:
+                return _balance_right(A, A.left[t], y, A.val[t], n)
+            return A.node(BLACK, A.left[t], y, A.val[t], n)
+        return A.node(RED, A.left[t], y, A.val[t], n)
+    return NIL
+
+
+def ins_absent(A: Arena, t: int, k: Any, v: Any) -> int:
+    """:func:`ins` of a key known not to be in ``t``: one ``<`` a level.  A present key would be added twice."""
+    if not t:
+        return A.node(RED, NIL, k, v, NIL)
+    y = A.key[t]
+    if k < y:
+        n = ins_absent(A, A.left[t], k, v)
+        if not A.red[t]:
+            if A.red[n]:
+                return _balance_left(A, n, y, A.val[t], A.right[t])
+            return A.node(BLACK, n, y, A.val[t], A.right[t])
+        return A.node(RED, n, y, A.val[t], A.right[t])
+    n = ins_absent(A, A.right[t], k, v)
+    if not A.red[t]:
+        if A.red[n]:
+            return _balance_right(A, A.left[t], y, A.val[t], n)
+        return A.node(BLACK, A.left[t], y, A.val[t], n)
+    return A.node(RED, A.left[t], y, A.val[t], n)
+
+
+def replace(A: Arena, t: int, k: Any, v: Any) -> int:
+    """``t`` with the value of the present key ``k`` replaced by ``v``: path copying, same shape and colours."""
+    if not t:
+        # Only an order that changed between two descents can get here.
+        raise AssertionError(f"{_NAME}: key {k!r} vanished between two searches (inconsistent '<')")
+    y = A.key[t]
+    if k < y:
+        return A.node(A.red[t], replace(A, A.left[t], k, v), y, A.val[t], A.right[t])
+    if y < k:
+        return A.node(A.red[t], A.left[t], y, A.val[t], replace(A, A.right[t], k, v))
+    return A.node(A.red[t], A.left[t], k, v, A.right[t])
+
+
+class FailedWith(Exception):
+    """Carries an exception raised by ``insertWith``'s function out of the descents (as the tuple tree's)."""
+
+    def __init__(self, exc: BaseException) -> None:
+        super().__init__()
+        self.exc = exc
+
+
+def update(A: Arena, t: int, k: Any, f: Combine, v: Any) -> int:
+    """``t`` (a node) with the value ``x`` of the present key ``k`` replaced by ``f(x, v)``: path copying.
+
+    :data:`NIL` if ``k`` is not in ``t`` (nothing made, ``f`` not called).
+    Recursive, depth at most the tree height.
+    """
+    y = A.key[t]
+    if k < y:
+        a = A.left[t]
+        if not a:
+            return NIL
+        a2 = update(A, a, k, f, v)
+        return NIL if not a2 else A.node(A.red[t], a2, y, A.val[t], A.right[t])
+    if y < k:
+        b = A.right[t]
+        if not b:
+            return NIL
+        b2 = update(A, b, k, f, v)
+        return NIL if not b2 else A.node(A.red[t], A.left[t], y, A.val[t], b2)
+    try:
+        x = f(A.val[t], v)
+    except Exception as exc:
+        raise FailedWith(exc) from None
+    return A.node(A.red[t], A.left[t], k, x, A.right[t])
+
+
+# -- deletion (Kahrs 2001) ---------------------------------------------------------
+
+
+def _black(A: Arena, t: int) -> int:
+    """A copy of the red node ``t``, black."""
+    return A.node(BLACK, A.left[t], A.key[t], A.val[t], A.right[t])
+
+
+def balance(A: Arena, l: int, k: Any, v: Any, r: int) -> int:
+    """Kahrs' ``balance``: the black node ``l k r``, rewritten when ``l`` or ``r`` holds a red pair."""
+    left = A.left
+    right = A.right
+    red = A.red
+    key = A.key
+    val = A.val
+    node = A.node
+    if red[l]:
+        if red[r]:
+            # balance (T R a x b) y (T R c z d) = T R (T B a x b) y (T B c z d)
+            return node(RED, _black(A, l), k, v, _black(A, r))
+        ll = left[l]
+        if red[ll]:
+            # balance (T R (T R a x b) y c) z d = T R (T B a x b) y (T B c z d)
+            return node(RED, _black(A, ll), key[l], val[l], node(BLACK, right[l], k, v, r))
+        lr = right[l]
+        if red[lr]:
+            # balance (T R a x (T R b y c)) z d = T R (T B a x b) y (T B c z d)
+            return node(
+                RED, node(BLACK, ll, key[l], val[l], left[lr]), key[lr], val[lr], node(BLACK, right[lr], k, v, r)
+            )
+    if red[r]:
+        rl = left[r]
+        if red[rl]:
+            # balance a x (T R (T R b y c) z d) = T R (T B a x b) y (T B c z d)
+            return node(
+                RED, node(BLACK, l, k, v, left[rl]), key[rl], val[rl], node(BLACK, right[rl], key[r], val[r], right[r])
+            )
+        rr = right[r]
+        if red[rr]:
+            # balance a x (T R b y (T R c z d)) = T R (T B a x b) y (T B c z d)
+            return node(RED, node(BLACK, l, k, v, rl), key[r], val[r], _black(A, rr))
+    return node(BLACK, l, k, v, r)
+
+
+def sub1(A: Arena, t: int) -> int:
+    """Kahrs' ``sub1``: a black node repainted red, lowering its black height by one."""
+    assert t and not A.red[t], f"{_NAME}: sub1 of a non-black tree (invariant broken)"
+    return A.node(RED, A.left[t], A.key[t], A.val[t], A.right[t])
+
+
+def balleft(A: Arena, l: int, k: Any, v: Any, r: int) -> int:
+    """Kahrs' ``balleft``: the node ``l k r`` whose left subtree ``l`` is one black level short."""
+    if A.red[l]:
+        # balleft (T R a x b) y c = T R (T B a x b) y c
+        return A.node(RED, _black(A, l), k, v, r)
+    assert r, f"{_NAME}: balleft with an empty sibling (invariant broken)"
+    if not A.red[r]:
+        # balleft bl x (T B a y b) = balance bl x (T R a y b)
+        return balance(A, l, k, v, A.node(RED, A.left[r], A.key[r], A.val[r], A.right[r]))
+    # balleft bl x (T R (T B a y b) z c) = T R (T B bl x a) y (balance b z (sub1 c))
+    rl = A.left[r]
+    assert rl, f"{_NAME}: balleft with a red sibling without a left child (invariant broken)"
+    return A.node(
+        RED,
+        A.node(BLACK, l, k, v, A.left[rl]),
+        A.key[rl],
+        A.val[rl],
+        balance(A, A.right[rl], A.key[r], A.val[r], sub1(A, A.right[r])),
+    )
+
+
+def balright(A: Arena, l: int, k: Any, v: Any, r: int) -> int:
+    """Kahrs' ``balright``: the mirror image of :func:`balleft` (``r`` is one black level short)."""
+    if A.red[r]:
+        # balright a x (T R b y c) = T R a x (T B b y c)
+        return A.node(RED, l, k, v, _black(A, r))
+    assert l, f"{_NAME}: balright with an empty sibling (invariant broken)"
+    if not A.red[l]:
+        # balright (T B a x b) y bl = balance (T R a x b) y bl
+        return balance(A, A.node(RED, A.left[l], A.key[l], A.val[l], A.right[l]), k, v, r)
+    # balright (T R a x (T B b y c)) z bl = T R (balance (sub1 a) x b) y (T B c z bl)
+    lr = A.right[l]
+    assert lr, f"{_NAME}: balright with a red sibling without a right child (invariant broken)"
+    return A.node(
+        RED,
+        balance(A, sub1(A, A.left[l]), A.key[l], A.val[l], A.left[lr]),
+        A.key[lr],
+        A.val[lr],
+        A.node(BLACK, A.right[lr], k, v, r),
+    )
+
+
+def app(A: Arena, a: int, b: int) -> int:
+    """Kahrs' ``app``: the fusion of two trees of equal black height, every key of ``a`` below every key of ``b``."""
+    if not a:
+        return b
+    if not b:
+        return a
+    red = A.red
+    node = A.node
+    key = A.key
+    val = A.val
+    left = A.left
+    right = A.right
+    if red[a]:
+        if red[b]:
+            # app (T R a x b) (T R c y d)
+            bc = app(A, right[a], left[b])
+            if red[bc]:
+                return node(
+                    RED,
+                    node(RED, left[a], key[a], val[a], left[bc]),
+                    key[bc],
+                    val[bc],
+                    node(RED, right[bc], key[b], val[b], right[b]),
+                )
+            return node(RED, left[a], key[a], val[a], node(RED, bc, key[b], val[b], right[b]))
+        # app (T R a x b) c = T R a x (app b c)
+        return node(RED, left[a], key[a], val[a], app(A, right[a], b))
+    if red[b]:
+        # app a (T R b x c) = T R (app a b) x c
+        return node(RED, app(A, a, left[b]), key[b], val[b], right[b])
+    # app (T B a x b) (T B c y d)
+    bc = app(A, right[a], left[b])
+    if red[bc]:
+        return node(
+            RED,
+            node(BLACK, left[a], key[a], val[a], left[bc]),
+            key[bc],
+            val[bc],
+            node(BLACK, right[bc], key[b], val[b], right[b]),
+        )
+    return balleft(A, left[a], key[a], val[a], node(BLACK, bc, key[b], val[b], right[b]))
+
+
+def delete(A: Arena, t: int, k: Any) -> int:
+    """Kahrs' ``del``: ``t`` without the present key ``k`` (see :func:`~persistri.impl.maps.red_black_tree.delete`)."""
+    if not t:
+        # Only an order that changed between two descents can get here.
+        raise AssertionError(f"{_NAME}: key {k!r} vanished between two searches (inconsistent '<')")
+    a = A.left[t]
+    y = A.key[t]
+    yv = A.val[t]
+    b = A.right[t]
+    if k < y:
+        if a and not A.red[a]:
+            # delformLeft a@(T B _ _ _) y b = balleft (del a) y b
+            return balleft(A, delete(A, a, k), y, yv, b)
+        # delformLeft a y b = T R (del a) y b
+        return A.node(RED, delete(A, a, k), y, yv, b)
+    if y < k:
+        if b and not A.red[b]:
+            # delformRight a y b@(T B _ _ _) = balright a y (del b)
+            return balright(A, a, y, yv, delete(A, b, k))
+        # delformRight a y b = T R a y (del b)
+        return A.node(RED, a, y, yv, delete(A, b, k))
+    return app(A, a, b)
