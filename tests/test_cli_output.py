@@ -93,3 +93,34 @@ def test_the_factory(monkeypatch: pytest.MonkeyPatch) -> None:
     buffer = io.StringIO()
     text_console(buffer).print("[bold]z[/bold] " + "w" * 200)
     assert buffer.getvalue() == "z " + "w" * 200 + "\n"
+
+
+@pytest.mark.parametrize("args", [["delaunay", "--help"], ["mesh", "square-hole", "--stats"]])
+def test_a_closed_pipe_stops_quietly(tmp_path: Path, args: list[str]) -> None:
+    # `persistri … | head`: the reader goes away before the output is written.  Not an error line
+    # ("persistri: broken pipe", status 2, as before): click's handling, status 1 and nothing more.
+    process = subprocess.Popen([PERSISTRI, *args], cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert process.stdout is not None and process.stderr is not None
+    process.stdout.close()
+    err = process.stderr.read().decode()
+    assert process.wait(timeout=300) == 1
+    assert "persistri:" not in err and "Traceback" not in err and "Exception ignored" not in err
+
+
+@pytest.mark.parametrize(
+    "args, name",
+    [
+        (["hull", "--dist", "inball", "-n", "50", "-o", ""], "'-o' / '--output'"),
+        (["hull", ""], "'INPUT'"),
+        (["delaunay", " "], "'INPUT'"),
+        (["mesh", "", "--min-angle", "20"], "'INPUT'"),
+        (["terrain", "jacksboro", "--max-error", "5", "--plot", ""], "'--plot'"),
+    ],
+)
+def test_an_empty_file_name_is_a_bad_argument(tmp_path: Path, args: list[str], name: str) -> None:
+    # pathlib reads "" as "." (the current directory): without the check, `-o ''` was ". : a directory" and an
+    # empty INPUT read the directory.
+    result = subprocess.run([PERSISTRI, *args], cwd=tmp_path, capture_output=True, text=True, timeout=300, check=False)
+    assert result.returncode == 2
+    assert f"Invalid value for {name}: an empty file name" in result.stderr
+    assert not list(tmp_path.iterdir())

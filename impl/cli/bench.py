@@ -23,7 +23,7 @@ from persistri.impl.bench.maps import DEFAULT_REPEAT, DEFAULT_SEED, DEFAULT_SIZE
 from persistri.impl.bench.maps_report import print_maps
 from persistri.impl.cli.bench_geometry import delaunay_, hull, mesh, terrain
 from persistri.impl.cli.bench_options import parse_sizes, progress_bar, sizes_option
-from persistri.impl.cli.checks import check_backend, check_input
+from persistri.impl.cli.checks import FILE_PATH, check_backend, check_input
 from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.errors import about, error_line, fail
 
@@ -105,7 +105,7 @@ def maps(sizes: tuple[int, ...], repeat: int, seed: int, only: str | None, as_js
 @click.option(
     "--trace",
     "trace_path",
-    type=click.Path(path_type=Path),
+    type=FILE_PATH,
     default=None,
     help="Replay this saved trace (.npz or .json, a closed 2-complex at its end) instead of a generated workload.",
 )
@@ -181,7 +181,7 @@ def complex_(
 @click.option("--chunk-size", "chunk_rows", type=click.IntRange(min=1), default=None, help="Points per chunk.  [default: one chunk per worker, 262,144 to 2,097,152 (chunk_rows_for)]")
 @click.option("--workers", "worker_counts", default="1,2", show_default=True, callback=sizes_option, help="Worker counts to measure, separated by commas.")
 @click.option("--terrain-size", type=click.IntRange(min=0), default=8000, show_default=True, help="Side of the synthetic DEM of the tiled-terrain rows (0: none).")
-@click.option("--dir", "directory", type=click.Path(path_type=Path), default=None, help="Where the points and DEM files are written (and reused).  [default: a temporary directory]")
+@click.option("--dir", "directory", type=FILE_PATH, default=None, help="Where the points and DEM files are written (and reused).  [default: a temporary directory]")
 @click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of tables.")
 def scale(n: int, dist: str, chunk_rows: int | None, worker_counts: tuple[int, ...], terrain_size: int, directory: Path | None, as_json: bool) -> None:
     """The parallel side on local Dask clusters of 1 and 2 worker processes (docs/scale-out.md).

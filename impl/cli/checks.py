@@ -36,10 +36,50 @@ import click
 
 from persistri.impl.cli.errors import error_line, fail
 
-__all__ = ["PLOT_FORMATS", "check_backend", "check_column_count", "check_input", "check_output_dir", "parse_columns", "Outputs", "Staging"]
+__all__ = ["FILE_OR_NAME", "FILE_PATH", "FileOrName", "FilePath", "PLOT_FORMATS", "check_backend", "check_column_count", "check_input", "check_output_dir", "parse_columns", "Outputs", "Staging"]
 
 PLOT_FORMATS: Final = (".png", ".pdf", ".svg")
 """The formats ``--plot`` writes (matplotlib chooses by extension)."""
+
+
+class FilePath(click.Path):
+    """A file name option or argument, as a :class:`~pathlib.Path`; an empty name is refused.
+
+    ``pathlib`` reads ``""`` as ``"."`` — the current directory — so ``-o ''``
+    would be reported as "a directory" and an empty input would read the
+    directory's files.  An empty (or blank) name is a mistake in the command
+    line: click reports it as a bad option value, exit status 2.
+    """
+
+    def convert(
+        self, value: str | os.PathLike[str], param: click.Parameter | None, ctx: click.Context | None
+    ) -> str | bytes | os.PathLike[str]:
+        """``value`` as a Path; fail on an empty or blank name."""
+        if isinstance(value, str) and not value.strip():
+            self.fail("an empty file name", param, ctx)
+        return super().convert(value, param, ctx)
+
+
+FILE_PATH: Final = FilePath(path_type=Path)
+"""The type of every file option and argument of the commands."""
+
+
+class FileOrName(click.types.StringParamType):
+    """An input that is a file name or a word naming a built-in input (``jacksboro``, a gallery domain); an
+    empty or blank one is refused as a bad argument, like an empty :class:`FilePath`."""
+
+    name = "file or name"
+
+    def convert(self, value: object, param: click.Parameter | None, ctx: click.Context | None) -> str:
+        """``value`` as a string; fail on an empty or blank one."""
+        text = super().convert(value, param, ctx)
+        if not text.strip():
+            self.fail("an empty file name", param, ctx)
+        return text
+
+
+FILE_OR_NAME: Final = FileOrName()
+"""The type of the inputs that may also be a built-in name (``persistri terrain``, ``persistri mesh``)."""
 
 
 def _extension(path: Path) -> str:

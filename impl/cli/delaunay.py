@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_column_count, check_input, parse_columns
+from persistri.impl.cli.checks import FILE_PATH, PLOT_FORMATS, Outputs, check_backend, check_column_count, check_input, parse_columns
 from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.errors import about
 from persistri.impl.cli.hull import stats_table
@@ -19,9 +19,9 @@ __all__ = ["delaunay_command"]
 
 
 @click.command("delaunay")
-@click.argument("input_path", metavar="INPUT", type=click.Path(path_type=Path))
-@click.option("-o", "--output", type=click.Path(path_type=Path), help=f"Output ({', '.join(MESH_FORMATS)}).")
-@click.option("--plot", type=click.Path(path_type=Path), help=f"Draw the triangulation to this image ({', '.join(PLOT_FORMATS)}).")
+@click.argument("input_path", metavar="INPUT", type=FILE_PATH)
+@click.option("-o", "--output", type=FILE_PATH, help=f"Output ({', '.join(MESH_FORMATS)}).")
+@click.option("--plot", type=FILE_PATH, help=f"Draw the triangulation to this image ({', '.join(PLOT_FORMATS)}).")
 @click.option("--backend", default="red_black", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
 @click.option("--columns", metavar="A,B[,C]", callback=parse_columns, help="The columns to read as x,y[,z]: numbers from 0 or header names (text files; numbers for .npy).  [default: the header's x,y,z, else every column]")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of the insertion order.")

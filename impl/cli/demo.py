@@ -44,7 +44,7 @@ from rich.text import Text
 from persistri.impl.bench.maps import DEFAULT_SEED, MapBench, ProgressCallback, run_map_bench
 from persistri.impl.bench.maps_report import maps_report, maps_text, save_maps_chart
 from persistri.impl.cli.bench import parse_sizes
-from persistri.impl.cli.checks import check_output_dir
+from persistri.impl.cli.checks import FILE_PATH, check_output_dir
 from persistri.impl.cli.console import stdout_console
 
 __all__ = ["DemoSettings", "DemoStage", "StageContext", "StageResult", "STAGES", "demo", "run_demo", "without_unavailable"]
@@ -357,7 +357,7 @@ def run_demo(settings: DemoSettings, console: Console, stages: Sequence[DemoStag
 @click.command()
 @click.option(
     "--out",
-    type=click.Path(path_type=Path),
+    type=FILE_PATH,
     default=Path("out"),
     show_default=True,
     help="Directory to write the results into (created if missing; its parent must exist).",

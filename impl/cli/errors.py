@@ -12,6 +12,10 @@ One mechanism serves every command: :class:`PersistriGroup`, the class of the
 computing on it.  A bug in persistri itself is also one line (``internal
 error: …``); ``PERSISTRI_DEBUG=1`` lets its traceback through.
 
+When the reader of the output goes away (``persistri … | head``) the command
+stops quietly with status 1 (click's handling of a closed pipe), not with an
+error line.
+
 Commands with results that are not failures keep their documented statuses:
 ``persistri conformance`` exits 1 when a law fails and ``bench``/``demo`` exit 1
 when a measured structure fails.
@@ -112,7 +116,7 @@ def about(name: str | Path | None) -> Iterator[None]:
     """
     try:
         yield
-    except (click.ClickException, click.exceptions.Exit, click.Abort):
+    except (click.ClickException, click.exceptions.Exit, click.Abort, BrokenPipeError):
         raise
     except Exception as exc:
         if os.environ.get(_DEBUG_VARIABLE):
@@ -130,7 +134,9 @@ class PersistriGroup(click.Group):
         """Run the sub-command; an exception escaping it becomes a :class:`CliError`."""
         try:
             return super().invoke(ctx)
-        except (click.ClickException, click.exceptions.Exit, click.Abort):
+        except (click.ClickException, click.exceptions.Exit, click.Abort, BrokenPipeError):
+            # A closed pipe (``persistri … | head``) is not a failure to report: click's own handler
+            # silences the rest of the output and exits with status 1, as other tools do.
             raise
         except Exception as exc:
             if os.environ.get(_DEBUG_VARIABLE):

@@ -17,7 +17,7 @@ from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, T
 from rich.table import Table
 from rich.text import Text
 
-from persistri.impl.cli.checks import check_output_dir
+from persistri.impl.cli.checks import FILE_PATH, check_output_dir
 from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.errors import about, fail
 from persistri.impl.experiments.dems import DEMS
@@ -99,7 +99,7 @@ def _bars(console: Console) -> Iterator[Progress]:
     "--out",
     "out",
     required=True,
-    type=click.Path(path_type=Path),
+    type=FILE_PATH,
     help="Directory for figN.csv, figN.png, figN.md and summary.md (created if missing; its parent must exist).",
 )
 @click.option("--quick", is_flag=True, help="Small sizes: every figure in seconds (what the test suite runs).")

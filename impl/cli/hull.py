@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 from rich.table import Table
 
-from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_column_count, check_input, parse_columns
+from persistri.impl.cli.checks import FILE_PATH, PLOT_FORMATS, Outputs, check_backend, check_column_count, check_input, parse_columns
 from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.errors import about, error_line, fail
 from persistri.impl.files import MESH_FORMATS, POINT_FORMATS, read_points, write_mesh
@@ -72,8 +72,8 @@ def _chunked_source(input_path: Path, chunk_rows: int | None) -> PointSource:
 
 
 @click.command("hull")
-@click.argument("input_path", metavar="INPUT", required=False, type=click.Path(path_type=Path))
-@click.option("-o", "--output", type=click.Path(path_type=Path), help=f"Output mesh ({', '.join(MESH_FORMATS)}).")
+@click.argument("input_path", metavar="INPUT", required=False, type=FILE_PATH)
+@click.option("-o", "--output", type=FILE_PATH, help=f"Output mesh ({', '.join(MESH_FORMATS)}).")
 @click.option("--dist", type=click.Choice(sorted(DISTRIBUTIONS), case_sensitive=False), help="Generate the input from a §4 distribution instead of reading INPUT.")
 @click.option("-n", "--points", "n", type=click.IntRange(min=0), default=10_000, show_default=True, help="How many points --dist generates.")
 @click.option("--backend", default="red_black", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
@@ -81,7 +81,7 @@ def _chunked_source(input_path: Path, chunk_rows: int | None) -> PointSource:
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of the insertion order (and of --dist).")
 @click.option("--check", is_flag=True, help="Assert the theorems of Appendix A at every insertion and verify the hull exactly.")
 @click.option("--stats", "show_stats", is_flag=True, help="Print the operation counts (paper §4) as a table (one process: implies --workers 1).")
-@click.option("--plot", type=click.Path(path_type=Path), help=f"Draw the hull to this image ({', '.join(PLOT_FORMATS)}).")
+@click.option("--plot", type=FILE_PATH, help=f"Draw the hull to this image ({', '.join(PLOT_FORMATS)}).")
 @click.option("--workers", type=click.IntRange(min=1), help=f"Worker processes: 1 = this process; N = a local Dask cluster of N.  [default: one per core for more than one chunk ({MAX_CHUNK_ROWS:,} points, or --chunk-size)]")
 @click.option("--scheduler", metavar="ADDR", help=f"Run on the existing Dask cluster of this scheduler (tcp://host:8786; also ${ENV_SCHEDULER}).")
 @click.option("--chunk-size", "chunk_rows", type=click.IntRange(min=1), help=f"Points per chunk on a cluster.  [default: one chunk per worker, {DEFAULT_CHUNK_ROWS:,} to {MAX_CHUNK_ROWS:,}]")

@@ -24,7 +24,7 @@ import click
 import numpy as np
 from rich.table import Table
 
-from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_input
+from persistri.impl.cli.checks import FILE_OR_NAME, FILE_PATH, PLOT_FORMATS, Outputs, check_backend, check_input
 from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.errors import about, error_line, fail
 from persistri.impl.maps import BACKENDS
@@ -248,7 +248,7 @@ def _stats_table(source: str, mesh: QualityMesh, smallest: float, report: MeshRe
 
 
 @click.command("mesh")
-@click.argument("source", metavar="INPUT")
+@click.argument("source", metavar="INPUT", type=FILE_OR_NAME)
 @click.option(
     "-q", "--min-angle", type=click.FloatRange(0, 60, max_open=True), default=20.0, show_default=True, callback=_finite,
     help="Smallest angle wanted, degrees (0: the plain constrained Delaunay triangulation). Triangle's -q; "
@@ -258,8 +258,8 @@ def _stats_table(source: str, mesh: QualityMesh, smallest: float, report: MeshRe
     "-a", "--max-area", type=click.FloatRange(min=0, min_open=True), default=None, callback=_finite,
     help="Largest triangle area wanted (Triangle's -a); a .poly's regions may carry their own.",
 )
-@click.option("-o", "--output", type=click.Path(path_type=Path), help=f"Output mesh ({', '.join(MESH_OUTPUT_FORMATS)}).")
-@click.option("--plot", type=click.Path(path_type=Path), help=f"Draw the mesh to this image ({', '.join(PLOT_FORMATS)}).")
+@click.option("-o", "--output", type=FILE_PATH, help=f"Output mesh ({', '.join(MESH_OUTPUT_FORMATS)}).")
+@click.option("--plot", type=FILE_PATH, help=f"Draw the mesh to this image ({', '.join(PLOT_FORMATS)}).")
 @click.option("--check", is_flag=True, help="Verify the mesh with the independent exact checker; fail if it does not pass.")
 @click.option("--stats", "show_stats", is_flag=True, help="Print what the refinement did (insertions, splits, undos) as a table.")
 @click.option("--max-steiner", type=click.IntRange(min=0), default=None, help="Stop after this many Steiner points (Triangle's -S).")

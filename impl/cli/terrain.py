@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from persistri.impl.cli.checks import PLOT_FORMATS, Outputs, check_backend, check_input, check_output_dir
+from persistri.impl.cli.checks import FILE_OR_NAME, FILE_PATH, PLOT_FORMATS, Outputs, check_backend, check_input, check_output_dir
 from persistri.impl.cli.console import stderr_console, stdout_console
 from persistri.impl.cli.errors import about, error_line, fail
 from persistri.impl.cli.hull import stats_table
@@ -44,13 +44,13 @@ def _nodata_option(ctx: click.Context, param: click.Parameter, value: str) -> st
 
 
 @click.command("terrain")
-@click.argument("source", metavar="INPUT")
+@click.argument("source", metavar="INPUT", type=FILE_OR_NAME)
 @click.option("--max-error", type=click.FloatRange(min=0), help="Stop once every sample is within this vertical distance.")
 @click.option("--max-points", type=click.IntRange(min=4), help="Stop once the mesh has this many vertices.")
-@click.option("-o", "--output", type=click.Path(path_type=Path), help=f"Output mesh ({', '.join(TERRAIN_MESH_FORMATS)}).")
+@click.option("-o", "--output", type=FILE_PATH, help=f"Output mesh ({', '.join(TERRAIN_MESH_FORMATS)}).")
 @click.option(
     "--plot",
-    type=click.Path(path_type=Path),
+    type=FILE_PATH,
     help=f"Draw the mesh over the shaded relief to this image ({', '.join(PLOT_FORMATS)}).",
 )
 @click.option(
@@ -89,7 +89,7 @@ def _nodata_option(ctx: click.Context, param: click.Parameter, value: str) -> st
 )
 @click.option(
     "--tile-output",
-    type=click.Path(path_type=Path),
+    type=FILE_PATH,
     help="With tiles: also write each tile's mesh to this directory (tile_I_J.npz, whole-grid coordinates).",
 )
 def terrain(
