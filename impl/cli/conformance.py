@@ -182,7 +182,7 @@ def _parse_dims(text: str) -> tuple[int, ...] | None:
     metavar="MODULE:ATTR",
     default=None,
     help="A vertex state of the structure's Simplex.Vertex, or a function of no arguments returning one "
-    "(the VERTEX signature has no initial state); e.g. persistri.impl.complex.vertex:VertexState.initial.",
+    "(the VERTEX signature has no initial state); see the example above.",
 )
 @click.option("--dims", default="auto", show_default=True, help="Dimensions to test, e.g. 2,3; auto: every n in 1..4 that new(n) accepts.")
 @click.option("--max-examples", type=click.IntRange(min=1), default=100, show_default=True, help="Hypothesis examples per test.")
@@ -213,6 +213,13 @@ def complex_(
     arguments; --state names how to make its vertices.  Exit status 0: it
     conforms; 1: some law fails (printed with its minimal counterexample);
     2: MODULE:ATTR is not a loadable SIMPCOMP structure (or no vertex state).
+
+    Example, persistri's own complex with its vertex states:
+
+    \b
+      persistri conformance complex \\
+        persistri.impl.complex.simpcomp:SimpComp \\
+        --state persistri.impl.complex.vertex:VertexState.initial
     """
     try:
         from persistri.spec.conformance import SIMPCOMP_TESTS, NotASimpComp, as_simpcomp, run_simpcomp_conformance
