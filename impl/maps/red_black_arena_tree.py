@@ -68,7 +68,8 @@ class Arena:
     """The append-only store of one family of red-black trees: five parallel arrays indexed by node.
 
     ``key`` and ``val`` are lists (references to the map's keys and values),
-    ``left`` and ``right`` typed arrays of 32-bit node indices, ``red`` a
+    ``left`` and ``right`` typed arrays of unsigned 32-bit node indices (``"I"``: their
+    items are written without the argument parser that signed typecodes go through), ``red`` a
     ``bytearray`` of colours: 25 bytes a node, where a node tuple of
     :mod:`~persistri.impl.maps.red_black_tree` takes 80.  Slot 0 is the empty
     leaf.  Nothing is ever removed or overwritten: the arena grows by
@@ -90,8 +91,8 @@ class Arena:
     def __init__(self) -> None:
         self.key = [None]
         self.val = [None]
-        self.left = array("i", (NIL,))
-        self.right = array("i", (NIL,))
+        self.left = array("I", (NIL,))
+        self.right = array("I", (NIL,))
         self.red = bytearray(1)
 
     def node(self, c: int, l: int, k: Any, v: Any, r: int) -> int:
