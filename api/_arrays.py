@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["read_only"]
+__all__ = ["read_only", "refuse_other_dimension"]
 
 
 def read_only(a: NDArray[Any], dtype: type[np.generic] | None = None) -> NDArray[Any]:
@@ -19,3 +19,25 @@ def read_only(a: NDArray[Any], dtype: type[np.generic] | None = None) -> NDArray
     out = np.array(a, dtype=dtype) if dtype is not None and a.dtype != dtype else a.view()
     out.flags.writeable = False
     return out
+
+
+_OTHER_DIMENSION = {
+    ("ConvexHull", 2): "persistri.ConvexHull is the paper's 3D hull; for 2D points, "
+    "persistri.Delaunay(points).convex_hull is their hull's edges (exact)",
+    ("Delaunay", 3): "persistri.Delaunay triangulates the plane (2D points); for 3D points, "
+    "persistri.ConvexHull(points) is their hull (there is no 3D tetrahedralization)",
+}
+
+
+def refuse_other_dimension(points: object, cls: str) -> None:
+    """A :class:`ValueError` saying what to use instead when ``points`` is an ``(n, d)`` array of the *other*
+    dimension than ``cls`` takes (scipy's ``ConvexHull`` and ``Delaunay`` take any); otherwise nothing (the
+    usual validation reports every other shape).  O(1) for arrays; lists are looked at, not converted."""
+    shape = getattr(points, "shape", None)
+    if shape is None and isinstance(points, (list, tuple)) and points:
+        first = points[0]
+        shape = (len(points), len(first)) if isinstance(first, (list, tuple)) else None
+    if shape is not None and len(shape) == 2:
+        hint = _OTHER_DIMENSION.get((cls, int(shape[1])))
+        if hint is not None:
+            raise ValueError(f"points must be an (n, {5 - int(shape[1])}) array, got shape {tuple(shape)}: {hint}")

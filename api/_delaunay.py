@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from persistri._arrays import read_only
+from persistri._arrays import read_only, refuse_other_dimension
 from persistri._scipy_options import check_qhull_options, closed_error
 from persistri.impl.complex.adjacency import triangle_neighbors, vertex_neighbor_vertices, vertex_to_simplex
 from persistri.impl.geometry.barycentric import barycentric_transforms, lifted_equations, paraboloid_lift, paraboloid_scaling
@@ -129,6 +129,7 @@ class Delaunay:
         check_qhull_options(qhull_options, "Delaunay")
         self._incremental = bool(incremental)
         self._closed = False
+        refuse_other_dimension(points, "Delaunay")
         pts = as_points(points, 2, what="points")  # errors name the argument as the user passed it
         self._adopt(delaunay(pts, backend=backend, seed=seed, check=check, stats=stats, history=history), check)
 

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from persistri._arrays import read_only
+from persistri._arrays import read_only, refuse_other_dimension
 from persistri._hull_chunked import chunked_hull, read_all, too_big_to_load
 from persistri._scipy_options import check_qhull_options, closed_error
 from persistri.impl.complex.adjacency import triangle_neighbors
@@ -180,6 +180,7 @@ class ConvexHull:
         chunk_rows: int | None = None,
     ) -> None:
         check_qhull_options(qhull_options, "ConvexHull")
+        refuse_other_dimension(points, "ConvexHull")
         self._incremental = bool(incremental)
         self._closed = False
         where = (client, workers, scheduler, chunk_rows)

@@ -158,3 +158,24 @@ def test_find_simplex_takes_scipys_arguments() -> None:
     assert np.array_equal(tri.find_simplex(q, False, 0), exact)
     with pytest.raises(ValueError, match="exact"):
         tri.find_simplex(q, tol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "cls, points, instead",
+    [
+        ("ConvexHull", np.random.default_rng(0).random((20, 2)), r"persistri\.Delaunay\(points\)\.convex_hull"),
+        ("ConvexHull", [[0, 0], [1, 0], [0, 1]], r"persistri\.Delaunay\(points\)\.convex_hull"),
+        ("Delaunay", np.random.default_rng(0).random((20, 3)), r"persistri\.ConvexHull\(points\)"),
+    ],
+)
+def test_the_other_dimension_says_what_to_use(cls: str, points: object, instead: str) -> None:
+    # scipy's two classes take any dimension; persistri's take one each.  The error names the one to use.
+    with pytest.raises(ValueError, match=instead):
+        getattr(persistri, cls)(points)
+
+
+def test_the_hint_names_an_exact_hull_of_2d_points() -> None:
+    # What the hint sends a user to is right: the 2D hull's edges, the same cycle as scipy's ConvexHull.
+    pts = np.random.default_rng(3).random((200, 2))
+    edges = persistri.Delaunay(pts).convex_hull
+    assert sorted(set(edges.ravel().tolist())) == sorted(scipy_spatial.ConvexHull(pts).vertices.tolist())
