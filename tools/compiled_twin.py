@@ -34,6 +34,8 @@ MODULES = (
     "persistri/impl/hull/conflicts.py",
     "persistri/impl/maps/red_black_tree.py",
     "persistri/impl/maps/red_black_adjust.py",
+    "persistri/impl/maps/red_black_arena_tree.py",
+    "persistri/impl/maps/red_black_arena_adjust.py",
     "persistri/impl/complex/vertex_lists.py",
     "persistri/impl/complex/neighbours.py",
     "persistri/impl/geometry/kernel2d.py",
@@ -47,6 +49,7 @@ MODULES = (
 """The modules compiled: the bulldozer's insertion loop and its conflict-list helpers, the predicate
 kernel it calls, and the inner functions of the persistent structures it changes — the red-black
 tree's node algorithms, its batched update (with the fused insertion of ``replace``'s new vertex), the
+same two for the arena red-black tree (the backend for keeping histories, ``red_black_arena``), the
 2-complex's list functions and its walks' edge lookups — where a hull run spends most of its interpreted time
 (docs/performance.md); and for the terrain and the scattered Delaunay, the 2D kernel, the triangulator,
 the sector test, the greedy run's loop and its error measure.  The structures' public operations
