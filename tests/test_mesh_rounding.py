@@ -204,6 +204,28 @@ def test_near_segment_on_integers_agrees_with_rationals(
     assert near_segment(ax, ay, bx, by, bx, ay, ulps) == _near_segment_rational(ax, ay, bx, by, bx, ay, ulps)
 
 
+@settings(max_examples=400, deadline=None)
+@given(_any_double, _any_double, _any_double, _any_double, st.integers(0, 1 << 62), st.integers(0, 62))
+@example(5e-324, -5e-324, 2.2250738585072014e-308, 1e-310, 1, 1)
+@example(X0, Y0, X0 + 40.01, Y0 + 10.03, 1, 1)
+@example(1.0, 1.0, 2.0, 2.0, (1 << 62) - 1, 62)  # rounds up onto the power of two 2.0: its ulp is twice as wide
+def test_the_nearest_doubles_to_a_point_on_a_segment_pass_the_box_test(
+    ax: float, ay: float, bx: float, by: float, num: int, bits: int
+) -> None:
+    """``rounded_candidates`` yields the rounding to nearest of a point of the closed segment without the box test:
+    each coordinate's rounding error is at most ``ulp`` of the rounded value, the box's half-width at least that
+    (subnormal, huge and UTM coordinates; a rounding onto a power of two)."""
+    t = Fraction(min(num, 1 << bits), 1 << bits)  # in [0, 1]
+    px, py = Fraction(ax) + t * (Fraction(bx) - Fraction(ax)), Fraction(ay) + t * (Fraction(by) - Fraction(ay))
+    try:
+        x, y = float(px), float(py)  # Fraction -> float rounds to nearest
+    except OverflowError:
+        return
+    assume(math.isfinite(x) and math.isfinite(y))
+    assert near_segment(ax, ay, bx, by, x, y)
+    assert _near_segment_rational(ax, ay, bx, by, x, y, 1.0)
+
+
 def test_dyadic_double_is_exact() -> None:
     """``n · 2^e`` is returned exactly when it is a double: 53-bit odd parts, subnormals down to 2^-1074, no overflow."""
     assert _dyadic_double(0, 5) == 0.0

@@ -151,9 +151,15 @@ def valid_split(P: GrowingPredicates2, step: Insertion, lo: int, hi: int) -> boo
     and the conflict search goes on from it, so a vertex near the segment can end up inside the cavity.
     """
     orient = P.orient2d_sign
-    kept = {v for tri, _ in step.created for v in tri}
-    if any(v not in kept for tri, _ in step.removed for v in tri):
-        return False
+    # Loops, not a comprehension and a generator: no function frame per call.
+    kept: set[int] = set()
+    for (a, b, c), _ in step.created:
+        kept.add(a)
+        kept.add(b)
+        kept.add(c)
+    for (a, b, c), _ in step.removed:
+        if a not in kept or b not in kept or c not in kept:
+            return False
     for tri, dat in step.created:
         a, b, c = tri
         if lo in tri and hi in tri and (dat[1] != EXTERIOR or constraint_of(dat, lo, hi) >= 0):

@@ -14,8 +14,8 @@
 * **position** — the history index of the version it stands at, the ids of the
   triangles gone from it for good, and its edge index
   (:mod:`~persistri.impl.mesh.edges`);
-* **moving on** — :meth:`RefinerState._adopt` takes a step's new version: its
-  removed triangles are dead, the index follows, its new triangles are judged.
+* **moving on** — :meth:`RefinerState._adopt` takes a step: its removed
+  triangles are dead, the index follows, its new triangles are judged.
 
 Costs: O(1) per triangle judged (plus O(lg buckets) for a bucket that was
 empty) and per triangle a step removes or makes.
@@ -111,20 +111,35 @@ class RefinerState:
             return
         self._push_bad(t, d, p, q, r, edge2)
 
-    def _examine(self, created: tuple[tuple[Tri, MeshDatum], ...]) -> None:
-        """Queue the bad triangles among ``created`` and the subsegments their apexes encroach."""
+    def _adopt(self, step: Insertion, apexes: bool = True) -> None:
+        """The run takes ``step``: its removed triangles are gone for good, the edge index follows, and its new
+        triangles are examined — the bad ones queued, the exempt ones recorded, and, unless ``apexes`` is False, the
+        subsegments their apexes encroach queued (False for a bad triangle's split: its new subsegment edges all have
+        the new point as apex, already found to encroach none of them).  ``step.version`` is not read (Chew's
+        deletions make none of their own).  One pass over the new triangles. O(k)."""
+        dead = self._dead
+        edges = self._edges
+        for (a, b, c), d in step.removed:
+            dead.add(d[0])
+            del edges[(a, b)]
+            del edges[(b, c)]
+            del edges[(c, a)]
         encroaches = self.tests.encroaches
         assess = self.tests.assess
         exempt_edge = self.angles.exempt_edge
         queues = self._queues
-        for t, d in created:
+        for t, d in step.created:
+            a, b, c = t
+            edges[(a, b)] = (c, d)
+            edges[(b, c)] = (a, d)
+            edges[(c, a)] = (b, d)
             if d[1] == EXTERIOR:
                 continue
-            found = assess(t[0], t[1], t[2], d[1])  # self._judge(t, d), inlined
+            found = assess(a, b, c, d[1])  # self._judge(t, d), inlined
             if found is not None:
                 # self._judge_bad(t, d, found) and self._push_bad, inlined.
                 p, q, r, edge2, good = found
-                if not good and exempt_edge(p, q) and not self.tests.area_bad(t[0], t[1], t[2], d[1]):
+                if not good and exempt_edge(p, q) and not self.tests.area_bad(a, b, c, d[1]):
                     self._exempt.add(d[0])
                 else:
                     bucket = math.frexp(edge2)[1] if 0.0 < edge2 < math.inf else 0
@@ -134,28 +149,11 @@ class RefinerState:
                         queue = queues[bucket] = deque()
                         heapq.heappush(self._buckets, bucket)
                     queue.append((bucket, self._seq, t, d, p, q, r))
-            if d[2]:
-                a, b, c = t
+            if apexes and d[2]:
                 for lo, hi, s in d[2]:
                     k = a if a != lo and a != hi else b if b != lo and b != hi else c
                     if encroaches(lo, hi, k):
                         self._segs.append((lo, hi, s))
-
-    def _adopt(self, step: Insertion) -> None:
-        """The run moves on to ``step.version``: its removed triangles are gone for good, its new ones examined, and
-        the edge index follows."""
-        dead = self._dead
-        edges = self._edges
-        for (a, b, c), d in step.removed:
-            dead.add(d[0])
-            del edges[(a, b)]
-            del edges[(b, c)]
-            del edges[(c, a)]
-        for (a, b, c), d in step.created:
-            edges[(a, b)] = (c, d)
-            edges[(b, c)] = (a, d)
-            edges[(c, a)] = (b, d)
-        self._examine(step.created)
 
     def _beside(self, u: Vertex, w: Vertex) -> tuple[Tri, MeshDatum] | None:
         """The triangle ``(u, w, x)`` of the current version holding the directed edge ``(u, w)``, or None. O(1)."""

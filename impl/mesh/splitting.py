@@ -331,7 +331,10 @@ def rounded_candidates(
                 (r0y[0] * (den0 // r0y[1])) - (iu[1] << up0)
             ) * ((iw[1] - iu[1]) << up0)
             span0 = ((iw[0] - iu[0]) << up0) ** 2 + ((iw[1] - iu[1]) << up0) ** 2
-            if 0 < along0 < span0 and near_segment(fax, fay, fbx, fby, x0, y0):
+            # near_segment(fax, fay, fbx, fby, x0, y0) holds without a test when 0 <= t <= 1: the exact point
+            # a + t (b − a) is then on the closed segment, and each coordinate's rounding to nearest is within half
+            # the spacing of doubles there, at most ulp(x0) (resp. ulp(y0)), which is at most the box's half-width.
+            if 0 < along0 < span0 and (0 <= tn <= td or near_segment(fax, fay, fbx, fby, x0, y0)):
                 yield t, x0, y0
                 skip = (x0, y0)
         xs, ys = _window(x0), _window(y0)
