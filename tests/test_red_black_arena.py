@@ -40,7 +40,8 @@ def as_tuples(m: ArenaMap) -> Any:
         if not t:
             return None
         assert A is not None
-        return (bool(A.red[t]), build(A.left[t]), A.key[t], A.val[t], build(A.right[t]))
+        i = A.item[t]
+        return (bool(A.red[t]), build(A.left[t]), A.key[i], A.val[i], build(A.right[t]))
 
     return build(root)
 
@@ -225,6 +226,10 @@ def test_the_empty_map_has_no_arena_and_maps_share_theirs() -> None:
     assert S.singleton(3, "x")[2] is not a[2]  # a new family of maps, a new arena
 
 
+def _leaf(A: Arena, c: int, l: int, k: Any, v: Any, r: int) -> int:
+    return A.node(c, l, A.pair(k, v), r)
+
+
 def test_check_rejects_broken_arenas() -> None:
     a, _ = _adjusted_pair(list(range(20)))
     _, root, A = a
@@ -232,10 +237,10 @@ def test_check_rejects_broken_arenas() -> None:
     S._check(a)
     # A child made after its parent: the root pointed at a node appended later.
     B = Arena()
-    low = B.node(0, NIL, 1, "a", NIL)
-    top = B.node(0, NIL, 0, "r", NIL)
-    late = B.node(0, NIL, 2, "b", NIL)
-    bad = (2, B.node(0, low, 1, "x", NIL), B)
+    low = _leaf(B, 0, NIL, 1, "a", NIL)
+    top = _leaf(B, 0, NIL, 0, "r", NIL)
+    late = _leaf(B, 0, NIL, 2, "b", NIL)
+    bad = (2, _leaf(B, 0, low, 1, "x", NIL), B)
     S._check((1, top, B))
     S._check((1, low, B))
     with pytest.raises(AssertionError, match="child must be made before its parent"):
@@ -244,7 +249,7 @@ def test_check_rejects_broken_arenas() -> None:
     with pytest.raises(AssertionError, match="out of order"):
         S._check(bad)
     C = Arena()
-    C.node(1, NIL, 1, "a", NIL)
+    _leaf(C, 1, NIL, 1, "a", NIL)
     with pytest.raises(AssertionError, match="root is not black"):
         S._check((1, 1, C))
     C.key.append(3)
@@ -255,9 +260,26 @@ def test_check_rejects_broken_arenas() -> None:
     with pytest.raises(AssertionError, match="must be empty"):
         S._check((1, 0, None))
     D = Arena()
-    r = D.node(0, D.node(0, NIL, 0, "a", NIL), 1, "b", NIL)  # black heights 2 and 1
+    r = _leaf(D, 0, _leaf(D, 0, NIL, 0, "a", NIL), 1, "b", NIL)  # black heights 2 and 1
     with pytest.raises(AssertionError, match="unequal black heights"):
         S._check((2, r, D))
+    E = Arena()
+    t = E.node(0, NIL, 5, NIL)  # an item the arena does not hold
+    with pytest.raises(AssertionError, match="outside the arena's 1 items"):
+        S._check((1, t, E))
+
+
+def test_copies_share_items_and_only_new_values_make_items() -> None:
+    """A copied node points at the item of the node it copies: a path copied for one new value adds one item."""
+    a: ArenaMap = S.empty()
+    for k in range(100):
+        a = S.insert(a, k, "old")
+    A = a[2]
+    assert A is not None
+    nodes_before, items_before = len(A), len(A.key)
+    b = S.insertWith(lambda old, new: new, a, 37, "new")
+    assert len(A) - nodes_before == S.search_cost(a, 37) and len(A.key) - items_before == 1
+    assert S.lookup(b, 37) == "new" and S.lookup(a, 37) == "old"
 
 
 def test_a_pickled_version_keeps_its_contents() -> None:

@@ -3,13 +3,15 @@
 The same tree as :mod:`persistri.impl.maps.red_black` — Okasaki's insertion,
 Kahrs' deletion, the same shapes, colours and search paths, hence the same
 key comparisons (§4) and the same number of new nodes per operation — stored
-differently: a node is not a 5-tuple but an index into an :class:`Arena`, five
-parallel arrays (key, value, left, right, colour).  A tuple node costs 80
-bytes; an arena node 25 (two list slots of 8, two 32-bit indices, one byte of
-colour).  A history of versions keeps every node its operations made, so this
-is the representation that makes a kept history small: the full history of a
-16K-point bulldozer hull holds a red-black node 19.5 times per inserted point
-(docs/performance.md, "Memory of a full history").
+differently: a node is not a 5-tuple but an index into an :class:`Arena`, whose
+node arrays hold its colour, its two children and its *item*, an index into
+the arena's lists of keys and values.  A tuple node costs 80 bytes; an arena
+node 13 (three 32-bit indices and a byte of colour), and a copied node keeps
+its item, so a path copied for a new value costs one new item (16 bytes) and
+13 bytes a level.  A history of versions keeps every node its operations
+made, so this is the representation that makes a kept history small: the
+full history of a 16K-point bulldozer hull holds a red-black node 19.5 times
+per inserted point (docs/performance.md, "Memory of a full history").
 
 Representation
 --------------
@@ -36,7 +38,8 @@ cannot be ordered) may leave unreachable nodes behind; they are never read.
 Pickling a version pickles its whole arena.  One writer per arena at a time
 (see :class:`~persistri.impl.maps.red_black_arena_tree.Arena`); readers are
 free.  Time: each node field is a subscript of an array instead of a field of
-a tuple, and each new node five appends; docs/performance.md has the
+a tuple (a key two: the node's item, then the key), and each new node four
+appends; docs/performance.md has the
 measured cost.
 
 =====================  ==========  ==============================================
@@ -95,7 +98,7 @@ def _check_orderable(k: Any) -> None:
 def _blacken(A: Arena, t: int) -> int:
     """The root ``t``, black (a black copy if it is red)."""
     if A.red[t]:
-        return A.node(BLACK, A.left[t], A.key[t], A.val[t], A.right[t])
+        return A.node(BLACK, A.left[t], A.item[t], A.right[t])
     return t
 
 
@@ -127,7 +130,7 @@ class ArenaRedBlackMap(Generic[K, V]):
         """The map ``{k ↦ v}``: one black node in a new arena. O(1)."""
         _check_orderable(k)
         A = Arena()
-        return (1, A.node(BLACK, NIL, k, v, NIL), A)
+        return (1, A.node(BLACK, NIL, A.pair(k, v), NIL), A)
 
     def insert(self, m: ArenaMap, k: K, v: V, /) -> ArenaMap:
         """``m`` with ``k ↦ v``, replacing an earlier value of ``k`` (and its key object).
@@ -139,7 +142,7 @@ class ArenaRedBlackMap(Generic[K, V]):
             _check_orderable(k)
             if A is None:
                 A = Arena()
-            return (n + 1, A.node(BLACK, NIL, k, v, NIL), A)
+            return (n + 1, A.node(BLACK, NIL, A.pair(k, v), NIL), A)
         try:
             new = _tree.ins(A, t, k, v)
         except TypeError as exc:
@@ -251,7 +254,7 @@ class ArenaRedBlackMap(Generic[K, V]):
             node = _tree.search(A, t, k)
         except TypeError as exc:
             raise _key_error(k, exc) from None
-        return (A.val[node],) if node else None
+        return (A.val[A.item[node]],) if node else None
 
     find_unchecked = staticmethod(_tree.find)
     """``find`` for a key known to be ordered with the map's keys (a comparison's TypeError is not reworded):
@@ -283,7 +286,7 @@ class ArenaRedBlackMap(Generic[K, V]):
             raise _key_error(k, exc) from None
         if not node:
             raise NotFound(k)
-        value: V = A.val[node]
+        value: V = A.val[A.item[node]]
         new = _tree.delete(A, t, k)
         return (n - 1, _blacken(A, new) if new else NIL, A), value
 
@@ -317,7 +320,8 @@ class ArenaRedBlackMap(Generic[K, V]):
             return []
         key = A.key
         val = A.val
-        return [(key[t], val[t]) for t in self._inorder(m)]
+        item = A.item
+        return [(key[i], val[i]) for i in map(item.__getitem__, self._inorder(m))]
 
     def listKeys(self, m: ArenaMap, /) -> list[K]:
         """The keys in increasing order. O(n), iterative."""
@@ -325,7 +329,8 @@ class ArenaRedBlackMap(Generic[K, V]):
         if A is None:
             return []
         key = A.key
-        return [key[t] for t in self._inorder(m)]
+        item = A.item
+        return [key[item[t]] for t in self._inorder(m)]
 
     def foldli(self, f: Callable[[K, V, B], B], init: B, m: ArenaMap, /) -> B:
         """``f`` folded over the items in increasing key order. O(n) calls of ``f``, iterative."""
@@ -335,8 +340,10 @@ class ArenaRedBlackMap(Generic[K, V]):
             return acc
         key = A.key
         val = A.val
+        item = A.item
         for t in self._inorder(m):
-            acc = f(key[t], val[t], acc)
+            i = item[t]
+            acc = f(key[i], val[i], acc)
         return acc
 
     # -- instrumentation and invariants ---------------------------------------
@@ -353,7 +360,7 @@ class ArenaRedBlackMap(Generic[K, V]):
         try:
             while t:
                 cost += 1
-                y = A.key[t]
+                y = A.key[A.item[t]]
                 if k < y:
                     t = A.left[t]
                 elif y < k:
@@ -367,9 +374,10 @@ class ArenaRedBlackMap(Generic[K, V]):
     def _check(self, m: ArenaMap, /) -> None:
         """Assert every representation invariant of ``m``. O(n).
 
-        The arena's arrays are of one length, with the empty leaf at 0; every
-        index of the tree is in the arena and smaller than its parent's (made
-        before it); and the red-black invariants of
+        The arena's node arrays are of one length and its item lists of
+        another, with the empty leaf at 0; every node of the tree is in the
+        arena and smaller than its parent's (made before it), and its item is
+        in the arena; and the red-black invariants of
         :meth:`~persistri.impl.maps.red_black.RedBlackMap._check`: search
         order, no red node with a red child, equal black heights, a black root,
         the stored size.  Raises :class:`AssertionError` naming the first
@@ -382,11 +390,12 @@ class ArenaRedBlackMap(Generic[K, V]):
             assert root == NIL and n == 0, f"{_NAME}: a map without an arena must be empty, got {m!r}"
             return
         assert isinstance(A, Arena), f"{_NAME}: the third field is not an arena: {A!r}"
-        size = len(A.key)
-        assert len(A.val) == len(A.left) == len(A.right) == len(A.red) == size, (
+        size = len(A.item)
+        items = len(A.key)
+        assert len(A.left) == len(A.right) == len(A.red) == size and len(A.val) == items, (
             f"{_NAME}: the arena's arrays have unequal lengths"
         )
-        assert A.left[NIL] == NIL and A.right[NIL] == NIL and A.red[NIL] == BLACK, (
+        assert A.left[NIL] == NIL and A.right[NIL] == NIL and A.red[NIL] == BLACK and A.item[NIL] == 0, (
             f"{_NAME}: the empty leaf (index 0) has been written"
         )
         assert 0 <= root < size, f"{_NAME}: root {root} outside the arena of {size} nodes"
@@ -409,7 +418,9 @@ class ArenaRedBlackMap(Generic[K, V]):
                 )
                 continue
             assert 0 < t < parent, f"{_NAME}: node {t} under node {parent}: a child must be made before its parent"
-            c, k = A.red[t], A.key[t]
+            i = A.item[t]
+            assert 0 < i < items, f"{_NAME}: node {t} has item {i}, outside the arena's {items} items"
+            c, k = A.red[t], A.key[i]
             assert c == RED or c == BLACK, f"{_NAME}: node {k!r} has colour {c!r}, not RED or BLACK"
             if lo is not None:
                 assert lo[0] < k, f"{_NAME}: keys out of order: {k!r} in the right subtree of {lo[0]!r}"

@@ -3,8 +3,10 @@
 The functions of :mod:`persistri.impl.maps.red_black_adjust` transcribed to
 the arena of :mod:`persistri.impl.maps.red_black_arena_tree` (nodes are
 indices; :data:`~persistri.impl.maps.red_black_arena_tree.NIL` is the empty
-leaf): the same descents, the same trees, the same number of new nodes.  Read
-that module for the algorithm; the docstrings here say only what differs.
+leaf; a node's key and value are its item, reused by every copy of the node and
+replaced only where ``f`` gives a new value): the same descents, the same
+trees, the same number of new nodes.  Read that module for the algorithm; the
+docstrings here say only what differs.
 They are the hot path of the 2-complex's ``replace`` on the arena backend.
 Recursive, depth at most the tree height.
 """
@@ -41,7 +43,8 @@ def adjust(
     """``t`` (a node) with ``x ↦ f(x, vals[i])`` at each present key ``keys[i]``, ``lo ≤ i < hi`` (increasing
     keys): path copying; ``t`` itself when no key of the slice is in it (see
     :func:`~persistri.impl.maps.red_black_adjust.adjust`).  Requires ``hi - lo ≥ 1``.  O(hi − lo + new nodes)."""
-    y = A.key[t]
+    yi = A.item[t]
+    y = A.key[yi]
     last = hi - 1
     if keys[last] < y:  # the whole slice is below y
         a = A.left[t]
@@ -51,7 +54,7 @@ def adjust(
         a2 = adjust_one(A, a, keys[lo], vals[lo], f, lo, absent, emptied) if lo == last else adjust(
             A, a, keys, vals, lo, hi, f, absent, emptied
         )
-        return t if a2 == a else A.node(A.red[t], a2, y, A.val[t], A.right[t])
+        return t if a2 == a else A.node(A.red[t], a2, yi, A.right[t])
     if y < keys[lo]:  # the whole slice is above y
         b = A.right[t]
         if not b:
@@ -60,10 +63,9 @@ def adjust(
         b2 = adjust_one(A, b, keys[lo], vals[lo], f, lo, absent, emptied) if lo == last else adjust(
             A, b, keys, vals, lo, hi, f, absent, emptied
         )
-        return t if b2 == b else A.node(A.red[t], A.left[t], y, A.val[t], b2)
+        return t if b2 == b else A.node(A.red[t], A.left[t], yi, b2)
     # keys[lo] <= y <= keys[last]: the scan below stops at the first key not below y.
     a = A.left[t]
-    yv = A.val[t]
     b = A.right[t]
     i = lo
     while keys[i] < y:
@@ -81,11 +83,12 @@ def adjust(
                 a = a2
     if not y < keys[i]:  # keys[i] is y's key
         try:
-            yv = f(yv, vals[i])
+            yv = f(A.val[yi], vals[i])
         except Exception as exc:
             raise FailedWith(exc) from None
         if not yv:
             emptied.append(i)
+        yi = A.pair(y, yv)
         changed = True
         i += 1
     if i < hi:
@@ -98,35 +101,36 @@ def adjust(
             if b2 != b:
                 changed = True
                 b = b2
-    return A.node(A.red[t], a, y, yv, b) if changed else t
+    return A.node(A.red[t], a, yi, b) if changed else t
 
 
 def adjust_one(
     A: Arena, t: int, k: Any, v: Any, f: Combine, i: int, absent: list[int], emptied: list[int]
 ) -> int:
     """:func:`adjust` for the one key ``k`` (index ``i``): the single-key descent, two comparisons a level."""
-    y = A.key[t]
+    yi = A.item[t]
+    y = A.key[yi]
     if k < y:
         a = A.left[t]
         if not a:
             absent.append(i)
             return t
         a2 = adjust_one(A, a, k, v, f, i, absent, emptied)
-        return t if a2 == a else A.node(A.red[t], a2, y, A.val[t], A.right[t])
+        return t if a2 == a else A.node(A.red[t], a2, yi, A.right[t])
     if y < k:
         b = A.right[t]
         if not b:
             absent.append(i)
             return t
         b2 = adjust_one(A, b, k, v, f, i, absent, emptied)
-        return t if b2 == b else A.node(A.red[t], A.left[t], y, A.val[t], b2)
+        return t if b2 == b else A.node(A.red[t], A.left[t], yi, b2)
     try:
-        x = f(A.val[t], v)
+        x = f(A.val[yi], v)
     except Exception as exc:
         raise FailedWith(exc) from None
     if not x:
         emptied.append(i)
-    return A.node(A.red[t], A.left[t], y, x, A.right[t])
+    return A.node(A.red[t], A.left[t], A.pair(y, x), A.right[t])
 
 
 def adjust_insert(
@@ -145,13 +149,14 @@ def adjust_insert(
     """:func:`adjust` of ``keys[lo:hi]``, and ``keys[j] ↦ new[0]`` inserted if ``keys[j]`` is absent
     (``lo ≤ j < hi``), with Okasaki's repairs on the way back up (see
     :func:`~persistri.impl.maps.red_black_adjust.adjust_insert`; an insertion empties ``new``)."""
-    y = A.key[t]
+    yi = A.item[t]
+    y = A.key[yi]
     last = hi - 1
     if keys[last] < y:  # the whole slice is below y
         a = A.left[t]
         if not a:
             if lo == last:
-                return A.node(A.red[t], A.node(RED, NIL, keys[j], new.pop(), NIL), y, A.val[t], A.right[t])
+                return A.node(A.red[t], A.node(RED, NIL, A.pair(keys[j], new.pop()), NIL), yi, A.right[t])
             absent.extend(range(lo, hi))
             return t
         a2 = adjust_one_insert(A, a, keys[j], vals[j], f, j, absent, emptied, new) if lo == last else adjust_insert(
@@ -161,14 +166,14 @@ def adjust_insert(
             return t
         if not A.red[t]:
             if A.red[a2]:
-                return _balance_left(A, a2, y, A.val[t], A.right[t])
-            return A.node(BLACK, a2, y, A.val[t], A.right[t])
-        return A.node(RED, a2, y, A.val[t], A.right[t])
+                return _balance_left(A, a2, yi, A.right[t])
+            return A.node(BLACK, a2, yi, A.right[t])
+        return A.node(RED, a2, yi, A.right[t])
     if y < keys[lo]:  # the whole slice is above y
         b = A.right[t]
         if not b:
             if lo == last:
-                return A.node(A.red[t], A.left[t], y, A.val[t], A.node(RED, NIL, keys[j], new.pop(), NIL))
+                return A.node(A.red[t], A.left[t], yi, A.node(RED, NIL, A.pair(keys[j], new.pop()), NIL))
             absent.extend(range(lo, hi))
             return t
         b2 = adjust_one_insert(A, b, keys[j], vals[j], f, j, absent, emptied, new) if lo == last else adjust_insert(
@@ -178,12 +183,11 @@ def adjust_insert(
             return t
         if not A.red[t]:
             if A.red[b2]:
-                return _balance_right(A, A.left[t], y, A.val[t], b2)
-            return A.node(BLACK, A.left[t], y, A.val[t], b2)
-        return A.node(RED, A.left[t], y, A.val[t], b2)
+                return _balance_right(A, A.left[t], yi, b2)
+            return A.node(BLACK, A.left[t], yi, b2)
+        return A.node(RED, A.left[t], yi, b2)
     # keys[lo] <= y <= keys[last]: the slice splits at y, as in adjust; j's part inserts.
     a = A.left[t]
-    yv = A.val[t]
     b = A.right[t]
     i = lo
     while keys[i] < y:
@@ -193,7 +197,7 @@ def adjust_insert(
     if i > lo:
         if not a:
             if on_left and i - lo == 1:
-                a = A.node(RED, NIL, keys[j], new.pop(), NIL)
+                a = A.node(RED, NIL, A.pair(keys[j], new.pop()), NIL)
                 changed = True
             else:
                 absent.extend(range(lo, i))
@@ -211,17 +215,18 @@ def adjust_insert(
                 a = a2
     if not y < keys[i]:  # keys[i] is y's key
         try:
-            yv = f(yv, vals[i])
+            yv = f(A.val[yi], vals[i])
         except Exception as exc:
             raise FailedWith(exc) from None
         if not yv:
             emptied.append(i)
+        yi = A.pair(y, yv)
         changed = True
         i += 1
     if i < hi:
         if not b:
             if j >= i and i == last:
-                b = A.node(RED, NIL, keys[j], new.pop(), NIL)
+                b = A.node(RED, NIL, A.pair(keys[j], new.pop()), NIL)
                 changed = True
             else:
                 absent.extend(range(i, hi))
@@ -244,41 +249,42 @@ def adjust_insert(
         # Only the side that holds j can have a red child with a red child.
         if on_left:
             if A.red[a]:
-                return _balance_left(A, a, y, yv, b)
+                return _balance_left(A, a, yi, b)
         elif j >= i and A.red[b]:
-            return _balance_right(A, a, y, yv, b)
-    return A.node(c, a, y, yv, b)
+            return _balance_right(A, a, yi, b)
+    return A.node(c, a, yi, b)
 
 
 def adjust_one_insert(
     A: Arena, t: int, k: Any, v: Any, f: Combine, i: int, absent: list[int], emptied: list[int], new: list[Any]
 ) -> int:
     """:func:`adjust_one` of the key ``k`` (index ``i``), or ``k ↦ new[0]`` inserted where ``k`` is absent."""
-    y = A.key[t]
+    yi = A.item[t]
+    y = A.key[yi]
     if k < y:
         a = A.left[t]
         if not a:
-            return A.node(A.red[t], A.node(RED, NIL, k, new.pop(), NIL), y, A.val[t], A.right[t])
+            return A.node(A.red[t], A.node(RED, NIL, A.pair(k, new.pop()), NIL), yi, A.right[t])
         a2 = adjust_one_insert(A, a, k, v, f, i, absent, emptied, new)
         if not A.red[t]:
             if A.red[a2]:
-                return _balance_left(A, a2, y, A.val[t], A.right[t])
-            return A.node(BLACK, a2, y, A.val[t], A.right[t])
-        return A.node(RED, a2, y, A.val[t], A.right[t])
+                return _balance_left(A, a2, yi, A.right[t])
+            return A.node(BLACK, a2, yi, A.right[t])
+        return A.node(RED, a2, yi, A.right[t])
     if y < k:
         b = A.right[t]
         if not b:
-            return A.node(A.red[t], A.left[t], y, A.val[t], A.node(RED, NIL, k, new.pop(), NIL))
+            return A.node(A.red[t], A.left[t], yi, A.node(RED, NIL, A.pair(k, new.pop()), NIL))
         b2 = adjust_one_insert(A, b, k, v, f, i, absent, emptied, new)
         if not A.red[t]:
             if A.red[b2]:
-                return _balance_right(A, A.left[t], y, A.val[t], b2)
-            return A.node(BLACK, A.left[t], y, A.val[t], b2)
-        return A.node(RED, A.left[t], y, A.val[t], b2)
+                return _balance_right(A, A.left[t], yi, b2)
+            return A.node(BLACK, A.left[t], yi, b2)
+        return A.node(RED, A.left[t], yi, b2)
     try:
-        x = f(A.val[t], v)
+        x = f(A.val[yi], v)
     except Exception as exc:
         raise FailedWith(exc) from None
     if not x:
         emptied.append(i)
-    return A.node(A.red[t], A.left[t], y, x, A.right[t])
+    return A.node(A.red[t], A.left[t], A.pair(y, x), A.right[t])

@@ -8,15 +8,20 @@ makes and the costs.  This module holds the arena and the node algorithms of
 update of several keys in one descent is in
 :mod:`persistri.impl.maps.red_black_arena_adjust`.
 
-A node is an index into the arena's five parallel arrays — key, value, left
-child, right child, colour — and a tree is the index of its root; index 0 is
-the empty leaf (a black node whose fields are never read), so ``if t:`` tests
-for a node and ``red[t]`` is false for the leaf, as the empty tree counts as
-black.  Nodes are only ever appended (:meth:`Arena.node`): no index is written
-twice, so every tree ever returned stays valid — persistence by construction,
-the same path copying as the tuple tree's with indices instead of references.
-A child is always made before its parent, so along every path the indices
-decrease (checked by the structure's ``_check``).
+A node is an index into the arena's four parallel node arrays — item, left
+child, right child, colour — and its item an index into the two item lists,
+key and value.  Path copying makes new nodes and *reuses items*: a node copied
+because a child changed keeps its key and value by pointing at the same item,
+and Okasaki's and Kahrs' rewrites move items between nodes; only a new or
+changed value makes a new item.  Index 0 is the empty leaf (a black node
+whose fields are never read) and the placeholder item, so ``if t:`` tests for
+a node and ``red[t]`` is false for the leaf, as the empty tree counts as
+black.  Nodes and items are only ever appended (:meth:`Arena.node`,
+:meth:`Arena.pair`): no index is written twice, so every tree ever returned
+stays valid — persistence by construction, the same path copying as the tuple
+tree's with indices instead of references.  A child is always made before its
+parent, so along every path the node indices decrease (checked by the
+structure's ``_check``).
 
 The functions trust their arguments: valid trees of the arena they are given,
 and keys that Python can order among the tree's (the structure checks).
@@ -65,25 +70,29 @@ _NAME: Final = "red_black_arena"
 
 
 class Arena:
-    """The append-only store of one family of red-black trees: five parallel arrays indexed by node.
+    """The append-only store of one family of red-black trees: node arrays and item lists, indexed.
 
-    ``key`` and ``val`` are lists (references to the map's keys and values),
-    ``left`` and ``right`` typed arrays of unsigned 32-bit node indices (``"I"``: their
-    items are written without the argument parser that signed typecodes go through), ``red`` a
-    ``bytearray`` of colours: 25 bytes a node, where a node tuple of
-    :mod:`~persistri.impl.maps.red_black_tree` takes 80.  Slot 0 is the empty
-    leaf.  Nothing is ever removed or overwritten: the arena grows by
-    :meth:`node` only, and what it holds is freed when no map of it remains.
+    A node is 13 bytes: ``item``, ``left`` and ``right``, typed arrays of
+    unsigned 32-bit indices (``"I"``: their items are written without the
+    argument parser that signed typecodes go through), and ``red``, a
+    ``bytearray`` of colours.  An item is 16: ``key`` and ``val``, lists of
+    references to the map's keys and values.  A tuple node of
+    :mod:`~persistri.impl.maps.red_black_tree` takes 80 bytes, and a copied
+    path has one node per level but new items only where values changed.
+    Slot 0 of each is the empty leaf.  Nothing is ever removed or
+    overwritten: the arena grows by :meth:`node` and :meth:`pair` only, and
+    what it holds is freed when no map of it remains.
 
-    One writer at a time: the five appends of :meth:`node` are not atomic, so
-    two threads adding versions to one arena at once may build wrong *new*
-    nodes (never damaging an existing one).  Reading is free.
+    One writer at a time: the appends of :meth:`node` are not atomic, so two
+    threads adding versions to one arena at once may build wrong *new* nodes
+    (never damaging an existing one).  Reading is free.
     """
 
-    __slots__ = ("key", "val", "left", "right", "red")
+    __slots__ = ("key", "val", "item", "left", "right", "red")
 
     key: list[Any]
     val: list[Any]
+    item: array[int]
     left: array[int]
     right: array[int]
     red: bytearray
@@ -91,26 +100,33 @@ class Arena:
     def __init__(self) -> None:
         self.key = [None]
         self.val = [None]
+        self.item = array("I", (0,))
         self.left = array("I", (NIL,))
         self.right = array("I", (NIL,))
         self.red = bytearray(1)
 
-    def node(self, c: int, l: int, k: Any, v: Any, r: int) -> int:
-        """A new node ``(c, l, k, v, r)``: its index.  O(1) amortised."""
-        n = len(self.key)
-        self.key.append(k)
-        self.val.append(v)
+    def node(self, c: int, l: int, i: int, r: int) -> int:
+        """A new node of colour ``c``, children ``l`` and ``r``, and item ``i``: its index.  O(1) amortised."""
+        n = len(self.item)
+        self.item.append(i)
         self.left.append(l)
         self.right.append(r)
         self.red.append(c)
         return n
 
+    def pair(self, k: Any, v: Any) -> int:
+        """A new item ``k ↦ v``: its index.  O(1) amortised."""
+        n = len(self.key)
+        self.key.append(k)
+        self.val.append(v)
+        return n
+
     def __len__(self) -> int:
         """The nodes made so far, the empty leaf included."""
-        return len(self.key)
+        return len(self.item)
 
     def __repr__(self) -> str:
-        return f"<{_NAME} arena of {len(self.key) - 1} nodes>"
+        return f"<{_NAME} arena of {len(self.item) - 1} nodes, {len(self.key) - 1} items>"
 
 
 # -- search -------------------------------------------------------------------
@@ -123,16 +139,17 @@ def search(A: Arena, t: int, k: Any) -> int:
     :func:`~persistri.impl.maps.red_black_tree.search`).  O(lg n).
     """
     key = A.key
+    item = A.item
     left = A.left
     right = A.right
     cand = NIL
     while t:
-        if k < key[t]:
+        if k < key[item[t]]:
             t = left[t]
         else:
             cand = t
             t = right[t]
-    if cand and not key[cand] < k:
+    if cand and not key[item[cand]] < k:
         return cand
     return NIL
 
@@ -145,73 +162,64 @@ def find(m: tuple[Any, ...], k: Any) -> tuple[Any, ...] | None:
         return None
     A: Arena = m[2]
     key = A.key
+    item = A.item
     left = A.left
     right = A.right
     cand = NIL
     while t:
-        if k < key[t]:
+        if k < key[item[t]]:
             t = left[t]
         else:
             cand = t
             t = right[t]
-    if cand and not key[cand] < k:
-        return (A.val[cand],)
+    if cand:
+        i = item[cand]
+        if not key[i] < k:
+            return (A.val[i],)
     return None
 
 
 # -- insertion (Okasaki 1999) ----------------------------------------------------
 
 
-def _balance_left(A: Arena, n: int, y: Any, yv: Any, b: int) -> int:
-    """The black node ``(n, y, b)`` whose left child ``n`` is red: Okasaki's two left clauses, or the node."""
+def _balance_left(A: Arena, n: int, yi: int, b: int) -> int:
+    """The black node ``(n, yi, b)`` whose left child ``n`` is red: Okasaki's two left clauses, or the node."""
     left = A.left
     right = A.right
     red = A.red
     nl = left[n]
     if red[nl]:
         # balance B (T R (T R a x b) y c) z d = T R (T B a x b) y (T B c z d)
-        key = A.key
-        val = A.val
+        item = A.item
         node = A.node
-        return node(
-            RED, node(BLACK, left[nl], key[nl], val[nl], right[nl]), key[n], val[n], node(BLACK, right[n], y, yv, b)
-        )
+        return node(RED, node(BLACK, left[nl], item[nl], right[nl]), item[n], node(BLACK, right[n], yi, b))
     nr = right[n]
     if red[nr]:
         # balance B (T R a x (T R b y c)) z d = T R (T B a x b) y (T B c z d)
-        key = A.key
-        val = A.val
+        item = A.item
         node = A.node
-        return node(
-            RED, node(BLACK, nl, key[n], val[n], left[nr]), key[nr], val[nr], node(BLACK, right[nr], y, yv, b)
-        )
-    return A.node(BLACK, n, y, yv, b)
+        return node(RED, node(BLACK, nl, item[n], left[nr]), item[nr], node(BLACK, right[nr], yi, b))
+    return A.node(BLACK, n, yi, b)
 
 
-def _balance_right(A: Arena, a: int, y: Any, yv: Any, n: int) -> int:
-    """The black node ``(a, y, n)`` whose right child ``n`` is red: Okasaki's two right clauses, or the node."""
+def _balance_right(A: Arena, a: int, yi: int, n: int) -> int:
+    """The black node ``(a, yi, n)`` whose right child ``n`` is red: Okasaki's two right clauses, or the node."""
     left = A.left
     right = A.right
     red = A.red
     nl = left[n]
     if red[nl]:
         # balance B a x (T R (T R b y c) z d) = T R (T B a x b) y (T B c z d)
-        key = A.key
-        val = A.val
+        item = A.item
         node = A.node
-        return node(
-            RED, node(BLACK, a, y, yv, left[nl]), key[nl], val[nl], node(BLACK, right[nl], key[n], val[n], right[n])
-        )
+        return node(RED, node(BLACK, a, yi, left[nl]), item[nl], node(BLACK, right[nl], item[n], right[n]))
     nr = right[n]
     if red[nr]:
         # balance B a x (T R b y (T R c z d)) = T R (T B a x b) y (T B c z d)
-        key = A.key
-        val = A.val
+        item = A.item
         node = A.node
-        return node(
-            RED, node(BLACK, a, y, yv, nl), key[n], val[n], node(BLACK, left[nr], key[nr], val[nr], right[nr])
-        )
-    return A.node(BLACK, a, y, yv, n)
+        return node(RED, node(BLACK, a, yi, nl), item[n], node(BLACK, left[nr], item[nr], right[nr]))
+    return A.node(BLACK, a, yi, n)
 
 
 def ins(A: Arena, t: int, k: Any, v: Any) -> int:
@@ -222,60 +230,63 @@ def ins(A: Arena, t: int, k: Any, v: Any) -> int:
     red); nothing is made for a present key.
     """
     if not t:
-        return A.node(RED, NIL, k, v, NIL)
-    y = A.key[t]
+        return A.node(RED, NIL, A.pair(k, v), NIL)
+    yi = A.item[t]
+    y = A.key[yi]
     if k < y:
         n = ins(A, A.left[t], k, v)
         if not n:
             return NIL
         if not A.red[t]:
             if A.red[n]:
-                return _balance_left(A, n, y, A.val[t], A.right[t])
-            return A.node(BLACK, n, y, A.val[t], A.right[t])
-        return A.node(RED, n, y, A.val[t], A.right[t])
+                return _balance_left(A, n, yi, A.right[t])
+            return A.node(BLACK, n, yi, A.right[t])
+        return A.node(RED, n, yi, A.right[t])
     if y < k:
         n = ins(A, A.right[t], k, v)
         if not n:
             return NIL
         if not A.red[t]:
             if A.red[n]:
-                return _balance_right(A, A.left[t], y, A.val[t], n)
-            return A.node(BLACK, A.left[t], y, A.val[t], n)
-        return A.node(RED, A.left[t], y, A.val[t], n)
+                return _balance_right(A, A.left[t], yi, n)
+            return A.node(BLACK, A.left[t], yi, n)
+        return A.node(RED, A.left[t], yi, n)
     return NIL
 
 
 def ins_absent(A: Arena, t: int, k: Any, v: Any) -> int:
     """:func:`ins` of a key known not to be in ``t``: one ``<`` a level.  A present key would be added twice."""
     if not t:
-        return A.node(RED, NIL, k, v, NIL)
-    y = A.key[t]
-    if k < y:
+        return A.node(RED, NIL, A.pair(k, v), NIL)
+    yi = A.item[t]
+    if k < A.key[yi]:
         n = ins_absent(A, A.left[t], k, v)
         if not A.red[t]:
             if A.red[n]:
-                return _balance_left(A, n, y, A.val[t], A.right[t])
-            return A.node(BLACK, n, y, A.val[t], A.right[t])
-        return A.node(RED, n, y, A.val[t], A.right[t])
+                return _balance_left(A, n, yi, A.right[t])
+            return A.node(BLACK, n, yi, A.right[t])
+        return A.node(RED, n, yi, A.right[t])
     n = ins_absent(A, A.right[t], k, v)
     if not A.red[t]:
         if A.red[n]:
-            return _balance_right(A, A.left[t], y, A.val[t], n)
-        return A.node(BLACK, A.left[t], y, A.val[t], n)
-    return A.node(RED, A.left[t], y, A.val[t], n)
+            return _balance_right(A, A.left[t], yi, n)
+        return A.node(BLACK, A.left[t], yi, n)
+    return A.node(RED, A.left[t], yi, n)
 
 
 def replace(A: Arena, t: int, k: Any, v: Any) -> int:
-    """``t`` with the value of the present key ``k`` replaced by ``v``: path copying, same shape and colours."""
+    """``t`` with the value of the present key ``k`` replaced by ``v`` (and its key object by ``k``): path copying,
+    same shape and colours."""
     if not t:
         # Only an order that changed between two descents can get here.
         raise AssertionError(f"{_NAME}: key {k!r} vanished between two searches (inconsistent '<')")
-    y = A.key[t]
+    yi = A.item[t]
+    y = A.key[yi]
     if k < y:
-        return A.node(A.red[t], replace(A, A.left[t], k, v), y, A.val[t], A.right[t])
+        return A.node(A.red[t], replace(A, A.left[t], k, v), yi, A.right[t])
     if y < k:
-        return A.node(A.red[t], A.left[t], y, A.val[t], replace(A, A.right[t], k, v))
-    return A.node(A.red[t], A.left[t], k, v, A.right[t])
+        return A.node(A.red[t], A.left[t], yi, replace(A, A.right[t], k, v))
+    return A.node(A.red[t], A.left[t], A.pair(k, v), A.right[t])
 
 
 class FailedWith(Exception):
@@ -287,120 +298,115 @@ class FailedWith(Exception):
 
 
 def update(A: Arena, t: int, k: Any, f: Combine, v: Any) -> int:
-    """``t`` (a node) with the value ``x`` of the present key ``k`` replaced by ``f(x, v)``: path copying.
-
-    :data:`NIL` if ``k`` is not in ``t`` (nothing made, ``f`` not called).
+    """``t`` (a node) with the value ``x`` of the present key ``k`` replaced by ``f(x, v)`` (and its key object by
+    ``k``): path copying.  :data:`NIL` if ``k`` is not in ``t`` (nothing made, ``f`` not called).
     Recursive, depth at most the tree height.
     """
-    y = A.key[t]
+    yi = A.item[t]
+    y = A.key[yi]
     if k < y:
         a = A.left[t]
         if not a:
             return NIL
         a2 = update(A, a, k, f, v)
-        return NIL if not a2 else A.node(A.red[t], a2, y, A.val[t], A.right[t])
+        return NIL if not a2 else A.node(A.red[t], a2, yi, A.right[t])
     if y < k:
         b = A.right[t]
         if not b:
             return NIL
         b2 = update(A, b, k, f, v)
-        return NIL if not b2 else A.node(A.red[t], A.left[t], y, A.val[t], b2)
+        return NIL if not b2 else A.node(A.red[t], A.left[t], yi, b2)
     try:
-        x = f(A.val[t], v)
+        x = f(A.val[yi], v)
     except Exception as exc:
         raise FailedWith(exc) from None
-    return A.node(A.red[t], A.left[t], k, x, A.right[t])
+    return A.node(A.red[t], A.left[t], A.pair(k, x), A.right[t])
 
 
 # -- deletion (Kahrs 2001) ---------------------------------------------------------
+#
+# A node's key and value travel as its item index (``ki``): the rewrites move items, never make them.
 
 
 def _black(A: Arena, t: int) -> int:
     """A copy of the red node ``t``, black."""
-    return A.node(BLACK, A.left[t], A.key[t], A.val[t], A.right[t])
+    return A.node(BLACK, A.left[t], A.item[t], A.right[t])
 
 
-def balance(A: Arena, l: int, k: Any, v: Any, r: int) -> int:
-    """Kahrs' ``balance``: the black node ``l k r``, rewritten when ``l`` or ``r`` holds a red pair."""
+def balance(A: Arena, l: int, ki: int, r: int) -> int:
+    """Kahrs' ``balance``: the black node ``l ki r``, rewritten when ``l`` or ``r`` holds a red pair."""
     left = A.left
     right = A.right
     red = A.red
-    key = A.key
-    val = A.val
+    item = A.item
     node = A.node
     if red[l]:
         if red[r]:
             # balance (T R a x b) y (T R c z d) = T R (T B a x b) y (T B c z d)
-            return node(RED, _black(A, l), k, v, _black(A, r))
+            return node(RED, _black(A, l), ki, _black(A, r))
         ll = left[l]
         if red[ll]:
             # balance (T R (T R a x b) y c) z d = T R (T B a x b) y (T B c z d)
-            return node(RED, _black(A, ll), key[l], val[l], node(BLACK, right[l], k, v, r))
+            return node(RED, _black(A, ll), item[l], node(BLACK, right[l], ki, r))
         lr = right[l]
         if red[lr]:
             # balance (T R a x (T R b y c)) z d = T R (T B a x b) y (T B c z d)
-            return node(
-                RED, node(BLACK, ll, key[l], val[l], left[lr]), key[lr], val[lr], node(BLACK, right[lr], k, v, r)
-            )
+            return node(RED, node(BLACK, ll, item[l], left[lr]), item[lr], node(BLACK, right[lr], ki, r))
     if red[r]:
         rl = left[r]
         if red[rl]:
             # balance a x (T R (T R b y c) z d) = T R (T B a x b) y (T B c z d)
-            return node(
-                RED, node(BLACK, l, k, v, left[rl]), key[rl], val[rl], node(BLACK, right[rl], key[r], val[r], right[r])
-            )
+            return node(RED, node(BLACK, l, ki, left[rl]), item[rl], node(BLACK, right[rl], item[r], right[r]))
         rr = right[r]
         if red[rr]:
             # balance a x (T R b y (T R c z d)) = T R (T B a x b) y (T B c z d)
-            return node(RED, node(BLACK, l, k, v, rl), key[r], val[r], _black(A, rr))
-    return node(BLACK, l, k, v, r)
+            return node(RED, node(BLACK, l, ki, rl), item[r], _black(A, rr))
+    return node(BLACK, l, ki, r)
 
 
 def sub1(A: Arena, t: int) -> int:
     """Kahrs' ``sub1``: a black node repainted red, lowering its black height by one."""
     assert t and not A.red[t], f"{_NAME}: sub1 of a non-black tree (invariant broken)"
-    return A.node(RED, A.left[t], A.key[t], A.val[t], A.right[t])
+    return A.node(RED, A.left[t], A.item[t], A.right[t])
 
 
-def balleft(A: Arena, l: int, k: Any, v: Any, r: int) -> int:
-    """Kahrs' ``balleft``: the node ``l k r`` whose left subtree ``l`` is one black level short."""
+def balleft(A: Arena, l: int, ki: int, r: int) -> int:
+    """Kahrs' ``balleft``: the node ``l ki r`` whose left subtree ``l`` is one black level short."""
     if A.red[l]:
         # balleft (T R a x b) y c = T R (T B a x b) y c
-        return A.node(RED, _black(A, l), k, v, r)
+        return A.node(RED, _black(A, l), ki, r)
     assert r, f"{_NAME}: balleft with an empty sibling (invariant broken)"
     if not A.red[r]:
         # balleft bl x (T B a y b) = balance bl x (T R a y b)
-        return balance(A, l, k, v, A.node(RED, A.left[r], A.key[r], A.val[r], A.right[r]))
+        return balance(A, l, ki, A.node(RED, A.left[r], A.item[r], A.right[r]))
     # balleft bl x (T R (T B a y b) z c) = T R (T B bl x a) y (balance b z (sub1 c))
     rl = A.left[r]
     assert rl, f"{_NAME}: balleft with a red sibling without a left child (invariant broken)"
     return A.node(
         RED,
-        A.node(BLACK, l, k, v, A.left[rl]),
-        A.key[rl],
-        A.val[rl],
-        balance(A, A.right[rl], A.key[r], A.val[r], sub1(A, A.right[r])),
+        A.node(BLACK, l, ki, A.left[rl]),
+        A.item[rl],
+        balance(A, A.right[rl], A.item[r], sub1(A, A.right[r])),
     )
 
 
-def balright(A: Arena, l: int, k: Any, v: Any, r: int) -> int:
+def balright(A: Arena, l: int, ki: int, r: int) -> int:
     """Kahrs' ``balright``: the mirror image of :func:`balleft` (``r`` is one black level short)."""
     if A.red[r]:
         # balright a x (T R b y c) = T R a x (T B b y c)
-        return A.node(RED, l, k, v, _black(A, r))
+        return A.node(RED, l, ki, _black(A, r))
     assert l, f"{_NAME}: balright with an empty sibling (invariant broken)"
     if not A.red[l]:
         # balright (T B a x b) y bl = balance (T R a x b) y bl
-        return balance(A, A.node(RED, A.left[l], A.key[l], A.val[l], A.right[l]), k, v, r)
+        return balance(A, A.node(RED, A.left[l], A.item[l], A.right[l]), ki, r)
     # balright (T R a x (T B b y c)) z bl = T R (balance (sub1 a) x b) y (T B c z bl)
     lr = A.right[l]
     assert lr, f"{_NAME}: balright with a red sibling without a right child (invariant broken)"
     return A.node(
         RED,
-        balance(A, sub1(A, A.left[l]), A.key[l], A.val[l], A.left[lr]),
-        A.key[lr],
-        A.val[lr],
-        A.node(BLACK, A.right[lr], k, v, r),
+        balance(A, sub1(A, A.left[l]), A.item[l], A.left[lr]),
+        A.item[lr],
+        A.node(BLACK, A.right[lr], ki, r),
     )
 
 
@@ -412,8 +418,7 @@ def app(A: Arena, a: int, b: int) -> int:
         return a
     red = A.red
     node = A.node
-    key = A.key
-    val = A.val
+    item = A.item
     left = A.left
     right = A.right
     if red[a]:
@@ -422,29 +427,21 @@ def app(A: Arena, a: int, b: int) -> int:
             bc = app(A, right[a], left[b])
             if red[bc]:
                 return node(
-                    RED,
-                    node(RED, left[a], key[a], val[a], left[bc]),
-                    key[bc],
-                    val[bc],
-                    node(RED, right[bc], key[b], val[b], right[b]),
+                    RED, node(RED, left[a], item[a], left[bc]), item[bc], node(RED, right[bc], item[b], right[b])
                 )
-            return node(RED, left[a], key[a], val[a], node(RED, bc, key[b], val[b], right[b]))
+            return node(RED, left[a], item[a], node(RED, bc, item[b], right[b]))
         # app (T R a x b) c = T R a x (app b c)
-        return node(RED, left[a], key[a], val[a], app(A, right[a], b))
+        return node(RED, left[a], item[a], app(A, right[a], b))
     if red[b]:
         # app a (T R b x c) = T R (app a b) x c
-        return node(RED, app(A, a, left[b]), key[b], val[b], right[b])
+        return node(RED, app(A, a, left[b]), item[b], right[b])
     # app (T B a x b) (T B c y d)
     bc = app(A, right[a], left[b])
     if red[bc]:
         return node(
-            RED,
-            node(BLACK, left[a], key[a], val[a], left[bc]),
-            key[bc],
-            val[bc],
-            node(BLACK, right[bc], key[b], val[b], right[b]),
+            RED, node(BLACK, left[a], item[a], left[bc]), item[bc], node(BLACK, right[bc], item[b], right[b])
         )
-    return balleft(A, left[a], key[a], val[a], node(BLACK, bc, key[b], val[b], right[b]))
+    return balleft(A, left[a], item[a], node(BLACK, bc, item[b], right[b]))
 
 
 def delete(A: Arena, t: int, k: Any) -> int:
@@ -453,19 +450,19 @@ def delete(A: Arena, t: int, k: Any) -> int:
         # Only an order that changed between two descents can get here.
         raise AssertionError(f"{_NAME}: key {k!r} vanished between two searches (inconsistent '<')")
     a = A.left[t]
-    y = A.key[t]
-    yv = A.val[t]
+    yi = A.item[t]
+    y = A.key[yi]
     b = A.right[t]
     if k < y:
         if a and not A.red[a]:
             # delformLeft a@(T B _ _ _) y b = balleft (del a) y b
-            return balleft(A, delete(A, a, k), y, yv, b)
+            return balleft(A, delete(A, a, k), yi, b)
         # delformLeft a y b = T R (del a) y b
-        return A.node(RED, delete(A, a, k), y, yv, b)
+        return A.node(RED, delete(A, a, k), yi, b)
     if y < k:
         if b and not A.red[b]:
             # delformRight a y b@(T B _ _ _) = balright a y (del b)
-            return balright(A, a, y, yv, delete(A, b, k))
+            return balright(A, a, yi, delete(A, b, k))
         # delformRight a y b = T R a y (del b)
-        return A.node(RED, a, y, yv, delete(A, b, k))
+        return A.node(RED, a, yi, delete(A, b, k))
     return app(A, a, b)
