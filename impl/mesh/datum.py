@@ -12,9 +12,11 @@ its walks (:mod:`~persistri.impl.mesh.walk`):
   knows its own constraints;
 * :class:`Insertion` — what one insertion or deletion did (the new version, the
   triangles removed and made); :class:`Cavity` — a point's conflict region found
-  in a version before anything is built.
+  in a version before anything is built; :class:`Pending` — steps taken but not
+  yet made into a version (Chew's deletions before the split that completes them).
 
-Everything here is an immutable value; O(1) per operation.  The names are also
+Everything here is an immutable value but :class:`Pending`, the refinement's
+record of one step in progress; O(1) per operation unless said.  The names are also
 importable from :mod:`persistri.impl.mesh.triangulation`, where they were first defined.
 """
 
@@ -33,6 +35,7 @@ __all__ = [
     "Tri",
     "Insertion",
     "Cavity",
+    "Pending",
     "MeshError",
     "edge_key",
     "constraint_of",
@@ -82,6 +85,40 @@ class Cavity(NamedTuple):
     boundary: list[tuple[Vertex, Vertex, int, int]]
     beyond: tuple[Tri, MeshDatum] | None
     split: tuple[int, int, int] | None
+
+
+class Pending(NamedTuple):
+    """Steps a refinement has taken but made no version of yet: Chew's deletions before the split that completes
+    the step (:meth:`MeshTriangulation.build`'s ``before``).
+
+    ``base`` — the version they start from; ``removed`` — its triangles they removed; ``made`` — the triangles they
+    made that are still there, by id, in the order they were made."""
+
+    base: Complex[MeshDatum]
+    removed: list[Tri]
+    made: dict[int, tuple[Tri, MeshDatum]]
+
+    def then(
+        self, removed: tuple[tuple[Tri, MeshDatum], ...], created: tuple[tuple[Tri, MeshDatum], ...]
+    ) -> tuple[list[Tri], list[tuple[Tri, MeshDatum]]]:
+        """``replace``'s two arguments from :attr:`base` for these steps followed by one that removes ``removed`` and
+        makes ``created`` (a triangle made and removed again is in neither).  O(number of triangles)."""
+        made = dict(self.made)
+        gone = list(self.removed)
+        for t, d in removed:
+            if made.pop(d[0], None) is None:
+                gone.append(t)
+        return gone, [*made.values(), *created]
+
+    def after(self, removed: tuple[tuple[Tri, MeshDatum], ...], created: tuple[tuple[Tri, MeshDatum], ...]) -> Pending:
+        """These steps followed by one more (changed in place and returned). O(number of triangles)."""
+        made = self.made
+        for t, d in removed:
+            if made.pop(d[0], None) is None:
+                self.removed.append(t)
+        for td in created:
+            made[td[1][0]] = td
+        return self
 
 
 def edge_key(u: int, w: int) -> tuple[int, int]:

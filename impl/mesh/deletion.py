@@ -19,12 +19,12 @@ from persistri.impl.complex.vertex import Vertex
 from persistri.impl.geometry.filter import ERRBOUND_INCIRCLE, ERRBOUND_ORIENT2D
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.datum import Insertion, MeshDatum, MeshError, Tri, edge_key
-from persistri.impl.mesh.edges import EdgeIndex, edge_reader
+from persistri.impl.mesh.edges import EdgeIndex, EdgeReader, edge_reader
 
 if TYPE_CHECKING:
     from persistri.impl.mesh.triangulation import MeshTriangulation
 
-__all__ = ["remove_vertex", "link_polygon"]
+__all__ = ["remove_vertex", "star_replacement", "link_polygon"]
 
 
 def remove_vertex(
@@ -47,6 +47,19 @@ def remove_vertex(
     ``index``: an :data:`~persistri.impl.mesh.edges.EdgeIndex` of ``c``, read instead of
     the complex.  O(k²) predicates and one ``replace`` for a star of ``k`` triangles.
     """
+    get = index.get if index is not None else edge_reader(T.S, c)  # every lookup is from v (edges of its star)
+    star, created = star_replacement(T, v, start, get)
+    version = T.S.replace(c, [t2 for t2, _ in star], created)
+    return Insertion(version, star, created)
+
+
+def star_replacement(
+    T: MeshTriangulation, v: int, start: tuple[Tri, MeshDatum], get: EdgeReader
+) -> tuple[tuple[tuple[Tri, MeshDatum], ...], tuple[tuple[Tri, MeshDatum], ...]]:
+    """:func:`remove_vertex` without making the version: the star of ``v`` (from ``start``, read through ``get``, an
+    :data:`~persistri.impl.mesh.edges.EdgeReader` of the version) and the triangles that replace it, with fresh
+    data.  The refinement composes these with the split that follows them into one ``replace``
+    (:meth:`~persistri.impl.mesh.triangulation.MeshTriangulation.build`'s ``before``). O(k²) predicates."""
     vv = T.vertex(v)
     tri, dat = start
     k = tri.index(vv)
@@ -56,7 +69,6 @@ def remove_vertex(
     constraints: dict[tuple[int, int], int] = {}
     region = dat[1]
     first = t[1]
-    get = index.get if index is not None else edge_reader(T.S, c)  # every lookup is from v (edges of its star)
     for _ in range(1 << 16):
         if t[1] < 0 or t[2] < 0:
             raise MeshError(f"internal: vertex {v} is on the hull; only free vertices are removed")
@@ -93,8 +105,7 @@ def remove_vertex(
         )
         for tri2 in new
     )
-    version = T.S.replace(c, [t2 for t2, _ in star], created)
-    return Insertion(version, tuple(star), created)
+    return tuple(star), created
 
 
 def link_polygon(P: GrowingPredicates2, a: Vertex, b: Vertex, chain: list[Vertex], out: list[Tri]) -> None:

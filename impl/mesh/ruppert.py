@@ -54,9 +54,10 @@ shell* around an end.  With lenses (Chew's algorithm, Triangle's default), the
 *free* vertices — circumcentres and off-centres, on no segment — that lie strictly
 inside the subsegment's diametral circle, as apexes of the triangles beside it, are
 **deleted** first (Chew 1989; Triangle's ``splitencsegs``), on each side where the
-triangle beside has no second constrained edge: the deletion
-(:meth:`~persistri.impl.mesh.triangulation.MeshTriangulation.remove`) and the split
-together make one new version.  It undoes earlier refinement that the split would
+triangle beside has no second constrained edge: the deletions
+(:func:`~persistri.impl.mesh.deletion.star_replacement`, each star replaced by the
+Delaunay triangulation of its link) and the split together make one new version, by
+one ``replace`` from the version before them.  It undoes earlier refinement that the split would
 make skinny, and is what brings the triangle counts down to Triangle's
 (:attr:`Counts.deletions`).
 
@@ -106,7 +107,8 @@ from typing import Any
 
 from persistri.impl.complex.structure import Complex
 from persistri.impl.mesh.cdt import param_on_segment
-from persistri.impl.mesh.deletion import remove_vertex
+from persistri.impl.mesh.datum import Pending
+from persistri.impl.mesh.deletion import star_replacement
 from persistri.impl.mesh.edges import index_of
 from persistri.impl.mesh.precision import crowded_apex, nearest_features, valid_split
 from persistri.impl.mesh.record import Counts, Refinement
@@ -117,6 +119,7 @@ from persistri.impl.mesh.triangulation import (
     EXTERIOR,
     Cavity,
     Constraint,
+    Insertion,
     MeshDatum,
     MeshError,
     Tri,
@@ -148,13 +151,18 @@ class Refiner(RefinerState):
 
     def _delete_free(
         self, c: Complex[MeshDatum], lo: int, hi: int, sides: list[tuple[Tri, MeshDatum] | None]
-    ) -> tuple[Complex[MeshDatum], list[int]]:
+    ) -> tuple[Pending | None, list[int]]:
         """Chew's rule before a split: delete the free vertices inside the diametral circle of ``{lo, hi}`` that are
         apexes of the triangles beside it (a side whose triangle has a second constrained edge is left alone).
 
-        ``sides``: the triangles on ``(lo, hi)`` and on ``(hi, lo)`` in ``c``, kept up to date in place."""
+        ``sides``: the triangles on ``(lo, hi)`` and on ``(hi, lo)`` in ``c``, kept up to date in place.  The run
+        adopts each deletion (its index and queues follow), but no version is made for them: they are returned as
+        :class:`~persistri.impl.mesh.datum.Pending` from ``c`` (None if there were none), and the split makes one
+        version for them and itself."""
         T, P, geo = self.T, self.P, self.geo
         deleted: list[int] = []
+        pending: Pending | None = None
+        get = self._edges.get
         vu, vw = T.vertex(lo), T.vertex(hi)
         for k, edge in enumerate(((vu, vw), (vw, vu))):
             while True:
@@ -166,13 +174,15 @@ class Refiner(RefinerState):
                     break
                 if apex < geo.n_input or apex in geo.on_segment or P.dot_sign(lo, hi, apex) >= 0:
                     break
-                step = remove_vertex(T, c, apex, side, self._edges)
-                c = step.version
+                star, made = star_replacement(T, apex, side, get)
+                if pending is None:
+                    pending = Pending(c, [], {})
+                pending.after(star, made)
                 deleted.append(int(apex))
                 self.counts.deletions += 1
-                self._adopt(step)
+                self._adopt(Insertion(c, star, made))
                 sides[0], sides[1] = self._beside(vu, vw), self._beside(vw, vu)
-        return c, deleted
+        return pending, deleted
 
     def _split(self, c: Complex[MeshDatum], sub: Constraint) -> tuple[Complex[MeshDatum], int, list[int]] | None:
         """Split the subsegment ``sub`` of version ``c``: the new version, the point and the vertices deleted
@@ -185,8 +195,9 @@ class Refiner(RefinerState):
             return None
         deleted: list[int] = []
         sides = [first, self._beside(vw, vu)]
+        pending: Pending | None = None
         if self.lens:
-            c, deleted = self._delete_free(c, lo, hi, sides)
+            pending, deleted = self._delete_free(c, lo, hi, sides)
         start = sides[0] if sides[0] is not None else sides[1]
         assert start is not None, "the subsegment is still there after the deletions"
         for side in sides:
@@ -202,7 +213,7 @@ class Refiner(RefinerState):
         p = P.append(x, y)
         # Exactly on the segment between ends exactly on it: exactly on the subsegment's line (no test needed).
         on_line = not rounded and lo not in geo.off_segment and hi not in geo.off_segment
-        step = T.insert(c, p, start, (lo, hi, s), self._edges, on_line)
+        step = T.insert(c, p, start, (lo, hi, s), self._edges, on_line, pending)
         if rounded and not valid_split(P, step, lo, hi):
             # Off the segment by an ulp, p may not see every edge of its cavity from inside (a vertex within an ulp
             # of the segment), or may leave the old subsegment standing.  Persistence makes trying cheap: the
@@ -214,7 +225,7 @@ class Refiner(RefinerState):
                     continue
                 self.counts.rounding_retries += 1
                 p = P.append(x2, y2)
-                step = T.insert(c, p, start, (lo, hi, s), self._edges)
+                step = T.insert(c, p, start, (lo, hi, s), self._edges, False, pending)
                 if valid_split(P, step, lo, hi):
                     if t2 != t:
                         shell = None  # another parameter: off the shell
@@ -299,7 +310,9 @@ class Refiner(RefinerState):
             self.counts.offcenters += 1
         else:
             self.counts.circumcenters += 1
-        self._adopt(step)
+        # Every subsegment edge of the new triangles is a constrained edge of the cavity's boundary, with apex p: each
+        # was tested above and none is encroached, so they are not tested again.
+        self._adopt(step, False)
         return step.version, p
 
     def _encroached_on(self, cav: Cavity, p: int) -> list[Constraint]:

@@ -41,7 +41,9 @@ edge is not on the boundary.
 
 **Deletion** (:meth:`MeshTriangulation.remove`, for Chew's rule in the
 refinement) replaces a free vertex's star by the Delaunay triangulation of its
-link — again one ``replace``, one new version.
+link — again one ``replace``, one new version.  The refinement deletes before a
+split and makes one version for the deletions and the split together
+(:meth:`MeshTriangulation.build`'s ``before``).
 
 The data a version holds are in :mod:`~persistri.impl.mesh.datum` (importable from here
 too), the deletion in :mod:`~persistri.impl.mesh.deletion` and the walks
@@ -71,6 +73,7 @@ from persistri.impl.mesh.datum import (
     Insertion,
     MeshDatum,
     MeshError,
+    Pending,
     Tri,
     constraint_of,
     edge_key,
@@ -179,6 +182,7 @@ class MeshTriangulation:
         split: tuple[int, int, int] | None = None,
         index: EdgeIndex | None = None,
         on_line: bool = False,
+        before: Pending | None = None,
     ) -> Insertion:
         """Insert point ``p`` into version ``c`` from ``start``, a triangle in conflict with it (module docstring).
 
@@ -192,10 +196,11 @@ class MeshTriangulation:
         edge must go, and a sliver left in the domain would not be Delaunay), and when
         it is exterior (a ghost, a hole) it stays, rewritten without the constraint,
         and the sliver between the new chain ``u–p–w`` and the old edge joins the
-        exterior (so a hull stays convex).  ``index`` and ``on_line``: as :meth:`cavity`'s.  Returns the
+        exterior (so a hull stays convex).  ``index`` and ``on_line``: as :meth:`cavity`'s; ``before``: as
+        :meth:`build`'s (``c`` is then the triangulation after those steps, read through ``index``).  Returns the
         :class:`Insertion`; ``c`` is unchanged.
         """
-        return self.build(self.cavity(c, p, start, split, index, on_line))
+        return self.build(self.cavity(c, p, start, split, index, on_line), before)
 
     def cavity(
         self,
@@ -338,10 +343,14 @@ class MeshTriangulation:
             boundary.append((u, w, dat[1], -1))
         return Cavity(c, p, cavity, boundary, beyond, split)
 
-    def build(self, cav: Cavity) -> Insertion:
+    def build(self, cav: Cavity, before: Pending | None = None) -> Insertion:
         """The new version for a :class:`Cavity`: its triangles replaced by the fan from its point (one ``replace``).
 
-        O(k) complex operations; ``cav.version`` is unchanged."""
+        ``before``: steps taken since ``before.base`` that made no version (Chew's deletions before a split; the
+        cavity was found in the triangulation after them): the new version is made from ``before.base`` by one
+        ``replace`` that does them and this insertion together — the same triangles and data as a version for them
+        and then one for the insertion.  The :class:`Insertion` names the insertion's own triangles either way.
+        O(k) complex operations; ``cav.version`` and ``before.base`` are unchanged."""
         c, p, split, boundary, beyond = cav.version, cav.point, cav.split, cav.boundary, cav.beyond
         vp = self.vertex(p)
         inf = self.infinite
@@ -399,7 +408,11 @@ class MeshTriangulation:
             removed += (beyond,)
             crossing = edge_key(split[0], split[1])
             created.append((gt, self.new_datum(EXTERIOR, tuple(k for k in gd[2] if (k[0], k[1]) != crossing))))
-        version = self.S.replace(c, list(map(itemgetter(0), removed)), created)  # no comprehension frame
+        if before is None:
+            version = self.S.replace(c, list(map(itemgetter(0), removed)), created)  # no comprehension frame
+        else:
+            gone, made = before.then(removed, tuple(created))
+            version = self.S.replace(before.base, gone, made)
         return Insertion(version, removed, tuple(created))
 
     # -- deletion and location: persistri.impl.mesh.deletion, persistri.impl.mesh.walk ---------------
