@@ -62,7 +62,11 @@ def law_key_order(s: OrdMap[K, V, M], keys: Sequence[K]) -> None:
         for j, b in enumerate(ks):
             c = compare(a, b)
             if not isinstance(c, Order):
-                raise LawViolation("key_order", f"Key.compare({_r(a)}, {_r(b)}) returned {_r(c)}, not an Order")
+                raise LawViolation(
+                    "key_order",
+                    f"Key.compare({_r(a)}, {_r(b)}) returned {_r(c)}, not an Order (persistri.spec.order.Order: "
+                    "LESS, EQUAL or GREATER); the laws that compare keys fail with it",
+                )
             table[i, j] = c
     for i, a in enumerate(ks):
         if table[i, i] is not Order.EQUAL:

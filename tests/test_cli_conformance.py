@@ -71,6 +71,8 @@ def test_a_structure_lacking_some_operations_is_named_in_one_line(tmp_path: Path
         "    remove = None\n"
         "    foldli = 3\n"
         "thing = Partial()\n"
+        "class ValueEmpty(AssocListMap):\n"
+        "    empty = ()\n"
         "class NeedsArgs:\n"
         "    def __init__(self, x):\n"
         "        pass\n"
@@ -78,7 +80,14 @@ def test_a_structure_lacking_some_operations_is_named_in_one_line(tmp_path: Path
     monkeypatch.syspath_prepend(str(tmp_path))
     r = run("partial_map_mod:thing")
     assert r.exit_code == 2
-    assert r.stderr == "persistri: partial_map_mod:thing is not an ORD_MAP structure: missing remove, foldli\n"
+    assert r.stderr == (
+        "persistri: partial_map_mod:thing is not an ORD_MAP structure: missing remove; foldli is not callable (int) "
+        "(a value of the SML signature, such as empty, is a method with no arguments here: empty())\n"
+    )
+    r = run("partial_map_mod:ValueEmpty")  # SML's `val empty` written as a value: the message says what to write
+    assert r.exit_code == 2
+    assert r.stderr.startswith("persistri: partial_map_mod:ValueEmpty is not an ORD_MAP structure: empty is not callable (tuple)")
+    assert "empty()" in r.stderr and r.stderr.count("\n") == 1
     r = run("partial_map_mod:NeedsArgs")
     assert r.exit_code == 2 and r.stderr.count("\n") == 1
     assert r.stderr.startswith("persistri: partial_map_mod:NeedsArgs is a class that cannot be instantiated with no arguments")

@@ -8,13 +8,13 @@ knobs that say how hard the suite tries.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from persistri.spec.conformance.hidden_state import second_instance
 
-__all__ = ["ORD_MAP_OPERATIONS", "NotAnOrdMap", "SuiteConfig", "as_structure", "missing_operations", "second_config"]
+__all__ = ["ORD_MAP_OPERATIONS", "NotAnOrdMap", "SuiteConfig", "as_structure", "describe_missing", "missing_operations", "second_config"]
 
 ORD_MAP_OPERATIONS: tuple[str, ...] = (
     "Key",
@@ -72,8 +72,34 @@ def as_structure(obj: object, name: str | None = None) -> Any:
             raise NotAnOrdMap(f"{label} is a class that cannot be instantiated with no arguments: {exc}") from None
     missing = missing_operations(obj)
     if missing:
-        raise NotAnOrdMap(f"{label} is not an ORD_MAP structure: missing {', '.join(missing)}")
+        raise NotAnOrdMap(f"{label} is not an ORD_MAP structure: {describe_missing(obj, missing)}")
     return obj
+
+
+def describe_missing(obj: object, paths: Sequence[str]) -> str:
+    """What is wrong with the operations ``paths`` (dotted, from ``obj``) that a missing-operations check
+    reported: those absent (or None) are listed as missing; one that exists but is not callable is named
+    with its type, since the usual cause is an SML *value* written as a plain attribute (``empty = ...``) where the
+    Python signature has a method with no arguments (``def empty(self)``).  For messages only."""
+    absent: list[str] = []
+    plain: list[str] = []
+    for path in paths:
+        attr: Any = obj
+        try:
+            for part in path.split("."):
+                attr = getattr(attr, part)
+        except Exception:
+            absent.append(path)
+            continue
+        if attr is None:
+            absent.append(path)
+        else:
+            plain.append(f"{path} is not callable ({type(attr).__name__})")
+    parts = ([f"missing {', '.join(absent)}"] if absent else []) + plain
+    text = "; ".join(parts)
+    if plain:
+        text += " (a value of the SML signature, such as empty, is a method with no arguments here: empty())"
+    return text
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,7 @@ from itertools import combinations
 from typing import Any
 
 from persistri.spec.conformance.hidden_state import second_instance
+from persistri.spec.conformance.ord_map_config import describe_missing
 from persistri.spec.order import Order
 
 __all__ = [
@@ -86,7 +87,7 @@ def as_simpcomp(obj: object, name: str | None = None) -> Any:
             raise NotASimpComp(f"{label} is a class that cannot be instantiated with no arguments: {exc}") from None
     missing = missing_simpcomp_operations(obj)
     if missing:
-        raise NotASimpComp(f"{label} is not a SIMPCOMP structure: missing {', '.join(missing)}")
+        raise NotASimpComp(f"{label} is not a SIMPCOMP structure: {describe_missing(obj, missing)}")
     return obj
 
 
