@@ -80,6 +80,9 @@ class RefinerState:
         self.log = DropLog()
         self._version = 0  # the history index of the version the run stands at
         self._edges: EdgeIndex = {}  # the triangles of that version by directed edge (persistri.impl.mesh.edges)
+        # (segment, vertex) pairs found clear of the segment's tolerance band (precision.crowded_apex): the answer
+        # depends on the segment and the point alone, and an apex is often beside the next subsegment split too.
+        self._clear_of_band: set[tuple[int, int]] = set()
 
     # -- the queue -----------------------------------------------------------------------------
 

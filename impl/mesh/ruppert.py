@@ -200,13 +200,17 @@ class Refiner(RefinerState):
             pending, deleted = self._delete_free(c, lo, hi, sides)
         start = sides[0] if sides[0] is not None else sides[1]
         assert start is not None, "the subsegment is still there after the deletions"
+        clear = self._clear_of_band
         for side in sides:
-            crowded = None if side is None or side[1][1] == EXTERIOR else crowded_apex(P, geo, s, side[0][2])
+            if side is None or side[1][1] == EXTERIOR or (s, side[0][2]) in clear:
+                continue
+            crowded = crowded_apex(P, geo, s, side[0][2])
             if crowded is not None:
                 raise PrecisionLimitError(
                     f"{crowded}: a mesh meeting the bounds would need edges shorter than the spacing of doubles there "
                     "(move the vertex onto the segment or away from it, or mesh without an angle bound)"
                 )
+            clear.add((s, side[0][2]))
         t, x, y, shell, rounded = split_point(
             P, geo, lo, hi, s, sides, self.angles.small_angle, self.exact_segments, self.angles.tolerances
         )
