@@ -33,28 +33,12 @@ The conflict rule (Shewchuk's, exact):
   *splits* it.  Were SoS to put such a point infinitesimally inside, the fan
   would contain the zero-area triangle ``(u, w, p)``; infinitesimally outside, a
   zero-area triangle would appear on the next collinear insertion.  With this
-  rule no finite triangle ever has zero area (:meth:`Triangulator.insert` says why).
+  rule no finite triangle ever has zero area (:mod:`persistri.impl.terrain.cavity` says why).
 
-One insertion of ``p`` (:meth:`Triangulator.insert`), from a triangle in
-conflict with it:
-
-1. the **cavity** — the triangles in conflict with ``p`` — is found by a walk
-   over the complex across edges, testing each neighbour once (it is connected
-   and star-shaped from ``p``: the classical Bowyer–Watson lemma, which the
-   lifting map turns into the bulldozer's "the visible region is connected");
-2. the cavity is removed and the **fan** (the 2D tent) from ``p`` to every edge of
-   its boundary is added: one new persistent version;
-3. the **conflict lists** of the removed finite triangles — here *samples*, points
-   not yet inserted that lie in the triangle, as if the bulldozer's centre sat at
-   vertical infinity — are pooled and each sample goes to the fan triangle whose
-   angular sector around ``p`` contains it: ``orient2d(p, v, q)`` against every
-   boundary vertex ``v`` (the 2D version of the bulldozer's projected rays;
-   :mod:`persistri.impl.terrain.sectors`).
-
-Costs per insertion: the cavity's ``k`` triangles cost ``O(k)`` complex
-operations (O(lg n) each with the red-black backend) and ``O(k)`` exact
-``incircle`` tests; the redistribution ``O(m · k)`` ``orient2d`` tests for ``m``
-pooled samples, in one vectorised batch.
+One insertion of ``p`` (:meth:`Triangulator.insert`) finds the **cavity** (the
+triangles in conflict with ``p``), removes it and adds the **fan** from ``p`` to
+its boundary: one new persistent version (:mod:`persistri.impl.terrain.cavity`);
+the walk that finds a first triangle in conflict is :mod:`persistri.impl.terrain.walk`.
 
 Points are indices into the predicates' point array; each is a
 :class:`~persistri.impl.complex.vertex.Vertex` whose label is its index.
@@ -63,6 +47,7 @@ Points are indices into the predicates' point array; each is a
 from __future__ import annotations
 
 from collections.abc import Callable
+from itertools import chain
 from typing import Any
 
 import numpy as np
@@ -71,20 +56,17 @@ from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Lineage, Vertex, VertexState
 from persistri.impl.geometry.predicates import Predicates2
-from persistri.impl.stats import Stats
+from persistri.impl.terrain.cavity import insert
 from persistri.impl.terrain.errors import TriangulationCheckError
 from persistri.impl.terrain.insertion import (
     EMPTY,
-    NO_SECTOR,
     Insertion,
-    IntArray,
     Samples,
     Triangle,
     TriDatum,
     canonical_triangles,
     _frozen,
     enter,
-    fan_samples,
     sample_dtype,
     third,
 )
@@ -251,6 +233,45 @@ class Triangulator:
         self.complex = cx
         return cx
 
+    @classmethod
+    def resume(
+        cls, pred: Predicates2, structure: TwoComplex[TriDatum], c: Complex[TriDatum], infinite: int, *, check: bool = False
+    ) -> Triangulator:
+        """A triangulator whose current version is ``c``, ready to insert more points (continuing a run).
+
+        ``c`` must be a finished Delaunay triangulation with ghosts (a scattered
+        run's version, its infinite vertex labelled ``infinite``) over the first
+        points of ``pred`` (labels index ``pred``; the row at ``infinite`` is never
+        read).  The live-triangle index, the edge index (when the run keeps one:
+        uncounted), the next triangle id and the vertices are read back from ``c``:
+        its triangles and data are the same objects, its vertices the complex's own
+        (so new triangles join their lineage).  :class:`ValueError` if ``c`` has no
+        vertex labelled ``infinite``.  O(size of ``c``).
+        """
+        T = cls(pred, structure, check=check, edge_index=True)
+        # Any: compiled, an item typed (Triangle, TriDatum) would be unboxed, and its triangle and datum boxed anew
+        # for the indexes (equal, but not the objects the complex holds: check=True compares the data by identity).
+        items: list[Any] = structure.items(c)
+        item: Any
+        tri_of: dict[Any, Any] = {item[1][0]: item[0] for item in items}
+        # The complex's own vertex objects, keyed by themselves (a vertex hashes and compares as its label).
+        every = list(chain.from_iterable(tri_of.values()))
+        verts: dict[int, Vertex] = dict(zip(every, every))
+        if infinite not in verts:
+            raise ValueError(f"Triangulator.resume: the complex has no vertex labelled {infinite} (the infinite vertex)")
+        edges = T.edges
+        if edges is not None:
+            for item in items:
+                enter(edges, item[0], item[1])
+        inf = verts[infinite]
+        T.lineage = inf.lineage
+        T._verts = verts
+        T.infinite = inf
+        T.tri_of = tri_of
+        T._next_id = max(tri_of) + 1
+        T.complex = c
+        return T
+
     # -- the conflict tests --------------------------------------------------------------
 
     def _between(self, u: int, w: int, p: int) -> bool:
@@ -283,216 +304,11 @@ class Triangulator:
     # -- one insertion -------------------------------------------------------------------
 
     def insert(self, p: int, start: int) -> Insertion:
-        """Insert point ``p`` from the live triangle ``start``, which must be in conflict with it.
-
-        Returns the :class:`Insertion` (the new version is also :attr:`complex`).
-        The fan triangles all have positive area: a fan triangle ``(u, w, p)`` over a
-        cavity boundary edge ``(u, w)`` could only be flat if ``p`` were on the line
-        ``uw``; outside the segment, ``p`` is strictly outside every circle through
-        ``u`` and ``w``, so the cavity triangle on ``(u, w)`` would not be in conflict
-        (unless it is ``start``, which contains ``p``, so ``p`` is on the segment);
-        on the open segment, ``p`` is strictly inside every such circle and in
-        conflict with the ghost there, so both sides of ``(u, w)`` are in the cavity
-        and ``(u, w)`` is not on its boundary.  ``check=True`` asserts it exactly.
-        """
-        S = self.S
-        cx = self.complex
-        # The look-ups read the index of the current version's edges when there is one (edge_index=True), else
-        # the complex: one version only, whose neighbour function reads each vertex's list from the map once
-        # (shared with the locate before it).
-        index = self.edges
-        neighbour = self.neighbours() if index is None else None
-        vp = self._verts.get(p)
-        if vp is None:
-            vp = self.vertex(p)
-        # Triangles and neighbour records are typed Any in this loop: compiled by mypyc (the twin), a local of
-        # a fixed-length tuple type is unboxed and every store of it (tri_of, the fan, the removed list) boxes a
-        # new tuple; Any keeps the one object (1–2.6 % fewer instructions for a 20K-point Delaunay, cachegrind).
-        sid: Any = start  # ids as objects: compiled, an int is boxed at every use as a key or an item
-        tri0: Any = self.tri_of[sid]
-        check = self.check
-        if check and not self.conflicts(tri0, p):
-            raise TriangulationCheckError(f"insert: point {p} is not in conflict with the start triangle {tri0}")
-        a, b, c = tri0
-        # The triangle holding the directed edge (a, b): tri0 itself.  Records (x, datum) and datum as tuples of
-        # any length: compiled, their items are read directly (Any indexes generically; a fixed-length tuple
-        # type would unbox them).
-        rec: tuple[Any, ...]
-        if index is not None:
-            found: Any = index[a].get(b)
-            if check:
-                self._check_indexed(a, b, found)
-            if found is None or third(found[0], a) is not c:
-                raise TriangulationCheckError(f"insert: start triangle {tri0} is not in the current version")
-        else:
-            assert neighbour is not None
-            found = neighbour((a, b))
-            if found is None or found[0][2] != c:
-                raise TriangulationCheckError(f"insert: start triangle {tri0} is not in the current version")
-        rec = found
-        datum: tuple[Any, ...] = rec[1]
-        removed: list[Any] = [sid]
-        removed_tris = [tri0]
-        part: Any = datum[1]
-        lists: list[Samples] = [] if part is EMPTY else [part]  # the removed triangles' sample lists (the scattered points have none)
-        inside = {sid}
-        rejected: set[int] = set()
-        # The cavity's boundary edges (u, w) in the order found, by their first vertices u: clockwise around the
-        # cavity (the stack expands an edge into the far triangle's other two edges, last one first: the reverse
-        # of the counterclockwise order), so that edge i's w is edge i-1's u.  check=True keeps the ws and asserts it.
-        bound: list[Any] = []
-        ends: list[Any] = []
-        inf = self.infinite
-        kern = self.kernel  # its tests called as methods: compiled, a direct call each
-        # p as an object, for the kernel's tests (compiled, an int local is boxed at every call).
-        pp: Any = p
-        # Each entry: an edge (u, w) of a cavity triangle whose far side is still to be decided.
-        # A triangle entered across (w, u) is found as (w, u, x): only its other two edges are queued.
-        # (edges.pop and edges.append written out, not bound to locals: compiled, they are then list operations.)
-        edges = [(a, b), (b, c), (c, a)]
-        j = -1
-        row_w: dict[Any, tuple[Any, ...]]  # the index's row of w (a dict: compiled, its operations are direct)
-        while edges:
-            u, w = edges.pop()
-            # The triangle (w, u, x) across (u, w) (from the index, in the rotation it was made in): x and its datum.
-            ntri: tuple[Any, ...]
-            if index is not None:
-                row_w = index[w]
-                nb: Any = row_w.get(u)
-                if check:
-                    self._check_indexed(w, u, nb)
-                rec = nb
-                ntri = rec[0]
-                x = ntri[2] if ntri[0] is w else (ntri[0] if ntri[1] is w else ntri[1])  # third(ntri, w), inlined
-            else:
-                assert neighbour is not None
-                nb = neighbour((w, u))
-                assert nb is not None, "a closed surface: every oriented edge has its reverse"
-                rec = nb
-                ntri = rec[0]
-                x = ntri[2]
-            datum = rec[1]
-            nid = datum[0]
-            if nid in inside:
-                # Both sides of (u, w) are in the cavity: (w, u) leaves the index now, (u, w) when it is looked up
-                # from the other side (each directed edge is looked up once: only from the triangle across it).
-                if index is not None:
-                    del row_w[u]
-                continue
-            if nid not in rejected:
-                if x is inf:
-                    hit = self.ghost_conflict(w, u, p)
-                elif w is inf:
-                    hit = self.ghost_conflict(u, x, p)
-                elif u is inf:
-                    hit = self.ghost_conflict(x, w, p)
-                else:
-                    hit = kern.incircle(w, u, x, pp) > 0
-                if hit:
-                    if index is not None:
-                        # (u, w) and (w, u) are inside the cavity and looked up no more ((w, u) is the entry of
-                        # the triangle entered, whose other two edges only are queued): both leave the index.
-                        del row_w[u]
-                        del index[u][w]
-                    inside.add(nid)
-                    removed.append(nid)
-                    removed_tris.append(ntri)
-                    part = datum[1]
-                    if part is not EMPTY:
-                        lists.append(part)
-                    edges.append((u, x))
-                    edges.append((x, w))
-                    continue
-                rejected.add(nid)
-            if u is inf:
-                j = len(bound)  # the boundary passes through ∞ (p is on or beyond the hull): an open fan
-            bound.append(u)
-            if check:
-                ends.append(w)
-
-        # The cavity boundary as one cycle, counterclockwise; a ghost edge puts ∞ on it (the point is on or beyond
-        # the hull): the fan is then open, from the vertex after ∞ to the vertex before it.
-        k = len(bound)
-        if check:
-            if len(set(bound)) != k:
-                raise TriangulationCheckError(f"insert: the cavity of point {p} is not a disc (its boundary is not one cycle)")
-            if any([ends[i] is not bound[i - 1] for i in range(k)]):
-                raise TriangulationCheckError(f"insert: the cavity boundary of point {p} is not a simple cycle")
-        closed = j < 0
-        if closed:
-            # bound = [b0, b1, …, b(k-1)] clockwise: the fan's boundary b0, b(k-1), …, b1, b0 (closed: b0 repeated).
-            ring = bound[::-1]
-            ring.insert(0, bound[0])
-        else:
-            # ∞ = b(j): the open fan b(j-1), b(j-2), …, b(j+1) (indices modulo k).
-            ring = bound[j - 1 :: -1] + bound[k - 1 : j : -1] if j else bound[k - 1 : 0 : -1]
-        nfan = len(ring) - 1
-
-        # The samples of the removed finite triangles, sorted into the fan's sectors and cut into the fan
-        # triangles' lists (insertion.fan_samples); the scattered Delaunay's triangles have none.
-        own: list[Samples]
-        samples: Samples | None
-        counts: list[int]
-        sector: IntArray | None
-        if lists:
-            own, samples, counts, sector = fan_samples(
-                self.pred, p, lists, ring, closed, nfan, exact_floats=self.small_integers, check=check
-            )
-        else:
-            own, samples, counts, sector = [EMPTY] * nfan, EMPTY, [0] * nfan, NO_SECTOR
-
-        # The new version: the cavity removed, the fan added (one replace, or the paper's rem and add each).
-        tri_of = self.tri_of
-        for rid in removed:
-            del tri_of[rid]
-        created: list[tuple[Any, ...]] = []  # (id, triangle) pairs, kept boxed
-        fan: list[tuple[Any, ...]] = []  # (triangle, datum) pairs, kept boxed (see above)
-        tid = self._next_id
-        u = ring[0]
-        # The edge index (edge_index=True), whose cavity's interior edges left it in the search, takes the fan's
-        # edges: each boundary edge (u, w) again, the spokes (w, p) and (p, u) new; one record (triangle, datum)
-        # for the three edges of a triangle, the fan's own.  Each ring vertex's row is read once.
-        row_p: dict[Any, tuple[Any, ...]] = {}
-        row_u = row_p
-        if index is not None:
-            index[vp] = row_p
-            row_u = index[u]
-        for i in range(nfan):
-            w = ring[i + 1]
-            tri: Any = (u, w, vp)
-            if check and self.pred.orient2d_sign(u, w, p) <= 0:
-                raise TriangulationCheckError(f"insert: point {p} makes the flat or inverted triangle {tri}")
-            tid_obj: Any = tid  # boxed once (compiled), stored three times
-            tri_of[tid_obj] = tri  # as _new_id, inlined: once per fan triangle
-            # Any: compiled, a local narrowed to the literal's fixed-length tuple type would be unboxed and boxed
-            # anew at each store (a copy for the fan, another for the index: one record and one datum object each).
-            frec: Any = (tri, (tid_obj, own[i]))
-            fan.append(frec)
-            created.append((tid_obj, tri))
-            if index is not None:
-                row_w = index[w]
-                row_u[w] = row_w[vp] = row_p[u] = frec
-                row_u = row_w
-            tid += 1
-            u = w
-        self._next_id = tid
-        if not closed:
-            # The two ghosts on the new hull edges (ring[-1], p) and (p, ring[0]).
-            for tri in ((ring[-1], inf, vp), (inf, ring[0], vp)):
-                frec = (tri, (self._new_id(tri), EMPTY))
-                fan.append(frec)
-                if index is not None:
-                    ta, tb, tc = tri
-                    index[ta][tb] = index[tb][tc] = index[tc][ta] = frec
-        if self.stepwise:
-            for tri in removed_tris:
-                cx = S.rem(cx, tri)
-            for tri, datum in fan:
-                cx = S.add(cx, tri, datum)
-        else:
-            cx = S.replace(cx, removed_tris, fan)
-        self.complex = cx
-        return Insertion(p, cx, removed, created, samples, counts, not closed, ring, sector, own)
+        """Insert point ``p`` from the live triangle ``start``, which must be in conflict with it: the cavity
+        removed, the fan added (:func:`persistri.impl.terrain.cavity.insert`, whose docstring says why no fan
+        triangle is flat).  Returns the :class:`Insertion`; the new version is also :attr:`complex`.  O(k)
+        look-ups and tests for a cavity of ``k`` triangles, plus the sort of its samples."""
+        return insert(self, p, start)
 
     # -- point location --------------------------------------------------------------------
 

@@ -24,7 +24,8 @@ What continuing needs, and how it is kept exact:
 2. **The triangulator's scratch.**  The live-triangle index and the edge index
    of the last version are read back from the complex (its triangles and data,
    the same objects), and the vertices are the complex's own, so new triangles
-   join the same lineage.  O(n) once.
+   join the same lineage
+   (:meth:`~persistri.impl.terrain.delaunay.Triangulator.resume`).  O(n) once.
 3. **Insertion.**  The distinct new points are inserted in a biased randomised
    order of their own (:func:`~persistri.impl.terrain.scattered.insertion_order`,
    drawn from the old seed and the old number of labels, so each step of a
@@ -44,20 +45,15 @@ in ``duplicates``, like the first run's.
 
 from __future__ import annotations
 
-from itertools import chain
-from typing import Any
-
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from persistri.impl.collector import collector_paused
 from persistri.impl.complex.structure import Complex
-from persistri.impl.complex.two_complex import TwoComplex
-from persistri.impl.complex.vertex import Vertex
 from persistri.impl.geometry.points import appended_rows, as_points
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.terrain.delaunay import Triangulator
-from persistri.impl.terrain.insertion import TriDatum, canonical_triangles, enter
+from persistri.impl.terrain.insertion import TriDatum, canonical_triangles
 from persistri.impl.terrain.scattered import (
     DelaunayTriangulation,
     hilbert_keys,
@@ -67,42 +63,9 @@ from persistri.impl.terrain.scattered import (
     verify_result,
 )
 
-__all__ = ["extend_delaunay", "resume_triangulator"]
+__all__ = ["extend_delaunay"]
 
 IntArray = NDArray[np.intp]
-
-
-def resume_triangulator(
-    pred: Predicates2, structure: TwoComplex[TriDatum], c: Complex[TriDatum], infinite: int, *, check: bool = False
-) -> Triangulator:
-    """A :class:`~persistri.impl.terrain.delaunay.Triangulator` whose current version is ``c``, ready to insert more.
-
-    ``c`` must be a finished Delaunay triangulation with ghosts (a scattered run's
-    version, its infinite vertex labelled ``infinite``) over the first points of
-    ``pred`` (labels index ``pred``; the row at ``infinite`` is never read).  The
-    live-triangle index, the edge index (when the run keeps one: uncounted), the
-    next triangle id and the vertices are read from ``c``.  O(size of ``c``).
-    """
-    T = Triangulator(pred, structure, check=check, edge_index=True)
-    items = structure.items(c)
-    tri_of: dict[int, Any] = {datum[0]: tri for tri, datum in items}
-    # The complex's own vertex objects, keyed by themselves (a vertex hashes and compares as its label).
-    every = list(chain.from_iterable(tri_of.values()))
-    verts: dict[int, Vertex] = dict(zip(every, every))
-    edges = T.edges
-    if edges is not None:
-        for tri, datum in items:
-            enter(edges, tri, datum)
-    if infinite not in verts:
-        raise ValueError(f"resume_triangulator: the complex has no vertex labelled {infinite} (the infinite vertex)")
-    inf = verts[infinite]
-    T.lineage = inf.lineage
-    T._verts = verts
-    T.infinite = inf
-    T.tri_of = tri_of
-    T._next_id = max(tri_of) + 1
-    T.complex = c
-    return T
 
 
 def extend_delaunay(tri: DelaunayTriangulation, points: ArrayLike, *, check: bool = False) -> DelaunayTriangulation:
@@ -145,7 +108,7 @@ def extend_delaunay(tri: DelaunayTriangulation, points: ArrayLike, *, check: boo
     structure = tri.structure
     pred = Predicates2(arr[stand_in], stats=structure.stats, sos_rank=labels)
     with collector_paused():
-        T = resume_triangulator(pred, structure, tri.complex, tri.infinite, check=check)
+        T = Triangulator.resume(pred, structure, tri.complex, tri.infinite, check=check)
 
     drawn = int(np.random.default_rng((tri.seed, m_old)).integers(1 << 62))
     order = (insertion_order(arr[fresh], drawn, np.sort(keys)) + m_old).tolist()
