@@ -40,6 +40,7 @@ MODULES = (
     "persistri/impl/complex/neighbours.py",
     "persistri/impl/geometry/kernel2d.py",
     "persistri/impl/terrain/delaunay.py",
+    "persistri/impl/terrain/cavity.py",
     "persistri/impl/terrain/insertion.py",
     "persistri/impl/terrain/walk.py",
     "persistri/impl/terrain/sectors.py",
@@ -51,8 +52,8 @@ kernel it calls, and the inner functions of the persistent structures it changes
 tree's node algorithms, its batched update (with the fused insertion of ``replace``'s new vertex), the
 same two for the arena red-black tree (the backend for keeping histories, ``red_black_arena``), the
 2-complex's list functions and its walks' edge lookups — where a hull run spends most of its interpreted time
-(docs/performance.md); and for the terrain and the scattered Delaunay, the 2D kernel, the triangulator,
-the sector test, the greedy run's loop and its error measure.  The structures' public operations
+(docs/performance.md); and for the terrain and the scattered Delaunay, the 2D kernel, the triangulator
+and its cavity search, the sector test, the greedy run's loop and its error measure.  The structures' public operations
 (``red_black.py``, ``two_complex.py``) and ``greedy_insertion`` (``terrain/greedy.py``) stay
 interpreted: they raise the signature's errors for ill-typed arguments, where mypyc's entry
 checks would raise its own.  The compiled ones type their nodes, entries and lists as tuples of any
