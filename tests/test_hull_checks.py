@@ -14,7 +14,7 @@ from typing import Any
 
 import pytest
 
-from persistri.impl.geometry.kernel import Indices, Orient3dKernel
+from persistri.impl.geometry.kernel import Indices, Orient3dKernel, _composed_split
 from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.hull import bulldozer
 from persistri.impl.hull.api import convex_hull
@@ -25,7 +25,10 @@ POINTS = generate("OnSphere", 300, seed=4)
 
 
 def _faulty_kernel(inner: Orient3dKernel, what: str, wrap: Callable[[Any], Any], after: int) -> Orient3dKernel:
-    """``inner`` with its ``orient3d`` or ``partition`` replaced by ``wrap(original)`` once ``after`` calls were made."""
+    """``inner`` with its ``orient3d`` or ``partition`` replaced by ``wrap(original)`` once ``after`` calls were made.
+
+    A faulty ``partition`` is also the kernel's ``split`` (the routing and tent tests in one pass), as the
+    partitions it stands for: every plane-side split of a list goes through the fault."""
     original = getattr(inner, what)
     faulty = wrap(original)
     calls = [0]
@@ -35,6 +38,8 @@ def _faulty_kernel(inner: Orient3dKernel, what: str, wrap: Callable[[Any], Any],
         return (faulty if calls[0] > after else original)(*args)
 
     setattr(inner, what, switch)
+    if what == "partition":
+        inner.split = _composed_split(switch)
     return inner
 
 

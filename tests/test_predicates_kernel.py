@@ -382,3 +382,97 @@ def test_rows_are_made_on_first_use_and_are_the_scaled_copy() -> None:
     shift, _ = p.filter_scale
     for i in range(200):
         assert p._row(i) == tuple(np.ldexp(pts[i], shift).tolist())
+
+
+# -- split: three partitions in one pass ----------------------------------------------------------------
+
+
+def _split_reference(
+    p: Predicates3, a: int, b: int, c: int, qs: list[int], lo: tuple[int, int, int] | None, hi: tuple[int, int, int] | None
+) -> tuple[list[int], list[int], list[int], list[int]]:
+    """What ``split`` stands for: the checked test by (a, b, c), then each side by its own plane (or whole)."""
+    minus, plus = _split(p, a, b, c, qs)
+    mm, mp = _split(p, *lo, minus) if lo is not None else (minus, [])
+    pm, pp = _split(p, *hi, plus) if hi is not None else (plus, [])
+    return mm, mp, pm, pp
+
+
+def _four(got: tuple[object, object, object, object]) -> tuple[list[int], ...]:
+    return tuple([int(q) for q in part] for part in got)  # type: ignore[attr-defined]  # list, tuple or array
+
+
+@pytest.mark.parametrize("kind", ["random", "grid", "offset"])
+def test_split_is_the_three_partitions_it_stands_for(kind: str) -> None:
+    """The same lists in the same order as the partitions (the grid's exact zeros decided by SoS), short
+    (one pass) and long (the partitions themselves), with either second plane absent, counted or not —
+    and counted alike: the same tests, flops and filter failures as the three partition calls."""
+    rng = np.random.default_rng(11)
+    p = Predicates3(_point_set(kind, rng, 300))
+    k = p.kernel()
+    planes = ((0, 1, 2), (0, 7, 42), (5, 36, 200), (3, 9, 27))
+    for a, b, c in planes[:3]:
+        used = {i for plane in planes for i in plane}  # no point is tested against a plane through it
+        rest = [q for q in rng.permutation(len(p)).tolist() if q not in used]
+        for lo, hi in ((planes[3], planes[1]), (None, planes[3]), (planes[2], None), (None, None)):
+            for part in (rest[:1], rest[:9], rest[: KERNEL_BATCH - 1], rest):
+                want = _split_reference(p, a, b, c, part, lo, hi)
+                p.stats = None
+                assert _four(k.split(a, b, c, part, lo, hi)) == want
+                assert _four(k.split(a, b, c, tuple(part), lo, hi)) == want
+                assert _four(k.split(a, b, c, np.array(part, dtype=np.intp), lo, hi)) == want
+                p.stats = fused = Stats()
+                assert _four(k.split(a, b, c, part, lo, hi)) == want
+                p.stats = separate = Stats()
+                minus, plus = k.partition(a, b, c, part)
+                if lo is not None:
+                    k.partition(*lo, minus)
+                if hi is not None:
+                    k.partition(*hi, plus)
+                assert fused.as_dict() == separate.as_dict()
+    p.stats = None
+    assert k.split(0, 1, 2, [], planes[3], None) == ((), (), (), ())
+
+
+def test_split_on_the_checked_path() -> None:
+    """A point set with per-test grain checks: split is the checked partitions, composed."""
+    pts = np.array([[1e300, 0.0, 0.0], [0.0, 1e-300, 0.0], [0.0, 0.0, 1.0], [1.0, 1.0, 1.0],
+                    [2.0**-1000, 3.0, 1e300], [-1e300, 1e-300, 5.0], [7.0, -2.0**-1000, 1.0]] * 6, dtype=float)
+    pts = pts + np.arange(pts.shape[0])[:, None] * np.array([[0.0, 0.0, 1.0]])
+    p = Predicates3(pts)
+    assert p.filter_scale[1] is False
+    k = p.kernel()
+    qs = list(range(6, len(p)))
+    assert _four(k.split(0, 1, 2, qs, (3, 4, 5), (1, 3, 5))) == _split_reference(p, 0, 1, 2, qs, (3, 4, 5), (1, 3, 5))
+
+
+class _Unsuffix(ast.NodeTransformer):
+    """Names with ``suffix`` read without it: split's second-level planes are the first plane's statements."""
+
+    def __init__(self, suffix: str) -> None:
+        self.suffix = suffix
+
+    def visit_Name(self, node: ast.Name) -> ast.Name:
+        if node.id.endswith(self.suffix):
+            return ast.Name(id=node.id[: -len(self.suffix)], ctx=node.ctx)
+        return node
+
+
+@pytest.mark.parametrize("suffix", ["", "_lo", "_hi"])
+def test_splits_written_out_filters_are_the_proved_functions(suffix: str) -> None:
+    """split writes the plane's terms and each point's determinant out for its three planes (the second
+    and third with names suffixed ``_lo`` and ``_hi``): each must be the proved functions' statements in
+    order; ``settle`` (a point the semi-static stage leaves undecided) completes them with the plane's
+    permanents and the point's own threshold, as ``partition`` does."""
+    fn = _kernel_function("split")
+    if suffix:
+        renamed = _Unsuffix(suffix).visit(ast.parse(ast.unparse(fn)).body[0])
+        assert isinstance(renamed, ast.FunctionDef)
+        fn = renamed
+    plane, _ = _filter_body(fp.plane_terms)
+    det, _ = _filter_body(fp.plane_side_det)
+    assert _contains_in_order(fn, plane[:-3]), f"split's plane{suffix} is not filter.plane_terms"
+    assert _contains_in_order(fn, det), f"split's determinant{suffix} is not filter.plane_side_det"
+    settle = _kernel_function("settle")
+    terms_body, _ = _filter_body(fp.plane_side_terms)
+    assert _contains_in_order(settle, plane[-3:])
+    assert _contains_run(settle, terms_body[:3] + terms_body[-1:])

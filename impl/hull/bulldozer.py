@@ -97,7 +97,7 @@ from numpy.typing import NDArray
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Vertex, VertexState
-from persistri.impl.geometry.kernel import KERNEL_BATCH, Indices
+from persistri.impl.geometry.kernel import Indices
 from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.hull.bulldozer_checks import check_bulldozed, check_sectors, check_walk
 from persistri.impl.hull.conflicts import (
@@ -111,9 +111,9 @@ from persistri.impl.hull.conflicts import (
     Triangle,
     _assign,
     _FaceTable,
-    _freeze,
     _join,
     all_but,
+    tent_faces,
     triangle_array,
 )
 from persistri.impl.hull.errors import BulldozerCheckError
@@ -200,6 +200,7 @@ class Bulldozer:
         kernel = pred.kernel()
         self._o3 = kernel.orient3d
         self._partition = kernel.partition
+        self._split = kernel.split
         self._signs = kernel.signs
         self.S = structure
         self.C: int = centre
@@ -289,7 +290,7 @@ class Bulldozer:
         if status[p] != PENDING:
             raise ValueError(f"point {p} is not outside the current hull")
         S, check = self.S, self.check
-        o3, partition = self._o3, self._partition
+        o3, partition, split = self._o3, self._partition, self._split
         # The centre and p as the objects every kernel call takes (compiled, an int variable is boxed anew
         # at each call of a kernel closure: a new int object for an index above 256).
         C: Any = self.C
@@ -405,27 +406,38 @@ class Bulldozer:
                 if len(sees):
                     pts = _join([pts, sees]) if len(pts) else sees
             groups: Sequence[Indices]
+            tented = False  # whether the groups of horizon out-edges were tested against their tents already
             if len(outs) == 1:
                 groups = (pts,)
             elif not len(pts):
                 groups = ((), (), ())
             elif len(outs) == 2:
-                (u1, w1, _, _, _), (u2, w2, _, _, _) = outs
+                (u1, w1, g1, _, _), (u2, w2, g2, _, _) = outs
                 # Consecutive edges of (a, b, d) share a vertex v: w1 == u2, or (d, a) and (a, b): u1 == w2.
                 # The out-edge (x, v) has orient3d(c, p, v, x) = -orient3d(x, v, c, p) = +1, the
                 # out-edge (v, x) has orient3d(c, p, v, x) = orient3d(v, x, c, p) = -1.
                 v, x, first_sign = (w1, u1, 1) if w1 == u2 else (u1, w1, -1)
                 if check and o3(C, p_obj, v, x) != first_sign:
                     raise BulldozerCheckError(f"the routing sign of face {tri} is not the out-arc's")
-                minus, plus = partition(C, p_obj, v, pts)
-                groups = (plus, minus) if first_sign > 0 else (minus, plus)
+                # The routing and, for an out-edge on the horizon, its tent (u, w, p) in one pass: the points
+                # routed there that see the tent stay (its list), the others are interior.
+                tent1 = (u1, w1, p_obj) if g1 == _HORIZON else None
+                tent2 = (u2, w2, p_obj) if g2 == _HORIZON else None
+                if first_sign > 0:
+                    kept2, gone2, kept1, gone1 = split(C, p_obj, v, pts, tent2, tent1)
+                else:
+                    kept1, gone1, kept2, gone2 = split(C, p_obj, v, pts, tent1, tent2)
+                if len(gone1):
+                    discarded.append(gone1)
+                if len(gone2):
+                    discarded.append(gone2)
+                groups = (kept1, kept2)
+                tented = True
             elif len(outs) == 3:
                 # The associated face: all three edges are out-arcs, so orient3d(c, p, x, y) = -1 for each
                 # edge (x, y) and q's projection lies in sector (x, y) iff
-                # orient3d(c, p, x, q) = -1 and orient3d(c, p, y, q) = +1; two tests decide it.
-                b_minus, b_plus = partition(C, p_obj, b, pts)
-                in_ab, da1 = partition(C, p_obj, a, b_plus)
-                da2, in_bd = partition(C, p_obj, d, b_minus)
+                # orient3d(c, p, x, q) = -1 and orient3d(c, p, y, q) = +1; two tests decide it, in one pass.
+                da2, in_bd, in_ab, da1 = split(C, p_obj, b, pts, (C, p_obj, d), (C, p_obj, a))
                 in_da = _join([da1, da2])
                 if check:
                     check_sectors(self, p, tri, pts, (in_ab, in_bd, in_da))
@@ -435,7 +447,7 @@ class Bulldozer:
             for (u, w, gid, gtri, gpts), grp in zip(outs, groups):
                 if gid == _HORIZON:
                     # The tent face (u, w, p) keeps the points that see it; the others are interior.
-                    if len(grp):
+                    if len(grp) and not tented:
                         grp, gone = partition(u, w, p_obj, grp)
                         if len(gone):
                             discarded.append(gone)
@@ -462,26 +474,8 @@ class Bulldozer:
             faces.pop(fid, None)  # a resumed run's old faces are not in the dict
         if self._table is not None:
             self._table.live[processed] = False
-        added: list[Entry] = []
-        fid = self._next_fid
-        table = self._table
-        for tent, kept in tents:
-            # A new face and its list, each of its points associated with it (first_hull.new_face, written out).
-            key: Any = fid  # one int object for the id (compiled, an int would be boxed at each use)
-            if type(kept) is np.ndarray or len(kept) >= KERNEL_BATCH:
-                conflict = _freeze(kept)
-                _assign(assoc, self.assoc, conflict, fid)
-            else:
-                conflict = tuple(kept)
-                points: Any = conflict  # its ints as they are, not unboxed and boxed again
-                for q in points:
-                    assoc[q] = key
-            entry = faces[key] = (tent, (key, conflict))
-            added.append(entry)
-            if table is not None:
-                table.add(fid, tent)
-            fid += 1
-        self._next_fid = fid
+        added = tent_faces(tents, self._next_fid, faces, assoc, self.assoc, self._table)
+        self._next_fid += len(added)
         if self.stepwise:
             for tri in lit:
                 cx = S.rem(cx, tri)

@@ -32,6 +32,7 @@ __all__ = [
     "INTERIOR",
     "ON_HULL",
     "all_but",
+    "tent_faces",
     "triangle_array",
 ]
 
@@ -98,6 +99,39 @@ def _assign(table: bytearray | array[int], view: NDArray[Any], pts: Indices, val
     else:
         for q in pts:
             table[q] = value
+
+
+def tent_faces(
+    tents: list[tuple[Triangle, Indices]],
+    fid: int,
+    faces: dict[int, Entry],
+    assoc: array[int],
+    assoc_view: NDArray[np.int64],
+    table: _FaceTable | None,
+) -> list[Entry]:
+    """The tent's new faces as entries ``(triangle, (id, conflict list))``, ids from ``fid`` on, in the
+    order of ``tents`` (each a triangle and the points kept for it): each face entered in ``faces``
+    (and ``table``), each of its points associated with it in ``assoc`` (through ``assoc_view``, its
+    numpy view, for a long list).  :meth:`Bulldozer.insert <persistri.impl.hull.bulldozer.Bulldozer.insert>`'s
+    last step before the new version; ``first_hull.new_face`` for each tent face, written out.
+    O(faces + points)."""
+    added: list[Entry] = []
+    for tent, kept in tents:
+        key: Any = fid  # one int object for the id (compiled, an int would be boxed at each use)
+        if type(kept) is np.ndarray or len(kept) >= KERNEL_BATCH:
+            conflict = _freeze(kept)
+            _assign(assoc, assoc_view, conflict, fid)
+        else:
+            conflict = tuple(kept)
+            points: Any = conflict  # its ints as they are, not unboxed and boxed again
+            for q in points:
+                assoc[q] = key
+        entry = faces[key] = (tent, (key, conflict))
+        added.append(entry)
+        if table is not None:
+            table.add(fid, tent)
+        fid += 1
+    return added
 
 
 def _smallest_first(a: int, b: int, d: int) -> tuple[int, int, int]:
