@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["morton_codes", "morton_order", "BITS"]
+__all__ = ["morton_codes", "morton_order", "morton_order_distinct", "BITS"]
 
 BITS = 21
 """Bits per axis of the quantised coordinates: 3 × 21 = 63 bits fit an unsigned 64-bit code."""
@@ -106,23 +106,43 @@ def morton_order(points: NDArray[np.float64]) -> NDArray[np.intp]:
 
     O(n lg n) (the sort); the codes are O(n) vectorised.
     """
+    return morton_order_distinct(points)[0]
+
+
+def morton_order_distinct(points: NDArray[np.float64]) -> tuple[NDArray[np.intp], bool]:
+    """:func:`morton_order` of ``points``, and whether the sort found every code distinct on the way.
+
+    ``True`` proves that the rows are pairwise distinct (equal rows have equal codes), so
+    a caller that needs distinct rows can skip its own sort for duplicates
+    (:func:`persistri.impl.hull.api.convex_hull`: the usual case, at no extra cost).
+    ``False`` proves nothing: some codes share their leading bits (clustered points,
+    or equal ones), and the rows must be compared.
+
+    >>> import numpy as np
+    >>> morton_order_distinct(np.array([[1.0, 1.0], [0.0, 0.0], [1.0, 0.0]]))[1]
+    True
+    >>> morton_order_distinct(np.array([[1.0, 1.0], [0.0, 0.0], [1.0, 1.0]]))[1]
+    False
+
+    O(n lg n), as :func:`morton_order`.
+    """
     pts = np.asarray(points, dtype=np.float64)
     if pts.ndim != 2 or pts.shape[1] > 3:
         raise ValueError(f"morton_order needs an (n, d) array with d <= 3, got shape {pts.shape}")
     n = pts.shape[0]
     if n == 0:
-        return np.zeros(0, dtype=np.intp)
+        return np.zeros(0, dtype=np.intp), True
     code = morton_codes(pts)
     # Usually one sort of plain integers, not an argsort (a vectorised sort of uint64 is four times
     # faster than an argsort at 10^5 points): each code's leading bits with the row index below them.
-    # When no two codes share those leading bits, that is the order of the codes; otherwise (clustered
-    # points, or many of them) the stable argsort of the whole codes decides.
+    # When no two codes share those leading bits, that is the order of the codes (and they are all
+    # distinct); otherwise (clustered points, or many of them) the stable argsort of the whole codes decides.
     index_bits = max(1, (n - 1).bit_length())
     keyed = (code >> np.uint64(max(0, 3 * BITS + index_bits - 64))) << np.uint64(index_bits)
     keyed |= np.arange(n, dtype=np.uint64)
     keyed.sort()
     leading = keyed >> np.uint64(index_bits)
     if bool((leading[1:] == leading[:-1]).any()):
-        return np.argsort(code, kind="stable").astype(np.intp, copy=False)
+        return np.argsort(code, kind="stable").astype(np.intp, copy=False), False
     keyed &= np.uint64((1 << index_bits) - 1)
-    return keyed.astype(np.intp)
+    return keyed.astype(np.intp), True
