@@ -8,7 +8,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from persistri.impl.geometry.zorder import morton_order
+from persistri.impl.geometry.zorder import morton_order, morton_order_distinct
 
 
 def test_the_z_curve_on_a_grid() -> None:
@@ -76,3 +76,16 @@ def test_codes_that_share_their_leading_bits_are_still_ordered_by_the_whole_code
     assert morton_order(pts).tolist() == _reference_order(pts)
     spread_out = rng.random((500, 3))  # no shared leading bits: the fast path
     assert morton_order(spread_out).tolist() == _reference_order(spread_out)
+
+
+@given(arrays(np.float64, st.tuples(st.integers(0, 60), st.integers(1, 3)),
+              elements=st.one_of(st.floats(-1e300, 1e300, allow_nan=False), st.sampled_from([0.0, 1.0, 2.0]))))
+def test_distinct_codes_prove_distinct_rows(pts: np.ndarray) -> None:
+    """``morton_order_distinct`` gives :func:`morton_order`'s permutation, and says True only for pairwise
+    distinct rows (what lets the hull skip ``unique_rows``); with a row repeated it must say False."""
+    order, distinct = morton_order_distinct(pts)
+    assert order.tolist() == morton_order(pts).tolist()
+    if distinct:
+        assert len({tuple(r) for r in (pts + 0.0).tolist()}) == len(pts)
+    if len(pts):
+        assert morton_order_distinct(np.concatenate([pts, pts[:1]]))[1] is False
