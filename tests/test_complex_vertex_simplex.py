@@ -67,6 +67,32 @@ def test_vertex_is_an_immutable_int_with_point_and_lineage() -> None:
     assert d == [a, b] and d[0].lineage is d[1].lineage and d[1].point == (1, 1)
 
 
+def test_vertices_have_no_dict_and_keep_their_points() -> None:
+    """A vertex is as small as an int: its point is None, its own label, or in its lineage's table; a second
+    point for one label (two branches of one state) gets a vertex of its own, and no point ever changes."""
+    s0 = VertexState.initial()
+    lin = s0.lineage
+    none, own, table = Vertex(0, None, lin), Vertex(1, 1, lin), Vertex(2, ("p", 2), lin)
+    for v, point in ((none, None), (own, 1), (table, ("p", 2))):
+        assert not hasattr(v, "__dict__") and v.point == point and v.lineage is lin and isinstance(v, Vertex)
+        assert type(v) is not Vertex and type(v).__name__ == "Vertex"
+        c = copy.deepcopy(v)
+        assert c == v and c.point == v.point and c.lineage is lin
+        d = pickle.loads(pickle.dumps(v))
+        assert d == v and d.point == v.point and d.lineage is not lin
+    _, a = int_vertex.new(s0, [1.0, 2.0])
+    _, b = int_vertex.new(s0, [3.0, 4.0])  # a fork: the same label, another point
+    _, a2 = int_vertex.new(s0, a.point)  # the same point object again: the same vertex
+    assert a == b == a2 == 0 and a.point == [1.0, 2.0] and b.point == [3.0, 4.0] and a2.point is a.point
+    assert hasattr(b, "__dict__") and not hasattr(a2, "__dict__") and a.lineage is b.lineage is lin
+    with pytest.raises(AttributeError):
+        b.point = (0, 0)  # type: ignore[misc]  # the point of the test: immutable
+    assert copy.deepcopy(b).point == [3.0, 4.0] and copy.copy(table) == table
+    # A pickled complex of many vertices of one lineage comes back with one lineage.
+    e = pickle.loads(pickle.dumps([none, own, table, a, b]))
+    assert [v.point for v in e] == [None, 1, ("p", 2), [1.0, 2.0], [3.0, 4.0]] and len({id(v.lineage) for v in e}) == 1
+
+
 def test_vertex_bad_input() -> None:
     with pytest.raises(TypeError, match="VertexState"):
         int_vertex.new("not a state", 1)  # type: ignore[arg-type]

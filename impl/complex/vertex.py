@@ -62,17 +62,15 @@ class Lineage:
     point is neither ``None`` nor their own label, the table of their points.
     """
 
-    __slots__ = ("number", "_kinds", "_points")
+    __slots__ = ("number", "_kinds")
 
     number: int
     """A serial number, for messages only (``L3``)."""
     _kinds: dict[str, type[Vertex]]
-    _points: dict[Vertex, Any] | None
 
     def __init__(self) -> None:
         self.number = next(_lineage_numbers)
         self._kinds = {}
-        self._points = None
 
     def __copy__(self) -> Lineage:
         return self
@@ -96,8 +94,10 @@ class Lineage:
             elif kind == "label":
                 ns["point"] = property(int, doc="``loc v``: the vertex's own label.")
             elif kind == "table":
+                # The class holds its own table: two threads racing to make the class make two
+                # consistent classes, never a class that reads another's table.
                 points: dict[Vertex, Any] = {}
-                self._points = points
+                ns["_table"] = points
                 ns["point"] = property(points.__getitem__, doc="``loc v``: from the lineage's table.")
             if kind != "loose":
                 ns["__slots__"] = ()  # "loose": a per-instance __dict__ holds the point
@@ -155,9 +155,9 @@ class Vertex(int):
             return int.__new__(kinds.get("none") or lineage._kind("none"), label)
         if type(point) is int and point == label:
             return int.__new__(kinds.get("label") or lineage._kind("label"), label)
-        v: Vertex = int.__new__(kinds.get("table") or lineage._kind("table"), label)
-        points = lineage._points
-        assert points is not None  # made with the "table" class
+        table = kinds.get("table") or lineage._kind("table")
+        v: Vertex = int.__new__(table, label)
+        points: dict[Vertex, Any] = table.__dict__["_table"]
         old = points.setdefault(v, point)
         if old is point:
             return v
