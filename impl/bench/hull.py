@@ -24,7 +24,10 @@ With ``memory=True`` it also measures, with ``tracemalloc``, the memory of a
 run that keeps every intermediate hull (``history=True``: one complex version
 per insertion, sharing structure): what the versions alone hold, per inserted
 point, and what the whole run keeps against a run that keeps only the final
-hull (:class:`HullMemory`; InBall, 16K points by default).
+hull (:class:`HullMemory`; InBall, 16K points by default), on the first backend
+of ``backends`` (``red_black`` if that is the ephemeral baseline, which keeps no
+versions): ``backends=("red_black_arena", "red_black")`` measures the arena
+backend, the one meant for keeping histories.
 
 Times are CPU seconds of this process (``time.process_time``) with the cyclic
 garbage collector off during each timed call (``convex_hull`` pauses it itself;
