@@ -13,6 +13,9 @@ structure         its class, values    what
                   ``RBMap``
 ``hamt``          ``HamtMap``,         Bagwell's hash array mapped trie (keys hashable and ordered)
                   ``HMap``
+``red_black_      ``ArenaRedBlack      the same red-black tree, its nodes in an append-only arena of
+arena``           Map``, ``ArenaMap``  integer indices: a third of the memory for a kept history, but
+                                       nodes of dropped versions are never freed (for histories)
 ================  ===================  ===============================================================
 
 ``backend(name)`` resolves any name of :data:`BACKENDS` (the adapters for
@@ -32,17 +35,21 @@ from persistri.impl.maps.assoc_list import ALMap, AssocListMap, assoc_list
 from persistri.impl.maps.counted import counted
 from persistri.impl.maps.hamt import HamtMap, HMap, hamt
 from persistri.impl.maps.red_black import RBMap, RedBlackMap, red_black
+from persistri.impl.maps.red_black_arena import ArenaMap, ArenaRedBlackMap, red_black_arena
 
 __all__ = [
     "assoc_list",
     "red_black",
     "hamt",
+    "red_black_arena",
     "AssocListMap",
     "ALMap",
     "RedBlackMap",
     "RBMap",
     "HamtMap",
     "HMap",
+    "ArenaRedBlackMap",
+    "ArenaMap",
     "counted",
     "backend",
     "BACKENDS",
