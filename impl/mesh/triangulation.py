@@ -297,13 +297,12 @@ class MeshTriangulation:
                 continue
             if nid not in rejected:
                 x2 = rec[0]
-                ntri = (w, u, x2)
-                x0, x1 = w, u
-                if rows is None or x0 < 0 or x1 < 0 or x2 < 0:
-                    inside = conflicts(ntri, p)
+                # The triangle across is (w, u, x2); its tuple is made only for the cavity or the exact test.
+                if rows is None or w < 0 or u < 0 or x2 < 0:
+                    inside = conflicts((w, u, x2), p)
                 else:
-                    ax, ay = rows[x0]
-                    bx, by = rows[x1]
+                    ax, ay = rows[w]
+                    bx, by = rows[u]
                     cx, cy = rows[x2]
                     # incircle_terms(ax, ay, bx, by, cx, cy, px, py), operation for operation (its proved bound holds).
                     adx = ax - px
@@ -333,9 +332,9 @@ class MeshTriangulation:
                     elif det < -thr:
                         inside = False
                     else:
-                        inside = pred.incircle(x0, x1, x2, p) > 0
+                        inside = pred.incircle(w, u, x2, p) > 0
                 if inside:
-                    cavity[nid] = (ntri, ndat)
+                    cavity[nid] = ((w, u, x2), ndat)
                     stack.append((u, x2, ndat))
                     stack.append((x2, w, ndat))
                     continue
