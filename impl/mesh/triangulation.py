@@ -197,7 +197,7 @@ class MeshTriangulation:
         it is exterior (a ghost, a hole) it stays, rewritten without the constraint,
         and the sliver between the new chain ``u–p–w`` and the old edge joins the
         exterior (so a hull stays convex).  ``index`` and ``on_line``: as :meth:`cavity`'s; ``before``: as
-        :meth:`build`'s (``c`` is then the triangulation after those steps, read through ``index``).  Returns the
+        :meth:`build`'s (``c`` is then ``before.base``, and ``index`` describes it with those steps done).  Returns the
         :class:`Insertion`; ``c`` is unchanged.
         """
         return self.build(self.cavity(c, p, start, split, index, on_line), before)
