@@ -54,8 +54,15 @@ def test_crossing_segments_are_refused_naming_both() -> None:
 
 def test_holes_and_regions_must_be_in_the_domain() -> None:
     refused(r"hole 0 at \(5.0, 5.0\) lies outside the domain \(outside the convex hull", OUTER, RING4, [[5, 5]])
-    refused(r"hole 0 at \(2.0, 0.0\) lies on the segment \(0–1\)", OUTER, RING4, [[2, 0]])
-    refused(r"hole 0 at \(4.0, 4.0\) is on vertex 2", OUTER, RING4, [[4, 4]])
+    refused(r"hole 0 at \(2.0, 0.0\) lies on segment 0 between \(0.0, 0.0\) and \(4.0, 0.0\)$", OUTER, RING4, [[2, 0]])
+    refused(r"hole 0 at \(4.0, 4.0\) is on vertex 2$", OUTER, RING4, [[4, 4]])
+    # Named as the caller wrote them: vertex 3 merged into 0 (so 4 became row 3), segment 1 repeated segment 0, and
+    # the convex hull's edges added.
+    refused(r"hole 0 at \(4.0, 2.0\) lies on segment 2 between \(4.0, 0.0\) and \(4.0, 4.0\)$",
+            OUTER[:3] + [[0, 0], [0, 4]], [[0, 1], [1, 0], [1, 2], [2, 4], [4, 0]], [[4, 2]])
+    refused(r"hole 0 at \(0.0, 4.0\) is on vertex 4$", OUTER[:3] + [[0, 0], [0, 4]], [[0, 1], [1, 2], [2, 4], [4, 0]], [[0, 4]])
+    refused(r"hole 0 at \(2.0, 0.0\) lies on the convex hull edge \(0.0, 0.0\)–\(4.0, 0.0\) \(a \.node file, or "
+            r"convex=True, is meshed as its convex hull\)$", OUTER + [[1, 1]], holes=[[2, 0]], convex=True)
     refused(r"region 0 at \(1.5, 1.5\) lies in a hole", OUTER + INNER, RING8, [[1.5, 1.5]], [[1.5, 1.5, 1, 0]])
     refused(r"region 0 at \(9.0, 1.0\) lies outside", OUTER, RING4, regions=[[9, 1, 1, 0]])
 
@@ -118,6 +125,49 @@ def test_convex_meshes_the_hull() -> None:
     p = as_pslg([[0, 0], [2, 0], [1, 0], [0, 2], [0.5, 0.5]], convex=True)
     assert domain_of(p).area == 2
     assert sorted(map(sorted, p.segments.tolist())) == [[0, 2], [0, 3], [1, 2], [1, 3]]  # split at (1, 0)
+
+
+def test_segment_origin_names_each_segment_s_input_row() -> None:
+    # Repeats merge into the first, a split segment's pieces keep its row, added hull edges are -1.
+    p = as_pslg(OUTER + [[2, 0], [4, 4]], [[1, 2], [0, 1], [2, 1], [5, 3], [3, 0]])
+    assert p.segment_origin is not None
+    named = {tuple(sorted(e)): o for e, o in zip(p.segments.tolist(), p.segment_origin.tolist())}
+    assert named == {(1, 2): 0, (0, 4): 1, (1, 4): 1, (2, 3): 3, (0, 3): 4}
+    q = as_pslg([[0, 0], [2, 0], [1, 0], [0, 2], [0.5, 0.5]], [[4, 3]], convex=True)
+    assert q.segment_origin is not None
+    assert sorted(q.segment_origin.tolist()) == [-1, -1, -1, -1, 0]
+    assert PSLG(np.array(OUTER, dtype=float), np.array(RING4)).segment_origin is None  # not validated: rows as given
+
+
+def test_the_dict_form_has_no_origins_and_names_its_own_rows() -> None:
+    # Triangle's form has no key for origins (triangle.triangulate refuses unknown keys): read back, the hull edges
+    # are segments of the dictionary, named by their rows in it, which is what its reader can find.
+    p = as_pslg(OUTER + [[1, 1]], [[0, 4]], convex=True)
+    d = p.to_dict()
+    assert "segment_origin" not in d
+    back = PSLG.from_dict(d)
+    assert back.segment_origin is not None and back.segment_origin.tolist() == list(range(len(d["segments"])))
+    assert np.array_equal(back.segments, p.segments) and triangle.triangulate(d, "p")["triangles"].shape[0] > 0
+    with pytest.raises(DomainError, match="unknown PSLG key 'segment_origin'"):
+        PSLG.from_dict({**d, "segment_origin": p.segment_origin})
+
+
+def test_input_names() -> None:
+    from persistri.impl.mesh.naming import InputNames
+
+    p = as_pslg(OUTER + [[4, 4], [1, 1]], [[0, 5]], convex=True)  # row 4 repeats row 2; row 5 is vertex 4
+    names = InputNames.of(p.segment_origin, p.vertex_map)
+    assert [names.vertex(v) for v in range(p.vertices.shape[0])] == [0, 1, 2, 3, 5]
+    assert p.segment_origin is not None
+    inner = p.segment_origin.tolist().index(0)
+    assert names.segment(inner, "(0.0, 0.0)", "(1.0, 1.0)") == "segment 0 between (0.0, 0.0) and (1.0, 1.0)"
+    hull = p.segment_origin.tolist().index(-1)
+    assert names.is_hull_edge(hull) and not names.is_hull_edge(inner)
+    assert names.segment(hull, "(0.0, 0.0)", "(4.0, 0.0)") == (
+        "the convex hull edge (0.0, 0.0)–(4.0, 0.0) (a .node file, or convex=True, is meshed as its convex hull)"
+    )
+    plain = InputNames.of(np.arange(4), np.arange(4))  # nothing renumbered
+    assert plain == InputNames() and plain.vertex(3) == 3 and plain.segment(2, "a", "b") == "segment 2 between a and b"
 
 
 # -- exactness at UTM offsets ---------------------------------------------------------------------

@@ -35,6 +35,7 @@ from persistri.impl.geometry.points import as_points, unique_rows
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.mesh.errors import DomainError
 from persistri.impl.mesh.faces import UNBOUNDED, PlanarFaces, common_scale, planar_faces
+from persistri.impl.mesh.naming import InputNames
 from persistri.impl.mesh.segments import convex_hull, dedupe, point_text, refuse_crossings, split_at_vertices
 
 __all__ = ["PSLG", "DomainError", "Domain", "as_pslg", "domain_of"]
@@ -68,7 +69,13 @@ class PSLG:
     * ``notes`` — what :func:`as_pslg` repaired or noticed, one line each (merged
       duplicate vertices, split segments, vertices outside the domain);
     * ``vertex_map`` — for a PSLG from :func:`as_pslg`, the row of ``vertices`` each
-      input vertex became (duplicates merge), else None.
+      input vertex became (duplicates merge), else None;
+    * ``segment_origin`` — for a PSLG from :func:`as_pslg`, the input row each segment comes
+      from (a piece of it, where validation split it at a vertex; the first of repeated ones), or
+      -1 for a convex hull edge that ``convex=True`` added; else None (the rows are the input's).
+      Messages name segments by it (:class:`~persistri.impl.mesh.naming.InputNames`).
+      :meth:`to_dict` leaves it out (Triangle's form has no such key): a PSLG read back
+      from that dictionary has the hull edges as segments of its own, numbered as listed.
 
     A ``PSLG`` built directly is NOT validated; :func:`~persistri.impl.mesh.domain.as_pslg`
     builds a validated one (crossing segments, vertices on segment interiors, duplicates,
@@ -84,6 +91,7 @@ class PSLG:
     vertex_attributes: NDArray[np.float64] | None = None
     notes: tuple[str, ...] = ()
     vertex_map: NDArray[np.intp] | None = None
+    segment_origin: NDArray[np.intp] | None = None
 
     def __repr__(self) -> str:
         return (
@@ -322,6 +330,7 @@ def as_pslg(
         vertex_attributes=vattr,
         notes=(),
         vertex_map=uniq.inverse.astype(np.intp),
+        segment_origin=origin,
     )
     dom = domain_of(result, pred=pred)
     for v in np.flatnonzero(~dom.vertex_inside).tolist():
@@ -336,6 +345,7 @@ def as_pslg(
         vertex_attributes=result.vertex_attributes,
         notes=tuple(notes),
         vertex_map=result.vertex_map,
+        segment_origin=result.segment_origin,
     )
 
 
@@ -412,15 +422,16 @@ def domain_of(pslg: PSLG, *, scale: IntegerScale | None = None, pred: Predicates
     faces = planar_faces(verts, seg, scale=scale if scale is not None else common_scale(verts))
     kept = np.ones(faces.n_faces, dtype=bool)
     hull: list[int] | None = None
+    names = InputNames.of(pslg.segment_origin, pslg.vertex_map)  # messages name the input's rows
 
     def place(p: NDArray[np.float64], what: str, k: int, row: int) -> int:
         nonlocal hull, pred
         where = faces.locate(float(p[0]), float(p[1]))
         if where.vertex is not None:
-            raise DomainError(f"{what} {k} at {point_text(p)} is on vertex {where.vertex}")
+            raise DomainError(f"{what} {k} at {point_text(p)} is on vertex {names.vertex(where.vertex)}")
         if where.segment is not None:
-            a, b = (int(v) for v in seg[where.segment])
-            raise DomainError(f"{what} {k} at {point_text(p)} lies on the segment ({a}–{b})")
+            a, b = (point_text(verts[v]) for v in seg[where.segment])
+            raise DomainError(f"{what} {k} at {point_text(p)} lies on {names.segment(where.segment, a, b)}")
         if where.face == UNBOUNDED:
             if pred is None:
                 pred = Predicates2(np.concatenate([verts, pslg.holes, pslg.regions[:, :2]]))
