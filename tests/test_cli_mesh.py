@@ -315,13 +315,16 @@ def test_npz_holds_the_record_of_the_undone_points(tmp_path: Path) -> None:
 
 
 def test_a_vertex_closer_than_doubles_resolve_is_named_in_one_line(tmp_path: Path) -> None:
-    # Triangle's own spiral.q.1.node: its 17th vertex (row 16) lies 0.001 ulp from a convex hull edge.
+    # Triangle's own spiral.q.1.node: its 17th vertex (row 16) lies 0.001 ulp from a convex hull edge, named as
+    # such (the file lists no segments).
     source = Path(triangle.__file__).parent / "data" / "spiral.q.1.node"
     result, caught = invoke(["mesh", str(source), "-q", "30", "-o", str(tmp_path / "s.npz"), "--quiet"])
     assert_one_line_failure(
         result, caught, "spiral.q.1.node",
         r"input vertex 16 at \(-0\.6725000000000001, 1\.1995\) lies [\d.e-]+ \([\d.e-]+ units in the last place\) "
-        r"from segment 12, .* \(rows counted from 0; the file numbers from 1\)$",
+        r"from the convex hull edge \(0\.004999999999999942, 1\.963\)–\(-1\.35, 0\.436\) \(a \.node file, or "
+        r"convex=True, is meshed as its convex hull\), without being on it: .* \(rows counted from 0; the file numbers "
+        r"from 1\)$",
     )
     assert files_under(tmp_path) == set()
     _ok(["mesh", str(source), "-q", "0", "--check", "--quiet"])  # its constrained Delaunay triangulation is fine

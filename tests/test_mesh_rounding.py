@@ -12,7 +12,9 @@ cannot be resolved by any mesh of doubles: the refiner says so, naming it.
 from __future__ import annotations
 
 import math
+import re
 from fractions import Fraction
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -25,6 +27,7 @@ from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.api import triangulate
 from persistri.impl.mesh.chains import in_tolerance_box
 from persistri.impl.mesh.domain import PSLG, DomainError, as_pslg
+from persistri.impl.mesh.polyfile import read_poly
 from persistri.impl.mesh.precision import BAND_ULPS, clear_of_band
 from persistri.impl.mesh.splitting import _candidate_parameters, near_segment, rounded_candidates
 from persistri.impl.mesh.steiner import PrecisionLimitError, _dyadic_double, _dyadic_split, _last_reducing_level
@@ -101,8 +104,56 @@ def test_an_input_vertex_within_an_ulp_of_a_segment_is_named() -> None:
         triangulate(d, min_angle=20)
     message = str(info.value)
     x, y = (float(c) for c in d.vertices[v])
-    assert message.startswith(f"input vertex {v} at ({x!r}, {y!r}) lies ") and "from segment 2," in message
+    a, b = (f"({float(c[0])!r}, {float(c[1])!r})" for c in (B, A))
+    assert message.startswith(f"input vertex {v} at ({x!r}, {y!r}) lies ")
+    assert f"from segment 2 between {a} and {b}, without being on it" in message
     assert "units in the last place" in message and "\n" not in message
+
+
+def _point(p: tuple[float, float]) -> str:
+    return f"({float(p[0])!r}, {float(p[1])!r})"
+
+
+def test_a_poly_file_s_segment_is_named_by_its_own_number(tmp_path: Path) -> None:
+    # The lot of _crowded as a .poly numbered from 1 whose validation renumbers: a repeated corner (merged), a
+    # vertex on the bottom side (which splits it in two) and a repeated side (merged).  The message names the
+    # crowded vertex and segment by their rows in the file (counted from 0), not by the validated ones.
+    lot, _ = _crowded(1)
+    p0, p1, b, a, v = (tuple(float(c) for c in row) for row in lot.vertices)
+    rows = [p0, p1, b, a, p0, (X0 + 20.0, Y0 - 30.0), v]  # row 4 repeats row 0; row 5 lies on p0–p1
+    segs = [(0, 1), (1, 2), (2, 3), (3, 4), (1, 2)]  # row 2 is the crowded side B–A; row 4 repeats row 1
+    text = [f"{len(rows)} 2 0 0"] + [f"{k + 1} {x!r} {y!r}" for k, (x, y) in enumerate(rows)]
+    text += [f"{len(segs)} 0"] + [f"{k + 1} {i + 1} {j + 1}" for k, (i, j) in enumerate(segs)] + ["0"]
+    path = tmp_path / "lot.poly"
+    path.write_text("\n".join(text) + "\n")
+    d = read_poly(path)
+    assert d.vertices.shape[0] == 6 and d.segments.shape[0] == 5  # renumbered: v is row 5, B–A row 3
+    assert d.segment_origin is not None and d.segment_origin.tolist() == [0, 0, 1, 2, 3]
+    with pytest.raises(PrecisionLimitError) as info:
+        triangulate(d, min_angle=20)
+    message = str(info.value)
+    assert message.startswith(f"input vertex 6 at {_point(v)} lies "), message
+    assert f"from segment 2 between {_point(b)} and {_point(a)}, without being on it" in message, message
+    assert "segment 3" not in message and "convex hull" not in message
+
+
+def test_an_added_convex_hull_edge_is_named_as_such() -> None:
+    # The same points with no segments, meshed as their convex hull (convex=True): the crowded side is an edge of
+    # the hull that validation added; the message says so, and names no segment the caller never gave.
+    lot, v = _crowded(1)
+    d = as_pslg(lot.vertices, convex=True)
+    hull = d.segment_origin
+    assert hull is not None and hull.tolist() == [-1] * 4
+    with pytest.raises(PrecisionLimitError) as info:
+        triangulate(d, min_angle=20)
+    message = str(info.value)
+    x, y = (float(c) for c in d.vertices[v])
+    assert message.startswith(f"input vertex {v} at ({x!r}, {y!r}) lies "), message
+    ends = {f"{_point(B)}–{_point(A)}", f"{_point(A)}–{_point(B)}"}
+    named = re.search(r"from the convex hull edge (\(.*?\)–\(.*?\)) \(a \.node file, or convex=True, is meshed as its "
+                      r"convex hull\), without being on it", message)
+    assert named is not None and named.group(1) in ends, message
+    assert not re.search(r"segment \d", message)
 
 
 def test_a_vertex_a_few_ulps_further_away_is_meshed() -> None:

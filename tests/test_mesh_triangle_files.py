@@ -132,6 +132,7 @@ def test_bundled_file_meshes_or_fails_for_its_reason(name: str, angle: float) ->
         x, y = (float(c) for c in domain.vertices[v])
         assert f"input vertex {v} at ({x!r}, {y!r})" in message and "units in the last place" in message
         assert "\n" not in message
+        _names_the_hull_edge(domain, message)
         # The reason is true: that vertex is off every segment but within the tolerance band of one.
         shown = re.search(r"\(([\d.e+-]+) units in the last place\)", message)
         assert shown is not None and _ulp_distance(domain, v) < 2
@@ -139,6 +140,37 @@ def test_bundled_file_meshes_or_fails_for_its_reason(name: str, angle: float) ->
         return
     mesh = triangulate(domain, min_angle=angle)
     _check(domain, mesh, angle, None)
+
+
+def _names_the_hull_edge(domain: PSLG, message: str) -> None:
+    """A .node file has no segments: the message names the convex hull edge (added by validation) as such, with
+    its ends, and no segment number."""
+    named = re.search(
+        r"from the convex hull edge \((\S+), (\S+)\)–\((\S+), (\S+)\) \(a \.node file, or convex=True, is meshed as its "
+        r"convex hull\), without being on it",
+        message,
+    )
+    assert named is not None, message
+    assert not re.search(r"segment \d", message), message
+    ax, ay, bx, by = (float(c) for c in named.groups())
+    rows = {(float(x), float(y)): k for k, (x, y) in enumerate(domain.vertices.tolist())}
+    ends = {rows[(ax, ay)], rows[(bx, by)]}
+    assert domain.segment_origin is not None
+    hull = [set(e) for e, o in zip(domain.segments.tolist(), domain.segment_origin.tolist()) if o == -1]
+    assert ends in hull and len(hull) == domain.segments.shape[0]
+
+
+def test_greenland_names_the_convex_hull_edge_not_a_segment() -> None:
+    # Triangle's greenland.node at 20° (as `persistri mesh greenland.node --min-angle 20`): its row 12008 lies 0.16
+    # ulp from an edge of the convex hull, which the file never lists; the message named it "segment 15".
+    domain = _domain("greenland.node")
+    with pytest.raises(PrecisionLimitError) as info:
+        triangulate(domain, min_angle=20)
+    message = str(info.value)
+    x, y = (float(c) for c in domain.vertices[12008])
+    assert message.startswith(f"input vertex 12008 at ({x!r}, {y!r}) lies "), message
+    assert "the convex hull edge (105.4610209809, 39.6536736603)–(106.5, 40.0) (a .node file" in message, message
+    _names_the_hull_edge(domain, message)
 
 
 LARGE = ("la", "dots", "box.4", "double_hex.2", "double_hex3.1", "square_circle_hole")

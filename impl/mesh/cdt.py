@@ -60,6 +60,7 @@ from persistri.impl.complex.vertex import Vertex
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.mesh.domain import PSLG
+from persistri.impl.mesh.naming import InputNames
 from persistri.impl.mesh.scratch import ScratchComplex, insert_vertex
 from persistri.impl.mesh.triangulation import (
     EXTERIOR,
@@ -102,7 +103,15 @@ class SegmentGeometry:
     incident: list[int]
     """The number of segments at each input vertex."""
     off_segment: set[int] = field(default_factory=set)
+    names: InputNames = field(default_factory=InputNames)
+    """How messages name the segments and input vertices (the rows the user wrote, :mod:`~persistri.impl.mesh.naming`)."""
     _at: dict[int, tuple[int, ...]] | None = field(default=None, repr=False, compare=False)
+
+    def name(self, P: GrowingPredicates2, s: int) -> str:
+        """Segment ``s`` in a message, as the user can find it (:meth:`~persistri.impl.mesh.naming.InputNames.segment`:
+        its input row and the coordinates of its ends, or "the convex hull edge …"). O(1)."""
+        (ax, ay), (bx, by) = P.xy(self.ends[s][0]), P.xy(self.ends[s][1])
+        return self.names.segment(s, f"({ax!r}, {ay!r})", f"({bx!r}, {by!r})")
 
     def segments_at(self, o: int) -> tuple[int, ...]:
         """The segments with an end at input vertex ``o`` (none twice, zero-length ones left out), by index.  The
@@ -414,6 +423,11 @@ def constrained_delaunay(
     cx = builder.regions(cx, domain.holes, domain.regions, T.S)
     T.take_ids_from(scratch)
     geo = SegmentGeometry(
-        ends=[(int(a), int(b)) for a, b in segs.tolist()], on_segment={}, shell={}, n_input=n, incident=incident
+        ends=[(int(a), int(b)) for a, b in segs.tolist()],
+        on_segment={},
+        shell={},
+        n_input=n,
+        incident=incident,
+        names=InputNames.of(domain.segment_origin, domain.vertex_map),
     )
     return cx, geo

@@ -42,7 +42,14 @@ from persistri.impl.mesh.cdt import SegmentGeometry
 from persistri.impl.mesh.splitting import near_segment
 from persistri.impl.mesh.triangulation import EXTERIOR, Insertion, constraint_of
 
-__all__ = ["BAND_ULPS", "clear_of_band", "crowded_apex", "valid_split", "nearest_features", "segment_distance2"]
+__all__ = [
+    "BAND_ULPS",
+    "clear_of_band",
+    "crowded_apex",
+    "valid_split",
+    "nearest_features",
+    "segment_distance2",
+]
 
 BAND_ULPS = 2.0
 """Half-width of the tolerance band around a segment, in units in the last place (``verify_mesh``'s default)."""
@@ -71,13 +78,14 @@ def _ulps(P: GrowingPredicates2, v: int, a: int, b: int) -> float:
 
 
 def _describe(P: GrowingPredicates2, geo: SegmentGeometry, v: int, s: int) -> str:
-    """``v`` and its distance to segment ``s``, in coordinates (rows counted from 0)."""
+    """``v`` and its distance to segment ``s``, in coordinates; an input vertex and the segment named as the user
+    wrote them (input rows counted from 0; an added convex hull edge as such: ``geo.names``)."""
     a, b = geo.ends[s]
     d = math.sqrt(segment_distance2(P, v, a, b))
-    kind = "input vertex" if v < geo.n_input else "vertex"
+    who = f"input vertex {geo.names.vertex(v)}" if v < geo.n_input else f"vertex {int(v)}"
     return (
-        f"{kind} {int(v)} at {_at(P, v)} lies {d:.2g} ({d / _ulps(P, v, a, b):.2g} units in the last place) from "
-        f"segment {s}, {_at(P, a)}–{_at(P, b)}, without being on it"
+        f"{who} at {_at(P, v)} lies {d:.2g} ({d / _ulps(P, v, a, b):.2g} units in the last place) from "
+        f"{geo.name(P, s)}, without being on it"
     )
 
 

@@ -208,7 +208,7 @@ class Refiner(RefinerState):
             if crowded is not None:
                 raise PrecisionLimitError(
                     f"{crowded}: a mesh meeting the bounds would need edges shorter than the spacing of doubles there "
-                    "(move the vertex onto the segment or away from it, or mesh without an angle bound)"
+                    "(move the vertex onto it or away from it, or mesh without an angle bound)"
                 )
             clear.add((s, side[0][2]))
         t, x, y, shell, rounded = split_point(
@@ -237,8 +237,8 @@ class Refiner(RefinerState):
                     break
             else:
                 raise PrecisionLimitError(
-                    f"no pair of doubles near segment {s} between vertices {int(lo)} and {int(hi)} splits it into a "
-                    "valid mesh (every candidate makes a flat or inverted triangle): the mesh is at the limit of "
+                    f"no pair of doubles near the subsegment {int(lo)}–{int(hi)} (mesh vertices) of {geo.name(P, s)} "
+                    "splits it into a valid mesh (every candidate makes a flat or inverted triangle): the mesh is at the limit of "
                     "double precision here"
                 )
         geo.on_segment[p] = (s, t)

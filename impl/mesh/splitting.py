@@ -264,13 +264,13 @@ def split_point(
     except PrecisionLimitError as exc:
         if exact_segments:
             raise PrecisionLimitError(
-                f"splitting segment {s} between vertices {int(lo)} and {int(hi)}: {exc}; "
+                f"splitting the subsegment {int(lo)}–{int(hi)} (mesh vertices) of {geo.name(P, s)}: {exc}; "
                 "the default, exact_segments=False, rounds split points to the nearest doubles there, as Triangle does"
             ) from None
     for t, x, y in rounded_candidates(P, a, b, lo, hi, t_first, t_second, wanted):
         return t, x, y, shell, True
     raise PrecisionLimitError(
-        f"no pair of doubles near segment {s} lies strictly between vertices {int(lo)} and {int(hi)}: "
+        f"no pair of doubles lies strictly inside the subsegment {int(lo)}–{int(hi)} (mesh vertices) of {geo.name(P, s)}: "
         "the mesh is at the limit of double precision here"
     )
 
