@@ -105,6 +105,7 @@ def insert(T: Triangulator, p: int, start: int) -> Insertion:
     ends: list[Any] = []
     inf = T.infinite
     kern = T.kernel  # its tests called as methods: compiled, a direct call each
+    uncounted = not T.counted  # the kernel's tests need not read the predicates' stats (Triangulator.counted)
     # p as an object, for the kernel's tests (compiled, an int local is boxed at every call).
     pp: Any = p
     # Each entry: an edge (u, w) of a cavity triangle whose far side is still to be decided.
@@ -148,7 +149,7 @@ def insert(T: Triangulator, p: int, start: int) -> Insertion:
             elif u is inf:
                 hit = T.ghost_conflict(x, w, p)
             else:
-                hit = kern.incircle(w, u, x, pp) > 0
+                hit = (kern.incircle_uncounted(w, u, x, pp) if uncounted else kern.incircle(w, u, x, pp)) > 0
             if hit:
                 if index is not None:
                     # (u, w) and (w, u) are inside the cavity and looked up no more ((w, u) is the entry of

@@ -119,6 +119,10 @@ class Triangulator:
     index of the current version, not part of any version (about 0.5 KB a point while
     the run lasts).  Off by default (greedy insertion keeps its memory for the
     grid's samples) and in counted runs, which count the paper's look-ups.
+
+    ``counted`` — whether the predicates count (their ``stats`` is set), decided at construction: a run's
+    predicates keep their ``stats``.  Uncounted, the cavity and the walks call the kernel's
+    ``incircle_uncounted`` and ``orient2d_uncounted``, the same signs without reading ``stats`` at every test.
     """
 
     def __init__(
@@ -160,6 +164,9 @@ class Triangulator:
             {} if edge_index and pred.stats is None and structure.stats is None else None
         )
         self.kernel = pred.kernel()
+        # Whether the run is counted, decided once (the predicates' stats is fixed for a run, as the edge index
+        # assumes): uncounted, the cavity and the walks call the kernel's tests that do not read stats.
+        self.counted = pred.stats is not None
         # The sector test's float path is exact when orient2d's is (docs of kernel2d and sectors).
         self.small_integers = self.kernel.exact_orient2d
 

@@ -32,6 +32,7 @@ def walk_from_fan(T: Triangulator, p: int, last: Insertion) -> int:
     if last.hull_vertex or last.version is not T.complex:
         return T.locate(p, created[0][0])
     kern = T.kernel  # its tests called as methods: compiled, a direct call each
+    uncounted = not T.counted  # the kernel's tests need not read the predicates' stats (Triangulator.counted)
     rays: list[Any] = last.rays
     # The points as objects for the kernel's tests (compiled, an int local is boxed again at every call).
     q: Any = last.point
@@ -40,20 +41,20 @@ def walk_from_fan(T: Triangulator, p: int, last: Insertion) -> int:
     # forward to the first -1 if r_0 has +1, else backward to the first +1 (about a quarter of the fan).
     nfan = len(created)
     i = -1
-    if kern.orient2d(q, rays[0], pp) > 0:
+    if (kern.orient2d_uncounted(q, rays[0], pp) if uncounted else kern.orient2d(q, rays[0], pp)) > 0:
         for j in range(1, nfan):
-            if kern.orient2d(q, rays[j], pp) < 0:
+            if (kern.orient2d_uncounted(q, rays[j], pp) if uncounted else kern.orient2d(q, rays[j], pp)) < 0:
                 i = j - 1
                 break
     else:
         for j in range(nfan - 1, 0, -1):
-            if kern.orient2d(q, rays[j], pp) > 0:
+            if (kern.orient2d_uncounted(q, rays[j], pp) if uncounted else kern.orient2d(q, rays[j], pp)) > 0:
                 i = j
                 break
     if i >= 0:
         u = rays[i]
         w = rays[i + 1]
-        if kern.orient2d(u, w, pp) > 0:
+        if (kern.orient2d_uncounted(u, w, pp) if uncounted else kern.orient2d(u, w, pp)) > 0:
             tid: int = created[i][0]
             return tid
         index = T.edges
@@ -76,6 +77,7 @@ def walk(T: Triangulator, p: int, tid: int, tri: tuple[Any, ...], entered: bool,
     first edge (a triangle found by ``neighbour((w, u))`` is ``(w, u, x)``), which it does not test again.  Each
     step one ``neighbour`` look-up and at most three ``orient2d`` tests; O(n) as a last resort (never needed)."""
     kern = T.kernel  # its tests called as methods: compiled, a direct call each
+    uncounted = not T.counted  # as in walk_from_fan
     index = T.edges  # the index of the current version's edges, when the triangulator keeps one
     neighbour = T.neighbours() if index is None else None
     check = T.check
@@ -99,7 +101,7 @@ def walk(T: Triangulator, p: int, tid: int, tri: tuple[Any, ...], entered: bool,
                 u, w = b, c
             else:
                 u, w = c, a
-            if (k or not entered) and kern.orient2d(u, w, pp) < 0:
+            if (k or not entered) and (kern.orient2d_uncounted(u, w, pp) if uncounted else kern.orient2d(u, w, pp)) < 0:
                 moved = True
                 break
             k = k + 1 if k < 2 else 0
