@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from fractions import Fraction
 
 import numpy as np
@@ -312,3 +313,35 @@ def test_the_domain_may_be_triangles_dictionary(good: tuple[NDArray[np.float64],
     assert verify_mesh(as_dict, v, t[1:]).kinds() == verify_mesh(SQUARE_HOLE, v, t[1:]).kinds() != set()
     flat = verify_mesh({"vertices": [[0, 0], [1, 0]]}, v, t)
     assert flat.kinds() == {"domain"} and "collinear" in flat.problems[0].message
+
+
+def test_problems_name_segments_as_the_caller_wrote_them() -> None:
+    # Validation renumbers: segment 0 is split at (2, 0), so input segment 4 (the diagonal) is validated row 5.
+    # A mesh without the diagonal (its two triangles flipped) is named by the caller's row, with its ends.
+    d = as_pslg([[0, 0], [4, 0], [4, 4], [0, 4], [2, 0], [1, 1.5], [3, 2.5]], [[0, 1], [1, 2], [2, 3], [3, 0], [5, 6]])
+    assert d.segment_origin is not None and d.segment_origin.tolist()[-1] == 4 and d.segments.shape[0] == 6
+    from persistri.impl.mesh.api import triangulate
+
+    m = triangulate(d)
+    tri = m.triangles.copy()
+    pair = [k for k, t in enumerate(tri.tolist()) if 5 in t and 6 in t]
+    assert len(pair) == 2
+    (a, b), (c, e) = ([v for v in tri[k].tolist() if v not in (5, 6)] + [k] for k in pair)
+    first = tri[b].tolist()
+    i = first.index(a)
+    u, w = first[(i + 1) % 3], first[(i + 2) % 3]  # a, u, w counterclockwise; c is across u–w
+    tri[b], tri[e] = [a, u, c], [a, c, w]
+    rep = verify_mesh(d, m.vertices, tri)
+    assert any("segment 4 between (1.0, 1.5) and (3.0, 2.5) is not a union of mesh edges" in p.message for p in rep.problems)
+    assert not any("segment 5" in p.message for p in rep.problems)
+    # An added convex hull edge is named as such: a mesh of the hull less the triangle on the edge (0, 0)–(4, 0).
+    h = as_pslg([[0, 0], [4, 0], [4, 4], [0, 4], [2, 1]], convex=True)
+    hm = triangulate(h)
+    kept = np.array([t for t in hm.triangles.tolist() if not {0, 1} <= set(t)])
+    messages = [p.message for p in verify_mesh(h, hm.vertices, kept).problems]
+    assert any(
+        s.startswith("the convex hull edge (0.0, 0.0)–(4.0, 0.0) (a .node file, or convex=True, is meshed as its convex "
+                     "hull) is not a union of mesh edges")
+        for s in messages
+    ), messages
+    assert not any(re.search(r"segment \d", s) for s in messages), messages

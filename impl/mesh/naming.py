@@ -15,7 +15,7 @@ wrote; :class:`InputNames` says instead
   meshed as its convex hull)``;
 * for a vertex of the domain: its input row (the first of merged duplicates).
 
-Costs: :meth:`InputNames.of` O(n); every name O(1).
+Costs: :meth:`InputNames.of` O(n + m); every name O(1).
 """
 
 from __future__ import annotations
@@ -54,6 +54,21 @@ class InputNames:
         if origin is not None and origin == tuple(range(len(origin))):
             origin = None
         return cls(origin, rows)
+
+    @classmethod
+    def through(
+        cls,
+        first: tuple[NDArray[np.intp] | None, NDArray[np.intp] | None],
+        then: tuple[NDArray[np.intp] | None, NDArray[np.intp] | None],
+    ) -> InputNames:
+        """Names across two validations: ``then`` = (``segment_origin``, ``vertex_map``) of a PSLG validated from
+        one whose own are ``first`` (the checker re-validates the domain it is given).  O(n + m)."""
+        origin, vmap = then
+        if first[0] is not None and origin is not None:
+            origin = np.where(origin >= 0, first[0][np.maximum(origin, 0)], HULL_EDGE).astype(np.intp)
+        if first[1] is not None and vmap is not None:
+            vmap = vmap[first[1]]
+        return cls.of(origin, vmap)
 
     def vertex(self, v: int) -> int:
         """The input row of domain vertex ``v``. O(1)."""

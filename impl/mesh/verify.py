@@ -40,7 +40,7 @@ The checks (each failure is a :class:`MeshProblem` of the kind named):
 6. ``delaunay`` — every edge on no segment is locally Delaunay: the far vertex of
    the neighbouring triangle is not strictly inside the circumcircle (exact
    incircle determinant; cocircular is fine);
-7. ``angle`` and ``area-bound`` — quality: each triangle's smallest angle is at least
+7. ``angle`` and ``area-bound`` (:mod:`~persistri.impl.mesh.verify_quality`) — quality: each triangle's smallest angle is at least
    ``min_angle`` (exact, :mod:`~persistri.impl.mesh.angles`), except the triangles
    Ruppert's algorithm must leave (below), and its area is at most ``max_area`` and,
    with ``region_areas``, the bound of its region (exact rationals).
@@ -98,10 +98,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from persistri.impl.geometry.exact import incircle_det, orient2d_det
 from persistri.impl.geometry.points import as_points, unique_rows
-from persistri.impl.mesh.angles import below_bound, smallest_corner, subtends_small_input_angle
 from persistri.impl.mesh.chains import segment_chains
 from persistri.impl.mesh.domain import PSLG, Domain, DomainError, as_pslg, domain_of
 from persistri.impl.mesh.faces import UNBOUNDED, common_scale
+from persistri.impl.mesh.naming import InputNames
+from persistri.impl.mesh.segments import point_text
+from persistri.impl.mesh.verify_quality import check_quality
 from persistri.impl.mesh.verify_report import (
     PROBLEM_KINDS,
     MeshProblem,
@@ -174,13 +176,14 @@ def verify_mesh(
         if isinstance(domain, Mapping):
             domain = PSLG.from_dict(domain, repair=False)
         clean = as_pslg(domain.vertices, domain.segments, domain.holes, domain.regions, repair=False)
+        names = InputNames.through((domain.segment_origin, domain.vertex_map), (clean.segment_origin, clean.vertex_map))
         scale = common_scale(pts, clean.vertices, clean.holes, clean.regions[:, :2])
         dom = domain_of(clean, scale=scale)
     except DomainError as exc:
         check.problem("domain", f"{exc} (validate the domain with as_pslg first)")
         return rep
     rep.domain_area = dom.area
-    _Mesh(check, dom, pts, tri, scale.to_ints(pts[:, 0]), scale.to_ints(pts[:, 1]), rounding_ulps).run(
+    _Mesh(check, dom, pts, tri, scale.to_ints(pts[:, 0]), scale.to_ints(pts[:, 1]), rounding_ulps, names).run(
         min_angle, max_area, exact_segments, region_areas
     )
     return rep
@@ -202,8 +205,9 @@ class _Mesh:
         xs: NDArray[Any],
         ys: NDArray[Any],
         rounding_ulps: float,
+        names: InputNames,
     ) -> None:
-        self.check, self.dom, self.pts, self.tri = check, dom, pts, tri
+        self.check, self.dom, self.pts, self.tri, self.names = check, dom, pts, tri, names
         self.rounding_ulps = rounding_ulps
         self.X, self.Y = xs, ys
         self.xl: list[int] = xs.tolist()
@@ -224,7 +228,11 @@ class _Mesh:
         self._pairing()
         self._faces_and_areas()
         self._delaunay()
-        self._quality(min_angle, max_area, region_areas)
+        # 7. Quality (verify_quality).
+        check_quality(
+            self.check, self.dom, self.pts, self.tri, self.xl, self.yl, self.det, self.mesh_of, self.on_segments,
+            self.tri_face, min_angle, max_area, region_areas,
+        )
 
     # 1. Orientation.
     def _orientation(self) -> NDArray[np.object_]:
@@ -288,6 +296,11 @@ class _Mesh:
         return int(k < self.sorted_codes.size and self.sorted_codes[k] == code)
 
     # 3. Segment chains.
+    def _segment(self, s: int) -> str:
+        """Segment ``s`` named as the caller wrote it (:class:`~persistri.impl.mesh.naming.InputNames`)."""
+        a, b = (point_text(self.dom.pslg.vertices[v]) for v in self.dom.pslg.segments[s])
+        return self.names.segment(s, a, b)
+
     def _chains(self, exact_segments: bool) -> None:
         seg = self.dom.pslg.segments
         found = segment_chains(self.pts, self.xl, self.yl, self.nbr, self.nbr_ptr, seg, self.mesh_of, self.rounding_ulps)
@@ -295,7 +308,7 @@ class _Mesh:
         for s, cur, edges in found.stuck:
             self.check.problem(
                 "segment",
-                f"segment {s} ({int(seg[s, 0])}–{int(seg[s, 1])}) is not a union of mesh edges: "
+                f"{self._segment(s)} is not a union of mesh edges: "
                 f"the chain along it stops at mesh vertex {cur} {tuple(self.pts[cur].tolist())} after {edges} edges",
             )
         if exact_segments:
@@ -303,7 +316,7 @@ class _Mesh:
                 w = rounded[0]
                 self.check.problem(
                     "segment-rounding",
-                    f"segment {s}: {len(rounded)} split vertices lie off it within their tolerance boxes "
+                    f"{self._segment(s)}: {len(rounded)} split vertices lie off it within their tolerance boxes "
                     f"(first: mesh vertex {w} {tuple(self.pts[w].tolist())}); exact_segments=False accepts them",
                 )
         self.check.rep.split_vertices = found.split_vertices
@@ -312,7 +325,6 @@ class _Mesh:
     # 4. Pairing and the boundary chain.
     def _pairing(self) -> None:
         n = self.n
-        seg = self.dom.pslg.segments
         self.constrained: set[int] = set()  # undirected codes lo·n + hi of chain edges
         for s, path in enumerate(self.chain):
             if path is None:
@@ -323,7 +335,7 @@ class _Mesh:
                 fwd, back = self._count(p, q), self._count(q, p)
                 if fwd - back == c:
                     continue
-                name = f"segment {s} ({int(seg[s, 0])}–{int(seg[s, 1])})"
+                name = self._segment(s)
                 if c != 0 and fwd + back == 2:
                     self.check.problem("outside", f"triangles lie on both sides of edge ({p}, {q}) of {name}, which bounds the domain")
                 elif c != 0 and fwd - back == -c:
@@ -441,57 +453,3 @@ class _Mesh:
                 f"edge ({int(a[i])}, {int(b[i])}) is not locally Delaunay: vertex {int(d[i])} is strictly inside "
                 f"the circumcircle of triangle {int(k[i])} {tri[int(k[i])].tolist()}",
             )
-
-    # 7. Quality.
-    def _quality(self, min_angle: float | None, max_area: float | None, region_areas: bool) -> None:
-        rep, tri, pts = self.check.rep, self.tri, self.pts
-        t = tri.shape[0]
-        P = pts[tri]  # (t, 3, 2)
-        with np.errstate(all="ignore"):
-            e = np.stack([P[:, 2] - P[:, 1], P[:, 0] - P[:, 2], P[:, 1] - P[:, 0]], axis=1)  # edge opposite corner i
-            cross = np.abs(e[:, 1, 0] * e[:, 2, 1] - e[:, 1, 1] * e[:, 2, 0])
-            angles = np.stack(
-                [np.arctan2(cross, -np.einsum("ij,ij->i", e[:, (i + 1) % 3], e[:, (i + 2) % 3])) for i in range(3)], axis=1
-            )
-        small = np.degrees(np.nanmin(angles, axis=1)) if t else np.zeros(0)
-        rep.min_angle = float(small.min()) if t else None
-        unit = Fraction(2) ** (2 * self.dom.faces.scale.exponent) / 2
-        rep.max_area = float(max(self.det.tolist()) * unit) if t else None
-        exempt = np.zeros(t, dtype=bool)
-        if min_angle is not None and min_angle > 0:
-            ends = [(int(self.mesh_of[u]), int(self.mesh_of[v])) for u, v in self.dom.pslg.segments.tolist()]
-            for k in below_bound(pts, tri, self.xl, self.yl, min_angle):
-                corner = smallest_corner(self.xl, self.yl, tri[k])
-                p, q = int(tri[k, (corner + 1) % 3]), int(tri[k, (corner + 2) % 3])
-                if subtends_small_input_angle(p, q, self.on_segments, ends, self.xl, self.yl):
-                    exempt[k] = True
-                    continue
-                self.check.problem(
-                    "angle",
-                    f"triangle {k} {tri[k].tolist()} has a {small[k]:.6g}° angle at vertex {int(tri[k, corner])}, below {min_angle:g}°",
-                )
-        rep.exempt = int(exempt.sum())
-        rest = small[~exempt]
-        rep.min_angle_unexempt = float(rest.min()) if rest.size else None
-        self._areas(max_area, region_areas)
-
-    def _areas(self, max_area: float | None, region_areas: bool) -> None:
-        dom, tri = self.dom, self.tri
-        bounds: dict[int, Fraction] = {}
-        for r, f in zip(dom.pslg.regions.tolist(), dom.region_face.tolist()):
-            if region_areas and r[3] > 0:
-                bounds[f] = min(bounds.get(f, Fraction(r[3])), Fraction(r[3]))
-        if max_area is None and not bounds:
-            return
-        unit = Fraction(2) ** (2 * dom.faces.scale.exponent) / 2
-        glob = None if max_area is None else Fraction(max_area)
-        dets = self.det.tolist()
-        faces = self.tri_face.tolist()
-        for k in range(tri.shape[0]):
-            limit = bounds.get(faces[k], glob)
-            if limit is None:
-                continue
-            if glob is not None:
-                limit = min(limit, glob)
-            if dets[k] * unit > limit:
-                self.check.problem("area-bound", f"triangle {k} {tri[k].tolist()} has area {float(dets[k] * unit):.6g}, above the bound {float(limit):g}")
