@@ -61,3 +61,44 @@ def test_coordinates_of_every_sample_and_bad_indices() -> None:
         grid.orient2d(0, 1, 35)
     with pytest.raises(ValueError):
         grid.orient2d(0, 1, 1)
+
+
+@pytest.mark.parametrize("shape", [(5, 7), (8, 8), (3, 9), (1, 6), (6, 1), (13, 2)])
+def test_zorder_labels_decide_every_test_as_the_grid_index(shape: tuple[int, int]) -> None:
+    """GridPredicates2(labels="zorder") indexes the samples by z-order label and ranks them by grid index for
+    Simulation of Simplicity: every sign, ties included (grids are cocircular everywhere), is the row-major one."""
+    from persistri.impl.geometry.grid_labels import GridZOrder
+
+    rows_pred, z_pred = GridPredicates2(shape), GridPredicates2(shape, labels="zorder")
+    n = shape[0] * shape[1]
+    zorder = GridZOrder(shape)
+    lab = [z_pred.label(q) for q in range(n)]
+    assert lab == zorder.labels(np.arange(n)).tolist() == z_pred.labels(np.arange(n)).tolist()
+    assert len(set(lab)) == n and max(lab) < len(z_pred) == zorder.size <= 4 * n
+    assert [z_pred.grid_index(i) for i in lab] == list(range(n)) == z_pred.grid_indices(np.array(lab)).tolist()
+    assert [zorder.decode(i) for i in lab] == [(q % shape[1], q // shape[1]) for q in range(n)]
+    kr, kz = rows_pred.kernel(), z_pred.kernel()
+    rng = np.random.default_rng(n)
+    for _ in range(1500):
+        a, b, c, d = (rng.choice(n, 4, replace=False) if n >= 4 else np.arange(4) % n).tolist()
+        A, B, C, D = lab[a], lab[b], lab[c], lab[d]
+        assert rows_pred.orient2d(a, b, c) == z_pred.orient2d(A, B, C) == kz.orient2d(A, B, C)
+        assert rows_pred.orient2d_sign(a, b, c) == z_pred.orient2d_sign(A, B, C) == kz.orient2d_sign(A, B, C)
+        assert rows_pred.incircle(a, b, c, d) == z_pred.incircle(A, B, C, D) == kz.incircle(A, B, C, D)
+        assert kr.incircle(a, b, c, d) == kz.incircle(A, B, C, D)
+    qs = np.arange(n)
+    for _ in range(20):
+        a, b, c = rng.choice(n, 3, replace=False).tolist()
+        rest = qs[(qs != a) & (qs != b) & (qs != c)]
+        assert (rows_pred.orient2d_batch(a, b, rest) == z_pred.orient2d_batch(lab[a], lab[b], z_pred.labels(rest))).all()
+        assert (rows_pred.incircle_batch(a, b, c, rest) == z_pred.incircle_batch(lab[a], lab[b], lab[c], z_pred.labels(rest))).all()
+
+
+def test_zorder_labels_of_no_sample_are_no_points() -> None:
+    pred = GridPredicates2((3, 5), labels="zorder")
+    holes = sorted(set(range(len(pred))) - {pred.label(q) for q in range(15)})
+    assert holes and len(pred) == 32
+    with pytest.raises(IndexError):
+        pred.xy(holes[0])
+    with pytest.raises(ValueError, match="labels"):
+        GridPredicates2((3, 5), labels="hilbert")
