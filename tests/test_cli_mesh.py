@@ -316,15 +316,32 @@ def test_npz_holds_the_record_of_the_undone_points(tmp_path: Path) -> None:
 
 def test_a_vertex_closer_than_doubles_resolve_is_named_in_one_line(tmp_path: Path) -> None:
     # Triangle's own spiral.q.1.node: its 17th vertex (row 16) lies 0.001 ulp from a convex hull edge, named as
-    # such (the file lists no segments).
+    # such (the file lists no segments), in the command's words (--convex, not the API's convex=True).
     source = Path(triangle.__file__).parent / "data" / "spiral.q.1.node"
     result, caught = invoke(["mesh", str(source), "-q", "30", "-o", str(tmp_path / "s.npz"), "--quiet"])
     assert_one_line_failure(
         result, caught, "spiral.q.1.node",
         r"input vertex 16 at \(-0\.6725000000000001, 1\.1995\) lies [\d.e-]+ \([\d.e-]+ units in the last place\) "
         r"from the convex hull edge \(0\.004999999999999942, 1\.963\)–\(-1\.35, 0\.436\) \(a \.node file, or "
-        r"convex=True, is meshed as its convex hull\), without being on it: .* \(rows counted from 0; the file numbers "
+        r"--convex, is meshed as its convex hull\), without being on it: .* \(rows counted from 0; the file numbers "
         r"from 1\)$",
     )
     assert files_under(tmp_path) == set()
     _ok(["mesh", str(source), "-q", "0", "--check", "--quiet"])  # its constrained Delaunay triangulation is fine
+
+
+def test_refinement_messages_in_the_commands_words(tmp_path: Path) -> None:
+    # A precision failure naming a segment (not only an input vertex) gets the numbering tail when the file numbers
+    # from 1, and the API's convex=True reads --convex.
+    from persistri.impl.cli.mesh import _in_command_words
+
+    body = "4 2 0 0\n{0} 0 0\n{1} 1 0\n{2} 1 1\n{3} 0 1\n4 0\n{0} {0} {1}\n{1} {1} {2}\n{2} {2} {3}\n{3} {3} {0}\n0\n"
+    one, zero = tmp_path / "one.poly", tmp_path / "zero.poly"
+    one.write_text(body.format(1, 2, 3, 4))
+    zero.write_text(body.format(0, 1, 2, 3))
+    msg = "no pair of doubles lies on the subsegment 5–9 (mesh vertices) of segment 2 between (0.0, 1.0) and (1.0, 1.0)"
+    assert _in_command_words(msg, str(one)) == msg + " (rows counted from 0; the file numbers from 1)"
+    assert _in_command_words(msg, str(zero)) == msg
+    assert _in_command_words("the mesh is fine", str(one)) == "the mesh is fine"
+    hull = "from the convex hull edge (0, 0)–(1, 0) (a .node file, or convex=True, is meshed as its convex hull)"
+    assert "or --convex, is meshed" in _in_command_words(hull, str(zero))

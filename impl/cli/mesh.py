@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -79,6 +80,16 @@ def read_domain(source: str, *, convex: bool = False) -> PSLG:
         pslg = gallery_domain(source.lower()).pslg
         return as_pslg(pslg.vertices, pslg.segments, pslg.holes, pslg.regions, convex=True) if convex else pslg
     return read_poly(Path(source), convex=convex)  # a .node file: the convex hull of its points
+
+
+def _in_command_words(message: str, source: str) -> str:
+    """A refinement error's ``message`` as the command's user reads it: the API's ``convex=True`` is
+    ``--convex``, and rows it names (an input vertex, a segment) are said to count from 0 when the
+    file numbers from 1."""
+    message = message.replace("convex=True", "--convex")
+    if re.search(r"\b(input vertex|segment) \d", message) and _first_number(source) == 1:
+        message += " (rows counted from 0; the file numbers from 1)"
+    return message
 
 
 def _first_number(source: str) -> int:
@@ -350,11 +361,10 @@ def mesh(
             )
         except PrecisionLimitError as exc:
             strict = exact_segments if exact_segments is not None else _refiner_default("exact_segments")
+            message = _in_command_words(str(exc), source)
             if not strict:
-                if "input vertex" in str(exc) and _first_number(source) == 1:
-                    raise PrecisionLimitError(f"{exc} (rows counted from 0; the file numbers from 1)") from None
-                raise  # rounding was on: the option would not help
-            raise ValueError(f"{error_line(exc)} (on the command line: --rounded-segments)") from None
+                raise PrecisionLimitError(message) from None  # rounding was on: the option would not help
+            raise ValueError(f"{message} (on the command line: --rounded-segments)") from None
     smallest = float(result.smallest_angle())
     report: MeshReport | None = None
     if check or show_stats:
