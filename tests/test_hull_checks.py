@@ -14,7 +14,8 @@ from typing import Any
 
 import pytest
 
-from persistri.impl.geometry.kernel import Indices, Orient3dKernel, _composed_split
+from persistri.impl.geometry.kernel import Indices, Orient3dKernel
+from persistri.impl.geometry.kernel_split import composed_split
 from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.hull import bulldozer
 from persistri.impl.hull.api import convex_hull
@@ -39,7 +40,7 @@ def _faulty_kernel(inner: Orient3dKernel, what: str, wrap: Callable[[Any], Any],
 
     setattr(inner, what, switch)
     if what == "partition":
-        inner.split = _composed_split(switch)
+        inner.split = composed_split(switch)
     return inner
 
 

@@ -221,10 +221,13 @@ def _blocks(node: ast.AST) -> Iterator[list[ast.stmt]]:
 
 
 def _kernel_function(name: str) -> ast.FunctionDef:
-    # The kernel module's source file, beside filter.py (inspect cannot read the compiled twin's functions).
-    tree = ast.parse(Path(fp.__file__).with_name("kernel.py").read_text(encoding="utf-8"))
-    (init,) = [f for f in ast.walk(tree) if isinstance(f, ast.FunctionDef) and f.name == "__init__"]
-    found = [f for f in ast.walk(init) if isinstance(f, ast.FunctionDef) and f.name == name]
+    # The kernel's source files, beside filter.py (inspect cannot read the compiled twin's functions): the
+    # scalar paths are closures of Orient3dKernel.__init__ (kernel.py) and of make_split (kernel_split.py).
+    found = []
+    for module, factory in (("kernel.py", "__init__"), ("kernel_split.py", "make_split")):
+        tree = ast.parse(Path(fp.__file__).with_name(module).read_text(encoding="utf-8"))
+        (outer,) = [f for f in ast.walk(tree) if isinstance(f, ast.FunctionDef) and f.name == factory]
+        found += [f for f in ast.walk(outer) if isinstance(f, ast.FunctionDef) and f.name == name]
     assert len(found) == 1, name
     return found[0]
 

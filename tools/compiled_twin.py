@@ -30,6 +30,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 MODULES = (
     "persistri/impl/geometry/kernel.py",
+    "persistri/impl/geometry/kernel_split.py",
     "persistri/impl/hull/bulldozer.py",
     "persistri/impl/hull/conflicts.py",
     "persistri/impl/maps/red_black_tree.py",
@@ -48,7 +49,7 @@ MODULES = (
     "persistri/impl/terrain/plane_errors.py",
 )
 """The modules compiled: the bulldozer's insertion loop and its conflict-list helpers, the predicate
-kernel it calls, and the inner functions of the persistent structures it changes — the red-black
+kernel it calls (and its split), and the inner functions of the persistent structures it changes — the red-black
 tree's node algorithms, its batched update (with the fused insertion of ``replace``'s new vertex), the
 same two for the arena red-black tree (the backend for keeping histories, ``red_black_arena``), the
 2-complex's list functions and its walks' edge lookups — where a hull run spends most of its interpreted time
