@@ -246,61 +246,35 @@ class RedBlackMap(Generic[K, V]):
             raise _key_error(items[0][0], exc) from None
         return (n, new), [items[i] for i in absent]
 
-    def adjust_sorted(
-        self, f: Callable[[V, V], V], m: RBMap[K, V], keys: list[K], vals: list[V], /
-    ) -> tuple[RBMap[K, V], list[int], list[int]]:
-        """``(m', absent, emptied)``: :meth:`adjust_many` of the items ``(keys[i], vals[i])``, for keys known to be
-        strictly increasing and ordered with the map's: nothing is checked (a comparison's TypeError is not
-        reworded).  ``absent``: the indices of the keys not in ``m``; ``emptied``: those whose new value
-        ``f(old, vals[i])`` is falsy (an emptied collection, which the caller may then remove).
+    adjust_sorted: Callable[..., tuple[Any, list[int], list[int]]] = staticmethod(_adjust.adjust_sorted_map)
+    """``adjust_sorted(f, m, keys, vals)`` → ``(m', absent, emptied)``: :meth:`adjust_many` of the items
+    ``(keys[i], vals[i])``, for keys known to be strictly increasing and ordered with the map's: nothing is
+    checked (a comparison's TypeError is not reworded).  ``absent``: the indices of the keys not in ``m``;
+    ``emptied``: those whose new value ``f(old, vals[i])`` is falsy (an emptied collection, which the caller
+    may then remove).
 
-        persistri's addition, for the 2-complex's ``replace``, which sorts the
-        vertices it touches itself and removes a vertex whose list it emptied.
-        Exceptions raised by ``f`` propagate unchanged.  O(k + new nodes).
-        """
-        n, t = m
-        if t is None or not keys:
-            return m, list(range(len(keys))), []
-        absent: list[int] = []
-        emptied: list[int] = []
-        try:
-            new = _adjust.adjust(t, keys, vals, 0, len(keys), f, absent, emptied)
-        except FailedWith as failed:
-            raise failed.exc from None
-        return (n, new), absent, emptied
+    persistri's addition, for the 2-complex's ``replace``, which sorts the
+    vertices it touches itself and removes a vertex whose list it emptied.
+    Exceptions raised by ``f`` propagate unchanged.  O(k + new nodes).  A static
+    method, :func:`~persistri.impl.maps.red_black_adjust.adjust_sorted_map`: in the
+    compiled twin a call of it runs no interpreted code."""
 
-    def adjust_insert(
-        self, f: Callable[[V, V], V], m: RBMap[K, V], keys: list[K], vals: list[V], j: int, v: V, /
-    ) -> tuple[RBMap[K, V], list[int], list[int], bool]:
-        """``(m', absent, emptied, inserted)``: :meth:`adjust_sorted`, and ``keys[j] ↦ v`` inserted in the same
-        descent if ``keys[j]`` is not in ``m`` (``inserted`` says whether it was).
+    adjust_insert: Callable[..., tuple[Any, list[int], list[int], bool]] = staticmethod(_adjust.adjust_insert_map)
+    """``adjust_insert(f, m, keys, vals, j, v)`` → ``(m', absent, emptied, inserted)``: :meth:`adjust_sorted`,
+    and ``keys[j] ↦ v`` inserted in the same descent if ``keys[j]`` is not in ``m`` (``inserted`` says
+    whether it was).
 
-        persistri's addition, for the 2-complex's ``replace`` of a star by a cone
-        from a new vertex, which updates the lists of the vertices it touches and
-        adds the new vertex: where :meth:`adjust_sorted` and then :meth:`insert_absent`
-        descend twice through the top of the tree, this copies it once
-        (:func:`~persistri.impl.maps.red_black_adjust.adjust_insert`).  The result
-        is exactly theirs: the same shape and colours, the same number of new
-        nodes.  Unchecked as :meth:`adjust_sorted` (``0 ≤ j < len(keys)``).  A
-        present ``keys[j]`` is updated by ``f`` like the other keys; one absent
-        together with other keys that end at the same leaf (or in an empty map) is
-        not inserted but listed in ``absent`` with them.  O(k + new nodes).
-        """
-        n, t = m
-        if t is None or not keys:
-            return m, list(range(len(keys))), [], False
-        absent: list[int] = []
-        emptied: list[int] = []
-        new = [v]
-        try:
-            root = _adjust.adjust_insert(t, keys, vals, 0, len(keys), f, absent, emptied, j, new)
-        except FailedWith as failed:
-            raise failed.exc from None
-        if new:
-            return (n, root), absent, emptied, False
-        if root[0] is RED:
-            root = (BLACK, root[1], root[2], root[3], root[4])
-        return (n + 1, root), absent, emptied, True
+    persistri's addition, for the 2-complex's ``replace`` of a star by a cone
+    from a new vertex, which updates the lists of the vertices it touches and
+    adds the new vertex: where :meth:`adjust_sorted` and then :meth:`insert_absent`
+    descend twice through the top of the tree, this copies it once
+    (:func:`~persistri.impl.maps.red_black_adjust.adjust_insert`).  The result
+    is exactly theirs: the same shape and colours, the same number of new
+    nodes.  Unchecked as :meth:`adjust_sorted` (``0 ≤ j < len(keys)``).  A
+    present ``keys[j]`` is updated by ``f`` like the other keys; one absent
+    together with other keys that end at the same leaf (or in an empty map) is
+    not inserted but listed in ``absent`` with them.  O(k + new nodes).  A static
+    method, :func:`~persistri.impl.maps.red_black_adjust.adjust_insert_map`."""
 
     def find(self, m: RBMap[K, V], k: K, /) -> Option[V]:
         """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``. O(lg n)."""

@@ -20,9 +20,11 @@ above all, are copied once.
   copied once instead of twice.  Only the subtree that holds ``keys[j]``
   goes through the inserting functions; the others take :func:`adjust`.
 
+:func:`adjust_sorted_map` and :func:`adjust_insert_map` are the structure's
+operations over them on a whole map, and are
 :meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_sorted` and
-:meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_insert` are the
-structure's operations over them.  A module of its own because these are the
+:meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_insert` themselves
+(static methods: on the twin a call of them runs no interpreted code).  A module of its own because these are the
 hot path of every ``replace`` (a third to a half of each algorithm's profile):
 the compiled twin compiles it (``tools/compiled_twin.py``), and nodes are typed
 as in :mod:`~persistri.impl.maps.red_black_tree` (tuples of any length, so that
@@ -36,7 +38,7 @@ from typing import Any
 
 from persistri.impl.maps.red_black_tree import BLACK, RED, Combine, FailedWith, Node
 
-__all__ = ["adjust", "adjust_one", "adjust_insert", "adjust_one_insert"]
+__all__ = ["adjust", "adjust_one", "adjust_insert", "adjust_one_insert", "adjust_sorted_map", "adjust_insert_map"]
 
 
 def adjust(
@@ -329,3 +331,50 @@ def adjust_one_insert(
     if not x:
         emptied.append(i)
     return (c, a, y, x, b)
+
+
+# -- the structure's operations on a whole map ------------------------------------------
+
+
+def adjust_sorted_map(f: Combine, m: Any, keys: list[Any], vals: list[Any]) -> tuple[Any, list[int], list[int]]:
+    """``(m', absent, emptied)`` for the map ``m = (size, tree)``: :func:`adjust` of every key (``keys``
+    strictly increasing, ordered with the map's; nothing checked), the indices of the keys not in ``m``,
+    and those whose new value ``f(old, vals[i])`` is falsy.  ``m`` itself when ``keys`` is empty or the map
+    is.  Exceptions raised by ``f`` propagate unchanged.  The body of
+    :meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_sorted`.  O(k + new nodes).
+    """
+    t = m[1]
+    if t is None or not keys:
+        return m, list(range(len(keys))), []
+    absent: list[int] = []
+    emptied: list[int] = []
+    try:
+        new = adjust(t, keys, vals, 0, len(keys), f, absent, emptied)
+    except FailedWith as failed:
+        raise failed.exc from None
+    return (m[0], new), absent, emptied
+
+
+def adjust_insert_map(
+    f: Combine, m: Any, keys: list[Any], vals: list[Any], j: int, v: Any
+) -> tuple[Any, list[int], list[int], bool]:
+    """``(m', absent, emptied, inserted)``: :func:`adjust_sorted_map`, and ``keys[j] ↦ v`` inserted in the same
+    descent if ``keys[j]`` is absent (:func:`adjust_insert`; the root blackened, the size one more;
+    ``inserted`` says whether it was).  Unchecked (``0 ≤ j < len(keys)``).  The body of
+    :meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_insert`.  O(k + new nodes).
+    """
+    t = m[1]
+    if t is None or not keys:
+        return m, list(range(len(keys))), [], False
+    absent: list[int] = []
+    emptied: list[int] = []
+    new = [v]
+    try:
+        root = adjust_insert(t, keys, vals, 0, len(keys), f, absent, emptied, j, new)
+    except FailedWith as failed:
+        raise failed.exc from None
+    if new:
+        return (m[0], root), absent, emptied, False
+    if root[0] is RED:
+        root = (BLACK, root[1], root[2], root[3], root[4])
+    return (m[0] + 1, root), absent, emptied, True
