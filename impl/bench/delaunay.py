@@ -79,10 +79,10 @@ def terrain_build() -> str:
     from persistri.impl.complex import vertex_lists
     from persistri.impl.geometry import kernel2d
     from persistri.impl.maps import red_black_adjust, red_black_tree
+    from persistri.impl.terrain import cavity, greedy_run, plane_errors, sectors
     from persistri.impl.terrain import delaunay as triangulator
-    from persistri.impl.terrain import greedy_run, plane_errors, sectors
 
-    mods = (kernel2d, triangulator, sectors, greedy_run, plane_errors, red_black_tree, red_black_adjust, vertex_lists)
+    mods = (kernel2d, triangulator, cavity, sectors, greedy_run, plane_errors, red_black_tree, red_black_adjust, vertex_lists)
     compiled = [m.__name__.rsplit(".", 1)[1] for m in mods if not str(m.__file__).endswith(".py")]
     return f"compiled twin ({', '.join(compiled)} by mypyc)" if compiled else "interpreted"
 
