@@ -198,3 +198,55 @@ def test_many_samples_take_the_flat_changes_and_agree(closed: bool, step: int) -
     twice = np.concatenate([rays[:-1], rays]) if closed else np.concatenate([rays, rays[1:]])
     with pytest.raises(ValueError, match="changes side"):
         _fan_block(pred, p, twice, samples, closed, None)
+
+
+@pytest.mark.parametrize("closed", [True, False])
+@pytest.mark.parametrize("step", [1, 2, 3])
+@pytest.mark.parametrize("few", [1, 2, 5, "bound"])
+def test_few_samples_on_lists_equal_the_general_path(closed: bool, step: int, few: int | str) -> None:
+    """insertion.fan_samples' list path for a few samples on a grid (_small_fan) makes the same lists, pool,
+    counts, fan index (values and dtypes) and counted tests as the array path, with p among the cavity's lists."""
+    from persistri.impl.geometry.grid_predicates import GridPredicates2
+    from persistri.impl.terrain import insertion
+    from persistri.impl.terrain.sectors import PYTHON_SECTORS
+
+    cols, p, rays, samples = _grid_fan(step, closed, 1)
+    m = min(PYTHON_SECTORS, samples.size) if few == "bound" else int(few)  # the grid fan has 24 to 45 samples
+    taken = samples[:m]
+    # The cavity's lists: the samples in three pieces, p inside the second one (it is left out of every result).
+    cut = [taken[: m // 3], np.concatenate([taken[m // 3 : m // 2], np.array([p], np.int32), taken[m // 2 :]])]
+    lists = [part for part in cut] + [np.zeros(0, np.int32)]
+    ring = rays.tolist()
+    nfan = len(ring) - 1
+    grid = GridPredicates2((9, cols), stats=Stats())
+    general = Predicates2(grid.points, stats=Stats())
+    got = insertion._small_fan(grid, p, [s for s in lists if s.size], ring, closed, nfan)
+    assert got is not None
+    via = insertion.fan_samples(grid, p, lists, ring, closed, nfan, exact_floats=True, check=False)
+    ref = insertion.fan_samples(general, p, lists, ring, closed, nfan, exact_floats=True, check=True)
+    for own, pooled, counts, sector in (got, via):
+        r_own, r_pooled, r_counts, r_sector = ref
+        assert counts == r_counts and sum(counts) == m
+        assert pooled.dtype == r_pooled.dtype == np.int32 and pooled.tolist() == r_pooled.tolist()
+        assert sector.dtype == r_sector.dtype == np.intp and sector.tolist() == r_sector.tolist()
+        assert [a.dtype for a in own if a.size] == [a.dtype for a in r_own if a.size]
+        assert [a.tolist() for a in own] == [a.tolist() for a in r_own]
+        assert not pooled.flags.writeable and not sector.flags.writeable and not any(a.flags.writeable for a in own)
+    assert grid.stats is not None and general.stats is not None
+    assert grid.stats.plane_side_tests == 2 * general.stats.plane_side_tests > 0
+    assert grid.stats.flops == 2 * general.stats.flops
+    # More samples than the bound: the general path's answer (None here).
+    more = samples[: PYTHON_SECTORS + 1]
+    if more.size > PYTHON_SECTORS:
+        assert insertion._small_fan(grid, p, [more], ring, closed, nfan) is None
+
+
+def test_few_samples_on_lists_reject_a_ring_that_is_not_a_fan() -> None:
+    from persistri.impl.geometry.grid_predicates import GridPredicates2
+    from persistri.impl.terrain.errors import TriangulationCheckError
+    from persistri.impl.terrain.insertion import fan_samples
+
+    cols, p, rays, samples = _grid_fan(2, True, 0)
+    twice = np.concatenate([rays[:-1], rays]).tolist()
+    with pytest.raises(TriangulationCheckError, match="inserting point 48: sample row 0 changes side from \\+ to - 2 times"):
+        fan_samples(GridPredicates2((9, cols)), p, [samples[:3]], twice, True, len(twice) - 1, exact_floats=True, check=False)

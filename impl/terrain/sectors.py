@@ -46,7 +46,7 @@ from persistri.impl.stats import Stats
 
 __all__ = [
     "EXACT_LIMIT", "FLOPS_SECTOR_TEST", "SECTOR_BLOCK", "small_integer_points", "sector_sides", "sector_of", "fan_sectors",
-    "fan_lists", "fan_small", "COMPILED", "PYTHON_SECTORS", "FLAT_CHANGES",
+    "fan_lists", "fan_small", "small_buckets", "COMPILED", "PYTHON_SECTORS", "FLAT_CHANGES",
 ]
 
 EXACT_LIMIT: Final[float] = float(2**25)
@@ -348,13 +348,35 @@ def fan_small(cols: int, p: int, rays: IntArray, samples: Samples, closed: bool)
     by sector, in their order within a sector; the same :class:`ValueError` for a sample without exactly
     one change of side.  Nothing counted here (as :func:`_fan_block`).  O(len(samples) · len(rays)).
     """
-    k: int = rays.size - 1
+    # Typed lists: compiled, the loop then runs on machine floats and integers (tolist is Any).
+    ring: list[int] = rays.tolist()
+    qs: list[int] = samples.tolist()
+    buckets = small_buckets(cols, p, ring, qs, closed, True)
+    order: list[int] = []
+    sector: list[int] = []
+    for i in range(len(buckets)):
+        b = buckets[i]
+        if b:
+            order += b
+            sector += [i] * len(b)
+    return np.array(order, dtype=np.intp), np.array(sector, dtype=np.intp)
+
+
+def small_buckets(cols: int, p: int, ring: Sequence[int], qs: list[int], closed: bool, positions: bool) -> list[list[int]]:
+    """The samples ``qs`` of each fan triangle, as one list per triangle, over the points of a grid with ``cols``
+    columns: :func:`fan_small`'s loop on Python lists.
+
+    ``ring`` — the fan's boundary vertices (as ``rays``: ``len(ring) − 1`` triangles, a closed ring's first
+    vertex repeated at the end); list ``i`` holds, in the order of ``qs``, the samples of triangle ``i``
+    (``positions``: their positions in ``qs``).  The same tests and answers as :func:`fan_small`, which it
+    serves, and the same :class:`ValueError` for a sample without exactly one change of side; the
+    triangulator's few-sample insertions (:func:`~persistri.impl.terrain.insertion.fan_samples`) call it on
+    their lists directly, without the arrays in between.  Nothing counted here.  O(len(qs) · len(ring)).
+    """
+    k: int = len(ring) - 1
     p = int(p)
     py = p // cols
     px = p - py * cols
-    # Typed lists: compiled, the loops below then run on machine floats and integers (tolist is Any).
-    ring: list[int] = rays.tolist()
-    qs: list[int] = samples.tolist()
     rays_xy: list[tuple[float, float]] = []
     for v in ring:
         y = v // cols
@@ -386,16 +408,9 @@ def fan_small(cols: int, p: int, rays: IntArray, samples: Samples, closed: bool)
             at = i
         if changes != 1:
             raise ValueError(f"sample row {j} changes side from + to - {changes} times around the fan")
-        buckets[at].append(j)
+        buckets[at].append(j if positions else q)
         j += 1
-    order: list[int] = []
-    sector: list[int] = []
-    for i in range(k):
-        b = buckets[i]
-        if b:
-            order += b
-            sector += [i] * len(b)
-    return np.array(order, dtype=np.intp), np.array(sector, dtype=np.intp)
+    return buckets
 
 
 def _fan_block(
