@@ -32,9 +32,21 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from persistri.impl.complex.vertex_lists import Changes, Combine, Emptied, Unbatched
+from persistri.impl.complex.structure import Complex
+from persistri.impl.complex.vertex_lists import (
+    Changes,
+    Combine,
+    Emptied,
+    Missing,
+    Present,
+    Unbatched,
+    group,
+    replace_batched,
+)
 
-__all__ = ["arguments", "replace_per_vertex"]
+__all__ = ["arguments", "replace_per_vertex", "replace_trusted", "same_replace"]
+
+_new_complex = tuple.__new__
 
 
 def _sequence(xs: Any, what: str) -> list[Any]:
@@ -80,3 +92,59 @@ def replace_per_vertex(m: Any, rep: Any, changes: Changes, drop_add: Combine, ca
             raise Unbatched
         rep = out
     return rep
+
+
+def replace_trusted(S: Any, c: Any, removed: list[Any], added: list[Any]) -> Any:
+    """``S.replace(c, removed, added)`` for a caller that passes two lists: the same result, compiled on the twin.
+
+    The public :meth:`~persistri.impl.complex.two_complex.TwoComplex.replace`
+    is interpreted on both builds (a subclass may override it); this entry is
+    the same body in a compiled module, for the algorithms' one call per step
+    (the scattered Delaunay's insertion, §5).  It trusts only the arguments'
+    types (lists, not any iterable); everything else is checked as the public
+    ``replace`` checks it (:func:`~persistri.impl.complex.vertex_lists.group`
+    validates the triangles), and on anything unusual — a structure whose
+    ``replace`` is overridden or counted (no ``_batched``), a complex of
+    another family, an invalid change — it calls ``S.replace`` itself, which
+    raises the precise error.  So the result (and the persistence of ``c``) is
+    that of ``S.replace`` in every case.  O(V_t·lg V + Σ δ) as ``replace``.
+    """
+    batched: tuple[Any, Any, Any, Any, Any] | None = getattr(S, "_batched", None)
+    if batched is None:
+        return S.replace(c, removed, added)
+    family, adjust, insert, remove, adjust_insert = batched
+    try:
+        fam, rep, lin = c
+        if fam is not family:
+            raise Unbatched
+        changes, out_lin, fresh = group(removed, added, lin)
+        rep = replace_batched(rep, changes, adjust, insert, remove, fresh, adjust_insert)
+    except (Unbatched, Missing, Present, TypeError, ValueError, AttributeError):
+        return S.replace(c, removed, added)
+    return _new_complex(Complex, (family, rep, out_lin))
+
+
+def same_replace(S: Any, mine: Any, theirs: Any, removed: list[Any], added: list[Any]) -> bool:
+    """Whether two results of one ``replace`` agree where it changed them: each touched vertex's list
+    (the same triangles, the same datum objects, in the same order) and the number of vertices.
+
+    For ``check=True`` callers of :func:`replace_trusted`, comparing it with the
+    public ``replace``.  O(V_t·lg V + Σ δ).
+    """
+    m = S._m
+    if m.numItems(mine[1]) != m.numItems(theirs[1]) or mine[2] is not theirs[2]:
+        return False
+    touched = {v for t in removed for v in t} | {v for t, _ in added for v in t}
+    for v in touched:
+        x = m.find(mine[1], v)
+        y = m.find(theirs[1], v)
+        if (x is None) != (y is None):
+            return False
+        if x is not None and y is not None:
+            ex, ey = x[0], y[0]
+            if len(ex) != len(ey):
+                return False
+            for e, f in zip(ex, ey):
+                if e[0] is not f[0] or e[1] is not f[1] or e[2] is not f[2]:
+                    return False
+    return True

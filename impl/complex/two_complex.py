@@ -116,6 +116,17 @@ class TwoComplex(TwoComplexRep[D]):
             self.family = Family(self.kind, 2, backend, None, self)
         else:
             self.family = TwoComplex[D](backend).family
+        # What replace_trusted (impl/complex/replace.py) needs to do what replace does, compiled: only where
+        # replace is this class's own, uncounted and batched (else it calls the structure's replace).
+        self._batched: tuple[Family, Any, Any, Any, Any] | None = None
+        if stats is None and self._adjust_sorted is not None and type(self).replace is TwoComplex.replace:
+            self._batched = (
+                self.family,
+                self._adjust_sorted,
+                self._insert_absent,
+                self._m.remove,
+                self._adjust_insert,
+            )
 
     # -- hot public operations ---------------------------------------------------------
     #

@@ -351,15 +351,19 @@ def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Chang
     it was a generic call: −8 % of the twin's ``group``, docs/performance.md).
     """
     changes: Changes = {}
+    # Each triangle's type is tested on the object as passed (t), then unpacked through s: the compiled twin
+    # unboxes s, and a test on s would box a new tuple for it (12 an insertion of the Delaunay's).
+    t: Any
     s: tuple[Any, Any, Any]
-    sx: tuple[tuple[Any, Any, Any], Any]
+    sx: tuple[Any, Any]
     # The lists of a change, typed for the compiled twin (a list's append, not a generic method call).
     drops: list[tuple[Any, Any]]
     adds: list[Entry]
-    for s in removed:
-        a, b, cc = s
-        if type(s) is not tuple:
+    for t in removed:
+        if type(t) is not tuple:
             raise Unbatched
+        s = t
+        a, b, cc = s
         cha = changes.get(a)
         if cha is None:
             if a.lineage is not lin:
@@ -402,10 +406,11 @@ def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Chang
     fplain: list[Entry] = []
     cone = True  # every added triangle so far ends with the object fresh
     for sx in added:
-        s, x = sx
-        a, b, cc = s
-        if type(s) is not tuple:
+        t, x = sx
+        if type(t) is not tuple:
             raise Unbatched
+        s = t
+        a, b, cc = s
         if out_lin is None:
             out_lin = a.lineage
         cha = changes.get(a)

@@ -43,6 +43,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from persistri.impl.complex.replace import replace_trusted, same_replace
 from persistri.impl.terrain.errors import TriangulationCheckError
 from persistri.impl.terrain.insertion import EMPTY, NO_SECTOR, Insertion, IntArray, Samples, fan_samples, third
 
@@ -251,8 +252,13 @@ def insert(T: Triangulator, p: int, start: int) -> Insertion:
             cx = S.rem(cx, tri)
         for tri, datum in fan:
             cx = S.add(cx, tri, datum)
+    elif check:  # the compiled entry, compared with the public replace where it changed the complex
+        done = replace_trusted(S, cx, removed_tris, fan)
+        if not same_replace(S, done, S.replace(cx, removed_tris, fan), removed_tris, fan):
+            raise TriangulationCheckError(f"insert: point {p}: replace_trusted differs from replace")
+        cx = done
     else:
-        cx = S.replace(cx, removed_tris, fan)
+        cx = replace_trusted(S, cx, removed_tris, fan)
     T.complex = cx
     return Insertion(p, cx, removed, created, samples, counts, not closed, ring, sector, own)
 
