@@ -94,6 +94,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from persistri.impl.complex.replace import replace_trusted
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Vertex, VertexState
@@ -482,7 +483,7 @@ class Bulldozer:
             for tent, datum in added:
                 cx = S.add(cx, tent, datum)
         else:
-            cx = S.replace(cx, lit, added)
+            cx = replace_trusted(S, cx, lit, added)  # S.replace's result, compiled on the twin
         for gone in discarded:
             # Only the status: a point's associated face id means something while it is pending.
             _assign(status, self.status, gone, INTERIOR)
