@@ -27,6 +27,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, Generic, Optional, TypeAlias, TypeVar
 
+from persistri.impl.maps.keys import check_orderable, not_ordered_with
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound
 from persistri.spec.order import NATURAL_ORDER, Comparable, NaturalOrder
@@ -45,7 +46,7 @@ ALMap: TypeAlias = tuple[int, "Cells[K, V]"]
 
 
 def _key_error(k: object, exc: TypeError) -> TypeError:
-    return TypeError(f"assoc_list: key {k!r} is not ordered with the keys of this map ({exc})")
+    return not_ordered_with("assoc_list", k, exc)
 
 
 class AssocListMap(Generic[K, V]):
@@ -207,10 +208,7 @@ class AssocListMap(Generic[K, V]):
 
 def _check_orderable(k: Any) -> None:
     """Reject a key that Python cannot order even against itself (e.g. ``object()``)."""
-    try:
-        k < k  # noqa: B015 - evaluated for its TypeError only
-    except TypeError:
-        raise TypeError(f"assoc_list: key {k!r} of type {type(k).__name__} is not orderable (no '<')") from None
+    check_orderable("assoc_list", k)
 
 
 assoc_list: AssocListMap[Any, Any] = AssocListMap()

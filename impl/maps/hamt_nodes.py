@@ -17,6 +17,7 @@ from collections.abc import Callable, Hashable
 from operator import itemgetter
 from typing import Any, Final, Generic, NamedTuple, Protocol, TypeAlias, TypeVar
 
+from persistri.impl.maps.keys import check_orderable, unorderable
 from persistri.spec.ord_map import NotFound
 from persistri.spec.order import Comparable
 
@@ -108,15 +109,12 @@ def _unhashable(k: object) -> TypeError:
 
 
 def _unorderable(k: object) -> TypeError:
-    return TypeError(f"hamt: key {k!r} of type {type(k).__name__} is not orderable (no '<')")
+    return unorderable("hamt", k)
 
 
 def _check_orderable(k: Any) -> None:
     """Reject a key that Python cannot order even against itself (e.g. ``object()``). O(1)."""
-    try:
-        k < k  # noqa: B015 - evaluated for its TypeError only
-    except TypeError:
-        raise _unorderable(k) from None
+    check_orderable("hamt", k)
 
 
 def _not_ordered(k: object, exc: TypeError) -> TypeError:

@@ -64,6 +64,7 @@ from typing import Any, Final, Generic, TypeAlias, TypeVar
 
 from persistri.impl.maps import red_black_arena_adjust as _adjust
 from persistri.impl.maps import red_black_arena_tree as _tree
+from persistri.impl.maps.keys import check_orderable, not_ordered_with
 from persistri.impl.maps.red_black_arena_tree import BLACK, NIL, RED, Arena, FailedWith
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound
@@ -84,15 +85,12 @@ _EMPTY: Final[ArenaMap] = (0, NIL, None)
 
 
 def _key_error(k: object, exc: TypeError) -> TypeError:
-    return TypeError(f"{_NAME}: key {k!r} is not ordered with the keys of this map ({exc})")
+    return not_ordered_with(_NAME, k, exc)
 
 
 def _check_orderable(k: Any) -> None:
     """Reject a key that Python cannot order even against itself (e.g. ``object()``)."""
-    try:
-        k < k  # noqa: B015 - evaluated for its TypeError only
-    except TypeError:
-        raise TypeError(f"{_NAME}: key {k!r} of type {type(k).__name__} is not orderable (no '<')") from None
+    check_orderable(_NAME, k)
 
 
 def _blacken(A: Arena, t: int) -> int:

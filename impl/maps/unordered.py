@@ -35,6 +35,8 @@ from collections.abc import Hashable, Iterable
 from operator import itemgetter
 from typing import Any, Protocol, TypeVar
 
+from persistri.impl.maps.keys import check_orderable
+
 __all__ = ["HashKey", "check_key", "sorted_items", "sorted_keys"]
 
 
@@ -56,10 +58,7 @@ def check_key(owner: str, k: Any) -> None:
         hash(k)
     except TypeError:
         raise TypeError(f"{owner}: key {k!r} of type {type(k).__name__} is not hashable") from None
-    try:
-        k < k  # noqa: B015 - evaluated for its TypeError only
-    except TypeError:
-        raise TypeError(f"{owner}: key {k!r} of type {type(k).__name__} is not orderable (no '<')") from None
+    check_orderable(owner, k)
 
 
 def _unordered_keys(owner: str, exc: TypeError) -> TypeError:
