@@ -11,9 +11,10 @@ error says which structure refused what.  All O(1).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
-__all__ = ["check_orderable", "not_ordered_with", "unorderable"]
+__all__ = ["check_increasing", "check_orderable", "not_ordered_with", "unorderable"]
 
 
 def unorderable(owner: str, k: object) -> TypeError:
@@ -32,3 +33,17 @@ def check_orderable(owner: str, k: Any) -> None:
 def not_ordered_with(owner: str, k: object, exc: TypeError) -> TypeError:
     """The error for a key ``k`` that does not order with the map's keys (``exc``: the comparison's own)."""
     return TypeError(f"{owner}: key {k!r} is not ordered with the keys of this map ({exc})")
+
+
+def check_increasing(owner: str, operation: str, items: Sequence[tuple[Any, Any]]) -> None:
+    """Raise :class:`ValueError` unless the keys of ``items`` strictly increase (a batched operation's
+    precondition), or :func:`not_ordered_with`'s error where two of them do not compare.  O(len(items))."""
+    for j in range(1, len(items)):
+        try:
+            ordered = items[j - 1][0] < items[j][0]
+        except TypeError as exc:
+            raise not_ordered_with(owner, items[j][0], exc) from None
+        if not ordered:
+            raise ValueError(
+                f"{owner}: {operation} needs strictly increasing keys, got {items[j - 1][0]!r} before {items[j][0]!r}"
+            )

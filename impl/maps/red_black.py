@@ -86,7 +86,7 @@ from typing import Any, Final, Generic, Optional, TypeAlias, TypeVar
 
 from persistri.impl.maps import red_black_adjust as _adjust
 from persistri.impl.maps import red_black_tree as _tree
-from persistri.impl.maps.keys import check_orderable, not_ordered_with
+from persistri.impl.maps.keys import check_increasing, check_orderable, not_ordered_with
 from persistri.impl.maps.red_black_tree import BLACK, RED, FailedWith
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound
@@ -223,14 +223,7 @@ class RedBlackMap(Generic[K, V]):
         unchanged, and ``m`` is unaffected.  O(k + new nodes) time.
         """
         n, t = m
-        for j in range(1, len(items)):
-            try:
-                ordered = items[j - 1][0] < items[j][0]
-            except TypeError as exc:
-                raise _key_error(items[j][0], exc) from None
-            if not ordered:
-                raise ValueError(f"{_NAME}: adjust_many needs strictly increasing keys, got {items[j - 1][0]!r} "
-                                 f"before {items[j][0]!r}")
+        check_increasing(_NAME, "adjust_many", items)
         if t is None or not items:
             return m, list(items)
         keys = [k for k, _ in items]

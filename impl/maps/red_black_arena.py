@@ -64,7 +64,7 @@ from typing import Any, Final, Generic, TypeAlias, TypeVar
 
 from persistri.impl.maps import red_black_arena_adjust as _adjust
 from persistri.impl.maps import red_black_arena_tree as _tree
-from persistri.impl.maps.keys import check_orderable, not_ordered_with
+from persistri.impl.maps.keys import check_increasing, check_orderable, not_ordered_with
 from persistri.impl.maps.red_black_arena_tree import BLACK, NIL, RED, Arena, FailedWith
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound
@@ -185,14 +185,7 @@ class ArenaRedBlackMap(Generic[K, V]):
         and the items whose key is not (as :meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_many`:
         strictly increasing keys, else ValueError).  O(k + new nodes)."""
         n, t, A = m
-        for j in range(1, len(items)):
-            try:
-                ordered = items[j - 1][0] < items[j][0]
-            except TypeError as exc:
-                raise _key_error(items[j][0], exc) from None
-            if not ordered:
-                raise ValueError(f"{_NAME}: adjust_many needs strictly increasing keys, got {items[j - 1][0]!r} "
-                                 f"before {items[j][0]!r}")
+        check_increasing(_NAME, "adjust_many", items)
         if not t or A is None or not items:
             return m, list(items)
         keys = [k for k, _ in items]
