@@ -101,18 +101,9 @@ class _GridRows(dict[int, tuple[float, ...]]):
             x, y = z.decode(k)
             if x >= z.shape[1] or y >= z.shape[0]:
                 raise IndexError(f"point index {k} is the z-order label of no sample of a {z.shape} grid")
-        floats = self.floats
-        fx = floats.get(x)
-        if fx is None:
-            fx = floats[x] = float(x)
-        fy = floats.get(y)
-        if fy is None:
-            fy = floats[y] = float(y)
-        row = (fx, fy)
         # Kept under i itself when it is an int (a Vertex: the one object the mesh holds anyway); equal keys
         # hash alike, so a later look-up by k, by i or by another equal int finds the row.
-        self[i if isinstance(i, int) else k] = row
-        return row
+        return self.put(i if isinstance(i, int) else k, x, y)
 
 
 class GridPredicates2(Predicates2):
