@@ -65,7 +65,13 @@ class ConvexHull:
       the right-hand rule (scipy's are unoriented), rotated to start at its
       smallest row, rows sorted;
     * ``vertices`` — the input rows that are hull vertices, sorted (scipy's order
-      in 3D); every extreme point is one, and of exactly equal rows only the first;
+      in 3D); every extreme point is one, and of exactly equal rows only the first.
+      Unlike scipy's, they may also include points lying *on* a flat facet or edge
+      of the real hull: the symbolic perturbation moves such a point infinitesimally
+      in or out, and those moved out become vertices, the flat facet triangulated
+      through them (a 3 × 3 × 3 grid: 17 vertices and 30 triangles, scipy 8 and 12;
+      docs/exactness.md, "What the perturbation leaves behind").  ``volume`` and
+      ``area`` are those of the real hull either way;
     * ``neighbors`` — ``(m, 3)``: ``neighbors[i, j]`` is the triangle across the
       edge opposite ``simplices[i, j]`` (never -1: the hull is closed);
     * ``equations`` — ``(m, 4)``: ``[normal, offset]``, the outward unit normal and
@@ -134,6 +140,10 @@ class ConvexHull:
     >>> bigger = hull.add_points([[1.0, 1.0, 5.0]])    # a new hull; the old one is unchanged
     >>> bigger.volume, hull.volume
     (12.0, 8.0)
+    >>> grid = np.array([[x, y, z] for x in range(3) for y in range(3) for z in range(3)], dtype=float)
+    >>> flat = persistri.ConvexHull(grid)    # points on the flat faces become vertices too
+    >>> len(flat.vertices), flat.nsimplex, flat.volume, flat.area
+    (17, 30, 8.0, 24.0)
     >>> chunked = persistri.ConvexHull(cube, workers=1, chunk_rows=3)   # chunk by chunk, here
     >>> chunked.vertices.tolist() == hull.vertices.tolist(), chunked.volume, len(chunked.chunked.chunks)
     (True, 8.0, 3)
