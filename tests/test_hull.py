@@ -156,12 +156,25 @@ def test_degenerate_input_names_the_affine_dimension(points: np.ndarray, dim: in
         (np.zeros(6), ValueError, r"\(n, 3\)"),
         ("points", TypeError, "real numbers"),
         ([["a", "b", "c"]] * 4, TypeError, "real"),
-        ([[0, 0, 0], [1, 0]], ValueError, "rectangular"),
+        ([[0, 0, 0], [1, 0]], ValueError, "rectangular.*row 1 has 2 entries, not 3"),
+        ([[0, 0, 0], 7], ValueError, "rectangular.*row 1 is int, not a row of 3 numbers"),
+        ([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, None]], TypeError, "row 3 holds NoneType None, not a real number"),
+        ([[0, 0, 0], [2**53 + 1, 0, 0], [0, 1, 0], [0, 0, 1]], ValueError, "row 1 is not exactly representable"),
+        ([[0, 0, 0], [10**400, 0, 0], [0, 1, 0], [0, 0, 1]], ValueError, r"row 1 is not exactly representable as float64: \[1000"),
     ],
 )
 def test_bad_input_gets_a_clear_error(bad: object, exc: type[Exception], message: str) -> None:
     with pytest.raises(exc, match=message):
         convex_hull(bad)  # type: ignore[arg-type]
+
+
+def test_python_numbers_beyond_int64_are_taken_exactly() -> None:
+    """Big ints and Fractions that a float64 holds exactly are the same points as their floats."""
+    from fractions import Fraction
+
+    big = [[0, 0, 0], [2**70, 0, 0], [0, Fraction(2**69, 1), 0], [0, 0, Fraction(2**70, 2)]]
+    exact = convex_hull(big)  # type: ignore[arg-type]
+    assert exact.simplices.tolist() == convex_hull(np.array(big, dtype=float)).simplices.tolist()
 
 
 def test_unknown_backend() -> None:

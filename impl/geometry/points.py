@@ -9,7 +9,9 @@ the rationals they denote are, so this never merges distinct points.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+import numbers
+import reprlib
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -20,12 +22,15 @@ __all__ = ["as_points", "UniqueRows", "unique_rows", "appended_rows"]
 def as_points(points: ArrayLike, dim: int, *, what: str = "points") -> NDArray[np.float64]:
     """``points`` as a C-contiguous ``(n, dim)`` float64 array, converted exactly.
 
-    Raises :class:`TypeError` for non-numeric input (strings, objects, complex
-    numbers) and :class:`ValueError` for a ragged or wrongly shaped array (the
-    shape found is named), for a NaN or infinite coordinate (the first such row
-    is named), or for a number that float64 cannot hold exactly (integers
-    beyond 2^53, long doubles with more precision): persistri never rounds its
-    input.  Booleans and integers are accepted as reals.  ``-0.0`` becomes
+    Raises :class:`TypeError` for non-numeric input (strings, complex numbers,
+    objects that are not real numbers; the first is named) and
+    :class:`ValueError` for a ragged or wrongly shaped array (the first short
+    row, or the shape found, is named), for a NaN or infinite coordinate (the
+    first such row is named), or for a number that float64 cannot hold exactly
+    (integers beyond 2^53 that are not doubles, long doubles with more
+    precision, Fractions like 1/3): persistri never rounds its input.  Python
+    numbers a float64 holds exactly (big ints such as 2^70, Fractions,
+    Decimals) are taken as those doubles.  Booleans and integers are accepted as reals.  ``-0.0`` becomes
     ``0.0`` (the same number).  O(n).
     """
     if isinstance(points, (str, bytes)):
@@ -33,9 +38,9 @@ def as_points(points: ArrayLike, dim: int, *, what: str = "points") -> NDArray[n
     try:
         raw = np.asarray(points)
     except (ValueError, TypeError) as exc:  # ragged nested sequences
-        raise ValueError(f"{what} must be a rectangular (n, {dim}) array of reals: {exc}") from None
+        raise ValueError(f"{what} must be a rectangular (n, {dim}) array of reals: {_ragged(points, dim) or exc}") from None
     if raw.dtype == object:
-        raise TypeError(f"{what} must be real numbers (got Python objects: ragged rows or non-numeric entries)")
+        raw = _from_objects(raw, dim, what)
     if raw.dtype.kind not in "biuf":
         raise TypeError(f"{what} must be real numbers, not {raw.dtype}")
     if raw.ndim != 2 or raw.shape[1] != dim:
@@ -52,6 +57,45 @@ def as_points(points: ArrayLike, dim: int, *, what: str = "points") -> NDArray[n
         row = int(np.argmax(~finite.all(axis=1)))
         raise ValueError(f"{what}: row {row} is not finite: {arr[row].tolist()}")
     out: NDArray[np.float64] = arr + 0.0  # -0.0 + 0.0 == +0.0
+    return out
+
+
+def _ragged(points: object, dim: int) -> str | None:
+    """The first row of a nested sequence whose length is not ``dim``, described; None if none is found."""
+    try:
+        rows = list(points)  # type: ignore[call-overload]
+    except TypeError:
+        return None
+    for i, row in enumerate(rows):
+        try:
+            n = len(row)
+        except TypeError:
+            return f"row {i} is {type(row).__name__}, not a row of {dim} numbers"
+        if n != dim:
+            return f"row {i} has {n} entries, not {dim}"
+    return None
+
+
+def _from_objects(raw: NDArray[Any], dim: int, what: str) -> NDArray[Any]:
+    """An object array of Python numbers (big ints, Fractions, Decimals) as float64, if every entry is exact.
+
+    Raises :class:`TypeError` naming the first entry that is not a real number, and
+    :class:`ValueError` naming the first row a float64 cannot hold exactly.  O(n).
+    """
+    if raw.ndim != 2 or raw.shape[1] != dim:
+        raise ValueError(f"{what} must be an (n, {dim}) array, got shape {raw.shape}")
+    out = np.empty(raw.shape, dtype=np.float64)
+    for i, row in enumerate(raw.tolist()):
+        for j, x in enumerate(row):
+            if not isinstance(x, numbers.Real):
+                raise TypeError(f"{what}: row {i} holds {type(x).__name__} {x!r:.40}, not a real number")
+            try:
+                f = float(x)
+            except OverflowError:
+                f = np.inf
+            if f == f and f != x:
+                raise ValueError(f"{what}: row {i} is not exactly representable as float64: {reprlib.repr(row)}")
+            out[i, j] = f
     return out
 
 
