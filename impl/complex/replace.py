@@ -21,7 +21,10 @@ Two ways to make those updates, both here or in
   vertex's list in one descent, copying the tree nodes their search paths
   share once.
 
-Either raises a signal (``Missing``, ``Present``, ``Unbatched``) when the
+A cone from a fresh vertex over a cycle given in order (the scattered Delaunay's
+fan, §5) is grouped from the cycle itself: :func:`replace_cone`.
+
+Each raises a signal (``Missing``, ``Present``, ``Unbatched``) when the
 change is not valid, and the structure then runs the fold, which raises the
 signature's precise error with the complex unchanged.  O(V_t·lg V + Σ δ) with
 V_t the vertices touched and δ their list lengths.
@@ -41,10 +44,12 @@ from persistri.impl.complex.vertex_lists import (
     Present,
     Unbatched,
     group,
+    group_cone,
+    rebuild_cone,
     replace_batched,
 )
 
-__all__ = ["arguments", "replace_per_vertex", "replace_trusted", "same_replace"]
+__all__ = ["arguments", "replace_per_vertex", "replace_trusted", "replace_cone", "same_replace"]
 
 _new_complex = tuple.__new__
 
@@ -122,6 +127,57 @@ def replace_trusted(S: Any, c: Any, removed: list[Any], added: list[Any]) -> Any
     except (Unbatched, Missing, Present, TypeError, ValueError, AttributeError):
         return S.replace(c, removed, added)
     return _new_complex(Complex, (family, rep, out_lin))
+
+
+def replace_cone(S: Any, c: Any, removed: list[Any], added: list[Any]) -> Any:
+    """:func:`replace_trusted` for a star replaced by a cone from a fresh apex, grouped from the cone's cycle.
+
+    ``added`` lists the cone's triangles ``(ci, c(i+1), x)`` around the cycle in order (the scattered
+    Delaunay's fan and its ghosts, §5): :func:`~persistri.impl.complex.vertex_lists.group_cone` reads each
+    cycle vertex's two new entries off its two triangles instead of grouping them through a dictionary,
+    and :func:`~persistri.impl.complex.vertex_lists.rebuild_cone` rebuilds its list with the entries already
+    in their final tuple; the apex is inserted in the tree's one descent (``adjust_insert``), as
+    :func:`~persistri.impl.complex.vertex_lists.replace_batched` does for a fresh vertex.  The same
+    complex as ``S.replace(c, removed, added)`` — every list with the same entries in the same order —
+    in every case: anything that is not such a cone over a backend with ``adjust_insert`` goes to
+    :func:`replace_trusted`, and anything invalid to ``S.replace``, which raises the precise error.
+    O(V_t·lg V + Σ δ) as ``replace``.
+    """
+    batched: tuple[Any, Any, Any, Any, Any] | None = getattr(S, "_batched", None)
+    if batched is None:
+        return S.replace(c, removed, added)
+    family, _, insert, remove, adjust_insert = batched
+    try:
+        fam, rep, lin = c
+        if fam is not family or adjust_insert is None:
+            raise Unbatched
+        changes = group_cone(removed, added, lin)
+    except (Unbatched, TypeError, ValueError, AttributeError):
+        return replace_trusted(S, c, removed, added)
+    try:
+        keys = sorted(changes)
+        vals = [changes[k] for k in keys]
+        apex = added[0][0][2]
+        j = 0
+        while keys[j] is not apex:
+            j += 1
+        rep, absent, emptied, inserted = adjust_insert(rebuild_cone, rep, keys, vals, j, vals[j][1])
+        fresh: Any = None if inserted else apex  # the apex, until confirmed absent
+        for i in absent:  # a vertex with no list: inserted with its new entries if it drops nothing
+            change = vals[i]
+            if change[0]:
+                raise Unbatched
+            k = keys[i]
+            if k is fresh:
+                fresh = None
+            rep = insert(rep, k, change[1])
+        if fresh is not None:  # the apex has a list: a triangle to add may be in the complex
+            raise Unbatched
+        for i in emptied:  # never for a cone (each cycle vertex keeps its two new entries): as replace_batched
+            rep = remove(rep, keys[i])[0]
+    except (Unbatched, Missing, Present, TypeError, ValueError, AttributeError):
+        return S.replace(c, removed, added)
+    return _new_complex(Complex, (family, rep, lin))
 
 
 def same_replace(S: Any, mine: Any, theirs: Any, removed: list[Any], added: list[Any]) -> bool:

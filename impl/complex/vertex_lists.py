@@ -53,8 +53,10 @@ __all__ = [
     "cat_new",
     "rebuild",
     "rebuild_fresh",
+    "rebuild_cone",
     "visited",
     "group",
+    "group_cone",
     "replace_batched",
 ]
 
@@ -313,6 +315,58 @@ def rebuild_fresh(old: VertexList, change: Change) -> VertexList:
     return tuple(kept) + tail
 
 
+def rebuild_cone(old: VertexList, change: Change) -> VertexList:
+    """A vertex's new list in a cone's ``replace`` (:func:`group_cone`'s change ``(drops, tail, v)``): ``old``
+    without the entries ``(b, c, _)`` of the pairs in the flat list ``drops = [b0, c0, b1, c1, …]``, then
+    the entries of ``tail``.
+
+    :func:`rebuild_fresh` for a change already in its final form: no tail tuple to build, no pair tuple
+    per drop.  Every added triangle names the fresh apex, so there is no ``Present`` to look for.  The
+    scan for a pair compares vertex objects by identity first (an entry and the triangle that dropped it
+    were made from the same objects by an algorithm that keeps one object per vertex) and by ``==`` only
+    where identity finds nothing; on a list of a valid complex each ``(b, c)`` is there at most once, so
+    either finds the same entry.  Missing if a pair is not there (or is asked twice).  O(len(old)).
+    """
+    drops: list[Any] = change[0]
+    tail: VertexList = change[1]
+    n = len(drops)
+    if n == 2:
+        b = drops[0]
+        c = drops[1]
+        k = 0
+        for e in old:
+            if e[0] is b and e[1] is c:
+                return old[:k] + old[k + 1 :] + tail
+            k += 1
+        return rebuild_fresh(old, ([(b, c)], [], list(tail)))  # by ==, or Missing
+    if n == 4:
+        b = drops[0]
+        c = drops[1]
+        b2 = drops[2]
+        c2 = drops[3]
+        i = -1
+        j = -1
+        k = 0
+        for e in old:
+            e0 = e[0]
+            if e0 is b and e[1] is c:
+                i = k
+                if j >= 0:
+                    break
+            elif e0 is b2 and e[1] is c2:
+                j = k
+                if i >= 0:
+                    break
+            k += 1
+        else:
+            return rebuild_fresh(old, ([(b, c), (b2, c2)], [], list(tail)))
+        if j < i:
+            i, j = j, i
+        return old[:i] + old[i + 1 : j] + old[j + 1 :] + tail
+    pairs = [(drops[k], drops[k + 1]) for k in range(0, n, 2)]
+    return rebuild_fresh(old, (pairs, [], list(tail)))
+
+
 def visited(old: VertexList, b: Any, c: Any) -> int:
     """How many entries a scan of ``old`` for ``(b, c, _)`` visits."""
     for i, e in enumerate(old):
@@ -471,6 +525,87 @@ def group(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> tuple[Chang
     if not cone or fresh is _NO_APEX or changes[fresh][0]:
         fresh = None
     return changes, out_lin, fresh
+
+
+def group_cone(removed: Sequence[Any], added: Sequence[Any], lin: Any) -> Changes:
+    """:func:`group` for a star replaced by a *cone*, read off the cone's cycle: the changes by vertex, each
+    ``(drops, tail, v)`` — the flat list of the pairs to drop, the entries to append, the vertex — for
+    :func:`rebuild_cone`; the apex's ``tail`` is its whole list.
+
+    The cone: ``added`` is ``[((c0, c1, x), d0), ((c1, c2, x), d1), …, ((c(m-1), c0, x), d(m-1))]``, the
+    triangles from the apex ``x`` over a cycle of ``m ≥ 3`` distinct vertices, in the cycle's order (the
+    scattered Delaunay's fan with its ghosts, paper §5; the hull's tent, §3).  Then each cycle vertex ``ci``
+    gets the checked entry ``(c(i+1), x, di)`` and the plain entry ``(x, c(i-1), d(i-1))`` — the tail
+    :func:`group` gives it, in its order — and the apex the entries ``(ci, c(i+1), di)`` in the order of
+    ``added``, with no dictionary read for any of them; ``removed`` is grouped as :func:`group` groups it,
+    each pair's drops in the same order.  So the changes mean what :func:`group`'s mean
+    (``tests/test_complex_replace_cone.py`` compares them), and the lists :func:`rebuild_cone` makes are
+    :func:`rebuild_fresh`'s.
+
+    Validates as :func:`group` does, more strictly: the apex of the complex's lineage ``lin`` and in no
+    removed triangle, every cycle vertex of the apex's class (a lineage's vertices of one kind share a
+    class: one identity test) or of its lineage, every vertex of a removed triangle the very object of a cycle vertex, the triangles tuples.
+    Anything else — ``added`` not such a cone, an empty complex, a vertex of a removed triangle off the
+    cycle — raises Unbatched (or the TypeError / ValueError of a malformed argument), and the caller
+    lets :func:`group` or the fold decide.  O(|removed| + m).
+    """
+    m = len(added)
+    if m < 3 or lin is None:
+        raise Unbatched
+    changes: Changes = {}
+    t: Any
+    s: tuple[Any, Any, Any]
+    sx: tuple[Any, Any]
+    # The last triangle (c(m-1), c0, x): the apex, the first cycle vertex c0, and c(m-1) with its datum.
+    sx = added[m - 1]
+    t, xp = sx
+    if type(t) is not tuple:
+        raise Unbatched
+    s = t
+    ap, a, apex = s
+    if apex.lineage is not lin:
+        raise Unbatched
+    vt = type(apex)
+    fan: list[Entry] = []
+    for sx in added:
+        t, x = sx
+        if type(t) is not tuple:
+            raise Unbatched
+        s = t
+        c0, b, cc = s
+        if c0 is not a or cc is not apex or (type(a) is not vt and a.lineage is not lin):
+            raise Unbatched
+        changes[a] = ([], ((b, cc, x), (cc, ap, xp)), a)
+        fan.append((a, b, x))
+        ap = a
+        a = b
+        xp = x
+    if len(changes) != m or apex in changes:  # a repeated cycle vertex, or the apex on the cycle
+        raise Unbatched
+    drops: list[Any]
+    for t in removed:
+        if type(t) is not tuple:
+            raise Unbatched
+        s = t
+        a, b, cc = s
+        cha = changes.get(a)
+        chb = changes.get(b)
+        chc = changes.get(cc)
+        if cha is None or chb is None or chc is None or cha[2] is not a or chb[2] is not b or chc[2] is not cc:
+            raise Unbatched
+        drops = cha[0]
+        if drops is chb[0] or chb[0] is chc[0] or drops is chc[0]:  # a repeated vertex: one change
+            raise Unbatched
+        drops.append(b)
+        drops.append(cc)
+        drops = chb[0]
+        drops.append(cc)
+        drops.append(a)
+        drops = chc[0]
+        drops.append(a)
+        drops.append(b)
+    changes[apex] = ([], tuple(fan), apex)
+    return changes
 
 
 def replace_batched(

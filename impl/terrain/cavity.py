@@ -10,8 +10,9 @@ conflict rule: ``incircle`` with Simulation of Simplicity, or the ghost rule),
    into the bulldozer's "the visible region is connected");
 2. the cavity is removed and the **fan** (the 2D tent) from ``p`` to every edge of
    its boundary is added: one new persistent version
-   (:meth:`~persistri.impl.complex.two_complex.TwoComplex.replace`, or the paper's
-   ``rem`` and ``add`` each with ``stepwise=True``);
+   (:meth:`~persistri.impl.complex.two_complex.TwoComplex.replace`'s result, made by
+   :func:`~persistri.impl.complex.replace.replace_cone` from the fan in the
+   boundary's order, or the paper's ``rem`` and ``add`` each with ``stepwise=True``);
 3. the **conflict lists** of the removed finite triangles — here *samples*, points
    not yet inserted that lie in the triangle, as if the bulldozer's centre sat at
    vertical infinity — are pooled and each sample goes to the fan triangle whose
@@ -43,7 +44,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from persistri.impl.complex.replace import replace_trusted, same_replace
+from persistri.impl.complex.replace import replace_cone, same_replace
 from persistri.impl.terrain.errors import TriangulationCheckError
 from persistri.impl.terrain.insertion import EMPTY, NO_SECTOR, Insertion, IntArray, Samples, fan_samples, third
 
@@ -253,12 +254,14 @@ def insert(T: Triangulator, p: int, start: int) -> Insertion:
         for tri, datum in fan:
             cx = S.add(cx, tri, datum)
     elif check:  # the compiled entry, compared with the public replace where it changed the complex
-        done = replace_trusted(S, cx, removed_tris, fan)
+        done = replace_cone(S, cx, removed_tris, fan)
         if not same_replace(S, done, S.replace(cx, removed_tris, fan), removed_tris, fan):
-            raise TriangulationCheckError(f"insert: point {p}: replace_trusted differs from replace")
+            raise TriangulationCheckError(f"insert: point {p}: replace_cone differs from replace")
         cx = done
     else:
-        cx = replace_trusted(S, cx, removed_tris, fan)
+        # The fan (ghosts last) is the cone from vp over the cavity's boundary cycle in order (∞ on it when
+        # open): replace_cone reads each ring vertex's two new entries off it.
+        cx = replace_cone(S, cx, removed_tris, fan)
     T.complex = cx
     return Insertion(p, cx, removed, created, samples, counts, not closed, ring, sector, own)
 
