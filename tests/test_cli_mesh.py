@@ -345,3 +345,20 @@ def test_refinement_messages_in_the_commands_words(tmp_path: Path) -> None:
     assert _in_command_words("the mesh is fine", str(one)) == "the mesh is fine"
     hull = "from the convex hull edge (0, 0)–(1, 0) (a .node file, or convex=True, is meshed as its convex hull)"
     assert "or --convex, is meshed" in _in_command_words(hull, str(zero))
+
+
+def test_without_the_checker_the_summary_does_not_call_the_smallest_angle_one_outside_the_exemption() -> None:
+    # The needle's 30° mesh leaves triangles below the bound at its tiny input angle (exempt).  Without --check the
+    # summary only knows the smallest angle of all, which lies in an exempt triangle: it said "min angle 0.00°
+    # outside 37 exempt triangles" beside "bound 30° reached", a contradiction; with --check the checker's figure.
+    api = triangulate(gallery_domain("needle").pslg, min_angle=30)
+    assert api.exempt > 0 and api.min_angle_reached and api.smallest_angle() < 30
+    plain, _ = invoke(["mesh", "needle", "-q", "30"])
+    assert plain.exit_code == 0
+    exempt = f"{api.exempt} exempt triangles at small input angles"
+    assert f"min angle {api.smallest_angle():.2f}° counting {exempt}, ≥ 30° outside them (bound 30° reached)" in plain.stderr
+    assert f"min angle {api.smallest_angle():.2f}° outside" not in plain.stderr
+    checked, _ = invoke(["mesh", "needle", "-q", "30", "--check"])
+    report = verify_mesh(api.domain, api.vertices, api.triangles, min_angle=30, exact_segments=api.exact_segments)
+    assert report.min_angle_unexempt is not None and report.min_angle_unexempt >= 30
+    assert f"min angle {report.min_angle_unexempt:.2f}° outside {exempt} (bound 30° reached)" in checked.stderr

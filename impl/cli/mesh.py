@@ -192,12 +192,18 @@ def _protect_input(source: str, targets: list[Path]) -> None:
 def _summary(source: str, mesh: QualityMesh, smallest: float, report: MeshReport | None, max_steiner: int | None) -> str:
     bound = mesh.min_angle
     what = f"mesh of {source}: {len(mesh.triangles):,} triangles, {len(mesh.vertices):,} vertices"
+    exempt = f"{mesh.exempt} exempt triangle{'s' if mesh.exempt != 1 else ''} at small input angles"
     if report is not None and report.min_angle_unexempt is not None:
-        angle = f"min angle {report.min_angle_unexempt:.2f}°"
+        angle = f"min angle {report.min_angle_unexempt:.2f}°" + (f" outside {exempt}" if mesh.exempt else "")
+    elif mesh.exempt:
+        # Without the checker's report only the smallest angle of all is known, and it may lie in an exempt
+        # triangle: say so rather than call it the smallest outside them.  Where the bound is reached, every
+        # other triangle meets it (decided exactly by the refiner).
+        angle = f"min angle {smallest:.2f}° counting {exempt}"
+        if bound > 0 and mesh.min_angle_reached:
+            angle += f", ≥ {bound:g}° outside them"
     else:
         angle = f"min angle {smallest:.2f}°"
-    if mesh.exempt:
-        angle += f" outside {mesh.exempt} exempt triangle{'s' if mesh.exempt != 1 else ''} at small input angles"
     if bound > 0:
         reached = "reached" if mesh.min_angle_reached else "NOT reached"
         if not mesh.min_angle_reached and max_steiner is not None and mesh.insertions >= max_steiner:
