@@ -130,3 +130,19 @@ def test_the_complex_help_example_runs() -> None:
     assert r.exit_code == 0, r.output
     assert "conforms to SIMPCOMP" in r.stdout
     assert not any(line.rstrip().endswith(("persis", "persistri.")) for line in lines)
+
+
+@pytest.mark.parametrize("state", ["os:getcwd", "os:sep"])
+def test_a_state_the_structure_cannot_use_exits_2_in_one_line(state: str) -> None:
+    # A --state of another kind (a function returning a string, a string) is a set-up mistake: it made every test
+    # of the suite fail with the same TypeError and exit 1, as if the structure broke its laws.
+    r = CliRunner().invoke(
+        main,
+        ["conformance", "complex", "persistri.impl.complex.simpcomp:SimpComp", "--state", state, "--dims", "2",
+         "--max-examples", "2", "--workload-size", "0", "--stateful-steps", "0"],
+    )
+    assert r.exit_code == 2, r.output
+    assert r.stdout == ""
+    (line,) = r.stderr.splitlines()
+    assert line.startswith(f"persistri: --state {state}: the structure's Simplex.Vertex.new cannot make vertices from it (TypeError: ")
+    assert line.endswith("give a vertex state of its VERTEX structure, or a function of no arguments returning one")

@@ -8,8 +8,9 @@
 Exit status: 0 when it conforms, 1 when some law fails (each failure is
 printed with the law, its statement, what was seen and hypothesis's minimal
 counterexample or the operations of the workload that broke it), 2 when
-``MODULE:ATTR`` cannot be loaded or is not a structure of the signature, or a
-``--test`` name is not one of the suite's (one line on stderr).
+``MODULE:ATTR`` cannot be loaded or is not a structure of the signature, a
+``--state`` cannot make the structure's vertices, or a ``--test`` name is not
+one of the suite's (one line on stderr).
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from typing import Any, NoReturn
 
 import click
 
-from persistri.impl.cli.errors import fail
+from persistri.impl.cli.errors import error_line, fail
 
 __all__ = ["conformance", "maps", "complex_", "load_target", "TargetError"]
 
@@ -162,6 +163,27 @@ def _auto_dims(structure: Any, among: Sequence[int] = range(1, 5)) -> tuple[int,
     return tuple(dims)
 
 
+def _check_state(ctx: click.Context, structure: Any, state: object, state_target: str) -> None:
+    """Exit 2 with one line when the structure's ``Simplex.Vertex.new`` cannot make two vertices from ``state``.
+
+    What ``--state`` names is set-up, not the structure's behaviour: a value of another kind (a function
+    returning a string, a class instead of its ``initial``) would otherwise fail every test of the suite,
+    each with the same exception, and exit 1 as if laws were broken.  O(1).
+    """
+    from persistri.spec.conformance.simpcomp_config import vertices_from_state
+
+    try:
+        vertices_from_state(structure, state)(2)
+    except Exception as exc:  # noqa: BLE001 - whatever new raises, the suite cannot make vertices from it
+        detail = error_line(exc)
+        _fail(
+            ctx,
+            f"--state {state_target}: the structure's Simplex.Vertex.new cannot make vertices from it "
+            f"({type(exc).__name__}: {detail}); give a vertex state of its VERTEX structure, "
+            "or a function of no arguments returning one",
+        )
+
+
 def _parse_dims(text: str) -> tuple[int, ...] | None:
     if text == "auto":
         return None
@@ -243,6 +265,7 @@ def complex_(
             state()
         except Exception as exc:  # noqa: BLE001 - whatever it raises, it is no vertex state
             _fail(ctx, f"--state {state_target}: calling it with no arguments failed ({type(exc).__name__}: {exc})")
+    _check_state(ctx, structure, state, state_target)
     chosen = wanted if wanted is not None else _auto_dims(structure)
     if not chosen:
         _fail(ctx, f"{target} is not a SIMPCOMP structure: new(n) fails for every n in 1..4")
