@@ -76,7 +76,11 @@ def terrain(
         fail("give --max-error or --relief, not both")
     if peak_memory and not target:
         fail("--peak-memory measures a run to --max-error or --relief: give one of them")
-    size_list = parse_sizes(sizes) if sizes is not None else (() if target else parse_sizes("1600,3200,6400,12800"))
+    try:
+        size_list = parse_sizes(sizes, "vertex count") if sizes is not None else (() if target else parse_sizes("1600,3200,6400,12800"))
+    except click.BadParameter as exc:  # parsed here, not by a callback: name the option as click would
+        exc.param_hint = "'--sizes'"
+        raise
     try:
         synthetic = parse_synthetic(grid_source)
     except ValueError as exc:
@@ -195,10 +199,18 @@ def hull(
     """
     from persistri.impl.bench.hull import hull_table, run_hull_bench
 
-    dist_names = tuple(d.strip() for d in dists.split(",") if d.strip())
+    if min(sizes) < 4:
+        raise click.BadParameter(f"{min(sizes)}: a 3D hull needs at least 4 points", param_hint="'--sizes'")
+    dist_names = tuple(_distribution(d.strip(), "--dists") for d in dists.split(",") if d.strip())
+    if not dist_names:
+        raise click.BadParameter("give at least one distribution", param_hint="'--dists'")
+    if memory:
+        memory_dist = _distribution(memory_dist, "--memory-dist")
     backend_names = tuple(b.strip() for b in backends.split(",") if b.strip())
+    if not backend_names:
+        raise click.BadParameter("give at least one backend", param_hint="'--backends'")
     for name in backend_names:
-        check_backend(name)
+        check_backend(name, "--backends")
     err = stderr_console()
     with progress_bar(err, "bench hull") as update:
         result = run_hull_bench(
@@ -216,6 +228,17 @@ def hull(
         click.echo(json.dumps(result.as_dict(), indent=2, ensure_ascii=False))
     else:
         stdout_console().print(hull_table(result))
+
+
+def _distribution(name: str, option: str) -> str:
+    """The §4 distribution ``name`` in its own spelling (any case, as ``persistri hull --dist`` takes it);
+    a usage error naming ``option`` for another name."""
+    from persistri.impl.hull.distributions import DISTRIBUTIONS
+
+    for known in DISTRIBUTIONS:
+        if known.lower() == name.lower():
+            return known
+    raise click.BadParameter(f"unknown distribution {name!r}; known: {', '.join(DISTRIBUTIONS)}", param_hint=f"'{option}'")
 
 
 def _angles_option(ctx: click.Context, param: click.Parameter, value: str) -> tuple[float, ...]:

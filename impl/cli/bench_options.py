@@ -7,6 +7,7 @@ while it measures.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from contextlib import contextmanager
 
@@ -19,10 +20,21 @@ from persistri.impl.bench.maps import ProgressCallback
 __all__ = ["parse_sizes", "progress_bar", "sizes_option"]
 
 
-def parse_sizes(text: str) -> tuple[int, ...]:
+_COUNTED: dict[tuple[str, str], str] = {
+    ("complex", "sizes"): "triangle count",
+    ("hull", "sizes"): "point count",
+    ("delaunay", "sizes"): "point count",
+    ("terrain", "sizes"): "vertex count",
+    ("scale", "worker_counts"): "worker count",
+}
+"""What each sub-command's list counts, for the message naming a bad item (default: key count, as in ``bench maps``)."""
+
+
+def parse_sizes(text: str, what: str = "key count") -> tuple[int, ...]:
     """``"1000,100_000,1e6"`` → ``(1000, 100000, 1000000)``: positive integers separated by commas.
 
-    Raises :class:`click.BadParameter` naming the bad item.
+    Raises :class:`click.BadParameter` naming the bad item and ``what`` the
+    integers count (``'x' is not a point count``).
     """
     sizes: list[int] = []
     for item in text.split(","):
@@ -30,16 +42,16 @@ def parse_sizes(text: str) -> tuple[int, ...]:
         try:
             value = float(item) if "e" in item.lower() else int(item)
         except ValueError:
-            raise click.BadParameter(f"{item!r} is not a key count (give integers separated by commas)") from None
-        if value != int(value) or int(value) < 1:
+            raise click.BadParameter(f"{item!r} is not a {what} (give integers separated by commas)") from None
+        if not math.isfinite(value) or value != int(value) or int(value) < 1:  # 1e400 is inf: no integer
             raise click.BadParameter(f"{item!r} is not a positive integer")
         sizes.append(int(value))
     return tuple(sizes)
 
 
 def sizes_option(ctx: click.Context, param: click.Parameter, value: str) -> tuple[int, ...]:
-    """A click callback: the option's text through :func:`parse_sizes`."""
-    return parse_sizes(value)
+    """A click callback: the option's text through :func:`parse_sizes`, the message in the command's words."""
+    return parse_sizes(value, _COUNTED.get((ctx.info_name or "", param.name or ""), "key count"))
 
 
 @contextmanager

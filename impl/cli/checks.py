@@ -141,14 +141,15 @@ def check_column_count(columns: Sequence[str | int] | None, counts: Sequence[int
         raise click.BadParameter(f"{shown} names {len(columns)} columns; give {want} ({reads})", param_hint="--columns")
 
 
-def check_backend(name: str) -> None:
-    """Fail unless the map backend ``name`` exists and loads (its optional package is installed)."""
+def check_backend(name: str, option: str = "--backend") -> None:
+    """Fail unless the map backend ``name`` exists and loads (its optional package is installed);
+    the line names ``option``, the option that gave it (``--backends`` for a list)."""
     from persistri.impl.maps import UnknownBackendError, backend
 
     try:
         backend(name)
     except UnknownBackendError as exc:
-        fail(f"--backend {name}: {error_line(exc)}")
+        fail(f"{option} {name}: {error_line(exc)}")
 
 
 def check_output_dir(path: Path) -> None:

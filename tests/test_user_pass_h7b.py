@@ -1,0 +1,60 @@
+"""A new user's pass over the command line, second round (H7, 2026-11-28): each case failed before its fix.
+
+Option values a user may well type (a size in scientific notation, a distribution in lower case, a list that
+names nothing) must be a usage error naming the option, never an internal error or a message that names
+another option.
+"""
+
+from __future__ import annotations
+
+import pytest
+from cli_contract import invoke
+
+
+@pytest.mark.parametrize(
+    ("command", "option", "noun"),
+    [
+        (["bench", "maps"], "--sizes", "key count"),
+        (["bench", "complex"], "--sizes", "triangle count"),
+        (["bench", "hull"], "--sizes", "point count"),
+        (["bench", "delaunay"], "--sizes", "point count"),
+        (["bench", "terrain"], "--sizes", "vertex count"),
+        (["bench", "scale"], "--workers", "worker count"),
+    ],
+)
+def test_bench_sizes_name_what_they_count_and_overflow_is_a_usage_error(command: list[str], option: str, noun: str) -> None:
+    # '1e400' is inf as a float: int() of it raised OverflowError, reported as an internal error (a bug).
+    result, _ = invoke([*command, option, "1e400"])
+    assert result.exit_code == 2 and "internal error" not in result.output
+    assert f"Invalid value for '{option}': '1e400' is not a positive integer" in result.output
+    # 'x' was "not a key count" in every benchmark, whatever its list counts.
+    result, _ = invoke([*command, option, "x"])
+    assert result.exit_code == 2
+    assert f"Invalid value for '{option}': 'x' is not a {noun} (give integers separated by commas)" in result.output
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        # ValueError from inside the benchmark: one line, but naming no option.
+        (["--sizes", "3"], "Invalid value for '--sizes': 3: a 3D hull needs at least 4 points"),
+        (["--sizes", "100", "--dists", "nosuch"], "Invalid value for '--dists': unknown distribution 'nosuch'; known: OnSphere"),
+        (["--sizes", "100", "--dists", ","], "Invalid value for '--dists': give at least one distribution"),
+        (["--sizes", "100", "--memory", "--memory-dist", "x"], "Invalid value for '--memory-dist': unknown distribution 'x'"),
+        (["--sizes", "100", "--backends", ","], "Invalid value for '--backends': give at least one backend"),
+        # the option is --backends; the line named --backend.
+        (["--sizes", "100", "--backends", "nosuch"], "persistri: --backends nosuch: unknown map backend 'nosuch'"),
+    ],
+)
+def test_bench_hull_option_mistakes_name_the_option(args: list[str], message: str) -> None:
+    result, _ = invoke(["bench", "hull", *args])
+    assert result.exit_code == 2
+    assert message in result.output, result.output
+    assert "Traceback" not in result.output
+
+
+def test_bench_hull_takes_distributions_in_any_case_as_hull_does() -> None:
+    # `persistri hull --dist inball` works; `bench hull --dists inball` said "unknown distribution 'inball'".
+    result, _ = invoke(["bench", "hull", "--sizes", "8", "--dists", "inball", "--json"])
+    assert result.exit_code == 0, result.output
+    assert '"InBall"' in result.stdout
