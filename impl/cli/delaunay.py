@@ -40,7 +40,8 @@ def delaunay_command(
     quiet: bool,
 ) -> None:
     """The exact Delaunay triangulation of the points in INPUT (.npy, .csv/.xyz/.txt: rows of x,y or x,y,z;
-    a header naming x, y (z) among other columns picks those, --columns any two or three).
+    a header naming x, y (z) among other columns picks those, --columns any two or three; .ply: the
+    vertices' x, y, z).
 
     Every distinct point is a vertex (rows of equal x, y are merged and
     reported, with a warning where their z differ: the earlier row's is

@@ -75,7 +75,7 @@ def _chunked_source(input_path: Path, chunk_rows: int | None) -> PointSource:
 @click.argument("input_path", metavar="INPUT", required=False, type=FILE_PATH)
 @click.option("-o", "--output", type=FILE_PATH, help=f"Output mesh ({', '.join(MESH_FORMATS)}).")
 @click.option("--dist", type=click.Choice(sorted(DISTRIBUTIONS), case_sensitive=False), help="Generate the input from a §4 distribution instead of reading INPUT.")
-@click.option("-n", "--points", "n", type=click.IntRange(min=0), default=10_000, show_default=True, help="How many points --dist generates.")
+@click.option("-n", "--points", "n", type=click.IntRange(min=4), default=10_000, show_default=True, help="How many points --dist generates (a hull needs 4).")
 @click.option("--backend", default="red_black", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
 @click.option("--columns", metavar="A,B,C", callback=parse_columns, help="The columns to read as x,y,z: numbers from 0 or header names (text files; numbers for .npy, then read whole).  [default: the header's x,y,z, else every column]")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of the insertion order (and of --dist).")
@@ -105,8 +105,8 @@ def hull(
     """The exact convex hull of INPUT (.npy, .csv/.xyz/.txt, .ply, a directory of .npy files, a Zarr store)
     or of --dist NAME -n N.
 
-    OUTPUT by extension: .ply, .obj, .off (triangles, outward) or .npz with the
-    arrays points (the input as read), simplices and vertices (input row indices).
+    OUTPUT by extension: .ply, .obj, .off, .stl (triangles, outward) or .npz with
+    the arrays points (the input as read), simplices and vertices (input row indices).
     Text input: one point x y z per line, separated by commas, semicolons, tabs
     or spaces; header lines, # comments and blank lines are skipped; a header
     naming x, y, z among other columns picks those, --columns any three.
