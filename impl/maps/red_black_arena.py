@@ -19,8 +19,10 @@ A map value is the 3-tuple ``(number of items, root index, arena)``; the empty
 map is ``(0, 0, None)`` (index 0 is the empty leaf, and an arena is made by the
 first insertion).  Every map derived from one map shares its arena: operations
 append the nodes they make and return a new root, as path copying does with
-tuples.  **Nothing written is ever overwritten**, so every version ever
-returned stays valid: persistence by construction.  Along every path of a tree
+tuples.  **Nothing a returned map reaches is ever overwritten** (an operation
+writes again only nodes it made itself, before returning: Okasaki's rewrites
+and a new root's blackening refill them instead of dropping them), so every
+version ever returned stays valid: persistence by construction.  Along every path of a tree
 the node indices decrease (a child is made before its parent), which
 :meth:`ArenaRedBlackMap._check` checks with the red-black invariants of
 :mod:`persistri.impl.maps.red_black`.
@@ -93,9 +95,19 @@ def _check_orderable(k: Any) -> None:
     check_orderable(_NAME, k)
 
 
-def _blacken(A: Arena, t: int) -> int:
-    """The root ``t``, black (a black copy if it is red)."""
+def _blacken_new(A: Arena, t: int) -> int:
+    """The root ``t`` that the running operation made (no map refers to it yet), black: recoloured in place."""
+    A.red[t] = BLACK
+    return t
+
+
+def _blacken(A: Arena, t: int, made: int) -> int:
+    """The root ``t``, black: recoloured in place if it is red and the running operation made it (an index at
+    least ``made``, the arena's length when the operation began: no map refers to it yet), else a black copy."""
     if A.red[t]:
+        if t >= made:
+            A.red[t] = BLACK
+            return t
         return A.node(BLACK, A.left[t], A.item[t], A.right[t])
     return t
 
@@ -147,7 +159,7 @@ class ArenaRedBlackMap(Generic[K, V]):
             raise _key_error(k, exc) from None
         if not new:
             return (n, _tree.replace(A, t, k, v), A)
-        return (n + 1, _blacken(A, new), A)
+        return (n + 1, _blacken_new(A, new), A)
 
     def insert_absent(self, m: ArenaMap, k: K, v: V, /) -> ArenaMap:
         """``m`` with ``k ↦ v`` for a key known not to be in ``m`` and ordered with its keys: nothing is checked.
@@ -157,7 +169,7 @@ class ArenaRedBlackMap(Generic[K, V]):
         n, t, A = m
         if A is None:
             A = Arena()
-        return (n + 1, _blacken(A, _tree.ins_absent(A, t, k, v)), A)
+        return (n + 1, _blacken_new(A, _tree.ins_absent(A, t, k, v)), A)
 
     def insertWith(self, f: Callable[[V, V], V], m: ArenaMap, k: K, v: V, /) -> ArenaMap:
         """``m`` with ``k ↦ f(old, v)`` if ``k ↦ old`` is in ``m``, else ``k ↦ v``.
@@ -234,7 +246,7 @@ class ArenaRedBlackMap(Generic[K, V]):
             raise failed.exc from None
         if new:
             return (n, root, A), absent, emptied, False
-        return (n + 1, _blacken(A, root), A), absent, emptied, True
+        return (n + 1, _blacken_new(A, root), A), absent, emptied, True
 
     def find(self, m: ArenaMap, k: K, /) -> Option[V]:
         """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``. O(lg n)."""
@@ -278,8 +290,9 @@ class ArenaRedBlackMap(Generic[K, V]):
         if not node:
             raise NotFound(k)
         value: V = A.val[A.item[node]]
+        made = len(A.item)
         new = _tree.delete(A, t, k)
-        return (n - 1, _blacken(A, new) if new else NIL, A), value
+        return (n - 1, _blacken(A, new, made) if new else NIL, A), value
 
     def numItems(self, m: ArenaMap, /) -> int:
         """The number of items. O(1)."""

@@ -16,10 +16,13 @@ and Okasaki's and Kahrs' rewrites move items between nodes; only a new or
 changed value makes a new item.  Index 0 is the empty leaf (a black node
 whose fields are never read) and the placeholder item, so ``if t:`` tests for
 a node and ``red[t]`` is false for the leaf, as the empty tree counts as
-black.  Nodes and items are only ever appended (:meth:`Arena.node`,
-:meth:`Arena.pair`): no index is written twice, so every tree ever returned
-stays valid — persistence by construction, the same path copying as the tuple
-tree's with indices instead of references.  A child is always made before its
+black.  Nodes and items are appended (:meth:`Arena.node`, :meth:`Arena.pair`),
+and a node is written again only by the operation that made it, before any
+map refers to it (Okasaki's rewrites refill the red nodes the same insertion
+made, and a new red root is blackened in place): no index that a returned map
+reaches is ever written, so every tree ever returned stays valid —
+persistence by construction, the same path copying as the tuple tree's with
+indices instead of references.  A child is always made before its
 parent, so along every path the node indices decrease (checked by the
 structure's ``_check``).
 
@@ -79,9 +82,10 @@ class Arena:
     references to the map's keys and values.  A tuple node of
     :mod:`~persistri.impl.maps.red_black_tree` takes 80 bytes, and a copied
     path has one node per level but new items only where values changed.
-    Slot 0 of each is the empty leaf.  Nothing is ever removed or
-    overwritten: the arena grows by :meth:`node` and :meth:`pair` only, and
-    what it holds is freed when no map of it remains.
+    Slot 0 of each is the empty leaf.  Nothing a map reaches is ever removed
+    or overwritten: the arena grows by :meth:`node` and :meth:`pair`, an
+    operation may refill the nodes it made itself before returning (module
+    docstring), and what it holds is freed when no map of it remains.
 
     One writer at a time: the appends of :meth:`node` are not atomic, so two
     threads adding versions to one arena at once may build wrong *new* nodes
@@ -183,7 +187,16 @@ def find(m: tuple[Any, ...], k: Any) -> tuple[Any, ...] | None:
 
 
 def _balance_left(A: Arena, n: int, yi: int, b: int) -> int:
-    """The black node ``(n, yi, b)`` whose left child ``n`` is red: Okasaki's two left clauses, or the node."""
+    """The black node ``(n, yi, b)`` whose left child ``n`` is red: Okasaki's two left clauses, or the node.
+
+    ``n`` and its red child are nodes the running insertion made (an older red
+    node has black children), referenced by nothing but the node being built:
+    a rewrite recolours or refills them in place — they are written only by the
+    operation that made them, before any map refers to them — and appends one
+    node, where the tuple tree makes three and drops two.  The refilled slot
+    must stay above its children: when ``b`` was made after ``n`` (the batched
+    descent updates the right side after the left), that node is appended.
+    """
     left = A.left
     right = A.right
     red = A.red
@@ -191,19 +204,40 @@ def _balance_left(A: Arena, n: int, yi: int, b: int) -> int:
     if red[nl]:
         # balance B (T R (T R a x b) y c) z d = T R (T B a x b) y (T B c z d)
         item = A.item
-        node = A.node
-        return node(RED, node(BLACK, left[nl], item[nl], right[nl]), item[n], node(BLACK, right[n], yi, b))
+        red[nl] = BLACK
+        xi = item[n]
+        c = right[n]
+        if b < n:  # n's slot becomes T B c z d
+            red[n] = BLACK
+            left[n] = c
+            item[n] = yi
+            right[n] = b
+            return A.node(RED, nl, xi, n)
+        return A.node(RED, nl, xi, A.node(BLACK, c, yi, b))
     nr = right[n]
     if red[nr]:
         # balance B (T R a x (T R b y c)) z d = T R (T B a x b) y (T B c z d)
         item = A.item
-        node = A.node
-        return node(RED, node(BLACK, nl, item[n], left[nr]), item[nr], node(BLACK, right[nr], yi, b))
+        xi = item[nr]
+        c = right[nr]
+        red[n] = BLACK  # n's slot becomes T B a x b
+        right[n] = left[nr]
+        if b < nr:  # nr's slot becomes T B c z d
+            red[nr] = BLACK
+            left[nr] = c
+            item[nr] = yi
+            right[nr] = b
+            return A.node(RED, n, xi, nr)
+        return A.node(RED, n, xi, A.node(BLACK, c, yi, b))
     return A.node(BLACK, n, yi, b)
 
 
 def _balance_right(A: Arena, a: int, yi: int, n: int) -> int:
-    """The black node ``(a, yi, n)`` whose right child ``n`` is red: Okasaki's two right clauses, or the node."""
+    """The black node ``(a, yi, n)`` whose right child ``n`` is red: Okasaki's two right clauses, or the node.
+
+    The mirror image of :func:`_balance_left`, rewriting in place the same way (``a`` was made before
+    ``n`` except in a failed check, where the node is appended).
+    """
     left = A.left
     right = A.right
     red = A.red
@@ -211,14 +245,30 @@ def _balance_right(A: Arena, a: int, yi: int, n: int) -> int:
     if red[nl]:
         # balance B a x (T R (T R b y c) z d) = T R (T B a x b) y (T B c z d)
         item = A.item
-        node = A.node
-        return node(RED, node(BLACK, a, yi, left[nl]), item[nl], node(BLACK, right[nl], item[n], right[n]))
+        xi = item[nl]
+        b = left[nl]
+        red[n] = BLACK  # n's slot becomes T B c z d
+        left[n] = right[nl]
+        if a < nl:  # nl's slot becomes T B a x b
+            red[nl] = BLACK
+            left[nl] = a
+            item[nl] = yi
+            right[nl] = b
+            return A.node(RED, nl, xi, n)
+        return A.node(RED, A.node(BLACK, a, yi, b), xi, n)
     nr = right[n]
     if red[nr]:
         # balance B a x (T R b y (T R c z d)) = T R (T B a x b) y (T B c z d)
         item = A.item
-        node = A.node
-        return node(RED, node(BLACK, a, yi, nl), item[n], node(BLACK, left[nr], item[nr], right[nr]))
+        red[nr] = BLACK
+        xi = item[n]
+        if a < n:  # n's slot becomes T B a x b
+            red[n] = BLACK
+            left[n] = a
+            item[n] = yi
+            right[n] = nl
+            return A.node(RED, n, xi, nr)
+        return A.node(RED, A.node(BLACK, a, yi, nl), xi, nr)
     return A.node(BLACK, a, yi, n)
 
 
