@@ -85,14 +85,15 @@ def test_the_factory(monkeypatch: pytest.MonkeyPatch) -> None:
         assert not console.is_terminal and console.soft_wrap and console.width == UNBOUNDED_WIDTH
         assert console.color_system is None
         console.print("x" * 300, "[bold]y[/bold]")
-    assert out.getvalue() == err.getvalue() == "x" * 300 + " y\n"
+    # No markup: square brackets are text (a file named survey[final].csv, persistri[geotiff]), and no codes.
+    assert out.getvalue() == err.getvalue() == "x" * 300 + " [bold]y[/bold]\n"
     for value, width in (("132", 132), ("", UNBOUNDED_WIDTH), ("wide", UNBOUNDED_WIDTH), ("0", UNBOUNDED_WIDTH)):
         monkeypatch.setenv("COLUMNS", value)
         assert pipe_width() == width
         assert make_console().width == width
     buffer = io.StringIO()
     text_console(buffer).print("[bold]z[/bold] " + "w" * 200)
-    assert buffer.getvalue() == "z " + "w" * 200 + "\n"
+    assert buffer.getvalue() == "[bold]z[/bold] " + "w" * 200 + "\n"
 
 
 @pytest.mark.parametrize("args", [["delaunay", "--help"], ["mesh", "square-hole", "--stats"]])

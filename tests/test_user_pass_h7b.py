@@ -7,6 +7,8 @@ another option.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from cli_contract import invoke
 
@@ -83,3 +85,17 @@ def test_helps_name_every_format_the_command_takes() -> None:
         assert suffix in hull_text and suffix in delaunay_text, suffix
     for suffix in POINT_FORMATS:
         assert suffix in hull_text and suffix in delaunay_text, suffix
+
+
+def test_square_brackets_in_file_names_are_printed_as_they_are(tmp_path: Path) -> None:
+    # rich read '[final]' as markup and dropped it: "hull of survey.csv", "Ruppert's refinement of lotpoly".
+    points = tmp_path / "survey[final].csv"
+    points.write_text("0 0 0\n1 0 0\n0 1 0\n0 0 1\n")
+    result, _ = invoke(["hull", str(points), "-o", str(tmp_path / "h.ply")])
+    assert result.exit_code == 0, result.output
+    assert f"hull of {points}: 4 faces" in result.stderr
+    domain = tmp_path / "lot[b].poly"
+    domain.write_text("4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n")
+    result, _ = invoke(["mesh", str(domain), "--stats"])
+    assert result.exit_code == 0, result.output
+    assert f"Ruppert's refinement of {domain}, undone by persistence" in result.stdout

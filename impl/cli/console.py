@@ -12,6 +12,10 @@ rich's behaviour on a terminal; anywhere else
 * no colour or cursor codes are written (rich's own rule off a terminal, which
   also honours ``NO_COLOR``; ``FORCE_COLOR`` makes rich treat the stream as a terminal).
 
+On a terminal and off it, rich's *markup* is off: text in square brackets is
+printed as it is, so a file named ``survey[final].csv`` is not shown as
+``survey.csv`` (nor ``a[/b]`` refused as bad markup) in a summary or a table title.
+
 Every command makes its consoles with :func:`make_console` (or the two
 shorthands) when it runs, so that the stream it checks is the one in use then.
 """
@@ -38,10 +42,10 @@ def pipe_width() -> int:
 
 def make_console(*, stderr: bool = False) -> Console:
     """A rich console on stdout (or stderr): rich's defaults on a terminal; off one, unwrapped plain text (module docstring)."""
-    console = Console(stderr=stderr)
+    console = Console(stderr=stderr, markup=False)
     if console.is_terminal:
         return console
-    return Console(stderr=stderr, width=pipe_width(), soft_wrap=True)
+    return Console(stderr=stderr, width=pipe_width(), soft_wrap=True, markup=False)
 
 
 def stdout_console() -> Console:
@@ -63,6 +67,7 @@ def text_console(file: TextIO, width: int | None = None) -> Console:
         file=file,
         width=UNBOUNDED_WIDTH if width is None else width,
         soft_wrap=True,
+        markup=False,
         color_system=None,
         force_terminal=False,
         force_jupyter=False,
