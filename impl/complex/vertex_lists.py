@@ -363,6 +363,21 @@ def rebuild_cone(old: VertexList, change: Change) -> VertexList:
         if j < i:
             i, j = j, i
         return old[:i] + old[i + 1 : j] + old[j + 1 :] + tail
+    if n:  # three pairs or more (a fifth of a Delaunay's ring vertices): each entry against each pair
+        kept: list[Entry] = []
+        append = kept.append
+        for e in old:
+            e0 = e[0]
+            e1 = e[1]
+            k = 0
+            while k < n:
+                if drops[k] is e0 and drops[k + 1] is e1:
+                    break
+                k += 2
+            else:
+                append(e)
+        if len(kept) * 2 + n == len(old) * 2:  # each pair found (entries are distinct): the lists agree
+            return tuple(kept) + tail
     pairs = [(drops[k], drops[k + 1]) for k in range(0, n, 2)]
     return rebuild_fresh(old, (pairs, [], list(tail)))
 
