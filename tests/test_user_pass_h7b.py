@@ -99,3 +99,24 @@ def test_square_brackets_in_file_names_are_printed_as_they_are(tmp_path: Path) -
     result, _ = invoke(["mesh", str(domain), "--stats"])
     assert result.exit_code == 0, result.output
     assert f"Ruppert's refinement of {domain}, undone by persistence" in result.stdout
+
+
+def test_a_file_name_with_a_newline_stays_one_summary_line(tmp_path: Path) -> None:
+    # Errors escaped it already; the summaries of a successful run printed it raw, breaking the line in two.
+    stem = "a\nb"
+    (tmp_path / f"{stem}.csv").write_text("0 0 0\n1 0 0\n0 1 0\n0 0 1\n")
+    (tmp_path / f"{stem}.2.csv").write_text("0 0\n1 0\n0 1\n1 1\n")
+    (tmp_path / f"{stem}.poly").write_text("4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n")
+    (tmp_path / f"{stem}.txt").write_text("1 2 3\n4 5 6\n7 8 9\n")
+    runs = [
+        (["hull", str(tmp_path / f"{stem}.csv"), "-o", str(tmp_path / "h.ply")], "hull of "),
+        (["delaunay", str(tmp_path / f"{stem}.2.csv"), "-o", str(tmp_path / "d.ply")], "delaunay of "),
+        (["mesh", str(tmp_path / f"{stem}.poly")], "mesh of "),
+        (["terrain", str(tmp_path / f"{stem}.txt"), "--max-points", "4", "-o", str(tmp_path / f"{stem}.npz")], "terrain "),
+    ]
+    for args, start in runs:
+        result, _ = invoke(args)
+        assert result.exit_code == 0, result.output
+        lines = result.stderr.splitlines()
+        assert lines and all("a\\nb" in line for line in lines), lines
+        assert lines[0].startswith(start), lines

@@ -9,7 +9,7 @@ import numpy as np
 
 from persistri.impl.cli.checks import FILE_PATH, PLOT_FORMATS, Outputs, check_backend, check_column_count, check_input, parse_columns
 from persistri.impl.cli.console import stderr_console, stdout_console
-from persistri.impl.cli.errors import about
+from persistri.impl.cli.errors import about, one_line
 from persistri.impl.cli.hull import stats_table
 from persistri.impl.files import MESH_FORMATS, POINT_FORMATS, read_points, write_mesh
 from persistri.impl.maps import BACKENDS
@@ -85,8 +85,10 @@ def delaunay_command(
         a, b = clashes[0]
         more = f" ({len(clashes):,} such rows)" if len(clashes) > 1 else ""
         err.print(
-            f"persistri: warning: {input_path}: row {a} has the x, y of row {b} but another z "
-            f"({float(raw[a, 2])!r}, not {float(raw[b, 2])!r}): the mesh keeps row {b}'s z{more}",
+            one_line(
+                f"persistri: warning: {input_path}: row {a} has the x, y of row {b} but another z "
+                f"({float(raw[a, 2])!r}, not {float(raw[b, 2])!r}): the mesh keeps row {b}'s z{more}"
+            ),
             soft_wrap=True, highlight=False, markup=False,
         )
     if not quiet:
@@ -94,9 +96,11 @@ def delaunay_command(
         shown = ", ".join(f"row {a} = row {b}" for a, b in dup[:5]) + (" …" if len(dup) > 5 else "")
         what = "row" if len(dup) == 1 else "rows"
         err.print(
-            f"delaunay of {input_path}: {_count(len(result.triangles), 'triangle')}, {_count(raw.shape[0] - len(dup), 'vertex')}, "
-            f"{len(result.hull):,} on the hull{verified}"
-            + (f"; {len(dup):,} duplicate {what} merged ({shown})" if dup else "")
+            one_line(
+                f"delaunay of {input_path}: {_count(len(result.triangles), 'triangle')}, {_count(raw.shape[0] - len(dup), 'vertex')}, "
+                f"{len(result.hull):,} on the hull{verified}"
+                + (f"; {len(dup):,} duplicate {what} merged ({shown})" if dup else "")
+            )
         )
     if show_stats and result.stats is not None:
         stdout_console().print(stats_table(result.stats, f"operation counts ({backend})"))

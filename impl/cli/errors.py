@@ -32,7 +32,7 @@ from typing import IO, Any, Final, NoReturn
 
 import click
 
-__all__ = ["EXIT_FAILURE", "CliError", "PersistriGroup", "about", "error_line", "fail"]
+__all__ = ["EXIT_FAILURE", "CliError", "PersistriGroup", "about", "error_line", "fail", "one_line"]
 
 EXIT_FAILURE: Final = 2
 """The exit status of every failure (bad input, unwritable output, failed check)."""
@@ -48,10 +48,15 @@ class CliError(click.ClickException):
     def show(self, file: IO[Any] | None = None) -> None:
         """Print the one line on stderr (click's ``Error:`` prefix and usage text are not used); a control
         character in it (a file name may hold a newline) is printed escaped, so it stays one line."""
-        text = self.format_message()
-        if not text.isprintable():
-            text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
-        click.echo(f"persistri: {text}", err=True)
+        click.echo(f"persistri: {one_line(self.format_message())}", err=True)
+
+
+def one_line(text: str) -> str:
+    """``text`` with each control character escaped (``\\n``, ``\\x1b``): a file name may hold a newline,
+    and a summary or an error naming it must stay one line. O(len(text))."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
 
 
 def fail(message: str) -> NoReturn:

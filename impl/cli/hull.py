@@ -22,7 +22,7 @@ from rich.table import Table
 
 from persistri.impl.cli.checks import FILE_PATH, PLOT_FORMATS, Outputs, check_backend, check_column_count, check_input, parse_columns
 from persistri.impl.cli.console import stderr_console, stdout_console
-from persistri.impl.cli.errors import about, error_line, fail
+from persistri.impl.cli.errors import about, error_line, fail, one_line
 from persistri.impl.files import MESH_FORMATS, POINT_FORMATS, read_points, write_mesh
 from persistri.impl.hull.api import Hull, convex_hull
 from persistri.impl.hull.distributions import DISTRIBUTIONS, generate
@@ -282,6 +282,8 @@ def _summary(
     source = str(input_path) if input_path is not None else f"{dist} n={n} seed={seed}"
     verified = " (verified exactly)" if check else ""
     stderr_console().print(
-        f"hull of {source}: {faces} faces, {vertices} vertices, {duplicates} duplicate row{'' if duplicates == 1 else 's'} merged"
-        f"{verified}{more}"
+        one_line(
+            f"hull of {source}: {faces} faces, {vertices} vertices, {duplicates} duplicate row{'' if duplicates == 1 else 's'} merged"
+            f"{verified}{more}"
+        )
     )

@@ -27,7 +27,7 @@ from rich.table import Table
 
 from persistri.impl.cli.checks import FILE_OR_NAME, FILE_PATH, PLOT_FORMATS, Outputs, check_backend, check_input
 from persistri.impl.cli.console import stderr_console, stdout_console
-from persistri.impl.cli.errors import about, error_line, fail
+from persistri.impl.cli.errors import about, error_line, fail, one_line
 from persistri.impl.maps import BACKENDS
 from persistri.impl.mesh.gallery import GALLERY
 
@@ -419,7 +419,7 @@ def mesh(
                 + f", {result.undos:,} undos",
             )
     if not quiet:
-        err.print(_summary(source, result, smallest, report, max_steiner), markup=False, highlight=False)
+        err.print(one_line(_summary(source, result, smallest, report, max_steiner)), markup=False, highlight=False)
     if show_stats:
         stdout_console().print(_stats_table(source, result, smallest, report))
     if output is None and plot is None and quiet and not show_stats:

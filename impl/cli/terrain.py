@@ -10,7 +10,7 @@ import numpy as np
 
 from persistri.impl.cli.checks import FILE_OR_NAME, FILE_PATH, PLOT_FORMATS, Outputs, check_backend, check_input, check_output_dir
 from persistri.impl.cli.console import stderr_console, stdout_console
-from persistri.impl.cli.errors import about, error_line, fail
+from persistri.impl.cli.errors import about, error_line, fail, one_line
 from persistri.impl.cli.hull import stats_table
 from persistri.impl.maps import BACKENDS
 from persistri.impl.stats import Stats
@@ -192,14 +192,16 @@ def terrain(
         verified = " (verified exactly)" if check else ""
         rows, cols = tin.shape
         err.print(
-            f"terrain {source} ({rows} × {cols}): {tin.n_points:,} points, {len(tin.triangles):,} triangles, "
-            f"max error {tin.max_error:.6g}, rms {tin.rms_error:.6g}{verified}"
+            one_line(
+                f"terrain {source} ({rows} × {cols}): {tin.n_points:,} points, {len(tin.triangles):,} triangles, "
+                f"max error {tin.max_error:.6g}, rms {tin.rms_error:.6g}{verified}"
+            )
         )
         if written:
             where = "grid coordinates" if not world else "world coordinates" + (
                 f", CRS {tin.crs.label}" if tin.crs is not None else ", no CRS read from the input"
             )
-            err.print(f"wrote {', '.join(str(w) for w in written)} ({where})")
+            err.print(one_line(f"wrote {', '.join(str(w) for w in written)} ({where})"))
     if show_stats and tin.stats is not None:
         stdout_console().print(stats_table(tin.stats, f"operation counts ({backend})"))
     if output is None and plot is None and quiet:
@@ -294,13 +296,15 @@ def _tiled(
         rows, cols = tin.shape
         ti, tj = tin.tiling.shape
         err.print(
-            f"terrain {source} ({rows} × {cols}) in {ti} × {tj} tiles of {size}: {tin.n_points:,} points, "
-            f"{len(tin.triangles):,} triangles, max error {tin.max_error:.6g}, rms {tin.rms_error:.6g}"
+            one_line(
+                f"terrain {source} ({rows} × {cols}) in {ti} × {tj} tiles of {size}: {tin.n_points:,} points, "
+                f"{len(tin.triangles):,} triangles, max error {tin.max_error:.6g}, rms {tin.rms_error:.6g}"
+            )
         )
         if written:
             where = "grid coordinates" if not world else "world coordinates" + (
                 f", CRS {tin.crs.label}" if tin.crs is not None else ", no CRS read from the input"
             )
-            err.print(f"wrote {', '.join(str(w) for w in written)} ({where})")
+            err.print(one_line(f"wrote {', '.join(str(w) for w in written)} ({where})"))
     if output is None and quiet:
         click.echo(f"{tin.n_points} points, {len(tin.triangles)} triangles, max error {tin.max_error:.6g}")
