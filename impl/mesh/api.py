@@ -89,8 +89,12 @@ def _arrays(run: _Run, c: Complex[MeshDatum]) -> MeshArrays:
     # Every triangle's labels (ghosts' -1 too) and region in one pass each, as arrays (a vertex is an int).
     labels = np.fromiter(chain.from_iterable([t for t, _ in items]), dtype=np.intp, count=3 * len(items)).reshape(-1, 3)
     region_of = np.fromiter([d[1] for _, d in items], dtype=np.intp, count=len(items))
-    steiner = np.unique(labels[labels >= n])
-    points = np.concatenate((np.arange(n, dtype=np.intp), steiner))
+    # The input vertices (every row kept), then the Steiner points present, by index: a mask over the point set (the
+    # ghosts' label -1 marks its extra last slot), not np.unique's hash and sort.
+    present = np.zeros(len(run.T.pred) + 1, dtype=bool)
+    present[labels] = True
+    present[:n] = True
+    points = np.flatnonzero(present[:-1])
     index = np.full(len(run.T.pred), -1, dtype=np.intp)
     index[points] = np.arange(points.size)
     inside = region_of != EXTERIOR
