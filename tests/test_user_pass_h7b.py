@@ -120,3 +120,19 @@ def test_a_file_name_with_a_newline_stays_one_summary_line(tmp_path: Path) -> No
         lines = result.stderr.splitlines()
         assert lines and all("a\\nb" in line for line in lines), lines
         assert lines[0].startswith(start), lines
+
+
+@pytest.mark.parametrize("group", [[], ["bench"], ["conformance"]])
+def test_command_lists_show_whole_short_helps_in_80_columns(group: list[str]) -> None:
+    # `persistri --help` listed "delaunay  The exact Delaunay triangulation of the points in INPUT..." and
+    # `persistri bench --help` "delaunay  Exact 2D Delaunay of uniform random points against...": cut by click.
+    from click.testing import CliRunner
+
+    from persistri.impl.cli.main import main
+
+    output = CliRunner().invoke(main, [*group, "--help"], terminal_width=80).output
+    listed = output.split("Commands:")[1].splitlines()[1:]
+    assert len(listed) >= 2
+    for line in listed:
+        assert not line.rstrip().endswith("..."), line
+        assert len(line) <= 80 and line.startswith("  ") and len(line.split()) >= 3, line

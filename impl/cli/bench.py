@@ -33,12 +33,12 @@ TRACE_FORMATS = (".npz", ".json")
 """The formats of a saved trace (``bench complex --trace``)."""
 
 
-@click.group()
+@click.group(short_help="persistri against its peers, measured in the same run.")
 def bench() -> None:
     """Measure persistri against its peers, in the same run (see each sub-command)."""
 
 
-@bench.command("maps")
+@bench.command("maps", short_help="insert, find, remove per map backend, against dict and peers.")
 @click.option(
     "--sizes",
     default=",".join(str(n) for n in DEFAULT_SIZES),
@@ -81,7 +81,7 @@ def maps(sizes: tuple[int, ...], repeat: int, seed: int, only: str | None, as_js
         raise SystemExit(1)
 
 
-@bench.command("complex")
+@bench.command("complex", short_help="What persistence costs the 2-complex, per map backend.")
 @click.option(
     "--sizes",
     default=",".join(str(n) for n in bench_complex.DEFAULT_SIZES),
@@ -175,7 +175,7 @@ def complex_(
         raise SystemExit(1)
 
 
-@bench.command("scale")
+@bench.command("scale", short_help="The chunked hull and tiled terrain on 1 and 2 Dask workers.")
 @click.option("-n", "--points", "n", type=click.IntRange(min=4), default=4_000_000, show_default=True, help="Points of the hull.")
 @click.option("--dist", default="InBall", show_default=True, help="Their §4 distribution.")
 @click.option("--chunk-size", "chunk_rows", type=click.IntRange(min=1), default=None, help="Points per chunk.  [default: one chunk per worker, 262,144 to 2,097,152 (chunk_rows_for)]")

@@ -24,7 +24,7 @@ from persistri.impl.cli.errors import about, fail
 __all__ = ["delaunay_", "hull", "mesh", "terrain"]
 
 
-@click.command("terrain")
+@click.command("terrain", short_help="Greedy insertion against pydelatin (paper §5, Fig. 11).")
 @click.option(
     "--sizes",
     default=None,
@@ -117,7 +117,7 @@ def terrain(
             console.print(r)
 
 
-@click.command("delaunay")
+@click.command("delaunay", short_help="Exact 2D Delaunay against scipy's Delaunay (Qhull).")
 @click.option(
     "--sizes",
     default="10000,100000",
@@ -150,7 +150,7 @@ def delaunay_(sizes: tuple[int, ...], repeat: int, seed: int, backend: str, as_j
         stdout_console().print(delaunay_table(result))
 
 
-@click.command("hull")
+@click.command("hull", short_help="The exact bulldozer hull against scipy's Qhull.")
 @click.option(
     "--sizes",
     default="16384,65536,262144",
@@ -254,7 +254,7 @@ def _angles_option(ctx: click.Context, param: click.Parameter, value: str) -> tu
     return tuple(angles)
 
 
-@click.command("mesh")
+@click.command("mesh", short_help="Ruppert's refinement against Shewchuk's Triangle.")
 @click.option(
     "--domains",
     default=None,

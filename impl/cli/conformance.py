@@ -83,7 +83,7 @@ def _check_tests(ctx: click.Context, tests: tuple[str, ...], known: Sequence[Any
         _fail(ctx, f"--test: no test named {', '.join(map(repr, unknown))}; the tests are: {', '.join(names)}")
 
 
-@click.group()
+@click.group(short_help="The conformance suites, on your own map or complex backend.")
 def conformance() -> None:
     """Check a backend of yours against persistri's conformance suites."""
 

@@ -18,7 +18,7 @@ from persistri.impl.stats import Stats
 __all__ = ["delaunay_command"]
 
 
-@click.command("delaunay")
+@click.command("delaunay", short_help="The exact Delaunay triangulation of scattered x,y points.")
 @click.argument("input_path", metavar="INPUT", type=FILE_PATH)
 @click.option("-o", "--output", type=FILE_PATH, help=f"Output ({', '.join(MESH_FORMATS)}).")
 @click.option("--plot", type=FILE_PATH, help=f"Draw the triangulation to this image ({', '.join(PLOT_FORMATS)}).")

@@ -354,7 +354,7 @@ def run_demo(settings: DemoSettings, console: Console, stages: Sequence[DemoStag
     return results
 
 
-@click.command()
+@click.command(short_help="What make demo runs: every stage, its results in --out.")
 @click.option(
     "--out",
     type=FILE_PATH,

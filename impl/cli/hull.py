@@ -71,7 +71,7 @@ def _chunked_source(input_path: Path, chunk_rows: int | None) -> PointSource:
         fail(message if str(input_path) in message else f"{input_path}: {message}")
 
 
-@click.command("hull")
+@click.command("hull", short_help="The exact convex hull of a point file or a §4 distribution.")
 @click.argument("input_path", metavar="INPUT", required=False, type=FILE_PATH)
 @click.option("-o", "--output", type=FILE_PATH, help=f"Output mesh ({', '.join(MESH_FORMATS)}).")
 @click.option("--dist", type=click.Choice(sorted(DISTRIBUTIONS), case_sensitive=False), help="Generate the input from a §4 distribution instead of reading INPUT.")

@@ -264,7 +264,7 @@ def _stats_table(source: str, mesh: QualityMesh, smallest: float, report: MeshRe
     return table
 
 
-@click.command("mesh")
+@click.command("mesh", short_help="A quality mesh of a planar domain by Ruppert's refinement.")
 @click.argument("source", metavar="INPUT", type=FILE_OR_NAME)
 @click.option(
     "-q", "--min-angle", type=click.FloatRange(0, 60, max_open=True), default=20.0, show_default=True, callback=_finite,

@@ -43,7 +43,7 @@ def _nodata_option(ctx: click.Context, param: click.Parameter, value: str) -> st
     return parse_nodata(value)
 
 
-@click.command("terrain")
+@click.command("terrain", short_help="A TIN of a height grid, to a max error or a vertex count.")
 @click.argument("source", metavar="INPUT", type=FILE_OR_NAME)
 @click.option("--max-error", type=click.FloatRange(min=0), help="Stop once every sample is within this vertical distance.")
 @click.option("--max-points", type=click.IntRange(min=4), help="Stop once the mesh has this many vertices.")
