@@ -146,3 +146,25 @@ def test_a_state_the_structure_cannot_use_exits_2_in_one_line(state: str) -> Non
     (line,) = r.stderr.splitlines()
     assert line.startswith(f"persistri: --state {state}: the structure's Simplex.Vertex.new cannot make vertices from it (TypeError: ")
     assert line.endswith("give a vertex state of its VERTEX structure, or a function of no arguments returning one")
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["maps", "persistri.impl.maps.red_black:red_black"],
+        ["complex", "persistri.impl.complex.simpcomp:SimpComp", "--state", "persistri.impl.complex.vertex:VertexState.initial"],
+    ],
+)
+def test_a_run_in_which_every_test_was_skipped_is_no_verdict(command: list[str]) -> None:
+    # `--test growth --workload-size 0` skipped the one test it ran and printed "conforms ...: 0 passed", exit 0:
+    # a verdict no structure could fail.
+    r = CliRunner().invoke(main, ["conformance", *command, "--test", "growth", "--workload-size", "0", "--max-examples", "1"])
+    assert r.exit_code == 2, r.output
+    assert r.stdout == ""
+    assert r.stderr.splitlines()[-1] == (
+        f"persistri: {command[1]}: nothing was checked, every selected test was skipped (growth: workload_size = 0)"
+    )
+    other = "empty" if command[0] == "maps" else "new"
+    ran = CliRunner().invoke(main, ["conformance", *command[:2], "--test", "growth", "--test", other, "--workload-size", "0",
+                                    "--max-examples", "1", *command[2:]])
+    assert ran.exit_code == 0 and "1 passed, 0 failed, 1 skipped" in ran.stdout, ran.output

@@ -9,8 +9,8 @@ Exit status: 0 when it conforms, 1 when some law fails (each failure is
 printed with the law, its statement, what was seen and hypothesis's minimal
 counterexample or the operations of the workload that broke it), 2 when
 ``MODULE:ATTR`` cannot be loaded or is not a structure of the signature, a
-``--state`` cannot make the structure's vertices, or a ``--test`` name is not
-one of the suite's (one line on stderr).
+``--state`` cannot make the structure's vertices, a ``--test`` name is not
+one of the suite's, or every test that ran was skipped (one line on stderr).
 """
 
 from __future__ import annotations
@@ -83,6 +83,14 @@ def _check_tests(ctx: click.Context, tests: tuple[str, ...], known: Sequence[Any
         _fail(ctx, f"--test: no test named {', '.join(map(repr, unknown))}; the tests are: {', '.join(names)}")
 
 
+def _refuse_an_empty_run(ctx: click.Context, target: str, report: Any) -> None:
+    """Exit 2 with one line when every test that ran was skipped: nothing was checked, so "conforms" (exit 0)
+    would be a verdict no structure could fail (e.g. ``--test growth --workload-size 0``)."""
+    if report.outcomes and all(o.status == "skipped" for o in report.outcomes):
+        reasons = "; ".join(f"{o.test}: {o.reason}" for o in report.outcomes)
+        _fail(ctx, f"{target}: nothing was checked, every selected test was skipped ({reasons})")
+
+
 @click.group(short_help="The conformance suites, on your own map or complex backend.")
 def conformance() -> None:
     """Check a backend of yours against persistri's conformance suites."""
@@ -121,7 +129,8 @@ def maps(ctx: click.Context, target: str, max_examples: int, workload_size: int,
     without copying the first); MODULE is imported with the current directory
     on the module path.  Exit status 0: it conforms; 1: some law fails (printed
     with what was seen and the operations, or hypothesis's minimal
-    counterexample); 2: MODULE:ATTR is not a loadable ORD_MAP structure.
+    counterexample); 2: MODULE:ATTR is not a loadable ORD_MAP structure, or
+    every test that ran was skipped (nothing was checked).
     """
     try:
         from persistri.spec.conformance import ORD_MAP_TESTS, NotAnOrdMap, as_structure, run_conformance
@@ -147,6 +156,7 @@ def maps(ctx: click.Context, target: str, max_examples: int, workload_size: int,
             )
         finally:
             set_hypothesis_home_dir(None)
+    _refuse_an_empty_run(ctx, target, report)
     click.echo(report.format())
     ctx.exit(0 if report.ok else 1)
 
@@ -234,7 +244,8 @@ def complex_(
     ATTR names a SIMPCOMP structure, or a class instantiated with no
     arguments; --state names how to make its vertices.  Exit status 0: it
     conforms; 1: some law fails (printed with its minimal counterexample);
-    2: MODULE:ATTR is not a loadable SIMPCOMP structure (or no vertex state).
+    2: MODULE:ATTR is not a loadable SIMPCOMP structure (or no vertex state),
+    or every test that ran was skipped.
 
     Example, persistri's own complex with its vertex states:
 
@@ -292,5 +303,6 @@ def complex_(
             )
         finally:
             set_hypothesis_home_dir(None)
+    _refuse_an_empty_run(ctx, target, report)
     click.echo(report.format())
     ctx.exit(0 if report.ok else 1)
