@@ -203,8 +203,13 @@ def fan_samples(
     samples gets :data:`EMPTY`.  A sample in no sector is a :class:`TriangulationCheckError`.
     O(m · len(ring)) for ``m`` samples.
     """
-    sized = [s for s in lists if s.size]
-    total = sum([s.size for s in sized])
+    sized: list[Samples] = []
+    total = 0
+    for s in lists:
+        size: int = s.size
+        if size:
+            sized.append(s)
+            total += size
     if 0 < total <= PYTHON_SECTORS + 1 and nfan > 1 and exact_floats and isinstance(pred, GridPredicates2):
         # Few samples on a grid (most insertions): sorted on Python lists, without the arrays in between.
         small = _small_fan(pred, p, sized, ring, closed, nfan)
@@ -271,7 +276,11 @@ def _small_fan(
     for s in sized:
         qs += s.tolist()
     if p in qs:
-        qs = [q for q in qs if q != p]
+        # p is in one list once (the samples are split among the triangles); remove takes it out in C, and
+        # the comprehension would take out any other copy.
+        qs.remove(p)
+        if p in qs:
+            qs = [q for q in qs if q != p]
     m = len(qs)
     if not m or m > PYTHON_SECTORS:
         return None
