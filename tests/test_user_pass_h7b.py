@@ -136,3 +136,28 @@ def test_command_lists_show_whole_short_helps_in_80_columns(group: list[str]) ->
     for line in listed:
         assert not line.rstrip().endswith("..."), line
         assert len(line) <= 80 and line.startswith("  ") and len(line.split()) >= 3, line
+
+
+@pytest.mark.parametrize("workers", [[], ["--workers", "1"]])
+def test_tiles_without_dask_say_what_to_install(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, workers: list[str]) -> None:
+    # Without the [dask] extra, `terrain --tile` was "internal error: ModuleNotFoundError: No module named
+    # 'distributed'" (and 'dask' with --workers 1): the tiled modules import Dask only when they run.
+    import sys
+    from importlib.util import find_spec
+
+    import numpy as np
+
+    import persistri.impl.scale as scale
+
+    for name in ("dask", "distributed"):
+        monkeypatch.setitem(sys.modules, name, None)  # `import dask` now raises ImportError
+    monkeypatch.setattr(scale, "find_spec", lambda name: None if name in ("dask", "distributed") else find_spec(name))
+    grid = tmp_path / "g.npy"
+    np.save(grid, np.add.outer(np.arange(12.0), np.arange(12.0)) ** 1.5)
+    result, _ = invoke(["terrain", str(grid), "--tile", "6", "--max-error", "1", "-o", str(tmp_path / "t.npz"), *workers])
+    assert result.exit_code == 2, result.output
+    assert result.stderr == (
+        "persistri: meshing by tiles needs Dask: dask and distributed not installed: the parallel path needs "
+        "persistri[dask] (pip install 'persistri[dask]')\n"
+    )
+    assert not (tmp_path / "t.npz").exists()

@@ -244,6 +244,10 @@ def _tiled(
             fail(f"{name} is not available when meshing by tiles (--tile, --workers N ≥ 2 or --scheduler)")
     if workers is not None and scheduler is not None:
         fail("give either --workers or --scheduler, not both (a cluster has its own workers)")
+    from persistri.impl.scale import dask_missing
+
+    if (why := dask_missing()) is not None:  # the modules below import Dask only when they run: ask first
+        fail(f"meshing by tiles needs Dask: {why}")
     try:
         from persistri.impl.scale.cluster import ClusterError, connect
         from persistri.impl.scale.terrain import DEFAULT_TILE, MissingHeights, tiled_terrain, write_tile_meshes
