@@ -39,6 +39,7 @@ from persistri.impl.hull.bulldozer import (
     triangle_array,
 )
 from persistri.impl.hull.errors import DegenerateInputError
+from persistri.impl.hull.packed import conflict_list
 from persistri.impl.hull.slivers import remove_slivers
 from persistri.impl.progress import progress_callback
 from persistri.impl.stats import Stats
@@ -126,7 +127,7 @@ class HullHistory(Versions[FaceDatum]):
 
     def pending(self, k: int) -> IntArray:
         """The input rows still outside version ``k`` (the union of its conflict lists), sorted."""
-        lists = [np.asarray(x[1], dtype=np.intp) for _, x in self.structure.items(self[k])]
+        lists = [np.asarray(conflict_list(x), dtype=np.intp) for _, x in self.structure.items(self[k])]
         if not lists:
             return np.zeros(0, dtype=np.intp)
         return np.sort(self.rows[np.concatenate(lists)])
@@ -140,7 +141,9 @@ class Hull:
     * ``simplices`` — (m × 3) input row indices, each triangle outward by the
       right-hand rule;
     * ``vertices`` — the sorted input rows that are hull vertices;
-    * ``complex`` — the final SIMPCOMP value (data: ``(face id, conflict list)``)
+    * ``complex`` — the final SIMPCOMP value (data: ``(face id, conflict list)``; with
+      ``history=True`` each packed in one ``int``: :func:`~persistri.impl.hull.packed.face_id` and
+      :func:`~persistri.impl.hull.packed.conflict_list` read either form)
       and ``structure`` — the structure that reads it;
     * ``history`` — every intermediate hull (``history=True``), else None; its last
       version is the bulldozer's, before zero-area triangles were flipped away
@@ -202,7 +205,9 @@ def convex_hull(
     * ``seed`` — the random insertion order; the same seed gives the same hull;
     * ``check`` — assert the theorems of Appendix A at every insertion and verify the
       final hull exactly (:func:`persistri.impl.hull.verify.verify_hull`);
-    * ``history`` — keep every intermediate hull version (:class:`HullHistory`);
+    * ``history`` — keep every intermediate hull version (:class:`HullHistory`); each face's
+      datum is then packed in one ``int`` (:mod:`persistri.impl.hull.packed`: a fraction of the
+      memory, a little more time per insertion), read with its ``face_id`` and ``conflict_list``;
     * ``stats`` — a :class:`Stats` to count dictionary operations, key comparisons,
       plane-side tests and flops into;
     * ``progress`` — True for a progress bar on stderr, or a callable taking the
@@ -298,7 +303,8 @@ def _convex_hull(
     tetra = initial_tetrahedron(pred, m)
     pred = pred.with_centroid(*tetra)
 
-    bd = Bulldozer(pred, structure, tetra, check=check, stepwise=stepwise)
+    # A run that keeps its history packs each face's datum in one int (every version keeps its lists).
+    bd = Bulldozer(pred, structure, tetra, check=check, stepwise=stepwise, pack=history)
     t0, t1, t2, t3 = (int(by_input[t]) for t in tetra)
     drawn = np.random.default_rng(seed).permutation(all_but(m, (t0, t1, t2, t3)))
     label_of = np.empty(m, dtype=np.intp)

@@ -53,6 +53,9 @@ version keeps its lists) from
 :data:`~persistri.impl.geometry.kernel.KERNEL_BATCH` entries on; the
 kernel's ``partition`` tests a short list point by point and a long one in a
 vectorised batch.  An empty list is never partitioned (nothing to test).
+A run that keeps its history (``pack=True``) stores each face's datum packed
+in one ``int`` (:mod:`~persistri.impl.hull.packed`), read back to these forms
+when the walk expands the face.
 
 Bookkeeping beside the complex: each point's status and associated face id
 (flat arrays), and a table from face id to the face's entry ``(triangle, (id,
@@ -108,6 +111,7 @@ from persistri.impl.hull.conflicts import (
     Conflict,
     Entry,
     FaceDatum,
+    FaceTuple,
     IntArray,
     Triangle,
     _assign,
@@ -119,6 +123,7 @@ from persistri.impl.hull.conflicts import (
 )
 from persistri.impl.hull.errors import BulldozerCheckError
 from persistri.impl.hull.first_hull import first_hull, initial_tetrahedron
+from persistri.impl.hull.packed import PackedFace, conflict_list, face_id
 from persistri.impl.hull.resume import attach, resume
 
 __all__ = [
@@ -142,10 +147,11 @@ _HORIZON: Final = -1
 """The face id of an out-edge that leads off the visible region (a horizon edge)."""
 
 
-Out = tuple[Vertex, Vertex, int, Triangle | None, Conflict]
+Out = tuple[Vertex, Vertex, int, Triangle | None, Conflict | PackedFace]
 """An out-edge ``(u, w, face id, triangle, conflict list)`` of a visible face; the id is
 :data:`_HORIZON` (and the triangle None) for a horizon edge.  The neighbour's triangle and list
-ride along so that the neighbour can be expanded when the walk first reaches it."""
+ride along so that the neighbour can be expanded when the walk first reaches it (in a packed run,
+its packed datum: decoded when the neighbour is expanded, not for every neighbour read)."""
 
 
 _Visible = list[Any]
@@ -182,6 +188,11 @@ class Bulldozer:
     makes the same change as the paper's code does, one ``rem`` per lit face and
     one ``add`` per tent face (three map updates per face); the experiments use
     it so that their counts are the paper's.  Both give the same versions.
+
+    ``pack=True`` stores each face's datum packed in one ``int``
+    (:mod:`~persistri.impl.hull.packed`: the id and the list, run-coded when long),
+    for runs that keep every version (a history holds every version's lists); the same faces, ids,
+    lists and counts.  A run resumed from a packed version packs.
     """
 
     def __init__(
@@ -193,6 +204,7 @@ class Bulldozer:
         check: bool = False,
         stepwise: bool = False,
         resume: tuple[Complex[FaceDatum], IntArray] | None = None,
+        pack: bool = False,
     ) -> None:
         centre = pred.centre
         if centre is None:
@@ -208,6 +220,7 @@ class Bulldozer:
         self.n: int = centre  # the input points are 0 … centre-1
         self.check = check
         self.stepwise = stepwise
+        self.packed = pack
         self._lineage = VertexState.initial().lineage
         self.verts: dict[int, Vertex] = {}
         # Per point, its status and the id of its associated face (-1 before it has one; the last face's
@@ -302,12 +315,15 @@ class Bulldozer:
         vp = Vertex(p, p, self._lineage)
         fid0: Any = assoc[p]  # face ids stay int objects from here on: compiled, an int variable is re-boxed at
         # every use as a key or tuple item (a new object above 256), e.g. once per point in assoc[q] = fid below
-        tri0, (_, lst) = faces[fid0]
+        packed = self.packed
+        entry0: tuple[Triangle, Any] = faces[fid0]
+        tri0, datum0 = entry0
+        lst: Conflict = conflict_list(datum0) if packed else datum0[1]
         if self.stepwise:
             # The paper's code reads the list from the complex (a counted dictionary operation).
             found = S.data(cx, tri0)
             assert found is not None, "the associated face of a pending point is in the hull"
-            lst = found[0][1]
+            lst = conflict_list(found[0])
         own0: Indices
         if type(lst) is np.ndarray:
             own0 = lst[lst != p]
@@ -318,7 +334,10 @@ class Bulldozer:
         # The face across an edge: neighbour (one lookup, a scan that stops at the face; each vertex's list
         # read once in this version; unchecked: the walk asks only about edges of faces it read from cx), or
         # findi in stepwise mode, whose counts (the whole list scanned) are the paper's.
-        across = self._across_counted(cx) if self.stepwise else S.neighbours_unchecked(cx)
+        # Its datum typed Any here: a tuple unpacked as one (FaceTuple below) when not packed, no cast call.
+        across: Callable[[tuple[Vertex, Vertex]], tuple[Triangle, Any] | None] = (
+            self._across_counted(cx) if self.stepwise else S.neighbours_unchecked(cx)
+        )
 
         visible: dict[int, bool] = {fid0: True}  # face id -> can p see it (each face tested once)
         work: dict[int, _Visible] = {}
@@ -352,7 +371,14 @@ class Bulldozer:
                 found = across(back)
                 if found is None:
                     raise BulldozerCheckError(f"the hull is not a closed surface: no face across edge {(u, w)} of {tri}")
-                gtri, (gid, gpts) = found
+                gtri, gdatum = found
+                gpts: Conflict | PackedFace
+                if packed:
+                    gid = face_id(gdatum)
+                    gpts = gdatum
+                else:
+                    tup: FaceTuple = gdatum
+                    gid, gpts = tup
                 vis = visible.get(gid)
                 if vis is None:
                     vis = visible[gid] = o3(gtri[0], gtri[1], gtri[2], p_obj) < 0
@@ -457,7 +483,8 @@ class Bulldozer:
                 target = work.get(gid)
                 if target is None:
                     assert gtri is not None
-                    target = expand(gid, gtri, gpts)
+                    own_g: Any = conflict_list(gpts) if packed else gpts
+                    target = expand(gid, gtri, own_g)
                 if len(grp):
                     into: list[Indices] = target[2]
                     into.append(grp)
@@ -475,7 +502,7 @@ class Bulldozer:
             faces.pop(fid, None)  # a resumed run's old faces are not in the dict
         if self._table is not None:
             self._table.live[processed] = False
-        added = tent_faces(tents, self._next_fid, faces, assoc, self.assoc, self._table)
+        added = tent_faces(tents, self._next_fid, faces, assoc, self.assoc, self._table, packed)
         self._next_fid += len(added)
         if self.stepwise:
             for tri in lit:

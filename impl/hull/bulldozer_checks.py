@@ -20,6 +20,7 @@ import numpy as np
 from persistri.impl.geometry.kernel import Indices
 from persistri.impl.hull.conflicts import INTERIOR, PENDING, Entry, IntArray, Triangle, _as_list
 from persistri.impl.hull.errors import BulldozerCheckError
+from persistri.impl.hull.packed import face_id
 
 if TYPE_CHECKING:
     from persistri.impl.hull.bulldozer import Bulldozer, _Visible
@@ -71,7 +72,8 @@ def check_walk(bd: Bulldozer, p: int, fid0: int, work: dict[int, _Visible], proc
     while stack:
         a, b, d = stack.pop()
         for u, w in ((a, b), (b, d), (d, a)):
-            ((gtri, (gid, _)),) = S.findi(cx, (w, u))
+            ((gtri, gdatum),) = S.findi(cx, (w, u))
+            gid = face_id(gdatum)
             if gid not in seen and P.orient3d(gtri[0], gtri[1], gtri[2], p) < 0:
                 seen.add(gid)
                 stack.append(gtri)
@@ -129,7 +131,7 @@ def check_bulldozed(bd: Bulldozer, p: int, routed: list[Indices], tents: list[En
             f"{int(cones[wrong[0]])} faces"
         )
     owner = inside.argmax(axis=0)
-    fids = np.array([t[1][0] for t in tents], dtype=np.intp)[owner]
+    fids = np.array([face_id(t[1]) for t in tents], dtype=np.intp)[owner]
     beyond = P.orient3d_many(us[owner], ws[owner], p, pts) < 0
     bad = np.flatnonzero(beyond & ((bd.status[pts] != PENDING) | (bd.assoc[pts] != fids)))
     if bad.size:

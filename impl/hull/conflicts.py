@@ -6,7 +6,9 @@ a tuple of point indices when short, a read-only int32 numpy array from
 point: every version keeps its lists).  Each point has a status
 (:data:`PENDING`, :data:`INTERIOR`, :data:`ON_HULL`) and, while pending, the
 id of its associated face; the face table by id mirrors the hull's faces for
-``check=True`` and resumed runs.  Compiled with the bulldozer in the compiled
+``check=True`` and resumed runs.  A face's datum is ``(face id, conflict list)``, or in a run
+that keeps its history the same packed in one ``int``
+(:mod:`~persistri.impl.hull.packed`: :func:`tent_faces` ``pack=True``).  Compiled with the bulldozer in the compiled
 twin (``tools/compiled_twin.py``): the insertion loop of
 :mod:`persistri.impl.hull.bulldozer` calls these helpers for every face.
 """
@@ -23,10 +25,12 @@ from numpy.typing import NDArray
 
 from persistri.impl.complex.vertex import Vertex
 from persistri.impl.geometry.kernel import KERNEL_BATCH, Indices
+from persistri.impl.hull.packed import PackedFace, pack_face
 
 __all__ = [
     "Conflict",
     "FaceDatum",
+    "FaceTuple",
     "Entry",
     "PENDING",
     "INTERIOR",
@@ -42,8 +46,11 @@ ListArray = NDArray[np.int32]
 Triangle = tuple[Vertex, Vertex, Vertex]
 Conflict = tuple[int, ...] | ListArray
 """A conflict list: point indices, a tuple below ``KERNEL_BATCH`` entries, else a read-only int32 array."""
-FaceDatum = tuple[int, Conflict]
-"""The datum of a hull face: ``(face id, conflict list)``."""
+FaceTuple = tuple[int, Conflict]
+"""The datum of a hull face in a run without history: ``(face id, conflict list)``."""
+FaceDatum = FaceTuple | PackedFace
+"""The datum of a hull face: ``(face id, conflict list)``, or the same packed in one ``int`` in a run that keeps
+its history (:mod:`~persistri.impl.hull.packed`; ``face_id`` and ``conflict_list`` read either form)."""
 
 PENDING: Final = 0
 """Status of a point outside the current hull (in the conflict list of its associated face)."""
@@ -108,13 +115,17 @@ def tent_faces(
     assoc: array[int],
     assoc_view: NDArray[np.int64],
     table: _FaceTable | None,
+    pack: bool = False,
 ) -> list[Entry]:
     """The tent's new faces as entries ``(triangle, (id, conflict list))``, ids from ``fid`` on, in the
     order of ``tents`` (each a triangle and the points kept for it): each face entered in ``faces``
     (and ``table``), each of its points associated with it in ``assoc`` (through ``assoc_view``, its
     numpy view, for a long list).  :meth:`Bulldozer.insert <persistri.impl.hull.bulldozer.Bulldozer.insert>`'s
     last step before the new version; ``first_hull.new_face`` for each tent face, written out.
+    ``pack``: each datum packed in one ``int`` (:func:`~persistri.impl.hull.packed.pack_face`).
     O(faces + points)."""
+    if pack:
+        return _tent_faces_packed(tents, fid, faces, assoc, assoc_view, table)
     added: list[Entry] = []
     for tent, kept in tents:
         key: Any = fid  # one int object for the id (compiled, an int would be boxed at each use)
@@ -127,6 +138,33 @@ def tent_faces(
             for q in points:
                 assoc[q] = key
         entry = faces[key] = (tent, (key, conflict))
+        added.append(entry)
+        if table is not None:
+            table.add(fid, tent)
+        fid += 1
+    return added
+
+
+def _tent_faces_packed(
+    tents: list[tuple[Triangle, Indices]],
+    fid: int,
+    faces: dict[int, Entry],
+    assoc: array[int],
+    assoc_view: NDArray[np.int64],
+    table: _FaceTable | None,
+) -> list[Entry]:
+    """:func:`tent_faces` with each datum packed (a run keeping its history). O(faces + points)."""
+    added: list[Entry] = []
+    for tent, kept in tents:
+        if type(kept) is np.ndarray or len(kept) >= KERNEL_BATCH:
+            conflict = _freeze(kept)
+            _assign(assoc, assoc_view, conflict, fid)
+            datum = pack_face(fid, conflict)
+        else:
+            for q in kept:
+                assoc[q] = fid
+            datum = pack_face(fid, kept)
+        entry = faces[fid] = (tent, datum)
         added.append(entry)
         if table is not None:
             table.add(fid, tent)

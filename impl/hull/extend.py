@@ -181,7 +181,8 @@ def _extend(hull: Hull, new: NDArray[np.float64], check: bool, progress: bool | 
     tetra = (int(hull.tetra[0]), int(hull.tetra[1]), int(hull.tetra[2]), int(hull.tetra[3]))
     pred = Predicates3(np.take(points, rows, axis=0), stats=hull.stats).with_centroid(*tetra)
     table = hull.bulldozed_faces
-    bd = Bulldozer(pred, S, tetra, check=check, resume=(hull.bulldozed, table))
+    # Packed when the hull keeps its history: its versions, the one resumed included, hold packed data.
+    bd = Bulldozer(pred, S, tetra, check=check, resume=(hull.bulldozed, table), pack=hull.history is not None)
 
     # Associate each new point with its face (Appendix A.1): locate its cone by a walk, then attach.
     where = locate_in_cones(pred, table[:, 1:], labels, seed=hull.seed)

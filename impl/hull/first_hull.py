@@ -35,6 +35,7 @@ from persistri.impl.hull.conflicts import (
     all_but,
 )
 from persistri.impl.hull.errors import BulldozerCheckError, DegenerateInputError
+from persistri.impl.hull.packed import pack_face
 
 if TYPE_CHECKING:
     from persistri.impl.hull.bulldozer import Bulldozer
@@ -168,7 +169,7 @@ def new_face(bd: Bulldozer, tri: Triangle, kept: Indices) -> Entry:
     bd._next_fid += 1
     conflict = _freeze(kept)
     _assign(bd._assoc, bd.assoc, conflict, fid)
-    entry = (tri, (fid, conflict))
+    entry: Entry = (tri, pack_face(fid, conflict) if bd.packed else (fid, conflict))
     bd.faces[fid] = entry
     if bd._table is not None:
         bd._table.add(fid, tri)

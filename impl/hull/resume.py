@@ -32,6 +32,7 @@ from persistri.impl.hull.conflicts import (
     _smallest_first,
 )
 from persistri.impl.hull.errors import BulldozerCheckError
+from persistri.impl.hull.packed import conflict_list, face_id, pack_face
 
 if TYPE_CHECKING:
     from persistri.impl.hull.bulldozer import Bulldozer
@@ -59,7 +60,7 @@ def resume(B: Bulldozer, cx: Complex[FaceDatum], table: IntArray) -> Complex[Fac
     if B.check:
         faces = B.faces
         for tri, datum in B.S.items(cx):
-            fid, lst = datum
+            fid, lst = face_id(datum), conflict_list(datum)
             if len(lst):
                 raise BulldozerCheckError(f"face {tri} of the version to continue has pending points")
             faces[fid] = (tri, datum)
@@ -102,14 +103,15 @@ def attach(B: Bulldozer, points: IntArray, fids: IntArray) -> Complex[FaceDatum]
             a, b, d = B._table.corners[fid].tolist()
             tri: Triangle = (B._vertex(a), B._vertex(b), B._vertex(d))
         else:
-            tri, (_, lst) = known
+            tri, datum = known
+            lst = conflict_list(datum)
         out, _ = B._partition(tri[0], tri[1], tri[2], points[by_face[start:stop]])
         if not len(out):
             continue
         conflict = _freeze(_join([lst, out]) if len(lst) else out)
         _assign(status, B.status, conflict, PENDING)
         _assign(assoc, B.assoc, conflict, fid)
-        entry = faces[fid] = (tri, (fid, conflict))
+        entry = faces[fid] = (tri, pack_face(fid, conflict) if B.packed else (fid, conflict))
         removed.append(tri)
         added.append(entry)
     cx = B.complex

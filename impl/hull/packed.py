@@ -1,0 +1,157 @@
+"""A hull face's datum packed in one ``int``: the form a run keeping its history stores (issue 17).
+
+Every version of a history keeps the data of its faces, so a face's datum
+``(face id, conflict list)`` is stored many times over: as a 2-tuple, an
+``int`` id, a tuple of ``int`` points or a numpy array.  A run with
+``history=True`` stores each datum as **one** plain ``int`` instead, whose bits are::
+
+    bits 0-31    the face id
+    bits 32-63   2 × (bytes of the payload) + 1 if the list is long (run-coded)
+    bits 64-     the payload, little-endian: the points as int32 (a short list,
+                 below KERNEL_BATCH entries), or the long list's run code
+
+A face whose list is empty is its id alone (28 bytes, against 84 for ``(id, ())``
+and its ``int``).  A long list — a read-only int32 array in a run without
+history — is coded by :func:`pack_points` as its **runs** of consecutive
+indices: the bulldozer's lists are concatenations of a few increasing parts of
+spatially numbered points (Morton labels: a face's points lie near one another),
+and 79 % of the steps between consecutive points of a long list are +1 on
+InBall 256K.  Each run is its length and its gap (its first point minus the
+end of the run before it, negative at a join), both as int8, any value outside
+``-128 … 127`` stored apart as an ``(index, value)`` pair of int32 ("escapes"):
+0.7 bytes a point there, against 4.  Exact: decoding gives the same points in
+the same order (:func:`unpack_points`: a cumulative sum, a repeat and a range).
+
+Read a datum of either form with :func:`face_id` and :func:`conflict_list` (the
+list in its usual form: a tuple when short, else a read-only int32 array,
+decoded on each read; :meth:`HullHistory.pending
+<persistri.impl.hull.api.HullHistory.pending>` does).  A plain ``int`` and not a
+subclass that would index like the tuple: an ``int`` subclass is tracked by the
+garbage collector, 16 more bytes a face (96 bytes an inserted point at 256K).
+
+Cost: packing is done once per new face and unpacking once per face the
+bulldozer expands (O(list length), a few numpy calls for a long list), so it is
+used only where lists are kept — a run without history drops each version's
+lists with the version and keeps the 2-tuples, which cost nothing to read.
+"""
+
+from __future__ import annotations
+
+import struct
+from array import array
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["PackedFace", "pack_face", "face_id", "conflict_list", "pack_points", "unpack_points", "ID_MASK"]
+
+ID_MASK: Final = 0xFFFFFFFF
+"""The face id's bits in a :class:`PackedFace` (``datum & ID_MASK``); ids are below 2**32."""
+
+_COUNTS: Final = struct.Struct("<2i")
+"""A coded int32 sequence starts with its length and its number of escapes (int32 each)."""
+
+ListArray = NDArray[np.int32]
+
+
+PackedFace = int
+"""A packed face datum (the module's layout): a plain ``int``; a face datum of the other form is a 2-tuple."""
+
+
+def _code(values: ListArray) -> bytes:
+    """int32 ``values`` as int8, those outside ``-128 … 127`` as escapes: ``_COUNTS`` (values, escapes ``e``),
+    ``e`` int32 positions, ``e`` int32 values, then one int8 a value (0 at an escape). O(len(values))."""
+    small = values.astype(np.int8)
+    bad = np.flatnonzero(small != values)
+    if bad.size:
+        small[bad] = 0
+        return b"".join((_COUNTS.pack(values.size, bad.size), bad.astype(np.int32).tobytes(), values[bad].tobytes(), small.tobytes()))
+    return _COUNTS.pack(values.size, 0) + small.tobytes()
+
+
+def _decode(code: bytes, off: int) -> tuple[ListArray, int]:
+    """The int32 values :func:`_code` wrote at ``code[off:]``, and the offset after them. O(their number)."""
+    n, e = _COUNTS.unpack_from(code, off)
+    off += _COUNTS.size
+    values = np.frombuffer(code, dtype=np.int8, count=n, offset=off + 8 * e).astype(np.int32)
+    if e:
+        values[np.frombuffer(code, dtype=np.int32, count=e, offset=off)] = np.frombuffer(
+            code, dtype=np.int32, count=e, offset=off + 4 * e
+        )
+    return values, off + 8 * e + n
+
+
+def pack_points(pts: ListArray) -> bytes:
+    """The run code of a conflict list ``pts`` (int32, not empty): the module's layout.
+
+    The runs of consecutive indices, each its gap and its length (:func:`_code` each: gaps, then
+    lengths).  O(len(pts)), vectorised."""
+    n = pts.size
+    breaks = np.flatnonzero(pts[1:] - pts[:-1] != 1)
+    bounds = np.empty(breaks.size + 2, dtype=np.intp)
+    bounds[0] = 0
+    bounds[1:-1] = breaks + 1
+    bounds[-1] = n
+    lengths = (bounds[1:] - bounds[:-1]).astype(np.int32)
+    starts = pts[bounds[:-1]]
+    gaps = np.empty_like(starts)
+    gaps[0] = starts[0]
+    gaps[1:] = starts[1:] - starts[:-1] - lengths[:-1]
+    return _code(gaps) + _code(lengths)
+
+
+def unpack_points(code: bytes) -> ListArray:
+    """The list :func:`pack_points` coded, as a read-only int32 array (the same points, in order). O(length).
+
+    The first point of run ``i`` is the sum of the gaps and lengths before it and its own gap, so run ``i``
+    is ``cumsum(gaps)[i] + (its positions in the list)``: every partial sum is a point minus a position,
+    exact in int32."""
+    gaps, off = _decode(code, 0)
+    lengths, _ = _decode(code, off)
+    out: ListArray = np.repeat(gaps.cumsum(dtype=np.int32), lengths)
+    out += np.arange(out.size, dtype=np.int32)
+    out.setflags(write=False)
+    return out
+
+
+def pack_face(fid: int, conflict: Any) -> PackedFace:
+    """The datum of face ``fid`` with the conflict list ``conflict`` (a tuple or list of point ints when short,
+    an int32 array when long: the form :func:`~persistri.impl.hull.conflicts._freeze` gives). O(len(conflict))."""
+    if not 0 <= fid <= ID_MASK:
+        raise OverflowError(f"face id {fid} does not fit a packed face datum (32 bits)")
+    if type(conflict) is np.ndarray:
+        code = pack_points(conflict)
+        meta = 2 * len(code) + 1
+    elif len(conflict):
+        code = array("i", conflict).tobytes()
+        meta = 2 * len(code)
+    else:
+        return fid
+    return fid | meta << 32 | int.from_bytes(code, "little") << 64
+
+
+def _unpack(datum: int) -> Any:
+    """The conflict list of a packed datum, in its usual form: a tuple when short, else a read-only int32 array."""
+    meta = (datum >> 32) & ID_MASK
+    if not meta:
+        return ()
+    code = (datum >> 64).to_bytes(meta >> 1, "little")
+    if meta & 1:
+        return unpack_points(code)
+    return tuple(array("i", code))
+
+
+def face_id(datum: Any) -> int:
+    """The face id of a datum, packed or ``(id, list)``. O(1)."""
+    if type(datum) is int:
+        return datum & ID_MASK
+    fid: int = datum[0]
+    return fid
+
+
+def conflict_list(datum: Any) -> Any:
+    """The conflict list of a datum, packed or ``(id, list)``: a tuple when short, else a read-only int32 array."""
+    if type(datum) is int:
+        return _unpack(datum)
+    return datum[1]
