@@ -176,6 +176,19 @@ def _read_ply(path: Path) -> NDArray[Any]:
     return pts
 
 
+def _ply_fields(path: Path, fields: Fields) -> list[int]:
+    """``fields`` for a PLY file's vertices, read as x, y, z: a name (any case) becomes its column number."""
+    out = []
+    for f in fields:
+        if isinstance(f, str):
+            if f.lower() not in ("x", "y", "z"):
+                raise InputFileError(path, f"no column {f!r}: PLY vertices are read as x, y, z")
+            out.append("xyz".index(f.lower()))
+        else:
+            out.append(int(f))
+    return out
+
+
 def _select_array(path: Path, raw: NDArray[Any], fields: Fields) -> NDArray[Any]:
     """The columns ``fields`` (numbers only: arrays have no header) of a 2-D array."""
     if any(isinstance(f, str) for f in fields):
@@ -230,6 +243,8 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None, fields: 
     except OSError as exc:
         raise os_error(p, exc) from None
     if fields is not None:
+        if suffix == ".ply":
+            fields = _ply_fields(p, fields)
         raw = _select_array(p, raw, fields)
     _check_shape(p, raw.shape, columns)
     try:

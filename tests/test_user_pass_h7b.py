@@ -10,7 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from cli_contract import invoke
+from cli_contract import assert_one_line_failure, invoke
 
 
 @pytest.mark.parametrize(
@@ -161,3 +161,22 @@ def test_tiles_without_dask_say_what_to_install(tmp_path: Path, monkeypatch: pyt
         "persistri[dask] (pip install 'persistri[dask]')\n"
     )
     assert not (tmp_path / "t.npz").exists()
+
+
+def test_ply_columns_by_name_are_its_vertex_properties(tmp_path: Path) -> None:
+    # `--columns x,y,z` on a PLY said "has no header to name columns by", though a PLY names x, y, z.
+    ply = tmp_path / "p.ply"
+    ply.write_text(
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nend_header\n"
+        "0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+    )
+    result, _ = invoke(["hull", str(ply), "--columns", "X,y,z", "-o", str(tmp_path / "h.npz")])
+    assert result.exit_code == 0, result.output
+    result, _ = invoke(["delaunay", str(ply), "--columns", "z,y", "-o", str(tmp_path / "d.npz")])
+    assert result.exit_code == 0, result.output
+    import numpy as np
+
+    with np.load(tmp_path / "d.npz") as d:
+        assert d["points"].tolist() == [[0, 0], [0, 0], [0, 1], [1, 0]]
+    result, caught = invoke(["hull", str(ply), "--columns", "x,y,w", "-o", str(tmp_path / "w.npz")])
+    assert_one_line_failure(result, caught, "p.ply", r"no column 'w': PLY vertices are read as x, y, z$")

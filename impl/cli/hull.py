@@ -77,7 +77,7 @@ def _chunked_source(input_path: Path, chunk_rows: int | None) -> PointSource:
 @click.option("--dist", type=click.Choice(sorted(DISTRIBUTIONS), case_sensitive=False), help="Generate the input from a §4 distribution instead of reading INPUT.")
 @click.option("-n", "--points", "n", type=click.IntRange(min=4), default=10_000, show_default=True, help="How many points --dist generates (a hull needs 4).")
 @click.option("--backend", default="red_black", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
-@click.option("--columns", metavar="A,B,C", callback=parse_columns, help="The columns to read as x,y,z: numbers from 0 or header names (text files; numbers for .npy, then read whole).  [default: the header's x,y,z, else every column]")
+@click.option("--columns", metavar="A,B,C", callback=parse_columns, help="The columns to read as x,y,z: numbers from 0 or header names (text files; x, y, z for .ply; numbers for .npy, then read whole).  [default: the header's x,y,z, else every column]")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of the insertion order (and of --dist).")
 @click.option("--check", is_flag=True, help="Assert the theorems of Appendix A at every insertion and verify the hull exactly.")
 @click.option("--stats", "show_stats", is_flag=True, help="Print the operation counts (paper §4) as a table (one process: implies --workers 1).")
