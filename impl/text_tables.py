@@ -2,7 +2,8 @@
 
 The text rules of persistri's point and grid files (:mod:`persistri.impl.files`):
 numbers separated by commas, semicolons, tabs or spaces (the delimiter is the
-first of ``,`` ``;`` tab found on the first data line, else whitespace), any
+first of ``;`` ``,`` tab found on the first data line, else whitespace; a number
+with a decimal comma, ``0,5``, is named as such, never read nor skipped), any
 number of leading header lines (lines whose first — or first chosen — field is
 not a number, e.g. ``x,y,z``), ``#`` comments (whole lines or after the numbers),
 blank lines, Windows line ends, a UTF-8 byte-order mark and fields in double
@@ -40,9 +41,17 @@ def _decode(path: Path, raw: bytes) -> str:
         raise InputFileError(path, f"not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start})") from None
 
 
+_DECIMAL_COMMA = re.compile(r"\s*[+-]?\d*,\d+\s*")
+"""A number written with a decimal comma (``0,5``, ``-12,25``): not read, but named as what it is."""
+
+
 def _delimiter(line: str) -> str | None:
-    """The field separator of a data line: the first of comma, semicolon, tab it holds; None = whitespace."""
-    return next((d for d in (",", ";", "\t") if d in line), None)
+    """The field separator of a data line: the first of semicolon, comma, tab it holds; None = whitespace.
+
+    A semicolon first: a file separated by semicolons is one whose numbers may hold commas (decimal commas,
+    ``0,5;1;2``, as spreadsheets write them where the comma is the decimal sign), which are then named as such.
+    """
+    return next((d for d in (";", ",", "\t") if d in line), None)
 
 
 def _loadtxt(lines: Sequence[str], delimiter: str | None, usecols: Sequence[int] | None = None) -> NDArray[np.float64]:
@@ -67,7 +76,11 @@ def _is_header(line: str, usecols: Sequence[int] | None = None) -> bool:
     # One dtype for every field when they agree (a plain array), else a record of one per field.
     kinds = [fields.dtype[k].kind for k in range(len(names))] if names else [fields.dtype.kind] * max(fields.size, 1)
     at = 0 if usecols is None else usecols[0]
-    return at < len(kinds) and kinds[at] in "US"
+    if at < len(kinds) and kinds[at] in "US":
+        # a number with a decimal comma (0,5 in a file separated by semicolons) is data, to be named as bad
+        parts = bare.split(_delimiter(bare))
+        return not (at < len(parts) and _DECIMAL_COMMA.fullmatch(parts[at]) is not None)
+    return False
 
 
 def _names(line: str, delimiter: str | None) -> list[str]:
@@ -87,6 +100,8 @@ def _what_is_wrong(line: str, delimiter: str | None, width: int, usecols: Sequen
             return f"not a row of numbers: {quote(line)}"
         if not field.group(1).strip():
             return f"an empty field: {quote(line)}"
+        if _DECIMAL_COMMA.fullmatch(field.group(1)):
+            return f"{quote(field.group(1))} is not a number (a decimal comma: persistri reads decimal points, 0.5)"
         return f"{quote(field.group(1))} is not a number"
     return f"expected {width} numbers, got {alone.shape[1]}"
 

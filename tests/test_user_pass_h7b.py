@@ -180,3 +180,25 @@ def test_ply_columns_by_name_are_its_vertex_properties(tmp_path: Path) -> None:
         assert d["points"].tolist() == [[0, 0], [0, 0], [0, 1], [1, 0]]
     result, caught = invoke(["hull", str(ply), "--columns", "x,y,w", "-o", str(tmp_path / "w.npz")])
     assert_one_line_failure(result, caught, "p.ply", r"no column 'w': PLY vertices are read as x, y, z$")
+
+
+@pytest.mark.parametrize(
+    ("text", "line"),
+    [
+        ("x;y;z\n0,5;0;0\n1;0;0\n0;1;0\n0;0;1\n", 2),  # was '"5;0;0" is not a number': split at the comma
+        ("x;y;z\n1;0;0\n0;1;0\n0;0;1\n0;0;0,5\n", 5),
+        ("0,5;0;0\n1;0;0\n0;1;0\n0;0;1\n", 1),
+    ],
+)
+def test_decimal_commas_are_named_never_skipped(tmp_path: Path, text: str, line: int) -> None:
+    # A spreadsheet's CSV where the comma is the decimal sign: fields separated by semicolons, numbers with
+    # commas.  Such a row must be named for what it is, and a first row must not be skipped as a header.
+    path = tmp_path / "eu.csv"
+    path.write_text(text)
+    result, caught = invoke(["hull", str(path), "-o", str(tmp_path / "h.npz")])
+    assert_one_line_failure(
+        result, caught, "eu.csv", rf'eu\.csv: line {line}: "0,5" is not a number \(a decimal comma: persistri reads decimal points, 0\.5\)$'
+    )
+    path.write_text(text.replace("0,5", "0.5"))
+    result, _ = invoke(["hull", str(path), "-o", str(tmp_path / "h.npz")])
+    assert result.exit_code == 0 and "hull of" in result.stderr and ": 4 faces, 4 vertices" in result.stderr, result.output
