@@ -51,7 +51,8 @@ def _delimiter(line: str) -> str | None:
     A semicolon first: a file separated by semicolons is one whose numbers may hold commas (decimal commas,
     ``0,5;1;2``, as spreadsheets write them where the comma is the decimal sign), which are then named as such.
     """
-    return next((d for d in (";", ",", "\t") if d in line), None)
+    data = line.split("#", 1)[0]  # a comment after the numbers may hold any of them
+    return next((d for d in (";", ",", "\t") if d in data), None)
 
 
 def _loadtxt(lines: Sequence[str], delimiter: str | None, usecols: Sequence[int] | None = None) -> NDArray[np.float64]:

@@ -202,3 +202,12 @@ def test_decimal_commas_are_named_never_skipped(tmp_path: Path, text: str, line:
     path.write_text(text.replace("0,5", "0.5"))
     result, _ = invoke(["hull", str(path), "-o", str(tmp_path / "h.npz")])
     assert result.exit_code == 0 and "hull of" in result.stderr and ": 4 faces, 4 vertices" in result.stderr, result.output
+
+
+def test_a_comment_holding_a_semicolon_does_not_change_the_delimiter(tmp_path: Path) -> None:
+    # With the semicolon taken first, '0,0,0 # origin; first' was split at ';' and its row dropped as a header.
+    path = tmp_path / "c.csv"
+    path.write_text("0,0,0 # origin; first\n1,0,0\n0,1,0\n0,0,1\n")
+    result, _ = invoke(["hull", str(path), "-o", str(tmp_path / "h.npz")])
+    assert result.exit_code == 0, result.output
+    assert ": 4 faces, 4 vertices, 0 duplicate rows merged" in result.stderr
