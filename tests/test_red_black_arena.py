@@ -305,6 +305,7 @@ def test_hulls_versions_and_counts_are_the_tuple_trees(dist: str) -> None:
     """The bulldozer on the arena: the same hull, the same versions and the same operation counts."""
     from persistri.impl.hull.api import convex_hull
     from persistri.impl.hull.distributions import generate
+    from persistri.impl.hull.packed import face_id
     from persistri.impl.stats import Stats
 
     pts = generate(dist, 400, seed=3)
@@ -314,6 +315,31 @@ def test_hulls_versions_and_counts_are_the_tuple_trees(dist: str) -> None:
         counted = convex_hull(pts, seed=2, backend=name, stats=stats)
         kept = convex_hull(pts, seed=2, backend=name, history=True)
         assert kept.history is not None
-        faces = [sorted((tri, d[0]) for tri, d in kept.structure.items(c)) for c in kept.history.versions]
+        faces = [sorted((tri, face_id(d)) for tri, d in kept.structure.items(c)) for c in kept.history.versions]
         runs[name] = (counted.simplices.tolist(), stats.as_dict(), faces)
     assert runs["red_black"] == runs["red_black_arena"]
+
+
+def test_deletions_refill_their_own_nodes() -> None:
+    """Kahrs' rewrites recolour in place the nodes the same deletion made (a sibling's red copy, ``sub1``, a
+    blackened red child): removing every key of a 500-key map in random order keeps the tuple tree's new
+    nodes (the first test) and makes few others — a third as many as it keeps when every rewrite
+    appended copies (2,190 against 4,376 kept), 246 now."""
+    rnd = random.Random(5)
+    keys = list(range(500))
+    rnd.shuffle(keys)
+    a: ArenaMap = S.empty()
+    t: RBMap[int, int] = T.empty()
+    for k in keys:
+        a, t = S.insert(a, k, k), T.insert(t, k, k)
+    rnd.shuffle(keys)
+    grown = kept = 0
+    for k in keys:
+        before = mark(a)
+        (a, _), (t2, _) = S.remove(a, k), T.remove(t, k)
+        assert made(before, a) == fresh(t, t2)
+        t = t2
+        grown += mark(a) - before
+        kept += made(before, a)
+        same(a, t)
+    assert grown - kept < kept // 10

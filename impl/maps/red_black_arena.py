@@ -291,7 +291,7 @@ class ArenaRedBlackMap(Generic[K, V]):
             raise NotFound(k)
         value: V = A.val[A.item[node]]
         made = len(A.item)
-        new = _tree.delete(A, t, k)
+        new = _tree.delete(A, t, k, made)
         return (n - 1, _blacken(A, new, made) if new else NIL, A), value
 
     def numItems(self, m: ArenaMap, /) -> int:

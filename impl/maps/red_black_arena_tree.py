@@ -378,13 +378,30 @@ def update(A: Arena, t: int, k: Any, f: Combine, v: Any) -> int:
 # A node's key and value travel as its item index (``ki``): the rewrites move items, never make them.
 
 
-def _black(A: Arena, t: int) -> int:
-    """A copy of the red node ``t``, black."""
+def _black(A: Arena, t: int, made: int) -> int:
+    """The red node ``t``, black: recoloured in place if the running deletion made it (an index from ``made``
+    on; the rewrite that calls this drops ``t``, its one reference), else a black copy."""
+    if t >= made:
+        A.red[t] = BLACK
+        return t
     return A.node(BLACK, A.left[t], A.item[t], A.right[t])
 
 
-def balance(A: Arena, l: int, ki: int, r: int) -> int:
-    """Kahrs' ``balance``: the black node ``l ki r``, rewritten when ``l`` or ``r`` holds a red pair."""
+def _red(A: Arena, t: int, made: int) -> int:
+    """The black node ``t``, red: in place if the running deletion made it (as :func:`_black`), else a red copy."""
+    if t >= made:
+        A.red[t] = RED
+        return t
+    return A.node(RED, A.left[t], A.item[t], A.right[t])
+
+
+def balance(A: Arena, l: int, ki: int, r: int, made: int) -> int:
+    """Kahrs' ``balance``: the black node ``l ki r``, rewritten when ``l`` or ``r`` holds a red pair.
+
+    ``made``: the arena's length when the deletion began.  Here and in the functions below, a node the
+    rewrite takes apart or recolours is refilled in place when the deletion made it (an index from
+    ``made`` on, which no map refers to yet, and which the rewrite drops): fewer nodes than the tuple tree
+    makes and drops, the same tree."""
     left = A.left
     right = A.right
     red = A.red
@@ -393,11 +410,11 @@ def balance(A: Arena, l: int, ki: int, r: int) -> int:
     if red[l]:
         if red[r]:
             # balance (T R a x b) y (T R c z d) = T R (T B a x b) y (T B c z d)
-            return node(RED, _black(A, l), ki, _black(A, r))
+            return node(RED, _black(A, l, made), ki, _black(A, r, made))
         ll = left[l]
         if red[ll]:
             # balance (T R (T R a x b) y c) z d = T R (T B a x b) y (T B c z d)
-            return node(RED, _black(A, ll), item[l], node(BLACK, right[l], ki, r))
+            return node(RED, _black(A, ll, made), item[l], node(BLACK, right[l], ki, r))
         lr = right[l]
         if red[lr]:
             # balance (T R a x (T R b y c)) z d = T R (T B a x b) y (T B c z d)
@@ -410,25 +427,25 @@ def balance(A: Arena, l: int, ki: int, r: int) -> int:
         rr = right[r]
         if red[rr]:
             # balance a x (T R b y (T R c z d)) = T R (T B a x b) y (T B c z d)
-            return node(RED, node(BLACK, l, ki, rl), item[r], _black(A, rr))
+            return node(RED, node(BLACK, l, ki, rl), item[r], _black(A, rr, made))
     return node(BLACK, l, ki, r)
 
 
-def sub1(A: Arena, t: int) -> int:
+def sub1(A: Arena, t: int, made: int) -> int:
     """Kahrs' ``sub1``: a black node repainted red, lowering its black height by one."""
     assert t and not A.red[t], f"{_NAME}: sub1 of a non-black tree (invariant broken)"
-    return A.node(RED, A.left[t], A.item[t], A.right[t])
+    return _red(A, t, made)
 
 
-def balleft(A: Arena, l: int, ki: int, r: int) -> int:
+def balleft(A: Arena, l: int, ki: int, r: int, made: int) -> int:
     """Kahrs' ``balleft``: the node ``l ki r`` whose left subtree ``l`` is one black level short."""
     if A.red[l]:
         # balleft (T R a x b) y c = T R (T B a x b) y c
-        return A.node(RED, _black(A, l), ki, r)
+        return A.node(RED, _black(A, l, made), ki, r)
     assert r, f"{_NAME}: balleft with an empty sibling (invariant broken)"
     if not A.red[r]:
         # balleft bl x (T B a y b) = balance bl x (T R a y b)
-        return balance(A, l, ki, A.node(RED, A.left[r], A.item[r], A.right[r]))
+        return balance(A, l, ki, _red(A, r, made), made)
     # balleft bl x (T R (T B a y b) z c) = T R (T B bl x a) y (balance b z (sub1 c))
     rl = A.left[r]
     assert rl, f"{_NAME}: balleft with a red sibling without a left child (invariant broken)"
@@ -436,31 +453,31 @@ def balleft(A: Arena, l: int, ki: int, r: int) -> int:
         RED,
         A.node(BLACK, l, ki, A.left[rl]),
         A.item[rl],
-        balance(A, A.right[rl], A.item[r], sub1(A, A.right[r])),
+        balance(A, A.right[rl], A.item[r], sub1(A, A.right[r], made), made),
     )
 
 
-def balright(A: Arena, l: int, ki: int, r: int) -> int:
+def balright(A: Arena, l: int, ki: int, r: int, made: int) -> int:
     """Kahrs' ``balright``: the mirror image of :func:`balleft` (``r`` is one black level short)."""
     if A.red[r]:
         # balright a x (T R b y c) = T R a x (T B b y c)
-        return A.node(RED, l, ki, _black(A, r))
+        return A.node(RED, l, ki, _black(A, r, made))
     assert l, f"{_NAME}: balright with an empty sibling (invariant broken)"
     if not A.red[l]:
         # balright (T B a x b) y bl = balance (T R a x b) y bl
-        return balance(A, A.node(RED, A.left[l], A.item[l], A.right[l]), ki, r)
+        return balance(A, _red(A, l, made), ki, r, made)
     # balright (T R a x (T B b y c)) z bl = T R (balance (sub1 a) x b) y (T B c z bl)
     lr = A.right[l]
     assert lr, f"{_NAME}: balright with a red sibling without a right child (invariant broken)"
     return A.node(
         RED,
-        balance(A, sub1(A, A.left[l]), A.item[l], A.left[lr]),
+        balance(A, sub1(A, A.left[l], made), A.item[l], A.left[lr], made),
         A.item[lr],
         A.node(BLACK, A.right[lr], ki, r),
     )
 
 
-def app(A: Arena, a: int, b: int) -> int:
+def app(A: Arena, a: int, b: int, made: int) -> int:
     """Kahrs' ``app``: the fusion of two trees of equal black height, every key of ``a`` below every key of ``b``."""
     if not a:
         return b
@@ -474,27 +491,27 @@ def app(A: Arena, a: int, b: int) -> int:
     if red[a]:
         if red[b]:
             # app (T R a x b) (T R c y d)
-            bc = app(A, right[a], left[b])
+            bc = app(A, right[a], left[b], made)
             if red[bc]:
                 return node(
                     RED, node(RED, left[a], item[a], left[bc]), item[bc], node(RED, right[bc], item[b], right[b])
                 )
             return node(RED, left[a], item[a], node(RED, bc, item[b], right[b]))
         # app (T R a x b) c = T R a x (app b c)
-        return node(RED, left[a], item[a], app(A, right[a], b))
+        return node(RED, left[a], item[a], app(A, right[a], b, made))
     if red[b]:
         # app a (T R b x c) = T R (app a b) x c
-        return node(RED, app(A, a, left[b]), item[b], right[b])
+        return node(RED, app(A, a, left[b], made), item[b], right[b])
     # app (T B a x b) (T B c y d)
-    bc = app(A, right[a], left[b])
+    bc = app(A, right[a], left[b], made)
     if red[bc]:
         return node(
             RED, node(BLACK, left[a], item[a], left[bc]), item[bc], node(BLACK, right[bc], item[b], right[b])
         )
-    return balleft(A, left[a], item[a], node(BLACK, bc, item[b], right[b]))
+    return balleft(A, left[a], item[a], node(BLACK, bc, item[b], right[b]), made)
 
 
-def delete(A: Arena, t: int, k: Any) -> int:
+def delete(A: Arena, t: int, k: Any, made: int) -> int:
     """Kahrs' ``del``: ``t`` without the present key ``k`` (see :func:`~persistri.impl.maps.red_black_tree.delete`)."""
     if not t:
         # Only an order that changed between two descents can get here.
@@ -506,13 +523,13 @@ def delete(A: Arena, t: int, k: Any) -> int:
     if k < y:
         if a and not A.red[a]:
             # delformLeft a@(T B _ _ _) y b = balleft (del a) y b
-            return balleft(A, delete(A, a, k), yi, b)
+            return balleft(A, delete(A, a, k, made), yi, b, made)
         # delformLeft a y b = T R (del a) y b
-        return A.node(RED, delete(A, a, k), yi, b)
+        return A.node(RED, delete(A, a, k, made), yi, b)
     if y < k:
         if b and not A.red[b]:
             # delformRight a y b@(T B _ _ _) = balright a y (del b)
-            return balright(A, a, yi, delete(A, b, k))
+            return balright(A, a, yi, delete(A, b, k, made), made)
         # delformRight a y b = T R a y (del b)
-        return A.node(RED, a, yi, delete(A, b, k))
-    return app(A, a, b)
+        return A.node(RED, a, yi, delete(A, b, k, made))
+    return app(A, a, b, made)
