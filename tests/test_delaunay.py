@@ -367,3 +367,25 @@ def test_check_compares_the_live_index_with_the_complex(counted: bool, monkeypat
     stats = Stats() if counted else None
     with pytest.raises(TriangulationCheckError, match="not the triangulator's"):
         delaunay(pts, check=True, stats=stats)
+
+
+def test_the_triangulator_s_vertices_are_those_vertex_makes() -> None:
+    """Vertex i (made directly as its lineage's class after the first): the object ``Vertex(i, i, lineage)`` is —
+    its class, label, point and lineage — and memoised; the infinite vertex has no point; a resumed
+    triangulator makes its new vertices in the resumed complex's lineage."""
+    from persistri.impl.complex.vertex import Vertex
+
+    pts = np.random.default_rng(6).random((40, 2))
+    T = Triangulator(Predicates2(pts), TwoComplex(map_backend("red_black")))
+    for i in (3, 0, 17, 39, 3):
+        v = T.vertex(i)
+        want = Vertex(i, i, T.lineage)
+        assert type(v) is type(want) and v == want == i and v.point == i and v.lineage is T.lineage
+        assert T.vertex(i) is v
+    inf = T.vertex(40)
+    assert inf is T.infinite and inf.point is None and type(inf) is not type(T.vertex(0))
+    d = delaunay(pts[:20], seed=0)
+    R = Triangulator.resume(Predicates2(pts), d.structure, d.complex, d.infinite)
+    v = R.vertex(30)
+    assert R.lineage is not T.lineage and v.lineage is R.lineage and type(v) is type(Vertex(30, 30, R.lineage))
+    assert R.vertex(31).lineage is R.lineage

@@ -147,6 +147,10 @@ class Triangulator:
         # VERTEX state would hand out in index order (``int_vertex.new_many``).
         self.lineage: Lineage = VertexState.initial().lineage
         self._verts: dict[int, Vertex] = {}
+        # The class of the lineage's vertices whose point is their label (vertex): made by Vertex once, then
+        # instantiated directly (Vertex's interpreted __new__ was 3 % of a compiled insertion).  Reset with
+        # the lineage (resume).
+        self._label_class: type[Vertex] | None = None
         self.infinite: Vertex = self.vertex(self.n)
         self.tri_of: dict[int, Triangle] = {}
         self._next_id = 0
@@ -192,10 +196,22 @@ class Triangulator:
         return read
 
     def vertex(self, i: int) -> Vertex:
-        """The vertex of point ``i`` (label ``i``; ``i = n`` is the symbolic infinite vertex, point None). O(1)."""
+        """The vertex of point ``i`` (label ``i``; ``i = n`` is the symbolic infinite vertex, point None). O(1).
+
+        A vertex whose point is its ``int`` label is an instance of one class per lineage
+        (:class:`~persistri.impl.complex.vertex.Vertex`): after the first, made by ``Vertex``, the others
+        are made as that class's ``int`` directly — the same object ``Vertex`` would make, without its
+        interpreted ``__new__``.
+        """
         v = self._verts.get(i)
         if v is None:
-            v = Vertex(i, i if i < self.n else None, self.lineage)
+            cls = self._label_class
+            if cls is not None and type(i) is int and i < self.n:
+                v = int.__new__(cls, i)
+            else:
+                v = Vertex(i, i if i < self.n else None, self.lineage)
+                if type(i) is int and i < self.n:
+                    self._label_class = type(v)
             self._verts[i] = v
         return v
 
@@ -272,6 +288,7 @@ class Triangulator:
                 enter(edges, item[0], item[1])
         inf = verts[infinite]
         T.lineage = inf.lineage
+        T._label_class = None  # the lineage changed: its class is made by its first new vertex
         T._verts = verts
         T.infinite = inf
         T.tri_of = tri_of
