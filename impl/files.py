@@ -21,6 +21,7 @@ comments and blank lines, from 1): ``points.csv: line 7: expected 3 numbers, got
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -28,7 +29,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from persistri.impl.file_errors import InputFileError, os_error, widths
+from persistri.impl.file_errors import InputFileError, os_error, quote, widths
 from persistri.impl.geometry.points import as_points
 from persistri.impl.text_tables import Fields, read_text, read_text_table
 
@@ -236,7 +237,7 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None, fields: 
             if bad.any():
                 row = int(np.argmax(bad))
                 shown = ", ".join(repr(float(v)) for v in arr[row])
-                raise InputFileError(p, f"a coordinate is not finite ({shown})", line=int(lines[row]))
+                raise InputFileError(p, f"a coordinate is not finite ({shown}){_overflow_note(p, int(lines[row]))}", line=int(lines[row]))
             out: NDArray[np.float64] = arr + 0.0  # -0.0 becomes 0.0
             return out
         raw = read_npy(p) if suffix == ".npy" else _read_ply(p)
@@ -251,6 +252,15 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None, fields: 
         return as_points(raw, raw.shape[1], what=str(p))
     except (TypeError, ValueError) as exc:  # a non-finite or inexact row, named by as_points (from 0)
         raise InputFileError(p, str(exc).splitlines()[0].removeprefix(f"{p}: ")) from None
+
+
+def _overflow_note(path: Path, line: int) -> str:
+    """Where line ``line`` of ``path`` spells no inf or nan, its infinity is a number too large for a double
+    (``1e400``): say so, with the line as written.  Read again on this error path only; O(file)."""
+    text = path.read_text(encoding="utf-8-sig", errors="replace").splitlines()[line - 1]
+    if re.search(r"inf|nan", text, re.IGNORECASE):
+        return ""
+    return f": a number beyond the largest double (about 1.8e308) in {quote(text.strip())}"
 
 
 def compact_mesh(

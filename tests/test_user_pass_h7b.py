@@ -211,3 +211,17 @@ def test_a_comment_holding_a_semicolon_does_not_change_the_delimiter(tmp_path: P
     result, _ = invoke(["hull", str(path), "-o", str(tmp_path / "h.npz")])
     assert result.exit_code == 0, result.output
     assert ": 4 faces, 4 vertices, 0 duplicate rows merged" in result.stderr
+
+
+def test_a_number_too_large_for_a_double_is_named_as_written(tmp_path: Path) -> None:
+    # '1e400' was reported as "a coordinate is not finite (0.0, 0.0, inf)": no inf is in the file.
+    path = tmp_path / "big.csv"
+    path.write_text("0 0 0\n1 0 0\n0 1 0\n0 0 1e400\n")
+    result, caught = invoke(["hull", str(path), "-o", str(tmp_path / "h.npz")])
+    assert_one_line_failure(
+        result, caught, "big.csv",
+        r'line 4: a coordinate is not finite \(0\.0, 0\.0, inf\): a number beyond the largest double \(about 1\.8e308\) in "0 0 1e400"$',
+    )
+    path.write_text("0 0 0\n1 0 0\n0 1 0\n0 0 -Inf\n")  # written as an infinity: no note
+    result, caught = invoke(["hull", str(path), "-o", str(tmp_path / "h.npz")])
+    assert_one_line_failure(result, caught, "big.csv", r"line 4: a coordinate is not finite \(0\.0, 0\.0, -inf\)$")
