@@ -60,6 +60,7 @@ from numpy.typing import NDArray  # noqa: E402
 from persistri.impl.geometry.predicates import Predicates3  # noqa: E402
 from persistri.impl.hull.api import HullHistory, convex_hull  # noqa: E402
 from persistri.impl.hull.bulldozer import initial_tetrahedron  # noqa: E402
+from persistri.impl.hull.packed import conflict_list  # noqa: E402
 from persistri.impl.hull.distributions import generate  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # the sibling mesh_figures.py, also when loaded by path
@@ -121,9 +122,9 @@ class Insertion:
 def _faces(history: HullHistory, k: int) -> dict[Tri, tuple[int, ...]]:
     """The faces of version ``k`` with their conflict lists (as point labels)."""
     out: dict[Tri, tuple[int, ...]] = {}
-    for t, (_, conflict) in history.structure.items(history[k]):
+    for t, datum in history.structure.items(history[k]):
         a, b, c = (int(v) for v in t)
-        out[(a, b, c)] = tuple(int(q) for q in conflict)
+        out[(a, b, c)] = tuple(int(q) for q in conflict_list(datum))  # packed in one int in a history run
     return out
 
 
