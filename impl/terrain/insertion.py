@@ -276,11 +276,7 @@ def _small_fan(
     for s in sized:
         qs += s.tolist()
     if p in qs:
-        # p is in one list once (the samples are split among the triangles); remove takes it out in C, and
-        # the comprehension would take out any other copy.
-        qs.remove(p)
-        if p in qs:
-            qs = [q for q in qs if q != p]
+        qs = [q for q in qs if q != p]
     m = len(qs)
     if not m or m > PYTHON_SECTORS:
         return None
