@@ -20,8 +20,9 @@ map is ``(0, 0, None)`` (index 0 is the empty leaf, and an arena is made by the
 first insertion).  Every map derived from one map shares its arena: operations
 append the nodes they make and return a new root, as path copying does with
 tuples.  **Nothing a returned map reaches is ever overwritten** (an operation
-writes again only nodes it made itself, before returning: Okasaki's rewrites
-and a new root's blackening refill them instead of dropping them), so every
+writes again only nodes it made itself, before returning: Okasaki's and
+Kahrs' rewrites and a new root's blackening refill them instead of dropping
+them), so every
 version ever returned stays valid: persistence by construction.  Along every path of a tree
 the node indices decrease (a child is made before its parent), which
 :meth:`ArenaRedBlackMap._check` checks with the red-black invariants of

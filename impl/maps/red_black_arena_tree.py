@@ -19,7 +19,8 @@ a node and ``red[t]`` is false for the leaf, as the empty tree counts as
 black.  Nodes and items are appended (:meth:`Arena.node`, :meth:`Arena.pair`),
 and a node is written again only by the operation that made it, before any
 map refers to it (Okasaki's rewrites refill the red nodes the same insertion
-made, and a new red root is blackened in place): no index that a returned map
+made, a new red root is blackened in place, and Kahrs' rewrites recolour the
+nodes the same deletion made): no index that a returned map
 reaches is ever written, so every tree ever returned stays valid —
 persistence by construction, the same path copying as the tuple tree's with
 indices instead of references.  A child is always made before its
