@@ -27,7 +27,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, Generic, Optional, TypeAlias, TypeVar
 
-from persistri.impl.maps.keys import check_orderable, not_ordered_with
+from persistri.impl.maps.keys import check_orderable, check_same_key, not_ordered_with
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound
 from persistri.spec.order import NATURAL_ORDER, Comparable, NaturalOrder
@@ -93,6 +93,7 @@ class AssocListMap(Generic[K, V]):
                 cells = cells[2]
             if cells is not None and not (k < cells[0]):
                 # k is present: replace its cell, share the rest.
+                check_same_key("assoc_list", k, cells[0])
                 new_v = v if f is None else f(cells[1], v)
                 rest: Cells[K, V] = (k, new_v, cells[2])
             else:
@@ -111,6 +112,7 @@ class AssocListMap(Generic[K, V]):
             while cells is not None and cells[0] < k:
                 cells = cells[2]
             if cells is not None and not (k < cells[0]):
+                check_same_key("assoc_list", k, cells[0])
                 return cells
         except TypeError as exc:
             raise _key_error(k, exc) from None
@@ -144,6 +146,7 @@ class AssocListMap(Generic[K, V]):
                 raise NotFound(k)
         except TypeError as exc:
             raise _key_error(k, exc) from None
+        check_same_key("assoc_list", k, cells[0])
         value = cells[1]
         rest = cells[2]
         for pk, pv in reversed(prefix):

@@ -103,6 +103,7 @@ from collections.abc import Callable
 from typing import Any, Generic, TypeVar
 
 from persistri.impl.maps.hamt_check import check as _check_map
+from persistri.impl.maps.keys import not_totally_ordered
 from persistri.impl.maps.hamt_nodes import (
     _BIT,
     _BITS,
@@ -185,6 +186,8 @@ class HamtMap(Generic[K, V]):
             h = hash(k)
         except TypeError:
             raise _unhashable(k) from None
+        if k != k:  # a NaN: hashing would keep each NaN apart, but no order can list them
+            raise not_totally_ordered("hamt", k, k)
         grew: list[bool] = []
         try:
             root = _update(m[1], h, k, f, v, grew)

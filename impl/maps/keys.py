@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-__all__ = ["check_increasing", "check_orderable", "not_ordered_with", "unorderable"]
+__all__ = ["check_increasing", "check_orderable", "check_same_key", "not_ordered_with", "not_totally_ordered", "unorderable"]
 
 
 def unorderable(owner: str, k: object) -> TypeError:
@@ -23,11 +23,29 @@ def unorderable(owner: str, k: object) -> TypeError:
 
 
 def check_orderable(owner: str, k: Any) -> None:
-    """Raise :func:`unorderable`'s error unless ``k < k`` is defined (e.g. not for ``object()``)."""
+    """Raise :func:`unorderable`'s error unless ``k < k`` is defined (e.g. not for ``object()``), and
+    :func:`not_totally_ordered`'s unless ``k == k`` (not for a NaN, which no total order can place)."""
     try:
         k < k  # noqa: B015 - evaluated for its TypeError only
-    except TypeError:
+        unequal = bool(k != k)
+    except (TypeError, ValueError):  # ValueError: an array's truth value
         raise unorderable(owner, k) from None
+    if unequal:
+        raise not_totally_ordered(owner, k, k)
+
+
+def not_totally_ordered(owner: str, k: object, y: object) -> ValueError:
+    """The error for keys ``k`` and ``y`` of which neither is ``<`` the other, yet ``k != y`` (a NaN, or sets
+    under inclusion): ``ORD_MAP`` needs a total order, and these would be taken for one key."""
+    which = f"key {k!r} is not equal to itself" if k is y else f"keys {k!r} and {y!r} are neither '<' nor '=='"
+    return ValueError(f"{owner}: {which}: a map's keys must be totally ordered (a NaN never is)")
+
+
+def check_same_key(owner: str, k: Any, y: Any) -> None:
+    """Raise :func:`not_totally_ordered`'s error unless ``k`` is ``y`` or ``k == y``: for a search that found ``y``
+    because neither is ``<`` the other.  O(1)."""
+    if y is not k and not y == k:
+        raise not_totally_ordered(owner, k, y)
 
 
 def not_ordered_with(owner: str, k: object, exc: TypeError) -> TypeError:

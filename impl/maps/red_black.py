@@ -86,7 +86,7 @@ from typing import Any, Final, Generic, Optional, TypeAlias, TypeVar
 
 from persistri.impl.maps import red_black_adjust as _adjust
 from persistri.impl.maps import red_black_tree as _tree
-from persistri.impl.maps.keys import check_increasing, check_orderable, not_ordered_with
+from persistri.impl.maps.keys import check_increasing, check_orderable, check_same_key, not_ordered_with
 from persistri.impl.maps.red_black_tree import BLACK, RED, FailedWith
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound
@@ -167,6 +167,9 @@ class RedBlackMap(Generic[K, V]):
         except TypeError as exc:
             raise _key_error(k, exc) from None
         if new is None:
+            found: Tree[K, V] = _tree.search(t, k)
+            if found is not None:  # found: not a NaN taken for another key
+                check_same_key(_NAME, k, found[2])
             return (n, _tree.replace(t, k, v))
         if new[0] is RED:
             new = (BLACK, new[1], new[2], new[3], new[4])
@@ -224,6 +227,8 @@ class RedBlackMap(Generic[K, V]):
         """
         n, t = m
         check_increasing(_NAME, "adjust_many", items)
+        if len(items) == 1:  # a NaN passes an order check of one key
+            check_orderable(_NAME, items[0][0])
         if t is None or not items:
             return m, list(items)
         keys = [k for k, _ in items]
@@ -273,7 +278,10 @@ class RedBlackMap(Generic[K, V]):
             node: Tree[K, V] = _tree.search(m[1], k)
         except TypeError as exc:
             raise _key_error(k, exc) from None
-        return None if node is None else (node[3],)
+        if node is None:
+            return None
+        check_same_key(_NAME, k, node[2])
+        return (node[3],)
 
     find_unchecked = staticmethod(_tree.find)
     """``find`` for a key known to be ordered with the map's keys (a comparison's TypeError is not reworded):
@@ -288,14 +296,19 @@ class RedBlackMap(Generic[K, V]):
             raise _key_error(k, exc) from None
         if node is None:
             raise NotFound(k)
+        check_same_key(_NAME, k, node[2])
         return node[3]
 
     def inDomain(self, m: RBMap[K, V], k: K, /) -> bool:
         """Whether ``k`` is in ``m``. O(lg n)."""
         try:
-            return _tree.search(m[1], k) is not None
+            node: Tree[K, V] = _tree.search(m[1], k)
         except TypeError as exc:
             raise _key_error(k, exc) from None
+        if node is None:
+            return False
+        check_same_key(_NAME, k, node[2])
+        return True
 
     def remove(self, m: RBMap[K, V], k: K, /) -> tuple[RBMap[K, V], V]:
         """``(m without k, value of k)``; raises :class:`NotFound` if absent (``m`` is unaffected).
@@ -309,6 +322,7 @@ class RedBlackMap(Generic[K, V]):
             raise _key_error(k, exc) from None
         if node is None:
             raise NotFound(k)
+        check_same_key(_NAME, k, node[2])
         new = _tree.delete(t, k)
         if new is not None and new[0] is RED:
             new = (BLACK, new[1], new[2], new[3], new[4])

@@ -25,6 +25,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, Final, TypeAlias
 
+from persistri.impl.maps.keys import not_totally_ordered
+
 __all__ = [
     "RED",
     "BLACK",
@@ -234,6 +236,8 @@ def update(t: Node, k: Any, f: Combine, v: Any) -> Node | None:
             return None
         b2 = update(b, k, f, v)
         return None if b2 is None else (c, a, y, yv, b2)
+    if y is not k and not y == k:  # neither '<' nor '==': a NaN, say (reported by insertWith)
+        raise FailedWith(not_totally_ordered(_NAME, k, y))
     try:
         x = f(yv, v)
     except Exception as exc:
