@@ -67,7 +67,7 @@ from typing import Any, Final, Generic, TypeAlias, TypeVar
 
 from persistri.impl.maps import red_black_arena_adjust as _adjust
 from persistri.impl.maps import red_black_arena_tree as _tree
-from persistri.impl.maps.keys import check_increasing, check_orderable, not_ordered_with
+from persistri.impl.maps.keys import check_increasing, check_orderable, check_same_key, not_ordered_with
 from persistri.impl.maps.red_black_arena_tree import BLACK, NIL, RED, Arena, FailedWith
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound
@@ -159,6 +159,9 @@ class ArenaRedBlackMap(Generic[K, V]):
         except TypeError as exc:
             raise _key_error(k, exc) from None
         if not new:
+            found = _tree.search(A, t, k)
+            if found:  # found: not a NaN taken for another key
+                check_same_key(_NAME, k, A.key[A.item[found]])
             return (n, _tree.replace(A, t, k, v), A)
         return (n + 1, _blacken_new(A, new), A)
 
@@ -199,6 +202,8 @@ class ArenaRedBlackMap(Generic[K, V]):
         strictly increasing keys, else ValueError).  O(k + new nodes)."""
         n, t, A = m
         check_increasing(_NAME, "adjust_many", items)
+        if len(items) == 1:  # a NaN passes an order check of one key
+            check_orderable(_NAME, items[0][0])
         if not t or A is None or not items:
             return m, list(items)
         keys = [k for k, _ in items]
@@ -258,7 +263,11 @@ class ArenaRedBlackMap(Generic[K, V]):
             node = _tree.search(A, t, k)
         except TypeError as exc:
             raise _key_error(k, exc) from None
-        return (A.val[A.item[node]],) if node else None
+        if not node:
+            return None
+        yi = A.item[node]
+        check_same_key(_NAME, k, A.key[yi])
+        return (A.val[yi],)
 
     find_unchecked = staticmethod(_tree.find)
     """``find`` for a key known to be ordered with the map's keys (a comparison's TypeError is not reworded):
@@ -290,6 +299,7 @@ class ArenaRedBlackMap(Generic[K, V]):
             raise _key_error(k, exc) from None
         if not node:
             raise NotFound(k)
+        check_same_key(_NAME, k, A.key[A.item[node]])
         value: V = A.val[A.item[node]]
         made = len(A.item)
         new = _tree.delete(A, t, k, made)

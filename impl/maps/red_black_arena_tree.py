@@ -38,6 +38,8 @@ from array import array
 from collections.abc import Callable
 from typing import Any, Final, TypeAlias
 
+from persistri.impl.maps.keys import not_totally_ordered
+
 __all__ = [
     "RED",
     "BLACK",
@@ -367,6 +369,8 @@ def update(A: Arena, t: int, k: Any, f: Combine, v: Any) -> int:
             return NIL
         b2 = update(A, b, k, f, v)
         return NIL if not b2 else A.node(A.red[t], A.left[t], yi, b2)
+    if y is not k and not y == k:  # neither '<' nor '==': a NaN, say (reported by insertWith)
+        raise FailedWith(not_totally_ordered(_NAME, k, y))
     try:
         x = f(A.val[yi], v)
     except Exception as exc:
