@@ -406,4 +406,5 @@ class Delaunay:
 
     def __repr__(self) -> str:
         kept = "" if self._tri.history is None else f", history of {len(self._tri.history)} versions"
-        return f"persistri.Delaunay({self.npoints} points, {self.nsimplex} triangles, {self._hull_edges.shape[0]} hull edges{kept})"
+        n, e = self.nsimplex, self._hull_edges.shape[0]
+        return f"persistri.Delaunay({self.npoints} points, {n} triangle{'' if n == 1 else 's'}, {e} hull edges{kept})"

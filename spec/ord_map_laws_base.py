@@ -78,6 +78,11 @@ _repr.maxstring = _repr.maxother = 80
 _repr.maxlevel = 4
 
 
+def _items(n: object) -> str:
+    """``n items``, singular for one."""
+    return f"{n} item" if n == 1 else f"{n} items"
+
+
 def _r(x: object) -> str:
     """A bounded ``repr`` for messages (maps in workloads have 10^5 items)."""
     return _repr.repr(x)
@@ -143,8 +148,8 @@ def _unchanged(s: OrdMap[K, V, M], m: M, before: tuple[list[tuple[K, V]], int], 
     if not same:
         raise LawViolation(
             "persistence",
-            f"{call()} changed its operand m: before it m had {n_before} items {_r(dict(items_before))}, "
-            f"after it m has {n_after} items {_r(dict(items_after))}",
+            f"{call()} changed its operand m: before it m had {_items(n_before)} {_r(dict(items_before))}, "
+            f"after it m has {_items(n_after)} {_r(dict(items_after))}",
         )
 
 

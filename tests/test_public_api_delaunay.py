@@ -90,6 +90,7 @@ def test_arrays_have_scipys_shapes_and_dtypes_and_are_values() -> None:
         with pytest.raises(ValueError, match="read-only"):
             arr[0] = 0
     assert "60 points" in repr(tri)
+    assert repr(persistri.Delaunay([[0, 0], [1, 0], [0, 1]])) == "persistri.Delaunay(3 points, 1 triangle, 3 hull edges)"
 
 
 def test_simplices_are_counterclockwise_and_neighbours_consistent() -> None:

@@ -68,8 +68,12 @@ def as_structure(obj: object, name: str | None = None) -> Any:
     if isinstance(obj, type):
         try:
             obj = obj()
-        except Exception as exc:
+        except TypeError as exc:  # the call's arguments
             raise NotAnOrdMap(f"{label} is a class that cannot be instantiated with no arguments: {exc}") from None
+        except Exception as exc:
+            raise NotAnOrdMap(
+                f"{label}() raised {type(exc).__name__}: {exc} (a structure class is instantiated with no arguments)"
+            ) from None
     missing = missing_operations(obj)
     if missing:
         raise NotAnOrdMap(f"{label} is not an ORD_MAP structure: {describe_missing(obj, missing)}")

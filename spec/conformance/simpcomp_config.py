@@ -83,8 +83,12 @@ def as_simpcomp(obj: object, name: str | None = None) -> Any:
     if isinstance(obj, type):
         try:
             obj = obj()
-        except Exception as exc:
+        except TypeError as exc:  # the call's arguments
             raise NotASimpComp(f"{label} is a class that cannot be instantiated with no arguments: {exc}") from None
+        except Exception as exc:
+            raise NotASimpComp(
+                f"{label}() raised {type(exc).__name__}: {exc} (a structure class is instantiated with no arguments)"
+            ) from None
     missing = missing_simpcomp_operations(obj)
     if missing:
         raise NotASimpComp(f"{label} is not a SIMPCOMP structure: {describe_missing(obj, missing)}")
