@@ -125,23 +125,59 @@ class GrowingPredicates2:
     def __init__(self, points: ArrayLike, *, stats: Stats | None = None) -> None:
         pts = as_points(points, 2)
         self.stats = stats
-        xy: list[tuple[float, float]] = [(x, y) for x, y in pts.tolist()]
-        # Each coordinate's exact parts once: the scale's extremes come from them (the grain of a nonzero x is the
-        # exponent of its odd multiple, its magnitude frexp's exponent, as exact.binary_exponents has them), and so
-        # do the points' integers (_push).
-        parts = [(exact_parts(x), exact_parts(y)) for x, y in xy]
-        grains = [e for pair in parts for m, e in pair if m]
-        if grains:
-            top = max(math.frexp(v)[1] for x, y in xy for v in (x, y) if v != 0.0)
-            self._shift = choose_scaling(np.array([min(grains)]), np.array([top])).shift
+        # One pass over the coordinates: each one's exact parts (exact_parts, written out), the point's integers at
+        # its least exponent (as append stores them), and the extremes the scale comes from (the grain of a nonzero x
+        # is the exponent of its odd multiple, its magnitude frexp's exponent, as exact.binary_exponents has them).
+        # A zero gets the grain ZERO_LOW and the magnitude -ZERO_LOW: it passes both filter checks below, as in append.
+        xy: list[tuple[float, float]] = []
+        exact: list[tuple[int, int, int]] = []
+        exps: list[tuple[int, int, int, int]] = []
+        frexp = math.frexp
+        grain = ZERO_LOW
+        top = -ZERO_LOW
+        for x, y in pts.tolist():
+            if x == 0.0:
+                mx, ex, hx = 0, ZERO_LOW, -ZERO_LOW
+            else:
+                num, den = x.as_integer_ratio()
+                low = (num & -num).bit_length() - 1
+                mx, ex, hx = num >> low, low - (den.bit_length() - 1), frexp(x)[1]
+                if ex < grain:
+                    grain = ex
+                if hx > top:
+                    top = hx
+            if y == 0.0:
+                my, ey, hy = 0, ZERO_LOW, -ZERO_LOW
+            else:
+                num, den = y.as_integer_ratio()
+                low = (num & -num).bit_length() - 1
+                my, ey, hy = num >> low, low - (den.bit_length() - 1), frexp(y)[1]
+                if ey < grain:
+                    grain = ey
+                if hy > top:
+                    top = hy
+            e = ex if ex < ey else ey
+            if e == ZERO_LOW:
+                e = 0
+            exact.append((mx << (ex - e) if mx else 0, my << (ey - e) if my else 0, e))
+            xy.append((x, y))
+            exps.append((ex, hx, ey, hy))
+        if grain != ZERO_LOW:
+            shift = choose_scaling(np.array([grain]), np.array([top])).shift
         else:
-            self._shift = choose_scaling(np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)).shift
-        self._xy = []
-        self._rows = []
-        self._exact = []
+            shift = choose_scaling(np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)).shift
+        ldexp = math.ldexp
+        # A filter copy only if each coordinate has a grain and a magnitude the proved filters take (append's test).
+        self._rows = [
+            (ldexp(x, shift), ldexp(y, shift))
+            if ex + shift >= GRAIN_MIN and hx + shift <= TOP_MAX and ey + shift >= GRAIN_MIN and hy + shift <= TOP_MAX
+            else _NAN
+            for (x, y), (ex, hx, ey, hy) in zip(xy, exps)
+        ]
+        self._shift = shift
+        self._xy = xy
+        self._exact = exact
         self._array = None
-        for (x, y), (px, py) in zip(xy, parts):
-            self._push(x, y, px, py)
 
     def __repr__(self) -> str:
         return f"GrowingPredicates2(n={len(self._xy)})"
@@ -151,23 +187,6 @@ class GrowingPredicates2:
         return len(self._xy)
 
     # -- the point set -------------------------------------------------------------------
-
-    def _push(self, x: float, y: float, px: tuple[int, int], py: tuple[int, int]) -> int:
-        """Append ``(x, y)``, whose exact parts (:func:`exact_parts`) are ``px`` and ``py``. O(1)."""
-        (mx, ex), (my, ey) = px, py
-        e = min(ex, ey)
-        if e == ZERO_LOW:
-            e = 0
-        self._exact.append((mx << (ex - e) if mx else 0, my << (ey - e) if my else 0, e))
-        self._xy.append((x, y))
-        shift = self._shift
-        # A filter copy only if each nonzero coordinate has a grain and a magnitude the proved filters take.
-        ok = (x == 0.0 or (ex + shift >= GRAIN_MIN and math.frexp(x)[1] + shift <= TOP_MAX)) and (
-            y == 0.0 or (ey + shift >= GRAIN_MIN and math.frexp(y)[1] + shift <= TOP_MAX)
-        )
-        self._rows.append((math.ldexp(x, shift), math.ldexp(y, shift)) if ok else _NAN)
-        self._array = None
-        return len(self._xy) - 1
 
     def append(self, x: float, y: float) -> int:
         """Add the point ``(x, y)`` (finite doubles) and return its index, ``len(self)`` before the call. O(1).
@@ -180,7 +199,7 @@ class GrowingPredicates2:
         if not (math.isfinite(x) and math.isfinite(y)):
             raise ValueError(f"a point must have finite coordinates, got ({x!r}, {y!r})")
         x, y = x + 0.0, y + 0.0
-        # _push(x, y, exact_parts(x), exact_parts(y)), inlined (one call per new point instead of four).
+        # exact_parts(x), exact_parts(y) and the point stored, inlined (one call per new point instead of three).
         if x == 0.0:
             mx, ex = 0, ZERO_LOW
         else:
