@@ -113,3 +113,24 @@ def test_unvalidated_pslg_is_validated() -> None:
 def test_check_runs_the_exact_checker() -> None:
     m = triangulate(square_with_hole(), min_angle=33, max_area=0.2, check=True)
     assert m.min_angle_reached and m.max_area_reached
+
+
+@pytest.mark.parametrize("scale", [1.0, 2.0**-60, 2.0**-996, 2.0**-1000])  # 2^-996 ≈ 1.5e-300: exact scalings
+def test_angles_are_measured_alike_at_every_scale(scale: float) -> None:
+    """Angles do not depend on scale: near 1e-300 the products of the edge vectors underflow unless each
+    triangle is first scaled by a power of two (exactly) — it read 0° or 180° before."""
+    from persistri.impl.mesh.api import smallest_angle
+    from persistri.impl.mesh.plot import smallest_angles
+    from persistri.impl.mesh.verify import verify_mesh
+
+    outline = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 1.0], [0.0, 1.0]]) * scale
+    domain = {"vertices": outline, "segments": [[0, 1], [1, 2], [2, 3], [3, 0]]}
+    mesh = triangulate(domain, min_angle=30)
+    unit = triangulate({"vertices": outline / scale, "segments": domain["segments"]}, min_angle=30)
+    assert mesh.triangles.tolist() == unit.triangles.tolist()
+    assert smallest_angle(mesh.vertices, mesh.triangles) == smallest_angle(unit.vertices, unit.triangles) > 30
+    assert smallest_angles(mesh.vertices, mesh.triangles).tolist() == smallest_angles(unit.vertices, unit.triangles).tolist()
+    report = verify_mesh(domain, mesh.vertices, mesh.triangles, min_angle=30)
+    assert report.ok and report.min_angle_unexempt == verify_mesh(
+        {"vertices": outline / scale, "segments": domain["segments"]}, unit.vertices, unit.triangles, min_angle=30
+    ).min_angle_unexempt

@@ -245,6 +245,10 @@ def smallest_angle(vertices: NDArray[np.float64], triangles: IntArray) -> float:
     for k in range(3):
         a, b, c = p[:, k], p[:, (k + 1) % 3], p[:, (k + 2) % 3]
         u, w = b - a, c - a
+        # scaled by a power of two (exact) to a largest component in [0.5, 1): near 1e-300 the products
+        # below underflow to 0 and arctan2(0, ±0) reads 0° or 180° (angles do not depend on scale)
+        shift = np.frexp(np.maximum(np.abs(u).max(axis=1), np.abs(w).max(axis=1)))[1][:, None]
+        u, w = np.ldexp(u, -shift), np.ldexp(w, -shift)
         cross = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0])
         dot = (u * w).sum(axis=1)
         best = min(best, float(np.degrees(np.arctan2(cross, dot)).min()))

@@ -42,6 +42,8 @@ def smallest_angles(vertices: ArrayLike, triangles: ArrayLike) -> NDArray[np.flo
     for k in range(3):
         a, b, c = p[:, k], p[:, (k + 1) % 3], p[:, (k + 2) % 3]
         u, w = b - a, c - a
+        shift = np.frexp(np.maximum(np.abs(u).max(axis=1), np.abs(w).max(axis=1)))[1][:, None]  # exact scaling:
+        u, w = np.ldexp(u, -shift), np.ldexp(w, -shift)  # no underflow near 1e-300 (see api.smallest_angle)
         cross = np.abs(u[:, 0] * w[:, 1] - u[:, 1] * w[:, 0])
         dot = (u * w).sum(axis=1)
         best = np.minimum(best, np.degrees(np.arctan2(cross, dot)))

@@ -50,6 +50,8 @@ def check_quality(
     P = pts[tri]  # (t, 3, 2)
     with np.errstate(all="ignore"):
         e = np.stack([P[:, 2] - P[:, 1], P[:, 0] - P[:, 2], P[:, 1] - P[:, 0]], axis=1)  # edge opposite corner i
+        if t:  # each triangle scaled by a power of two (exact): near 1e-300 the products below would underflow
+            e = np.ldexp(e, -np.frexp(np.abs(e).max(axis=(1, 2)))[1][:, None, None])
         cross = np.abs(e[:, 1, 0] * e[:, 2, 1] - e[:, 1, 1] * e[:, 2, 0])
         angles = np.stack(
             [np.arctan2(cross, -np.einsum("ij,ij->i", e[:, (i + 1) % 3], e[:, (i + 2) % 3])) for i in range(3)], axis=1
