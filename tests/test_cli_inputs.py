@@ -263,8 +263,8 @@ def _npz_keys(kind: str, d: Path) -> Path:
 CASES: dict[str, Case] = {
     c.name: c
     for c in (
-        Case("empty file", _empty_file, r"empty|no data|:0: the file ends where the vertex count line was expected"),
-        Case("empty text", _empty_text, r"empty|no points|not a readable|no ncols|:0: the file ends where the vertex count"),
+        Case("empty file", _empty_file, r"empty|no data"),
+        Case("empty text", _empty_text, r"empty|no points|not a readable|no ncols"),
         Case("empty array", _empty_array, r"no points|at least 2 rows"),
         Case("wrong shape", _wrong_shape, r"shape|2D array"),
         Case("wrong columns", _wrong_columns, r"line 1: expected 3 numbers, got 4|at least 2 rows and 2 columns"),
@@ -290,7 +290,7 @@ CASES: dict[str, Case] = {
         Case("damaged ply or tiff", _third_format, r"cannot read PLY|holds no image|cannot read TIFF|needs tifffile"),
         Case("npz keys", _npz_keys, r"cannot tell which array holds the heights \(its 2D arrays are first, second\)"),
         Case("crossing segments", _crossing, r"segment 0 \(0–2\) and segment 1 \(1–3\) cross at about \(2, 2\) without a shared vertex"),
-        Case("segment out of range", _segment_out_of_range, r"range\.poly:9: a segment refers to vertex \[3, 9\], but the vertices are numbered 1\.\.4"),
+        Case("segment out of range", _segment_out_of_range, r"range\.poly:9: a segment \(3 9\) refers to vertex 9, but the vertices are numbered 1\.\.4"),
         Case("self segment", _self_segment, r"segment 0 joins vertex 0 to itself \(rows counted from 0; the file numbers from 1\)"),
         Case("hole outside", _hole_outside, r"hole 0 at \(5\.0, 5\.0\) lies outside the domain"),
         Case("unclosed hole", _unclosed_hole, r"the domain is empty: hole 0 at \(2\.0, 2\.0\) eats .*is every boundary closed\?"),

@@ -44,7 +44,8 @@ def test_bad_arrays_are_one_line_errors() -> None:
     refused(r"regions must be an \(r, 4\) array", OUTER, RING4, regions=[[1, 1, 0]])
     refused("vertex_markers has 2 entries for 4 vertices", OUTER, RING4, vertex_markers=[1, 2])
     refused("collinear", [[0, 0], [1, 1], [2, 2], [3, 3]], [[0, 3]])
-    refused("collinear", [[0, 0], [1, 1], [0, 0]])
+    refused("only 2 distinct vertices: a region needs at least 3 not on one line", [[0, 0], [1, 1], [0, 0]])
+    refused("only 1 distinct vertex: a region", [[0, 0], [0, 0], [0, 0]])
 
 
 def test_crossing_segments_are_refused_naming_both() -> None:

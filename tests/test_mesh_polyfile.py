@@ -165,8 +165,10 @@ BAD = [
     ("3 2 0 0\n1 0 0\n2 nan 0\n3 0 1\n", "node", r":3: a vertex line has a value that is not finite"),
     ("x 2 0 0\n", "node", r":1: the vertex count line: the number of vertices must be an integer, found 'x'"),
     ("2 2 0 0\n1 0 0\n2 1 0\n", "node", r":1: a mesh needs at least 3 vertices"),
-    ("", "node", r":0: the file ends where the vertex count line was expected"),
-    ("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n3 0\n1 1 2\n2 2 3\n3 3 4\n0\n", "poly", r":8: a segment refers to vertex \[3, 4\], but the vertices are numbered 1..3"),
+    ("", "node", r"\.node: the file is empty \(or only comments\): its first line is the vertex count$"),
+    ("# a comment\n\n", "poly", r"\.poly: the file is empty \(or only comments\)"),
+    ("3 2 0 0\n1 0 0\n2 0 0\n3 0 0\n0 0\n0\n", "poly", r"\.poly: only 1 distinct vertex: a region needs at least 3 not on one line$"),
+    ("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n3 0\n1 1 2\n2 2 3\n3 3 4\n0\n", "poly", r":8: a segment \(3 4\) refers to vertex 4, but the vertices are numbered 1..3"),
     ("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n3 0\n1 1 2\n2 2 3\n3 3 1\n", "poly", r":8: the file ends where the hole count line was expected"),
     ("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n3 0\n1 1 2\n2 2 3\n3 3 1\n0\n0\n7 7\n", "poly", r":11: unexpected content after the holes"),
     ("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n3 0\n1 1 2\n2 2 3\n3 3 1\n1\n1 0.5\n", "poly", r":10: a hole line needs 3 numbers"),
@@ -191,7 +193,7 @@ def test_malformed_files_are_one_line_errors(tmp_path: Path, text: str, kind: st
 def test_ele_indices_are_checked_against_the_node_file(tmp_path: Path) -> None:
     write_node(tmp_path / "m.node", [[0, 0], [1, 0], [0, 1]])
     (tmp_path / "m.ele").write_text("1 3 0\n1 1 2 4\n")
-    with pytest.raises(PolyFileError, match=r"m.ele:2: a triangle refers to vertex \[1, 2, 4\], but the vertices are numbered 1..3"):
+    with pytest.raises(PolyFileError, match=r"m.ele:2: a triangle \(1 2 4\) refers to vertex 4, but the vertices are numbered 1..3"):
         read_mesh(tmp_path / "m")
 
 

@@ -303,7 +303,10 @@ def as_pslg(
     every = np.concatenate([verts, hol, reg[:, :2]]) if hol.size or reg.size else verts
     pred = Predicates2(every)
     if n < 3 or not np.any(pred.orient2d_sign_batch(0, 1, np.arange(2, n)) != 0):
-        raise DomainError(f"the {n} distinct vertices are collinear (or fewer than 3): they bound no region")
+        if n < 3:
+            some = "no vertices" if n == 0 else ("only 1 distinct vertex" if n == 1 else "only 2 distinct vertices")
+            raise DomainError(f"{some}: a region needs at least 3 not on one line")
+        raise DomainError(f"the {n} distinct vertices are collinear: they bound no region")
 
     origin = np.arange(seg.shape[0], dtype=np.intp)  # the input segment each current one comes from (-1: hull)
     marks = smark.copy() if smark is not None else None

@@ -35,6 +35,8 @@ Cost: O(size of the file), in numpy for the numbers.
 
 from __future__ import annotations
 
+import re
+
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -127,6 +129,8 @@ class _Records:
     def header(self, what: str, names: tuple[str, ...], defaults: tuple[int, ...]) -> tuple[int, list[int]]:
         """The next line as a header of integers: ``names[0]`` required, the rest defaulting."""
         if not self.more():
+            if not self.lines:
+                raise PolyFileError(f"{self.path}: the file is empty (or only comments): its first line is the {what}")
             raise PolyFileError(f"{self.path}:{self.last}: the file ends where the {what} line was expected")
         number, body = self.lines[self.pos]
         self.pos += 1
@@ -264,7 +268,11 @@ def _indices(
     if bad.size:
         k = int(bad[0])
         shown = (idx[k] + first).tolist()
-        raise rec.error(lines[k], f"{what} refers to vertex {shown}, but the vertices are numbered {first}..{first + n - 1}")
+        wrong = next(v for v in shown if not first <= v < first + n)
+        raise rec.error(
+            lines[k],
+            f"{what} ({' '.join(map(str, shown))}) refers to vertex {wrong}, but the vertices are numbered {first}..{first + n - 1}",
+        )
     return idx.astype(np.intp)
 
 
@@ -350,7 +358,8 @@ def read_poly(path: PathLike, *, validate: bool = True, convex: bool = False) ->
             convex=convex,
         )
     except DomainError as exc:
-        counted = "" if first == 0 else f" (rows counted from 0; the file numbers from {first})"
+        names_row = re.search(r"\b(vertex|vertices|segment|segments|hole|region|row) \d", str(exc))
+        counted = "" if first == 0 or not names_row else f" (rows counted from 0; the file numbers from {first})"
         raise PolyFileError(f"{p}: {exc}{counted}") from None
 
 
