@@ -54,6 +54,12 @@ def _no_regions() -> NDArray[np.float64]:
     return np.zeros((0, 4), dtype=np.float64)
 
 
+def counted(rows: NDArray[Any], one: str, many: str | None = None) -> str:
+    """``"<n> <one>"`` or ``"<n> <many>"`` for an array of ``n`` rows (``many`` defaults to ``one + "s"``)."""
+    n = int(rows.shape[0])
+    return f"{n} {one}" if n == 1 else f"{n} {many or one + 's'}"
+
+
 @dataclass(frozen=True, eq=False)
 class PSLG:
     """A planar straight-line graph with holes and regions (Triangle's ``.poly`` contents).
@@ -94,9 +100,8 @@ class PSLG:
     segment_origin: NDArray[np.intp] | None = None
 
     def __repr__(self) -> str:
-        return (
-            f"PSLG({self.vertices.shape[0]} vertices, {self.segments.shape[0]} segments, "
-            f"{self.holes.shape[0]} holes, {self.regions.shape[0]} regions)"
+        return f"PSLG({counted(self.vertices, 'vertex', 'vertices')}, {counted(self.segments, 'segment')}, " + (
+            f"{counted(self.holes, 'hole')}, {counted(self.regions, 'region')})"
         )
 
     @classmethod

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from persistri.impl.mesh.domain import PSLG
+from persistri.impl.mesh.domain import PSLG, counted
 
 __all__ = ["write_node", "write_poly", "write_ele", "write_edge"]
 
@@ -106,7 +106,10 @@ def write_poly(path: PathLike, pslg: PSLG, *, first_number: int = 1, node_file: 
     if regions.shape[0]:
         lines.append(f"{regions.shape[0]}")
         lines += _rows(_numbered(first_number, regions.shape[0]), regions)
-    _write(p, f"a PSLG: {verts.shape[0]} vertices, {m} segments, {holes.shape[0]} holes, {regions.shape[0]} regions", lines)
+    what = ", ".join(
+        (counted(verts, "vertex", "vertices"), counted(seg, "segment"), counted(holes, "hole"), counted(regions, "region"))
+    )
+    _write(p, f"a PSLG: {what}", lines)
 
 
 def write_ele(path: PathLike, triangles: ArrayLike, *, attributes: ArrayLike | None = None, first_number: int = 1) -> None:
