@@ -12,7 +12,7 @@ from persistri.impl.hull.api import convex_hull
 from persistri.impl.hull.conflicts import _freeze
 from persistri.impl.hull.distributions import generate
 from persistri.impl.hull.extend import extend_hull
-from persistri.impl.hull.packed import ID_MASK, conflict_list, face_id, pack_face, pack_points, unpack_points
+from persistri.impl.hull.packed import ID_MASK, conflict_list, face_id, pack_face, pack_points, points_of, unpack_points
 
 
 def _lists() -> list[np.ndarray]:
@@ -57,6 +57,10 @@ def test_pack_face_round_trip(fid: int, n: int) -> None:
     got = conflict_list(d)
     assert type(got) is type(conflict)  # tuple below KERNEL_BATCH, else an int32 array
     assert list(np.asarray(got).tolist()) == pts
+    # What the bulldozer reads (an int32 array when short) has the same points, and packs back to the same int.
+    fast = points_of(d)
+    assert list(np.asarray(fast).tolist()) == pts
+    assert pack_face(fid, fast) == d and pack_face(fid, list(pts) if n < KERNEL_BATCH else conflict) == d
     tup = (fid, conflict)
     assert face_id(tup) == fid and conflict_list(tup) is conflict
 

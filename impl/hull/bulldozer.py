@@ -123,7 +123,7 @@ from persistri.impl.hull.conflicts import (
 )
 from persistri.impl.hull.errors import BulldozerCheckError
 from persistri.impl.hull.first_hull import first_hull, initial_tetrahedron
-from persistri.impl.hull.packed import PackedFace, conflict_list, face_id
+from persistri.impl.hull.packed import PackedFace, conflict_list, face_id, points_of
 from persistri.impl.hull.resume import attach, resume
 
 __all__ = [
@@ -318,7 +318,7 @@ class Bulldozer:
         packed = self.packed
         entry0: tuple[Triangle, Any] = faces[fid0]
         tri0, datum0 = entry0
-        lst: Conflict = conflict_list(datum0) if packed else datum0[1]
+        lst: Indices = points_of(datum0) if packed else datum0[1]
         if self.stepwise:
             # The paper's code reads the list from the complex (a counted dictionary operation).
             found = S.data(cx, tri0)
@@ -483,7 +483,7 @@ class Bulldozer:
                 target = work.get(gid)
                 if target is None:
                     assert gtri is not None
-                    own_g: Any = conflict_list(gpts) if packed else gpts
+                    own_g: Any = points_of(gpts) if packed and type(gpts) is int else gpts
                     target = expand(gid, gtri, own_g)
                 if len(grp):
                     into: list[Indices] = target[2]

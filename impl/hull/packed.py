@@ -44,7 +44,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["PackedFace", "pack_face", "face_id", "conflict_list", "pack_points", "unpack_points", "ID_MASK"]
+__all__ = ["PackedFace", "pack_face", "face_id", "conflict_list", "points_of", "pack_points", "unpack_points", "ID_MASK"]
 
 ID_MASK: Final = 0xFFFFFFFF
 """The face id's bits in a :class:`PackedFace` (``datum & ID_MASK``); ids are below 2**32."""
@@ -120,15 +120,21 @@ def pack_face(fid: int, conflict: Any) -> PackedFace:
     an int32 array when long: the form :func:`~persistri.impl.hull.conflicts._freeze` gives). O(len(conflict))."""
     if not 0 <= fid <= ID_MASK:
         raise OverflowError(f"face id {fid} does not fit a packed face datum (32 bits)")
-    if type(conflict) is np.ndarray:
+    kind = type(conflict)
+    if kind is np.ndarray:
         code = pack_points(conflict)
-        meta = 2 * len(code) + 1
-    elif len(conflict):
-        code = array("i", conflict).tobytes()
-        meta = 2 * len(code)
-    else:
+        return fid | (2 * len(code) + 1) << 32 | int.from_bytes(code, "little") << 64
+    if not len(conflict):
         return fid
-    return fid | meta << 32 | int.from_bytes(code, "little") << 64
+    # The id, the byte count and the points as one uint32 array, read as one int (no shifts, no copy of the bytes).
+    words = array("I", (fid, 8 * len(conflict)))
+    if kind is list:
+        words.fromlist(conflict)
+    elif kind is array:
+        words.frombytes(conflict.tobytes())  # an int32 array of points (points_of): non-negative, the same bytes
+    else:
+        words.extend(conflict)
+    return int.from_bytes(words, "little")
 
 
 def _unpack(datum: int) -> Any:
@@ -140,6 +146,17 @@ def _unpack(datum: int) -> Any:
     if meta & 1:
         return unpack_points(code)
     return tuple(array("i", code))
+
+
+def points_of(datum: int) -> Any:
+    """The conflict list of a packed datum as the bulldozer reads it: an int32 ``array`` when short (no tuple
+    made), else the read-only int32 array of :func:`unpack_points`. O(length)."""
+    meta = (datum >> 32) & ID_MASK
+    if meta & 1:
+        return unpack_points((datum >> 64).to_bytes(meta >> 1, "little"))
+    if not meta:
+        return ()
+    return array("i", datum.to_bytes(8 + (meta >> 1), "little"))[2:]
 
 
 def face_id(datum: Any) -> int:
