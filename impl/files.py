@@ -69,9 +69,18 @@ def read_npy(path: str | Path, *, mmap: bool = False) -> NDArray[Any]:
     Raises :class:`InputFileError` for an empty, truncated or foreign file (a
     ``.npz`` archive, anything without the NumPy header), and for an array of
     Python objects (never unpickled), strings, complex numbers or records.
+    or a file the system will not let us read (missing, a directory, no permission).
     Shared by the point and the grid readers; the shape is theirs to check.
     """
     path = Path(path)
+    try:
+        return _read_npy(path, mmap)
+    except OSError as exc:  # missing, a directory, unreadable: one line, as read_points says it
+        raise os_error(path, exc) from None
+
+
+def _read_npy(path: Path, mmap: bool) -> NDArray[Any]:
+    """:func:`read_npy` with the system's errors left to it (``OSError``)."""
     with path.open("rb") as fh:
         magic = fh.read(len(_NPY_MAGIC))
         if not magic:
