@@ -21,6 +21,7 @@ comments and blank lines, from 1): ``points.csv: line 7: expected 3 numbers, got
 
 from __future__ import annotations
 
+import numbers
 import re
 from collections.abc import Sequence
 from pathlib import Path
@@ -233,6 +234,7 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None, fields: 
     infinite coordinate, or an integer float64 cannot hold exactly.
     O(n) (a text file with a bad row is parsed about twice more to find it).
     """
+    _check_columns(columns)
     p = Path(path)
     suffix = p.suffix.lower()
     if p.is_symlink() and not p.exists():
@@ -261,6 +263,22 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None, fields: 
         return as_points(raw, raw.shape[1], what=str(p))
     except (TypeError, ValueError) as exc:  # a non-finite or inexact row, named by as_points (from 0)
         raise InputFileError(p, str(exc).splitlines()[0].removeprefix(f"{p}: ")) from None
+
+
+def _check_columns(columns: object) -> None:
+    """The caller's ``columns`` (accepted widths, not column numbers: those are ``fields``): None or a
+    non-empty sequence of integers >= 1; a :class:`TypeError` or :class:`ValueError` otherwise.  O(len)."""
+    if columns is None:
+        return
+    if isinstance(columns, (str, bytes)) or not isinstance(columns, Sequence):
+        raise TypeError(f"columns must be a sequence of accepted widths such as (2, 3), not {type(columns).__name__}")
+    if not columns:
+        raise ValueError("columns must list at least one accepted width (None accepts any)")
+    for c in columns:
+        if isinstance(c, bool) or not isinstance(c, numbers.Integral):
+            raise TypeError(f"columns lists accepted widths (integers), not {type(c).__name__} {c!r}: to pick columns, use fields")
+        if c < 1:
+            raise ValueError(f"columns lists accepted widths, each at least 1, got {c}: to pick columns, use fields")
 
 
 def _overflow_note(path: Path, line: int) -> str:

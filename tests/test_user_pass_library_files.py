@@ -1,7 +1,9 @@
-"""The file readers used as a library: the system's refusals, each in one line naming the file.
+"""The file readers used as a library: the caller's mistakes and the system's refusals, each in one line.
 
-``read_npy`` is public, and let a missing file or a directory through as the system's own
-``FileNotFoundError`` / ``IsADirectoryError``.
+``read_points(path, columns=…)`` takes the accepted *widths* (``(2, 3)``), not column numbers (``fields``):
+an empty sequence used to end in an IndexError from the message builder, and ``(0, 1)`` or ``("x",)`` in a
+message blaming the file ("expected 0 or 1 numbers").  ``read_npy`` is public too, and let a missing file
+or a directory through as the system's own ``FileNotFoundError`` / ``IsADirectoryError``.
 """
 
 from __future__ import annotations
@@ -11,7 +13,40 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from persistri.impl.files import InputFileError, read_npy
+from persistri.impl.files import InputFileError, read_npy, read_points
+
+
+@pytest.fixture
+def csv(tmp_path: Path) -> Path:
+    path = tmp_path / "points.csv"
+    path.write_text("0,0,0\n1,0,0\n0,1,0\n")
+    return path
+
+
+def test_accepted_widths_read_the_file(csv: Path) -> None:
+    assert read_points(csv, columns=(2, 3)).shape == (3, 3)
+    assert read_points(csv, columns=[np.int64(3)]).shape == (3, 3)
+    with pytest.raises(InputFileError, match=r"points.csv: line 1: expected 2 numbers, got 3"):
+        read_points(csv, columns=(2,))
+
+
+@pytest.mark.parametrize(
+    ("columns", "error", "message"),
+    [
+        ((), ValueError, r"at least one accepted width \(None accepts any\)"),
+        ((0, 1), ValueError, r"each at least 1, got 0: to pick columns, use fields"),
+        ((-1,), ValueError, r"each at least 1, got -1"),
+        (("x",), TypeError, r"integers\), not str 'x': to pick columns, use fields"),
+        ((True,), TypeError, r"not bool True"),
+        ((2.0,), TypeError, r"not float 2.0"),
+        ("3", TypeError, r"a sequence of accepted widths such as \(2, 3\), not str"),
+        (3, TypeError, r"not int"),
+    ],
+)
+def test_a_wrong_columns_argument_is_the_callers_error(csv: Path, columns: object, error: type, message: str) -> None:
+    with pytest.raises(error, match=message) as info:
+        read_points(csv, columns=columns)  # type: ignore[arg-type]
+    assert not isinstance(info.value, InputFileError)  # the file is fine
 
 
 def test_read_npy_names_a_missing_file_and_a_directory(tmp_path: Path) -> None:
