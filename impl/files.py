@@ -319,26 +319,57 @@ def write_mesh(
     ``.npz`` stores ``npz_arrays`` (the caller names the arrays, e.g. ``points``,
     ``simplices`` and ``vertices`` for a hull); the other formats store the
     triangles and only the points they use (:func:`compact_mesh`: a viewer would
-    show an unused point as a stray dot), through meshio.  The directory must exist (the command line
+    show an unused point as a stray dot), through meshio; planar ``(n, 2)`` points get
+    z = 0 there.  The directory must exist (the command line
     checks and creates it before computing: :mod:`persistri.impl.cli.checks`).
+    Raises :class:`ValueError` (naming the file) for an unknown extension, and
+    :class:`TypeError` / :class:`ValueError` for points that are not ``(n, 2)``
+    or ``(n, 3)`` reals, or triangles that are not ``(m, 3)`` integer indices
+    into them (a negative index would wrap around to another point), before
+    anything is written.  O(n + m).
     """
     p = Path(path)
     suffix = p.suffix.lower()
     if suffix not in MESH_FORMATS:
         raise ValueError(f"{p}: unknown mesh format {suffix!r}; use one of {', '.join(MESH_FORMATS)}")
+    pts, tris = _mesh_arrays(points, triangles)
     if suffix == ".npz":
         arrays = npz_arrays if npz_arrays is not None else {"points": points, "triangles": triangles}
         np.savez(p, **arrays)
         return p
     import meshio
 
-    used_points, renumbered, _ = compact_mesh(points, triangles)
+    if pts.shape[1] == 2:
+        pts = np.column_stack([pts, np.zeros(pts.shape[0])])
+    used_points, renumbered, _ = compact_mesh(pts, tris)
     tri = renumbered.astype(np.int64)
     if tri.size == 0 or int(tri.max()) < 2**31:
         tri = tri.astype(np.int32)  # PLY has no 64-bit integers: meshio would warn and cast anyway
     cell_data = {"facet_normals": [unit_normals(used_points, tri)]} if suffix == ".stl" else None
     meshio.write(p, meshio.Mesh(used_points, [("triangle", tri)], cell_data=cell_data))
     return p
+
+
+def _mesh_arrays(points: object, triangles: object) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
+    """``(points, triangles)`` of :func:`write_mesh` as float64 ``(n, 2 | 3)`` and intp ``(m, 3)`` arrays,
+    each index in ``0 .. n - 1``; a :class:`TypeError` or :class:`ValueError` naming what is wrong.  O(n + m)."""
+    pts = np.asarray(points)
+    if pts.dtype.kind not in "biuf":
+        raise TypeError(f"mesh points must be real numbers, not {pts.dtype}")
+    if pts.ndim != 2 or pts.shape[1] not in (2, 3):
+        raise ValueError(f"mesh points must be an (n, 2) or (n, 3) array, got shape {pts.shape}")
+    tri = np.asarray(triangles)
+    if tri.size == 0:
+        tri = tri.reshape(0, 3).astype(np.intp)
+    if tri.dtype.kind not in "iu":
+        raise TypeError(f"triangles must be integer indices into the points, not {tri.dtype}")
+    if tri.ndim != 2 or tri.shape[1] != 3:
+        raise ValueError(f"triangles must be an (m, 3) array of point indices, got shape {tri.shape}")
+    bad = (tri < 0) | (tri >= pts.shape[0])
+    if bad.any():
+        row = int(np.argmax(bad.any(axis=1)))
+        raise ValueError(f"triangle {row} {tri[row].tolist()}: a point index is outside 0..{pts.shape[0] - 1}")
+    return pts.astype(np.float64), tri.astype(np.intp)
 
 
 def unit_normals(points: NDArray[np.float64], triangles: NDArray[Any]) -> NDArray[np.float64]:

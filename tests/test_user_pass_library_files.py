@@ -3,7 +3,9 @@
 ``read_points(path, columns=…)`` takes the accepted *widths* (``(2, 3)``), not column numbers (``fields``):
 an empty sequence used to end in an IndexError from the message builder, and ``(0, 1)`` or ``("x",)`` in a
 message blaming the file ("expected 0 or 1 numbers").  ``read_npy`` is public too, and let a missing file
-or a directory through as the system's own ``FileNotFoundError`` / ``IsADirectoryError``.
+or a directory through as the system's own ``FileNotFoundError`` / ``IsADirectoryError``.  ``write_mesh``
+wrote a triangle holding index -1 as one ending at the last point (a wrong mesh, silently), failed deep in
+NumPy on an index past the end, and crashed inside meshio (leaving half a file) on planar points as .obj/.stl.
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from persistri.impl.files import InputFileError, read_npy, read_points
+from persistri.impl.files import InputFileError, read_npy, read_points, write_mesh
 
 
 @pytest.fixture
@@ -57,3 +59,44 @@ def test_read_npy_names_a_missing_file_and_a_directory(tmp_path: Path) -> None:
         read_npy(tmp_path / "dir.npy")
     np.save(tmp_path / "ok.npy", np.zeros((2, 3)))
     assert read_npy(tmp_path / "ok.npy", mmap=True).shape == (2, 3)
+
+
+POINTS = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [5.0, 5.0, 5.0]])
+
+
+@pytest.mark.parametrize(
+    ("triangles", "error", "message"),
+    [
+        ([[0, 1, -1]], ValueError, r"triangle 0 \[0, 1, -1\]: a point index is outside 0..3"),
+        ([[0, 1, 2], [0, 1, 7]], ValueError, r"triangle 1 \[0, 1, 7\]: a point index is outside 0..3"),
+        ([[0.0, 1.0, 2.0]], TypeError, r"integer indices into the points, not float64"),
+        ([[0, 1]], ValueError, r"an \(m, 3\) array of point indices, got shape \(1, 2\)"),
+    ],
+)
+@pytest.mark.parametrize("suffix", [".ply", ".npz"])
+def test_write_mesh_refuses_bad_triangles_before_writing(
+    tmp_path: Path, suffix: str, triangles: object, error: type, message: str
+) -> None:
+    out = tmp_path / f"mesh{suffix}"
+    with pytest.raises(error, match=message):
+        write_mesh(out, POINTS, np.asarray(triangles))
+    assert not out.exists()
+
+
+def test_write_mesh_refuses_points_of_the_wrong_shape(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match=r"mesh points must be an \(n, 2\) or \(n, 3\) array, got shape \(4, 4\)"):
+        write_mesh(tmp_path / "m.ply", np.zeros((4, 4)), [[0, 1, 2]])
+    with pytest.raises(TypeError, match=r"mesh points must be real numbers"):
+        write_mesh(tmp_path / "m.ply", np.full((3, 3), "a"), [[0, 1, 2]])
+
+
+@pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")  # meshio reading the STL back
+@pytest.mark.parametrize("suffix", [".ply", ".obj", ".off", ".stl"])
+def test_write_mesh_puts_planar_points_at_z_0(tmp_path: Path, suffix: str, capfd: pytest.CaptureFixture[str]) -> None:
+    import meshio
+
+    out = write_mesh(tmp_path / f"m{suffix}", POINTS[:, :2], [[0, 1, 2]])
+    mesh = meshio.read(out)
+    assert np.array_equal(mesh.points, POINTS[:3])
+    assert mesh.cells_dict["triangle"].tolist() == [[0, 1, 2]]
+    assert capfd.readouterr().out == ""  # no meshio warning about padding
