@@ -45,11 +45,19 @@ class ProgressBar:
 def progress_callback(
     progress: bool | Callable[[int], Any] | None, title: str, total: int | None, *, batch: int = 256
 ) -> Any:
-    """``progress`` as a callable taking a step count: a :class:`ProgressBar` for True, None for False."""
-    if progress is True:
+    """``progress`` as a callable taking a step count: a :class:`ProgressBar` for True, None for False.
+
+    A NumPy boolean counts as a bool; anything else that is not callable is a :class:`TypeError`
+    naming its type (qualified by its module outside the builtins, so ``numpy.bool`` is not "bool")."""
+    value: object = progress
+    if type(value).__module__ == "numpy" and type(value).__name__ in ("bool", "bool_"):
+        value = bool(value)
+    if value is True:
         return ProgressBar(title, total, batch=batch)
-    if progress is False or progress is None:
+    if value is False or value is None:
         return None
-    if callable(progress):
-        return progress
-    raise TypeError(f"progress must be a bool or a callable, not {type(progress).__name__}")
+    if callable(value):
+        return value
+    kind = type(value)
+    name = kind.__name__ if kind.__module__ == "builtins" else f"{kind.__module__}.{kind.__qualname__}"
+    raise TypeError(f"progress must be a bool or a callable, not {name}")
