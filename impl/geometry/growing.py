@@ -243,6 +243,13 @@ class GrowingPredicates2:
         and must decide exactly whenever a comparison involves a NaN. O(1)."""
         return self._rows
 
+    def filter_columns(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """:attr:`filter_rows` as two float64 columns ``(x · 2^shift, y · 2^shift)``, NaN where a row is, for a
+        vectorised filter over many tests at once (a new pair of arrays each call; the caller may keep them while
+        the set does not grow). O(n)."""
+        arr = np.array(self._rows, dtype=np.float64).reshape(-1, 2)
+        return arr[:, 0], arr[:, 1]
+
     @property
     def shift(self) -> int:
         """The filter's fixed power-of-two scale: :attr:`filter_rows` are the points times ``2^shift``. O(1)."""

@@ -45,7 +45,7 @@ from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.maps import backend as map_backend
 from persistri.impl.mesh.cdt import SegmentGeometry, constrained_delaunay
-from persistri.impl.mesh.domain import PSLG, as_pslg
+from persistri.impl.mesh.domain import PSLG, validate, validate_dict
 from persistri.impl.mesh.quality import AngleBound
 from persistri.impl.mesh.record import Blocked, Counts, Undone
 from persistri.impl.mesh.ruppert import Refiner
@@ -255,13 +255,14 @@ def smallest_angle(vertices: NDArray[np.float64], triangles: IntArray) -> float:
     return best
 
 
-def _as_domain(domain: PSLG | Mapping[str, Any]) -> PSLG:
+def _as_domain(domain: PSLG | Mapping[str, Any]) -> tuple[PSLG, GrowingPredicates2 | None]:
+    """The validated domain, and the predicates its validation made over its vertices (None: it was valid already)."""
     if isinstance(domain, PSLG):
         if domain.vertex_map is not None:
-            return domain
-        return as_pslg(domain.vertices, domain.segments, domain.holes, domain.regions)
+            return domain, None
+        return validate(domain.vertices, domain.segments, domain.holes, domain.regions)
     if isinstance(domain, Mapping):
-        return PSLG.from_dict(domain)
+        return validate_dict(domain)
     raise TypeError(f"domain must be a PSLG or a dictionary of arrays, not {type(domain).__name__}")
 
 
@@ -449,10 +450,11 @@ def triangulate(
     a split on a subsegment with no double on it).  Expected
     O(n log n) for the CDT, then O(lg n) complex work per insertion.
     """
-    pslg = _as_domain(domain)
+    pslg, pred = _as_domain(domain)
     bound = AngleBound.of(min_angle)
     _area(max_area)
-    pred = GrowingPredicates2(pslg.vertices)
+    if pred is None:
+        pred = GrowingPredicates2(pslg.vertices)
     structure: TwoComplex[MeshDatum] = TwoComplex(map_backend(backend))
     T = MeshTriangulation(pred, structure)
     with collector_paused():

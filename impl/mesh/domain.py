@@ -12,10 +12,13 @@ no hole point, with the segments and vertices between and on them.
 
 :func:`as_pslg` builds a validated PSLG; :meth:`PSLG.from_dict` does the same
 from a dictionary in the form ``triangle.triangulate`` takes, and
-:meth:`PSLG.to_dict` gives that form back.  :func:`domain_of` computes the
-domain's faces, which are kept, and its exact area.
+:meth:`PSLG.to_dict` gives that form back.  :func:`validate` and
+:func:`validate_dict` are the same with the exact predicates they built over the
+validated vertices (:class:`Validated`), which a mesher can start from.
+:func:`~persistri.impl.mesh.domain_faces.domain_of` (importable from here)
+computes the domain's faces, which are kept, and its exact area.
 
-Every geometric decision is exact (:class:`~persistri.impl.geometry.predicates.Predicates2`'s
+Every geometric decision is exact (:class:`~persistri.impl.geometry.growing.GrowingPredicates2`'s
 true signs, integer arithmetic): inputs at UTM offsets are decided like small ones.
 The paper (§1) motivates the application; the domain model is Triangle's.
 """
@@ -24,21 +27,18 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from fractions import Fraction
-from typing import Any, Final
+from typing import Any, Final, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from persistri.impl.geometry.exact import IntegerScale
+from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.geometry.points import as_points, unique_rows
-from persistri.impl.geometry.predicates import Predicates2
+from persistri.impl.mesh.domain_faces import Domain, domain_of
 from persistri.impl.mesh.errors import DomainError
-from persistri.impl.mesh.faces import UNBOUNDED, PlanarFaces, common_scale, planar_faces
-from persistri.impl.mesh.naming import InputNames
 from persistri.impl.mesh.segments import convex_hull, dedupe, point_text, refuse_crossings, split_at_vertices
 
-__all__ = ["PSLG", "DomainError", "Domain", "as_pslg", "domain_of"]
+__all__ = ["PSLG", "DomainError", "Domain", "Validated", "as_pslg", "domain_of", "validate", "validate_dict"]
 
 _KEYS = ("vertices", "segments", "holes", "regions", "vertex_markers", "segment_markers", "vertex_attributes")
 
@@ -115,24 +115,7 @@ class PSLG:
         >>> PSLG.from_dict({'vertices': [[0, 0], [1, 0], [0, 1]], 'segments': [[0, 1], [1, 2], [2, 0]]})
         PSLG(3 vertices, 3 segments, 0 holes, 0 regions)
         """
-        if not isinstance(data, Mapping):
-            raise DomainError(f"a PSLG dictionary must be a mapping, not {type(data).__name__}")
-        unknown = sorted(set(map(str, data)) - set(_KEYS))
-        if unknown:
-            raise DomainError(f"unknown PSLG key {unknown[0]!r} (the keys are {', '.join(_KEYS)})")
-        if "vertices" not in data:
-            raise DomainError("a PSLG dictionary needs 'vertices'")
-        return as_pslg(
-            data["vertices"],
-            data.get("segments", ()),
-            data.get("holes", ()),
-            data.get("regions", ()),
-            vertex_markers=data.get("vertex_markers"),
-            segment_markers=data.get("segment_markers"),
-            vertex_attributes=data.get("vertex_attributes"),
-            convex=convex,
-            repair=repair,
-        )
+        return validate_dict(data, convex=convex, repair=repair).pslg
 
     def to_dict(self) -> dict[str, NDArray[Any]]:
         """``triangle.triangulate``'s input form: its keys and dtypes, empty arrays left out.
@@ -203,6 +186,19 @@ def _real_rows(values: ArrayLike, what: str, width: int) -> NDArray[np.float64]:
 # -- validation -------------------------------------------------------------------------------
 
 
+class Validated(NamedTuple):
+    """A validated PSLG and the exact predicates validation decided it with.
+
+    ``predicates`` is a :class:`~persistri.impl.geometry.growing.GrowingPredicates2`
+    over ``pslg.vertices`` (in order, nothing appended): what a mesher builds first,
+    so :func:`~persistri.impl.mesh.api.triangulate` takes it over instead of making
+    another.  It belongs to the caller, who may append to it.
+    """
+
+    pslg: PSLG
+    predicates: GrowingPredicates2
+
+
 def as_pslg(
     vertices: ArrayLike,
     segments: ArrayLike = (),
@@ -249,6 +245,63 @@ def as_pslg(
     O(m log m) for boundaries of ordinary shape and O(m²) only for many long
     segments over one slab; plus the faces' nesting (:mod:`~persistri.impl.mesh.faces`).
     """
+    return validate(
+        vertices,
+        segments,
+        holes,
+        regions,
+        vertex_markers=vertex_markers,
+        segment_markers=segment_markers,
+        vertex_attributes=vertex_attributes,
+        convex=convex,
+        repair=repair,
+    ).pslg
+
+
+def validate_dict(data: Mapping[str, Any], *, convex: bool = False, repair: bool = True) -> Validated:
+    """:meth:`PSLG.from_dict` with the predicates over the validated vertices (:class:`Validated`).
+
+    Same keys, checks and errors as :meth:`PSLG.from_dict`.  Cost: :func:`as_pslg`'s.
+    """
+    if not isinstance(data, Mapping):
+        raise DomainError(f"a PSLG dictionary must be a mapping, not {type(data).__name__}")
+    unknown = sorted(set(map(str, data)) - set(_KEYS))
+    if unknown:
+        raise DomainError(f"unknown PSLG key {unknown[0]!r} (the keys are {', '.join(_KEYS)})")
+    if "vertices" not in data:
+        raise DomainError("a PSLG dictionary needs 'vertices'")
+    return validate(
+        data["vertices"],
+        data.get("segments", ()),
+        data.get("holes", ()),
+        data.get("regions", ()),
+        vertex_markers=data.get("vertex_markers"),
+        segment_markers=data.get("segment_markers"),
+        vertex_attributes=data.get("vertex_attributes"),
+        convex=convex,
+        repair=repair,
+    )
+
+
+def validate(
+    vertices: ArrayLike,
+    segments: ArrayLike = (),
+    holes: ArrayLike = (),
+    regions: ArrayLike = (),
+    *,
+    vertex_markers: ArrayLike | None = None,
+    segment_markers: ArrayLike | None = None,
+    vertex_attributes: ArrayLike | None = None,
+    convex: bool = False,
+    repair: bool = True,
+) -> Validated:
+    """:func:`as_pslg` with the predicates over the validated vertices (:class:`Validated`).
+
+    Same arguments, checks, repairs and errors as :func:`as_pslg`.  Every
+    orientation test is one of the returned predicates' true signs, most of
+    them decided by its proved filter vectorised over all candidates at once
+    (:func:`~persistri.impl.mesh.segments.orient_signs`).  Cost: :func:`as_pslg`'s.
+    """
     pts = _real_rows(vertices, "vertices", 2)
     n_in = pts.shape[0]
     seg = _int_array(segments, "segments", 2)
@@ -280,10 +333,17 @@ def as_pslg(
         vattr = np.ascontiguousarray(raw)
     notes: list[str] = []
 
-    # Duplicate vertices: merged into the first occurrence (exact equality of doubles).
-    uniq = unique_rows(pts)
-    name = uniq.first  # the input row each vertex is named by
-    if uniq.first.size < n_in:
+    # Duplicate vertices: merged into the first occurrence (exact equality of doubles; as_points made -0.0 into 0.0
+    # and refused NaN, so Python's float equality is the same).  Distinct rows, the usual case, are told by one set.
+    uniq = None if len(set(map(tuple, pts.tolist()))) == n_in else unique_rows(pts)
+    if uniq is None:
+        verts = pts
+        name = vertex_map = np.arange(n_in, dtype=np.intp)  # the input row each vertex is named by
+    else:
+        name = uniq.first
+        verts = np.ascontiguousarray(pts[uniq.first])
+        vertex_map = uniq.inverse.astype(np.intp)
+    if uniq is not None and uniq.first.size < n_in:
         dup = np.flatnonzero(uniq.first[uniq.inverse] != np.arange(n_in))
         for i in dup.tolist():
             j = int(uniq.first[uniq.inverse[i]])
@@ -291,23 +351,22 @@ def as_pslg(
             if not repair:
                 raise DomainError(msg)
             notes.append(msg + f": vertex {i} merged into {j}")
-    verts = np.ascontiguousarray(pts[uniq.first])
     n = verts.shape[0]
-    seg = uniq.inverse[seg] if m_in else seg
-    if m_in:
+    if uniq is not None and m_in:
+        seg = uniq.inverse[seg]
         same = np.flatnonzero(seg[:, 0] == seg[:, 1])
         if same.size:
             k = int(same[0])
             a, b = (int(v) for v in segments_in_rows(segments)[k])
             raise DomainError(f"segment {k} ({a}–{b}) has both ends at the same point {point_text(pts[a])}")
-    if vmark is not None:
+    if uniq is not None and vmark is not None:
         vmark = vmark[uniq.first]
-    if vattr is not None:
+    if uniq is not None and vattr is not None:
         vattr = vattr[uniq.first]
 
-    every = np.concatenate([verts, hol, reg[:, :2]]) if hol.size or reg.size else verts
-    pred = Predicates2(every)
-    if n < 3 or not np.any(pred.orient2d_sign_batch(0, 1, np.arange(2, n)) != 0):
+    pred = GrowingPredicates2(verts)
+    # Not all on one line: some vertex off the line of the first two (the first test decides, as a rule).
+    if n < 3 or not any(pred.orient2d_sign(0, 1, k) for k in range(2, n)):
         if n < 3:
             some = "no vertices" if n == 0 else ("only 1 distinct vertex" if n == 1 else "only 2 distinct vertices")
             raise DomainError(f"{some}: a region needs at least 3 not on one line")
@@ -324,9 +383,11 @@ def as_pslg(
             marks = np.concatenate([marks, np.zeros(extra.shape[0], dtype=np.intp)])
 
     seg, origin, marks = dedupe(seg, origin, marks, notes, name)
-    seg, origin, marks = split_at_vertices(verts, seg, origin, marks, pred, notes, name, repair)
-    seg, origin, marks = dedupe(seg, origin, marks, notes, name)
-    refuse_crossings(verts, seg, origin, name, pred)
+    columns = pred.filter_columns() if seg.shape[0] else None
+    pieces = split_at_vertices(verts, seg, origin, marks, pred, notes, name, repair, columns)
+    if pieces[0] is not seg:  # split: pieces of overlapping segments may repeat
+        seg, origin, marks = dedupe(*pieces, notes, name)
+    refuse_crossings(verts, seg, origin, name, pred, columns)
 
     result = PSLG(
         vertices=verts,
@@ -337,13 +398,13 @@ def as_pslg(
         segment_markers=marks,
         vertex_attributes=vattr,
         notes=(),
-        vertex_map=uniq.inverse.astype(np.intp),
+        vertex_map=vertex_map,
         segment_origin=origin,
     )
-    dom = domain_of(result, pred=pred)
+    dom = domain_of(result)
     for v in np.flatnonzero(~dom.vertex_inside).tolist():
         notes.append(f"vertex {int(name[v])} at {point_text(verts[v])} lies outside the domain: it cannot be a mesh vertex")
-    return PSLG(
+    final = PSLG(
         vertices=result.vertices,
         segments=result.segments,
         holes=result.holes,
@@ -355,6 +416,7 @@ def as_pslg(
         vertex_map=result.vertex_map,
         segment_origin=result.segment_origin,
     )
+    return Validated(final, pred)
 
 
 def segments_in_rows(segments: ArrayLike) -> NDArray[np.intp]:
@@ -372,124 +434,3 @@ def _regions(regions: ArrayLike) -> NDArray[np.float64]:
         return as_points(raw, 4, what="regions")
     except (TypeError, ValueError) as exc:
         raise DomainError(str(exc)) from None
-
-
-# -- the domain's faces --------------------------------------------------------------------------
-
-
-@dataclass(frozen=True, eq=False)
-class Domain:
-    """The region a clean PSLG describes: its segments' faces and which of them are kept.
-
-    * ``faces`` — the :class:`~persistri.impl.mesh.faces.PlanarFaces` of the segments;
-    * ``kept`` — per bounded face, whether it is in the domain (it holds no hole point);
-    * ``hole_face`` / ``region_face`` — the face of each hole and region point;
-    * ``vertex_inside`` — per vertex, whether it is in the closed domain (on a kept
-      face's boundary or inside a kept face): the vertices a mesh must have;
-    * ``area`` — the domain's exact area.
-    """
-
-    pslg: PSLG
-    faces: PlanarFaces
-    kept: NDArray[np.bool_]
-    hole_face: NDArray[np.intp]
-    region_face: NDArray[np.intp]
-    vertex_inside: NDArray[np.bool_]
-    area: Fraction
-
-    @property
-    def area2(self) -> int:
-        """Twice the area in the faces' scaled integer units (``faces.scale``)."""
-        return sum(a for a, k in zip(self.faces.face_area2, self.kept.tolist()) if k)
-
-    def left_kept(self, h: int) -> bool:
-        """Whether the face on the left of half-edge ``h`` is in the domain. O(1)."""
-        f = self.faces.face_of_half_edge(h)
-        return f != UNBOUNDED and bool(self.kept[f])
-
-    def boundary_coefficient(self, s: int) -> int:
-        """+1 if segment ``s`` (as listed) has the domain on its left only, -1 on its right only, else 0.
-
-        The domain's boundary, as a chain, is the sum of these times the segments. O(1).
-        """
-        return int(self.left_kept(2 * s)) - int(self.left_kept(2 * s + 1))
-
-
-def domain_of(pslg: PSLG, *, scale: IntegerScale | None = None, pred: Predicates2 | None = None) -> Domain:
-    """The faces of a clean PSLG (as :func:`as_pslg` makes it), which are kept, and its exact area.
-
-    Raises :class:`DomainError` for a hole or region point on the graph or
-    outside every boundary, and for an empty domain.  ``scale`` (default: the
-    least for the vertices) fixes the faces' integer units.  ``pred``: a
-    :class:`Predicates2` over the vertices followed by the hole and region
-    points, if one exists already.  Cost: :func:`~persistri.impl.mesh.faces.planar_faces`
-    and one point location per hole, region point and isolated vertex.
-    """
-    verts, seg = pslg.vertices, pslg.segments
-    n = verts.shape[0]
-    faces = planar_faces(verts, seg, scale=scale if scale is not None else common_scale(verts))
-    kept = np.ones(faces.n_faces, dtype=bool)
-    hull: list[int] | None = None
-    names = InputNames.of(pslg.segment_origin, pslg.vertex_map)  # messages name the input's rows
-
-    def place(p: NDArray[np.float64], what: str, k: int, row: int) -> int:
-        nonlocal hull, pred
-        where = faces.locate(float(p[0]), float(p[1]))
-        if where.vertex is not None:
-            raise DomainError(f"{what} {k} at {point_text(p)} is on vertex {names.vertex(where.vertex)}")
-        if where.segment is not None:
-            a, b = (point_text(verts[v]) for v in seg[where.segment])
-            raise DomainError(f"{what} {k} at {point_text(p)} lies on {names.segment(where.segment, a, b)}")
-        if where.face == UNBOUNDED:
-            if pred is None:
-                pred = Predicates2(np.concatenate([verts, pslg.holes, pslg.regions[:, :2]]))
-            if hull is None:
-                hull = convex_hull(verts, pred)
-            inside = all(pred.orient2d_sign(hull[i], hull[(i + 1) % len(hull)], row) > 0 for i in range(len(hull)))
-            if inside:
-                raise DomainError(
-                    f"{what} {k} at {point_text(p)} is not enclosed by segments: its flood fill reaches the outside "
-                    "of the convex hull and would eat everything (close the boundary around it)"
-                )
-            raise DomainError(f"{what} {k} at {point_text(p)} lies outside the domain (outside the convex hull of the vertices)")
-        return where.face
-
-    hole_face = np.array(
-        [place(p, "hole", k, n + k) for k, p in enumerate(pslg.holes)], dtype=np.intp
-    ).reshape(-1)
-    kept[hole_face] = False
-    h = pslg.holes.shape[0]
-    region_face = np.array(
-        [place(p[:2], "region", k, n + h + k) for k, p in enumerate(pslg.regions)], dtype=np.intp
-    ).reshape(-1)
-    for k, f in enumerate(region_face.tolist()):
-        if not kept[f]:
-            raise DomainError(f"region {k} at {point_text(pslg.regions[k, :2])} lies in a hole (the face of a hole point)")
-    if faces.n_faces == 0:
-        raise DomainError(
-            "the segments enclose no region: the domain is empty (close the boundary, or mesh the convex hull: "
-            "as_pslg(..., convex=True), --convex on the command line)"
-        )
-    if not kept.any():
-        f = int(hole_face[0])
-        ring = faces.face_vertices(f)
-        only = "the only region the segments enclose" if faces.n_faces == 1 else "and the other holes eat the rest"
-        raise DomainError(
-            f"the domain is empty: hole 0 at {point_text(pslg.holes[0])} eats the region bounded by vertices "
-            f"{'–'.join(map(str, ring[:6]))}{'…' if len(ring) > 6 else ''}, {only} (is every boundary closed?)"
-        )
-
-    inside = np.zeros(n, dtype=bool)
-    he = faces.half_edges
-    for hh in range(he.shape[0]):
-        f = faces.face_of_half_edge(hh)
-        if f != UNBOUNDED and kept[f]:
-            inside[he[hh, 0]] = True
-    lonely = np.ones(n, dtype=bool)
-    lonely[seg.reshape(-1)] = False
-    for v in np.flatnonzero(lonely).tolist():
-        f = faces.locate(float(verts[v, 0]), float(verts[v, 1]), on_graph=False).face
-        inside[v] = f != UNBOUNDED and bool(kept[f])
-    area2 = sum(a for a, k in zip(faces.face_area2, kept.tolist()) if k)
-    area = Fraction(area2, 2) * Fraction(2) ** (2 * faces.scale.exponent)
-    return Domain(pslg, faces, kept, hole_face, region_face, inside, area)

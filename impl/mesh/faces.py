@@ -66,10 +66,6 @@ def common_scale(*arrays: NDArray[np.float64]) -> IntegerScale:
     return IntegerScale.of(np.concatenate(lows)) if lows else IntegerScale(0)
 
 
-def _ints(values: NDArray[np.float64], scale: IntegerScale) -> list[int]:
-    return [int(v) for v in scale.to_ints(np.ascontiguousarray(values, dtype=np.float64))] if values.size else []
-
-
 @dataclass(frozen=True)
 class Location:
     """Where a point is: in ``face`` (:data:`UNBOUNDED` for the outside), or on a ``vertex`` or a ``segment``.
@@ -257,25 +253,24 @@ def planar_faces(
 
     ``scale`` must make every vertex coordinate an integer (default: the least
     such scale, :func:`common_scale`); pass a shared one to compare areas with
-    other exact quantities.  O(m log m) plus the nesting (module docstring).
+    other exact quantities.  O(m log m) plus the nesting (module docstring); the
+    walks are Python loops over lists (a few hundred instructions a half-edge).
     """
     pts = np.ascontiguousarray(vertices, dtype=np.float64)
     seg = np.ascontiguousarray(segments, dtype=np.intp).reshape(-1, 2)
-    if scale is None:
-        scale = common_scale(pts)
-    xs = tuple(_ints(pts[:, 0], scale))
-    ys = tuple(_ints(pts[:, 1], scale))
+    xs, ys, scale = _integer_coordinates(pts, scale)
     m = seg.shape[0]
     he = np.empty((2 * m, 2), dtype=np.intp)
     he[0::2] = seg
     he[1::2] = seg[:, ::-1]
+    seg_list: list[list[int]] = seg.tolist()
+    tails = [u for pair in seg_list for u in (pair[0], pair[1])]
+    heads = [v for pair in seg_list for v in (pair[1], pair[0])]
 
     # 1. Counterclockwise order of the half-edges leaving each vertex.
     out: dict[int, list[int]] = {}
-    for h, u in enumerate(he[:, 0].tolist()):
+    for h, u in enumerate(tails):
         out.setdefault(u, []).append(h)
-    heads = he[:, 1].tolist()
-    tails = he[:, 0].tolist()
 
     def direction(h: int) -> tuple[int, int]:
         return xs[heads[h]] - xs[tails[h]], ys[heads[h]] - ys[tails[h]]
@@ -289,16 +284,17 @@ def planar_faces(
         cross = dx1 * dy2 - dy1 * dx2
         return -1 if cross > 0 else (1 if cross < 0 else 0)
 
-    position = np.empty(2 * m, dtype=np.intp)
+    position = [0] * (2 * m)
     ring: dict[int, list[int]] = {}
     for u, hs in out.items():
-        hs.sort(key=functools.cmp_to_key(ccw_before))
+        if len(hs) > 2:  # one or two half-edges are in counterclockwise order as they are (a cycle of two is either)
+            hs.sort(key=functools.cmp_to_key(ccw_before))
         ring[u] = hs
         for k, h in enumerate(hs):
             position[h] = k
 
     # 2. Walks: after u → v comes the half-edge leaving v just clockwise of v → u.
-    walk_of = np.full(2 * m, -1, dtype=np.intp)
+    walk_of = [-1] * (2 * m)
     walks: list[tuple[int, ...]] = []
     areas: list[int] = []
     for start in range(2 * m):
@@ -314,7 +310,7 @@ def planar_faces(
             u, v = tails[h], heads[h]
             area2 += xs[u] * ys[v] - xs[v] * ys[u]
             around = ring[v]
-            h = around[(int(position[h ^ 1]) - 1) % len(around)]
+            h = around[(position[h ^ 1] - 1) % len(around)]
         walks.append(tuple(steps))
         areas.append(area2)
 
@@ -327,63 +323,61 @@ def planar_faces(
             a = parent[a]
         return a
 
-    for u, v in seg.tolist():
+    for u, v in seg_list:
         ru, rv = find(u), find(v)
         if ru != rv:
             parent[ru] = rv
     roots: dict[int, int] = {}
-    component_of_segment = np.empty(m, dtype=np.intp)
-    for s, (u, _) in enumerate(seg.tolist()):
-        component_of_segment[s] = roots.setdefault(find(u), len(roots))
+    component_list = [roots.setdefault(find(u), len(roots)) for u, _ in seg_list]
     n_comp = len(roots)
     outer = [-1] * n_comp
     for w, cycle in enumerate(walks):
-        c = int(component_of_segment[cycle[0] >> 1])
+        c = component_list[cycle[0] >> 1]
         if areas[w] <= 0:
             assert outer[c] < 0, "a component of a planar graph has one outer walk (is the PSLG clean?)"
             outer[c] = w
     faces_ccw = [w for w in range(len(walks)) if areas[w] > 0]
-    face_of_walk = np.full(len(walks), UNBOUNDED, dtype=np.intp)
+    face_of_walk = [UNBOUNDED] * len(walks)
     for f, w in enumerate(faces_ccw):
         face_of_walk[w] = f
 
     # 4. Nesting: each component's outer walk lies in the innermost ccw walk of another component
     # that winds once around one of its vertices (they share no point, so any vertex decides).
-    walk_comp = [int(component_of_segment[cycle[0] >> 1]) for cycle in walks]
-    if faces_ccw:
+    # With one component there is no other: it lies in the unbounded face.
+    component_parent = [UNBOUNDED] * n_comp
+    if faces_ccw and n_comp > 1:
+        walk_comp = [component_list[cycle[0] >> 1] for cycle in walks]
+        px_all, py_all = pts[:, 0].tolist(), pts[:, 1].tolist()
         boxes = np.array(
             [
                 [
-                    pts[he[list(walks[w]), 0], 0].min(),
-                    pts[he[list(walks[w]), 0], 0].max(),
-                    pts[he[list(walks[w]), 0], 1].min(),
-                    pts[he[list(walks[w]), 0], 1].max(),
+                    min(px_all[tails[h]] for h in walks[w]),
+                    max(px_all[tails[h]] for h in walks[w]),
+                    min(py_all[tails[h]] for h in walks[w]),
+                    max(py_all[tails[h]] for h in walks[w]),
                 ]
                 for w in faces_ccw
             ]
         )
-    component_parent = np.full(n_comp, UNBOUNDED, dtype=np.intp)
-    for c in range(n_comp):
-        if not faces_ccw:
-            break
-        p = tails[walks[outer[c]][0]]
-        px, py = pts[p]
-        inside = np.flatnonzero(
-            (boxes[:, 0] <= px) & (boxes[:, 1] >= px) & (boxes[:, 2] <= py) & (boxes[:, 3] >= py)
-        ).tolist()
-        best, best_area = UNBOUNDED, 0
-        for k in inside:
-            w = faces_ccw[k]
-            if walk_comp[w] == c or (best != UNBOUNDED and areas[w] >= best_area):
-                continue
-            if _winding(walks[w], tails, heads, xs, ys, xs[p], ys[p]) != 0:
-                best, best_area = k, areas[w]
-        component_parent[c] = best
-        face_of_walk[outer[c]] = best
+        for c in range(n_comp):
+            p = tails[walks[outer[c]][0]]
+            px, py = px_all[p], py_all[p]
+            inside = np.flatnonzero(
+                (boxes[:, 0] <= px) & (boxes[:, 1] >= px) & (boxes[:, 2] <= py) & (boxes[:, 3] >= py)
+            ).tolist()
+            best, best_area = UNBOUNDED, 0
+            for k in inside:
+                w = faces_ccw[k]
+                if walk_comp[w] == c or (best != UNBOUNDED and areas[w] >= best_area):
+                    continue
+                if _winding(walks[w], tails, heads, xs, ys, xs[p], ys[p]) != 0:
+                    best, best_area = k, areas[w]
+            component_parent[c] = best
+            face_of_walk[outer[c]] = best
 
     face_area2 = [areas[w] for w in faces_ccw]
     for c in range(n_comp):
-        f = int(component_parent[c])
+        f = component_parent[c]
         if f != UNBOUNDED:
             face_area2[f] += areas[outer[c]]
 
@@ -392,17 +386,38 @@ def planar_faces(
         segments=seg,
         scale=scale,
         half_edges=he,
-        walk_of=walk_of,
+        walk_of=np.array(walk_of, dtype=np.intp),
         walks=tuple(walks),
         walk_area2=tuple(areas),
-        face_of_walk=face_of_walk,
+        face_of_walk=np.array(face_of_walk, dtype=np.intp),
         face_walk=np.array(faces_ccw, dtype=np.intp),
         face_area2=tuple(face_area2),
-        component_of_segment=component_of_segment,
-        component_parent=component_parent,
+        component_of_segment=np.array(component_list, dtype=np.intp),
+        component_parent=np.array(component_parent, dtype=np.intp),
         _x=xs,
         _y=ys,
     )
+
+
+def _integer_coordinates(
+    pts: NDArray[np.float64], scale: IntegerScale | None
+) -> tuple[tuple[int, ...], tuple[int, ...], IntegerScale]:
+    """The vertices' exact coordinates as integers at ``scale`` (default: the least, :func:`common_scale`'s).
+
+    One pass over the coordinates in Python: each double's ratio ``num / 2^k`` gives
+    its grain and its integer. O(n).
+    """
+    flat: list[float] = pts.ravel().tolist()
+    ratios = [x.as_integer_ratio() for x in flat]
+    if scale is None:
+        # common_scale(pts): the least grain (exponent of the lowest set bit) over the nonzero coordinates, else 0.
+        lows = [((num & -num).bit_length() - den.bit_length()) for num, den in ratios if num]
+        scale = IntegerScale(min(lows) if lows else 0)
+    ints: list[int] = []
+    for num, den in ratios:
+        shift = scale.extra - scale.exponent - (den.bit_length() - 1)
+        ints.append(num << shift if shift >= 0 else num >> -shift)  # exact: 2^-shift divides num
+    return tuple(ints[0::2]), tuple(ints[1::2]), scale
 
 
 def _winding(

@@ -7,24 +7,27 @@ becomes its pieces, so overlapping collinear segments become shared pieces),
 :func:`refuse_crossings` (after splitting, two segments meet only at a shared
 vertex or cross properly; a crossing is a :class:`~persistri.impl.mesh.errors.DomainError`),
 and :func:`convex_hull` for ``convex=True``.  Every decision is an exact
-orientation sign (:class:`~persistri.impl.geometry.predicates.Predicates2`'s
-true signs); candidates come from sorting by x, so the work is near O(m log m)
-for boundaries of ordinary shape and O(m²) only for many long segments over one
-slab of x.  Messages name input rows (``origin`` for segments, ``name`` for
+orientation sign (:class:`~persistri.impl.geometry.growing.GrowingPredicates2`'s
+true signs: the proved filter vectorised over every candidate at once,
+:func:`orient_signs`, exact integers for what it leaves); candidates come from
+sorting by x, so the work is near O(m log m) for boundaries of ordinary shape
+and O(m²) only for many long segments over one slab of x.  Messages name input rows (``origin`` for segments, ``name`` for
 vertices).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
-from persistri.impl.geometry.predicates import Predicates2
+from persistri.impl.geometry.filter import ERRBOUND_ORIENT2D, orient2d_terms
+from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.errors import DomainError
 
-__all__ = ["Labels", "convex_hull", "dedupe", "split_at_vertices", "refuse_crossings", "point_text"]
+__all__ = ["Labels", "OrientSigns", "convex_hull", "dedupe", "orient_signs", "split_at_vertices", "refuse_crossings", "point_text"]
 
 _PAIR_BUDGET = 1 << 22
 """Candidate segment pairs examined per block of the crossing sweep (bounds its memory)."""
@@ -35,7 +38,45 @@ def point_text(p: NDArray[np.float64]) -> str:
     return f"({float(p[0])!r}, {float(p[1])!r})"
 
 
-def convex_hull(verts: NDArray[np.float64], pred: Predicates2) -> list[int]:
+class OrientSigns(Protocol):
+    """Exact true orientation signs by point index (``Predicates2`` and ``GrowingPredicates2`` both give them)."""
+
+    def orient2d_sign(self, a: int, b: int, c: int) -> int:
+        """The true sign (-1, 0, +1) of orient2d(a, b, c): +1 when they turn counterclockwise."""
+        ...
+
+
+def orient_signs(
+    pred: GrowingPredicates2,
+    columns: tuple[NDArray[np.float64], NDArray[np.float64]],
+    a: NDArray[np.intp],
+    b: NDArray[np.intp],
+    c: NDArray[np.intp],
+) -> NDArray[np.int8]:
+    """The true signs of ``orient2d(a[k], b[k], c[k])`` for index arrays of one length; exact.
+
+    ``columns`` is ``pred.filter_columns()``.  One vectorised pass of the proved
+    filter (:func:`~persistri.impl.geometry.filter.orient2d_terms` and its bound, the
+    operations of ``pred.orient2d_sign``'s own filter; a point the filter cannot take
+    is NaN there, which no comparison accepts) decides most entries; each other one
+    (an exact zero among them) is ``pred.orient2d_sign``.  O(len(a)) vectorised, plus
+    O(1) Python per undecided entry.
+    """
+    fx, fy = columns
+    det, perm = orient2d_terms(fx[a], fy[a], fx[b], fy[b], fx[c], fy[c])
+    thr = ERRBOUND_ORIENT2D * perm
+    pos = det > thr
+    neg = det < -thr
+    out: NDArray[np.int8] = pos.view(np.int8) - neg.view(np.int8)
+    unsure = np.flatnonzero(~(pos | neg))
+    if unsure.size:
+        sign = pred.orient2d_sign
+        for k, p, q, r in zip(unsure.tolist(), a[unsure].tolist(), b[unsure].tolist(), c[unsure].tolist()):
+            out[k] = sign(p, q, r)
+    return out
+
+
+def convex_hull(verts: NDArray[np.float64], pred: OrientSigns) -> list[int]:
     """The convex hull's extreme vertices, counterclockwise (Andrew's monotone chain, exact turns). O(n log n)."""
     order = np.lexsort((verts[:, 1], verts[:, 0])).tolist()
 
@@ -73,10 +114,14 @@ def dedupe(
     name: NDArray[np.intp],
 ) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp] | None]:
     """Merge repeated segments (either orientation) into the first; a note for each input one dropped."""
-    label = Labels(seg, origin, name)
     if seg.shape[0] < 2:
         return seg, origin, marks
     key = np.sort(seg, axis=1)
+    # Distinct pairs (the usual case) are told by one set of Python ints: a pair (a, b), a < b <= max, as one code.
+    codes = key[:, 0] * (int(key[:, 1].max()) + 1) + key[:, 1]
+    if len(set(codes.tolist())) == seg.shape[0]:
+        return seg, origin, marks
+    label = Labels(seg, origin, name)
     _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
     inverse = inverse.reshape(-1)
     if first.size == seg.shape[0]:
@@ -94,56 +139,77 @@ def split_at_vertices(
     seg: NDArray[np.intp],
     origin: NDArray[np.intp],
     marks: NDArray[np.intp] | None,
-    pred: Predicates2,
+    pred: GrowingPredicates2,
     notes: list[str],
     name: NDArray[np.intp],
     repair: bool,
+    columns: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
 ) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp] | None]:
     """Split every segment at the vertices on its interior (exact collinearity), or refuse.
 
     Candidates come from the vertices sorted by x: those in the segment's
-    closed bounding box; exact ``orient2d_sign == 0`` decides (collinear and in
-    the box means on the closed segment).
+    closed bounding box other than its ends, every (segment, candidate) pair at
+    once (in blocks of :data:`_PAIR_BUDGET` pairs); an exact ``orient2d_sign == 0``
+    decides (collinear and in the box means on the closed segment), by
+    :func:`orient_signs`.  ``columns``: ``pred.filter_columns()`` if made already.
+    O(m log n + k) vectorised for k candidate pairs, plus O(m) Python when a
+    segment is split.
     """
     m = seg.shape[0]
     if m == 0:
         return seg, origin, marks
-    label = Labels(seg, origin, name)
     by_x = np.argsort(verts[:, 0], kind="stable")
     xs_sorted = verts[by_x, 0]
     ys = verts[:, 1]
+    a_all, b_all = seg[:, 0], seg[:, 1]
+    ax, bx = verts[a_all, 0], verts[b_all, 0]
+    ay, by = verts[a_all, 1], verts[b_all, 1]
+    lo_y, hi_y = np.minimum(ay, by), np.maximum(ay, by)
+    lo = np.searchsorted(xs_sorted, np.minimum(ax, bx), side="left")
+    count = np.searchsorted(xs_sorted, np.maximum(ax, bx), side="right") - lo
+    if columns is None:
+        columns = pred.filter_columns()
+    on_of: dict[int, list[int]] = {}
+    start = 0
+    while start < m:
+        stop = start + 1
+        budget = int(count[start])
+        while stop < m and budget + int(count[stop]) <= _PAIR_BUDGET:
+            budget += int(count[stop])
+            stop += 1
+        reps = count[start:stop]
+        k = np.repeat(np.arange(start, stop), reps)  # each pair's segment, candidates in the order of by_x
+        cand = by_x[lo[k] + (np.arange(k.size) - np.repeat(np.cumsum(reps) - reps, reps))]
+        inside = (ys[cand] >= lo_y[k]) & (ys[cand] <= hi_y[k]) & (cand != a_all[k]) & (cand != b_all[k])
+        k, cand = k[inside], cand[inside]
+        if k.size:
+            zero = orient_signs(pred, columns, a_all[k], b_all[k], cand) == 0
+            for s, v in zip(k[zero].tolist(), cand[zero].tolist()):
+                on_of.setdefault(s, []).append(v)
+        start = stop
+    if not on_of:
+        return seg, origin, marks
+    label = Labels(seg, origin, name)
     new_seg: list[list[int]] = []
     new_origin: list[int] = []
     new_marks: list[int] = []
-    split_any = False
-    for k in range(m):
-        a, b = int(seg[k, 0]), int(seg[k, 1])
-        ax, ay = float(verts[a, 0]), float(verts[a, 1])
-        bx, by = float(verts[b, 0]), float(verts[b, 1])
-        lo = int(np.searchsorted(xs_sorted, min(ax, bx), side="left"))
-        hi = int(np.searchsorted(xs_sorted, max(ax, bx), side="right"))
-        cand = by_x[lo:hi]
-        cand = cand[(ys[cand] >= min(ay, by)) & (ys[cand] <= max(ay, by)) & (cand != a) & (cand != b)]
-        on: list[int] = []
-        if cand.size:
-            signs = pred.orient2d_sign_batch(a, b, cand)
-            on = cand[signs == 0].tolist()
-        if on and origin[k] >= 0:
-            first = on[0] if len(on) == 1 else min(on, key=lambda v: (abs(verts[v, 0] - ax), abs(verts[v, 1] - ay)))
-            msg = f"vertex {int(name[first])} at {point_text(verts[first])} lies on the interior of {label(k)}"
+    for k_, (a, b) in enumerate(seg.tolist()):
+        on = on_of.get(k_, [])
+        ax_, ay_ = float(verts[a, 0]), float(verts[a, 1])
+        if on and origin[k_] >= 0:
+            first = on[0] if len(on) == 1 else min(on, key=lambda v: (abs(verts[v, 0] - ax_), abs(verts[v, 1] - ay_)))
+            msg = f"vertex {int(name[first])} at {point_text(verts[first])} lies on the interior of {label(k_)}"
             if not repair:
                 raise DomainError(msg)
             rest = f" (and {len(on) - 1} more)" if len(on) > 1 else ""
             notes.append(msg + rest + ": split there")
-        chain = [a] + sorted(on, key=lambda v: (float(verts[v, 0]), float(verts[v, 1])), reverse=(ax, ay) > (bx, by)) + [b]
-        split_any = split_any or bool(on)
+        bx_, by_ = float(verts[b, 0]), float(verts[b, 1])
+        chain = [a] + sorted(on, key=lambda v: (float(verts[v, 0]), float(verts[v, 1])), reverse=(ax_, ay_) > (bx_, by_)) + [b]
         for u, v in zip(chain[:-1], chain[1:]):
             new_seg.append([u, v])
-            new_origin.append(int(origin[k]))
+            new_origin.append(int(origin[k_]))
             if marks is not None:
-                new_marks.append(int(marks[k]))
-    if not split_any:
-        return seg, origin, marks
+                new_marks.append(int(marks[k_]))
     return (
         np.array(new_seg, dtype=np.intp).reshape(-1, 2),
         np.array(new_origin, dtype=np.intp),
@@ -152,13 +218,22 @@ def split_at_vertices(
 
 
 def refuse_crossings(
-    verts: NDArray[np.float64], seg: NDArray[np.intp], origin: NDArray[np.intp], name: NDArray[np.intp], pred: Predicates2
+    verts: NDArray[np.float64],
+    seg: NDArray[np.intp],
+    origin: NDArray[np.intp],
+    name: NDArray[np.intp],
+    pred: GrowingPredicates2,
+    columns: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
 ) -> None:
     """Raise for the first pair of segments (in sweep order) that cross; exact.
 
     After splitting, two segments meet only at a shared endpoint or by crossing
     properly: each straddles the other's line (both orientation products < 0).
-    Candidate pairs come from a sweep in x over the segments' bounding boxes.
+    Candidate pairs come from a sweep in x over the segments' bounding boxes; the
+    proved filter, vectorised over them (:func:`orient_signs`' first pass), sets
+    aside every pair with a segment's two ends certainly on one side of the other's
+    line, and the exact signs decide the rest in sweep order.  ``columns``:
+    ``pred.filter_columns()`` if made already.
     """
     m = seg.shape[0]
     if m < 2:
@@ -187,7 +262,13 @@ def refuse_crossings(
         i, j = order[first_pos], order[first_pos + 1 + offsets]
         keep = (lo_y[i] <= hi_y[j]) & (lo_y[j] <= hi_y[i])
         keep &= (a[i] != a[j]) & (a[i] != b[j]) & (b[i] != a[j]) & (b[i] != b[j])
-        for s, t in zip(i[keep].tolist(), j[keep].tolist()):
+        i, j = i[keep], j[keep]
+        if i.size:
+            if columns is None:
+                columns = pred.filter_columns()
+            apart = _one_side(columns, a[i], b[i], a[j], b[j]) | _one_side(columns, a[j], b[j], a[i], b[i])
+            i, j = i[~apart], j[~apart]
+        for s, t in zip(i.tolist(), j.tolist()):
             p, q, r, u = int(a[s]), int(b[s]), int(a[t]), int(b[t])
             if pred.orient2d_sign(p, q, r) * pred.orient2d_sign(p, q, u) < 0 and (
                 pred.orient2d_sign(r, u, p) * pred.orient2d_sign(r, u, q) < 0
@@ -196,6 +277,27 @@ def refuse_crossings(
                 x, y = _crossing_point(verts, seg[s], seg[t])
                 raise DomainError(f"{label(s)} and {label(t)} cross at about ({x:.17g}, {y:.17g}) without a shared vertex")
         start = stop
+
+
+def _one_side(
+    columns: tuple[NDArray[np.float64], NDArray[np.float64]],
+    p: NDArray[np.intp],
+    q: NDArray[np.intp],
+    r: NDArray[np.intp],
+    u: NDArray[np.intp],
+) -> NDArray[np.bool_]:
+    """Per entry, whether the proved filter puts ``r`` and ``u`` strictly on one side of line ``p q``.
+
+    True only when both orientation signs are certain and equal (then the segments
+    ``p q`` and ``r u`` cannot cross); False leaves the entry to the exact test.
+    """
+    fx, fy = columns
+    px, py, qx, qy = fx[p], fy[p], fx[q], fy[q]
+    d1, m1 = orient2d_terms(px, py, qx, qy, fx[r], fy[r])
+    d2, m2 = orient2d_terms(px, py, qx, qy, fx[u], fy[u])
+    t1, t2 = ERRBOUND_ORIENT2D * m1, ERRBOUND_ORIENT2D * m2
+    same: NDArray[np.bool_] = ((d1 > t1) & (d2 > t2)) | ((d1 < -t1) & (d2 < -t2))
+    return same
 
 
 def _crossing_point(verts: NDArray[np.float64], s: NDArray[np.intp], t: NDArray[np.intp]) -> tuple[float, float]:
