@@ -3,14 +3,14 @@
 :func:`persistri.impl.complex.replace.replace_cone` is the scattered Delaunay's
 entry to ``replace`` (paper §5): its added triangles are the cone from a new
 vertex over the cavity's boundary cycle, in the cycle's order, and
-:func:`~persistri.impl.complex.vertex_lists.group_cone` reads each cycle vertex's
+:func:`~persistri.impl.complex.vertex_changes.group_cone` reads each cycle vertex's
 two new entries off it instead of grouping them through a dictionary.  These
-tests check that its changes mean :func:`~persistri.impl.complex.vertex_lists.group`'s,
+tests check that its changes mean :func:`~persistri.impl.complex.vertex_changes.group`'s,
 that its result is ``replace``'s list for list (the same entries in the same
 order, the same tree), that it really takes its own path for a cone and hands
 everything else to ``replace_trusted`` or ``replace`` (the same result or the
 same error, the version given unchanged), and that
-:func:`~persistri.impl.complex.vertex_lists.rebuild_cone` is
+:func:`~persistri.impl.complex.vertex_changes.rebuild_cone` is
 :func:`~persistri.impl.complex.vertex_lists.rebuild_fresh`.
 """
 
@@ -28,14 +28,9 @@ from tree_helpers import preorder
 from persistri.impl.complex import two_complex
 from persistri.impl.complex.replace import replace_cone
 from persistri.impl.complex.two_complex import TwoComplex
-from persistri.impl.complex.vertex_lists import (
-    Missing,
-    Unbatched,
-    group,
-    group_cone,
-    rebuild_cone,
-    rebuild_fresh,
-)
+from persistri.impl.complex import vertex_changes, vertex_lists
+from persistri.impl.complex.vertex_changes import group, group_cone, rebuild_cone
+from persistri.impl.complex.vertex_lists import Missing, Unbatched, rebuild_fresh
 from persistri.impl.terrain.scattered import delaunay
 
 
@@ -264,6 +259,14 @@ def test_group_cone_refuses_what_is_not_a_cone() -> None:
         group_cone(removed, cone, None)  # an empty complex
     with pytest.raises(Unbatched):
         group_cone(removed, cone, fresh(1)[0].lineage)
+
+
+def test_the_grouping_is_importable_from_the_lists_module() -> None:
+    # The structures import the grouping from vertex_lists, which re-exports vertex_changes' names: the same
+    # objects (on the compiled twin too, where both modules are compiled in one group).
+    for name in vertex_changes.__all__:
+        assert name in vertex_lists.__all__
+        assert getattr(vertex_lists, name) is getattr(vertex_changes, name), name
 
 
 def test_rebuild_cone_is_rebuild_fresh() -> None:

@@ -38,6 +38,7 @@ MODULES = (
     "persistri/impl/maps/red_black_arena_tree.py",
     "persistri/impl/maps/red_black_arena_adjust.py",
     "persistri/impl/complex/vertex_lists.py",
+    "persistri/impl/complex/vertex_changes.py",
     "persistri/impl/complex/replace.py",
     "persistri/impl/complex/neighbours.py",
     "persistri/impl/geometry/kernel2d.py",
@@ -53,8 +54,8 @@ MODULES = (
 kernel it calls (and its split), and the inner functions of the persistent structures it changes — the red-black
 tree's node algorithms, its batched update (with the fused insertion of ``replace``'s new vertex), the
 same two for the arena red-black tree (the backend for keeping histories, ``red_black_arena``), the
-2-complex's list functions, its walks' edge lookups and ``replace``'s compiled entry for the algorithms
-(``replace_trusted``) — where a hull run spends most of its interpreted time
+2-complex's list functions and ``replace``'s grouping by vertex, its walks' edge lookups and ``replace``'s
+compiled entry for the algorithms (``replace_trusted``) — where a hull run spends most of its interpreted time
 (docs/performance.md); and for the terrain and the scattered Delaunay, the 2D kernel, the triangulator
 and its cavity search, the sector test, the greedy run's loop and its error measure.  The structures' public operations
 (``red_black.py``, ``two_complex.py``) and ``greedy_insertion`` (``terrain/greedy.py``) stay

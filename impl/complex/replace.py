@@ -5,18 +5,18 @@ faces a new point sees for its tent (§3), the Delaunay and terrain insertions
 a cavity for the new vertex's star (§5).  Its meaning is the fold — ``rem``
 each removed triangle, then ``add`` each added one — and
 :meth:`~persistri.impl.complex.two_complex.TwoComplex.replace` keeps that
-meaning while doing less: :func:`~persistri.impl.complex.vertex_lists.group`
+meaning while doing less: :func:`~persistri.impl.complex.vertex_changes.group`
 gathers the changes by vertex, and each vertex's list is rebuilt once.  A
 bulldozer insertion that replaces 4 faces by 6 touches 7 vertices: 7 map
 updates where the fold makes 30.
 
 Two ways to make those updates, both here or in
-:mod:`~persistri.impl.complex.vertex_lists`:
+:mod:`~persistri.impl.complex.vertex_changes`:
 
 * :func:`replace_per_vertex` — one ``insertWith`` per vertex (``remove`` for a
   vertex left in no triangle), through any ``ORD_MAP`` backend.  Counted
   structures use it, so the counts are those of the paper's operations;
-* :func:`~persistri.impl.complex.vertex_lists.replace_batched` — the
+* :func:`~persistri.impl.complex.vertex_changes.replace_batched` — the
   red-black map's ``adjust_sorted`` rebuilds every present
   vertex's list in one descent, copying the tree nodes their search paths
   share once.
@@ -36,18 +36,8 @@ from collections.abc import Sequence
 from typing import Any
 
 from persistri.impl.complex.structure import Complex
-from persistri.impl.complex.vertex_lists import (
-    Changes,
-    Combine,
-    Emptied,
-    Missing,
-    Present,
-    Unbatched,
-    group,
-    group_cone,
-    rebuild_cone,
-    replace_batched,
-)
+from persistri.impl.complex.vertex_lists import Combine, Emptied, Missing, Present, Unbatched
+from persistri.impl.complex.vertex_changes import Changes, group, group_cone, rebuild_cone, replace_batched
 
 __all__ = ["arguments", "replace_per_vertex", "replace_trusted", "replace_cone", "same_replace"]
 
@@ -107,7 +97,7 @@ def replace_trusted(S: Any, c: Any, removed: list[Any], added: list[Any]) -> Any
     the same body in a compiled module, for the algorithms' one call per step
     (the scattered Delaunay's insertion, §5).  It trusts only the arguments'
     types (lists, not any iterable); everything else is checked as the public
-    ``replace`` checks it (:func:`~persistri.impl.complex.vertex_lists.group`
+    ``replace`` checks it (:func:`~persistri.impl.complex.vertex_changes.group`
     validates the triangles), and on anything unusual — a structure whose
     ``replace`` is overridden or counted (no ``_batched``), a complex of
     another family, an invalid change — it calls ``S.replace`` itself, which
@@ -133,11 +123,11 @@ def replace_cone(S: Any, c: Any, removed: list[Any], added: list[Any]) -> Any:
     """:func:`replace_trusted` for a star replaced by a cone from a fresh apex, grouped from the cone's cycle.
 
     ``added`` lists the cone's triangles ``(ci, c(i+1), x)`` around the cycle in order (the scattered
-    Delaunay's fan and its ghosts, §5): :func:`~persistri.impl.complex.vertex_lists.group_cone` reads each
+    Delaunay's fan and its ghosts, §5): :func:`~persistri.impl.complex.vertex_changes.group_cone` reads each
     cycle vertex's two new entries off its two triangles instead of grouping them through a dictionary,
-    and :func:`~persistri.impl.complex.vertex_lists.rebuild_cone` rebuilds its list with the entries already
+    and :func:`~persistri.impl.complex.vertex_changes.rebuild_cone` rebuilds its list with the entries already
     in their final tuple; the apex is inserted in the tree's one descent (``adjust_insert``), as
-    :func:`~persistri.impl.complex.vertex_lists.replace_batched` does for a fresh vertex.  The same
+    :func:`~persistri.impl.complex.vertex_changes.replace_batched` does for a fresh vertex.  The same
     complex as ``S.replace(c, removed, added)`` — every list with the same entries in the same order —
     in every case: anything that is not such a cone over a backend with ``adjust_insert`` goes to
     :func:`replace_trusted`, and anything invalid to ``S.replace``, which raises the precise error.
