@@ -185,6 +185,69 @@ def test_batched_updates_build_the_tuple_trees(keys: list[int], probe: list[int]
     assert S.listItemsi(a) == items
 
 
+@given(
+    st.lists(st.integers(0, 500), min_size=1, max_size=200),
+    st.lists(st.integers(0, 520), max_size=30, unique=True),
+    st.integers(0, 520),
+    st.booleans(),
+)
+def test_adjust_insert_remove_is_adjust_insert_then_the_removals(
+    keys: list[int], probe: list[int], extra: int, all_present: bool
+) -> None:
+    """``adjust_insert_remove``: the tree of the tuple tree's ``adjust_insert`` followed by ``remove`` of each
+    emptied key when no key is absent (reported emptied then: none), else ``adjust_insert``'s own result; no
+    node or item of the argument's arena is written, and it makes no more nodes than ``adjust_insert`` and
+    the removals do on the same arena (fewer when its deletions refill the update's nodes)."""
+    a, t = _adjusted_pair(keys)
+    present = set(keys)
+    ks = sorted({k for k in probe if k in present or not all_present} | {extra})
+    j = ks.index(extra)
+    vs: list[tuple[int, ...]] = [(-k,) if k % 3 else () for k in ks]
+    A = a[2]
+    assert A is not None
+    frozen = (A.item.tolist(), A.left.tolist(), A.right.tolist(), bytes(A.red), list(A.key), list(A.val))
+    before = mark(a)
+    r = S.adjust_insert_remove(_add_or_empty, a, ks, vs, j, (j,))
+    grown = mark(r[0]) - before
+    n = len(frozen[0])
+    assert (A.item[:n].tolist(), A.left[:n].tolist(), A.right[:n].tolist(), bytes(A.red[:n])) == frozen[:4]
+    assert (A.key[: len(frozen[4])], A.val[: len(frozen[5])]) == frozen[4:]
+    it = T.adjust_insert(_add_or_empty, t, ks, vs, j, (j,))
+    rt = it[0]
+    before = mark(a)
+    ia = S.adjust_insert(_add_or_empty, a, ks, vs, j, (j,))
+    ra = ia[0]
+    if it[1]:  # a key absent: adjust_insert's result, emptied keys left to the caller
+        assert r[1:] == it[1:]
+    else:
+        assert r[1:] == (it[1], [], it[3])
+        for i in it[2]:
+            rt = T.remove(rt, ks[i])[0]
+            ra = S.remove(ra, ks[i])[0]
+    same(r[0], rt)
+    same(ra, rt)
+    assert grown <= mark(ra) - before
+
+
+def test_adjust_insert_remove_refills_the_updated_path() -> None:
+    """Removing an emptied key after the update that emptied it: the deletion refills the nodes the update
+    copied on its path instead of copying them again — here half the nodes the two operations make apart."""
+    a, t = _adjusted_pair(list(range(0, 400, 2)))
+    ks = [0, 101, 150, 152, 300]
+    vs: list[tuple[int, ...]] = [(1,), (1,), (), (1,), ()]
+    before = mark(a)
+    r = S.adjust_insert_remove(_add_or_empty, a, ks, vs, 1, (5,))
+    fused = mark(r[0]) - before
+    before = mark(a)
+    ra, _, emptied, _ = S.adjust_insert(_add_or_empty, a, ks, vs, 1, (5,))
+    assert emptied == [2, 4] and r[2] == []
+    for i in emptied:
+        ra = S.remove(ra, ks[i])[0]
+    apart = mark(ra) - before
+    assert as_tuples(r[0]) == as_tuples(ra)
+    assert fused < apart
+
+
 def test_failed_operations_leave_the_map_as_it_was() -> None:
     a, _ = _adjusted_pair(list(range(50)))
 

@@ -106,10 +106,12 @@ class TwoComplex(TwoComplexRep[D]):
         self._adjust_sorted: Callable[..., tuple[Any, list[int], list[int]]] | None = getattr(
             self._m, "adjust_sorted", None
         )
-        # The same, inserting the new vertex of a cone in the same descent (red-black's adjust_insert).
+        # The same, inserting the new vertex of a cone in the same descent (red-black's adjust_insert); a
+        # backend that then removes the emptied vertices itself (the arena's adjust_insert_remove, which reports
+        # none left, and only when no vertex is absent: the same tree) keeps no path that the removal copies again.
         self._adjust_insert: Callable[..., tuple[Any, list[int], list[int], bool]] | None = getattr(
-            self._m, "adjust_insert", None
-        )
+            self._m, "adjust_insert_remove", None
+        ) or getattr(self._m, "adjust_insert", None)
         # The vertices it reports absent are known absent: the backend's unchecked insert if it has one.
         self._insert_absent: Callable[[Any, Any, Any], Any] = getattr(self._m, "insert_absent", None) or self._m.insert
         if stats is None:

@@ -22,7 +22,8 @@ append the nodes they make and return a new root, as path copying does with
 tuples.  **Nothing a returned map reaches is ever overwritten** (an operation
 writes again only nodes it made itself, before returning: Okasaki's and
 Kahrs' rewrites and a new root's blackening refill them instead of dropping
-them), so every
+them; :meth:`ArenaRedBlackMap.adjust_insert_remove`'s deletions refill
+the nodes its update made), so every
 version ever returned stays valid: persistence by construction.  Along every path of a tree
 the node indices decrease (a child is made before its parent), which
 :meth:`ArenaRedBlackMap._check` checks with the red-black invariants of
@@ -54,6 +55,8 @@ insertWith             O(lg n)     one descent when the key is present
 adjust_many,           O(k lg n)   several keys in one descent (persistri's
 adjust_sorted,                     addition, as the tuple tree's)
 adjust_insert
+adjust_insert_remove   O(k lg n)   adjust_insert, then its emptied keys removed,
+                                   refilling the nodes the update made
 remove                 O(lg n)     Kahrs' delete
 numItems, isEmpty      O(1)        the size is stored
 listItemsi, foldli     O(n)        iterative in-order walk
@@ -250,6 +253,41 @@ class ArenaRedBlackMap(Generic[K, V]):
             root = _adjust.adjust_insert(A, t, keys, vals, 0, len(keys), f, absent, emptied, j, new)
         except FailedWith as failed:
             raise failed.exc from None
+        if new:
+            return (n, root, A), absent, emptied, False
+        return (n + 1, _blacken_new(A, root), A), absent, emptied, True
+
+    def adjust_insert_remove(
+        self, f: Callable[[V, V], V], m: ArenaMap, keys: list[K], vals: list[V], j: int, v: V, /
+    ) -> tuple[ArenaMap, list[int], list[int], bool]:
+        """:meth:`adjust_insert`, then, when no key is absent, its emptied keys removed (``emptied`` then empty):
+        the trees of :meth:`adjust_insert` followed by :meth:`remove` of each emptied key in order.
+
+        persistri's addition, for a 2-complex's ``replace`` (which removes the emptied vertices itself when
+        some are absent, after inserting those).  The removals' Kahrs deletions refill in place the nodes the
+        update made on their paths (no map refers to them yet), where :meth:`remove` would copy that path
+        again: a full InBall 256K hull history holds 5.9 dropped nodes a point fewer (docs/performance.md,
+        "Memory of a full history").  O(k + new nodes) plus O(lg n) a removed key."""
+        n, t, A = m
+        if not t or A is None or not keys:
+            return m, list(range(len(keys))), [], False
+        absent: list[int] = []
+        emptied: list[int] = []
+        new = [v]
+        made = len(A.item)
+        try:
+            root = _adjust.adjust_insert(A, t, keys, vals, 0, len(keys), f, absent, emptied, j, new)
+        except FailedWith as failed:
+            raise failed.exc from None
+        if emptied and not absent:
+            inserted = not new
+            if inserted:
+                n += 1
+                root = _blacken_new(A, root)
+            for i in emptied:
+                root = _tree.delete(A, root, keys[i], made)
+                root = _blacken(A, root, made) if root else NIL
+            return (n - len(emptied), root, A), absent, [], inserted
         if new:
             return (n, root, A), absent, emptied, False
         return (n + 1, _blacken_new(A, root), A), absent, emptied, True

@@ -20,7 +20,8 @@ black.  Nodes and items are appended (:meth:`Arena.node`, :meth:`Arena.pair`),
 and a node is written again only by the operation that made it, before any
 map refers to it (Okasaki's rewrites refill the red nodes the same insertion
 made, a new red root is blackened in place, and Kahrs' rewrites recolour the
-nodes the same deletion made): no index that a returned map
+nodes the same deletion made, or, after an update in the same operation,
+refill the update's nodes on the deleted key's path, :func:`_put`): no index that a returned map
 reaches is ever written, so every tree ever returned stays valid —
 persistence by construction, the same path copying as the tuple tree's with
 indices instead of references.  A child is always made before its
@@ -400,7 +401,22 @@ def _red(A: Arena, t: int, made: int) -> int:
     return A.node(RED, A.left[t], A.item[t], A.right[t])
 
 
-def balance(A: Arena, l: int, ki: int, r: int, made: int) -> int:
+def _put(A: Arena, s: int, made: int, c: int, l: int, i: int, r: int) -> int:
+    """The node ``(c, l, i, r)`` that replaces node ``s``: ``s`` refilled in place when the running operation made
+    it (an index from ``made`` on, referred to by no map, dropped by the rewrite) and the slot stays above the
+    children (a child is made before its parent), else a new node.  A deletion alone never refills: its
+    path's nodes are older than it; :meth:`~persistri.impl.maps.red_black_arena.ArenaRedBlackMap.adjust_insert_remove`
+    deletes along the path its own update copied."""
+    if s >= made and l < s and r < s:
+        A.red[s] = c
+        A.left[s] = l
+        A.item[s] = i
+        A.right[s] = r
+        return s
+    return A.node(c, l, i, r)
+
+
+def balance(A: Arena, l: int, ki: int, r: int, made: int, s: int = NIL) -> int:
     """Kahrs' ``balance``: the black node ``l ki r``, rewritten when ``l`` or ``r`` holds a red pair.
 
     ``made``: the arena's length when the deletion began.  Here and in the functions below, a node the
@@ -415,25 +431,27 @@ def balance(A: Arena, l: int, ki: int, r: int, made: int) -> int:
     if red[l]:
         if red[r]:
             # balance (T R a x b) y (T R c z d) = T R (T B a x b) y (T B c z d)
-            return node(RED, _black(A, l, made), ki, _black(A, r, made))
+            return _put(A, s, made, RED, _black(A, l, made), ki, _black(A, r, made))
         ll = left[l]
         if red[ll]:
             # balance (T R (T R a x b) y c) z d = T R (T B a x b) y (T B c z d)
-            return node(RED, _black(A, ll, made), item[l], node(BLACK, right[l], ki, r))
+            return node(RED, _black(A, ll, made), item[l], _put(A, s, made, BLACK, right[l], ki, r))
         lr = right[l]
         if red[lr]:
             # balance (T R a x (T R b y c)) z d = T R (T B a x b) y (T B c z d)
-            return node(RED, node(BLACK, ll, item[l], left[lr]), item[lr], node(BLACK, right[lr], ki, r))
+            return node(RED, _put(A, s, made, BLACK, ll, item[l], left[lr]), item[lr], node(BLACK, right[lr], ki, r))
     if red[r]:
         rl = left[r]
         if red[rl]:
             # balance a x (T R (T R b y c) z d) = T R (T B a x b) y (T B c z d)
-            return node(RED, node(BLACK, l, ki, left[rl]), item[rl], node(BLACK, right[rl], item[r], right[r]))
+            return node(
+                RED, _put(A, s, made, BLACK, l, ki, left[rl]), item[rl], node(BLACK, right[rl], item[r], right[r])
+            )
         rr = right[r]
         if red[rr]:
             # balance a x (T R b y (T R c z d)) = T R (T B a x b) y (T B c z d)
-            return node(RED, node(BLACK, l, ki, rl), item[r], _black(A, rr, made))
-    return node(BLACK, l, ki, r)
+            return node(RED, _put(A, s, made, BLACK, l, ki, rl), item[r], _black(A, rr, made))
+    return _put(A, s, made, BLACK, l, ki, r)
 
 
 def sub1(A: Arena, t: int, made: int) -> int:
@@ -442,35 +460,36 @@ def sub1(A: Arena, t: int, made: int) -> int:
     return _red(A, t, made)
 
 
-def balleft(A: Arena, l: int, ki: int, r: int, made: int) -> int:
-    """Kahrs' ``balleft``: the node ``l ki r`` whose left subtree ``l`` is one black level short."""
+def balleft(A: Arena, l: int, ki: int, r: int, made: int, s: int = NIL) -> int:
+    """Kahrs' ``balleft``: the node ``l ki r`` whose left subtree ``l`` is one black level short; ``s`` the node
+    it replaces (:func:`balance`)."""
     if A.red[l]:
         # balleft (T R a x b) y c = T R (T B a x b) y c
-        return A.node(RED, _black(A, l, made), ki, r)
+        return _put(A, s, made, RED, _black(A, l, made), ki, r)
     assert r, f"{_NAME}: balleft with an empty sibling (invariant broken)"
     if not A.red[r]:
         # balleft bl x (T B a y b) = balance bl x (T R a y b)
-        return balance(A, l, ki, _red(A, r, made), made)
+        return balance(A, l, ki, _red(A, r, made), made, s)
     # balleft bl x (T R (T B a y b) z c) = T R (T B bl x a) y (balance b z (sub1 c))
     rl = A.left[r]
     assert rl, f"{_NAME}: balleft with a red sibling without a left child (invariant broken)"
     return A.node(
         RED,
-        A.node(BLACK, l, ki, A.left[rl]),
+        _put(A, s, made, BLACK, l, ki, A.left[rl]),
         A.item[rl],
         balance(A, A.right[rl], A.item[r], sub1(A, A.right[r], made), made),
     )
 
 
-def balright(A: Arena, l: int, ki: int, r: int, made: int) -> int:
+def balright(A: Arena, l: int, ki: int, r: int, made: int, s: int = NIL) -> int:
     """Kahrs' ``balright``: the mirror image of :func:`balleft` (``r`` is one black level short)."""
     if A.red[r]:
         # balright a x (T R b y c) = T R a x (T B b y c)
-        return A.node(RED, l, ki, _black(A, r, made))
+        return _put(A, s, made, RED, l, ki, _black(A, r, made))
     assert l, f"{_NAME}: balright with an empty sibling (invariant broken)"
     if not A.red[l]:
         # balright (T B a x b) y bl = balance (T R a x b) y bl
-        return balance(A, _red(A, l, made), ki, r, made)
+        return balance(A, _red(A, l, made), ki, r, made, s)
     # balright (T R a x (T B b y c)) z bl = T R (balance (sub1 a) x b) y (T B c z bl)
     lr = A.right[l]
     assert lr, f"{_NAME}: balright with a red sibling without a right child (invariant broken)"
@@ -478,12 +497,13 @@ def balright(A: Arena, l: int, ki: int, r: int, made: int) -> int:
         RED,
         balance(A, sub1(A, A.left[l], made), A.item[l], A.left[lr], made),
         A.item[lr],
-        A.node(BLACK, A.right[lr], ki, r),
+        _put(A, s, made, BLACK, A.right[lr], ki, r),
     )
 
 
-def app(A: Arena, a: int, b: int, made: int) -> int:
-    """Kahrs' ``app``: the fusion of two trees of equal black height, every key of ``a`` below every key of ``b``."""
+def app(A: Arena, a: int, b: int, made: int, s: int = NIL) -> int:
+    """Kahrs' ``app``: the fusion of two trees of equal black height, every key of ``a`` below every key of ``b``;
+    ``s`` the deleted node whose children they are (refilled by one new node, :func:`balance`)."""
     if not a:
         return b
     if not b:
@@ -499,21 +519,24 @@ def app(A: Arena, a: int, b: int, made: int) -> int:
             bc = app(A, right[a], left[b], made)
             if red[bc]:
                 return node(
-                    RED, node(RED, left[a], item[a], left[bc]), item[bc], node(RED, right[bc], item[b], right[b])
+                    RED,
+                    _put(A, s, made, RED, left[a], item[a], left[bc]),
+                    item[bc],
+                    node(RED, right[bc], item[b], right[b]),
                 )
-            return node(RED, left[a], item[a], node(RED, bc, item[b], right[b]))
+            return node(RED, left[a], item[a], _put(A, s, made, RED, bc, item[b], right[b]))
         # app (T R a x b) c = T R a x (app b c)
-        return node(RED, left[a], item[a], app(A, right[a], b, made))
+        return _put(A, s, made, RED, left[a], item[a], app(A, right[a], b, made))
     if red[b]:
         # app a (T R b x c) = T R (app a b) x c
-        return node(RED, app(A, a, left[b], made), item[b], right[b])
+        return _put(A, s, made, RED, app(A, a, left[b], made), item[b], right[b])
     # app (T B a x b) (T B c y d)
     bc = app(A, right[a], left[b], made)
     if red[bc]:
         return node(
-            RED, node(BLACK, left[a], item[a], left[bc]), item[bc], node(BLACK, right[bc], item[b], right[b])
+            RED, _put(A, s, made, BLACK, left[a], item[a], left[bc]), item[bc], node(BLACK, right[bc], item[b], right[b])
         )
-    return balleft(A, left[a], item[a], node(BLACK, bc, item[b], right[b]), made)
+    return balleft(A, left[a], item[a], _put(A, s, made, BLACK, bc, item[b], right[b]), made)
 
 
 def delete(A: Arena, t: int, k: Any, made: int) -> int:
@@ -528,13 +551,13 @@ def delete(A: Arena, t: int, k: Any, made: int) -> int:
     if k < y:
         if a and not A.red[a]:
             # delformLeft a@(T B _ _ _) y b = balleft (del a) y b
-            return balleft(A, delete(A, a, k, made), yi, b, made)
+            return balleft(A, delete(A, a, k, made), yi, b, made, t)
         # delformLeft a y b = T R (del a) y b
-        return A.node(RED, delete(A, a, k, made), yi, b)
+        return _put(A, t, made, RED, delete(A, a, k, made), yi, b)
     if y < k:
         if b and not A.red[b]:
             # delformRight a y b@(T B _ _ _) = balright a y (del b)
-            return balright(A, a, yi, delete(A, b, k, made), made)
+            return balright(A, a, yi, delete(A, b, k, made), made, t)
         # delformRight a y b = T R a y (del b)
-        return A.node(RED, a, yi, delete(A, b, k, made))
-    return app(A, a, b, made)
+        return _put(A, t, made, RED, a, yi, delete(A, b, k, made))
+    return app(A, a, b, made, t)
