@@ -12,6 +12,7 @@ the versions are shared, never copied.
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Iterator
 from typing import Generic, TypeVar, overload
 
@@ -43,6 +44,10 @@ class Versions(Generic[D]):
         :class:`IndexError` naming the range for a ``k`` outside it."""
         if isinstance(k, slice):
             return self.versions[k]
+        try:
+            k = operator.index(k)  # an int, a NumPy integer or a bool; not 1.0 or "1"
+        except TypeError:
+            raise TypeError(f"history indices must be integers or slices, not {type(k).__name__}") from None
         n = len(self.versions)
         if not -n <= k < n:
             raise IndexError(f"version {k} of a history of {n} versions (0 to {n - 1})")

@@ -10,6 +10,7 @@ the rationals they denote are, so this never merges distinct points.
 from __future__ import annotations
 
 import numbers
+import os
 import reprlib
 from typing import Any, NamedTuple
 
@@ -33,8 +34,10 @@ def as_points(points: ArrayLike, dim: int, *, what: str = "points") -> NDArray[n
     Decimals) are taken as those doubles.  Booleans and integers are accepted as reals.  ``-0.0`` becomes
     ``0.0`` (the same number).  O(n).
     """
-    if isinstance(points, (str, bytes)):
-        raise TypeError(f"{what} must be an array of real numbers, not {type(points).__name__}")
+    if isinstance(points, (str, bytes, os.PathLike)):
+        is_path = isinstance(points, os.PathLike)
+        hint = " (a file name: read the file first, e.g. with numpy.load or numpy.loadtxt)" if is_path else ""
+        raise TypeError(f"{what} must be an array of real numbers, not {type(points).__name__}{hint}")
     try:
         raw = np.asarray(points)
     except (ValueError, TypeError) as exc:  # ragged nested sequences
