@@ -173,9 +173,8 @@ def _real_rows(values: ArrayLike, what: str, width: int) -> NDArray[np.float64]:
         out = as_points(values, width, what=what)
     except (TypeError, ValueError) as exc:
         raise DomainError(str(exc)) from None
-    big = np.flatnonzero((np.abs(out) >= COORDINATE_LIMIT).any(axis=1))
-    if big.size:
-        k = int(big[0])
+    if out.size and float(np.abs(out).max()) >= COORDINATE_LIMIT:
+        k = int(np.flatnonzero((np.abs(out) >= COORDINATE_LIMIT).any(axis=1))[0])
         raise DomainError(
             f"{what} row {k} {tuple(out[k].tolist())}: a coordinate of magnitude 2^510 (about 3.4e153) or more; "
             f"the mesh measures squared lengths in doubles: scale the domain down"
@@ -307,13 +306,12 @@ def validate(
     seg = _int_array(segments, "segments", 2)
     m_in = seg.shape[0]
     if m_in:
-        bad = np.flatnonzero((seg < 0).any(axis=1) | (seg >= n_in).any(axis=1))
-        if bad.size:
-            k = int(bad[0])
+        if int(seg.min()) < 0 or int(seg.max()) >= n_in:
+            k = int(np.flatnonzero((seg < 0).any(axis=1) | (seg >= n_in).any(axis=1))[0])
             raise DomainError(f"segment {k} {tuple(seg[k].tolist())}: a vertex index is outside 0..{n_in - 1}")
-        same = np.flatnonzero(seg[:, 0] == seg[:, 1])
-        if same.size:
-            k = int(same[0])
+        loops = seg[:, 0] == seg[:, 1]
+        if loops.any():
+            k = int(np.flatnonzero(loops)[0])
             raise DomainError(f"segment {k} joins vertex {int(seg[k, 0])} to itself")
     hol = _real_rows(holes, "holes", 2)
     reg = _regions(regions)

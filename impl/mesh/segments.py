@@ -170,13 +170,7 @@ def split_at_vertices(
     if columns is None:
         columns = pred.filter_columns()
     on_of: dict[int, list[int]] = {}
-    start = 0
-    while start < m:
-        stop = start + 1
-        budget = int(count[start])
-        while stop < m and budget + int(count[stop]) <= _PAIR_BUDGET:
-            budget += int(count[stop])
-            stop += 1
+    for start, stop in _blocks(count):
         reps = count[start:stop]
         k = np.repeat(np.arange(start, stop), reps)  # each pair's segment, candidates in the order of by_x
         cand = by_x[lo[k] + (np.arange(k.size) - np.repeat(np.cumsum(reps) - reps, reps))]
@@ -186,7 +180,6 @@ def split_at_vertices(
             zero = orient_signs(pred, columns, a_all[k], b_all[k], cand) == 0
             for s, v in zip(k[zero].tolist(), cand[zero].tolist()):
                 on_of.setdefault(s, []).append(v)
-        start = stop
     if not on_of:
         return seg, origin, marks
     label = Labels(seg, origin, name)
@@ -248,13 +241,7 @@ def refuse_crossings(
     sorted_lo = lo_x[order]
     end = np.searchsorted(sorted_lo, hi_x[order], side="right")
     count = np.maximum(end - np.arange(m) - 1, 0)
-    start = 0
-    while start < m:
-        stop = start + 1
-        budget = int(count[start])
-        while stop < m and budget + int(count[stop]) <= _PAIR_BUDGET:
-            budget += int(count[stop])
-            stop += 1
+    for start, stop in _blocks(count):
         rows = np.arange(start, stop)
         reps = count[rows]
         first_pos = np.repeat(rows, reps)
@@ -276,7 +263,26 @@ def refuse_crossings(
                 s, t = min(s, t), max(s, t)
                 x, y = _crossing_point(verts, seg[s], seg[t])
                 raise DomainError(f"{label(s)} and {label(t)} cross at about ({x:.17g}, {y:.17g}) without a shared vertex")
+
+
+def _blocks(count: NDArray[np.intp]) -> list[tuple[int, int]]:
+    """Consecutive ranges ``[start, stop)`` of rows whose counts of pairs sum to at most :data:`_PAIR_BUDGET`
+    (a row over it alone); the pairs of the blocks in order are the pairs of all rows in order. O(m)."""
+    counts: list[int] = count.tolist()
+    m = len(counts)
+    if sum(counts) <= _PAIR_BUDGET:
+        return [(0, m)] if m else []
+    blocks: list[tuple[int, int]] = []
+    start = 0
+    while start < m:
+        stop = start + 1
+        budget = counts[start]
+        while stop < m and budget + counts[stop] <= _PAIR_BUDGET:
+            budget += counts[stop]
+            stop += 1
+        blocks.append((start, stop))
         start = stop
+    return blocks
 
 
 def _one_side(
