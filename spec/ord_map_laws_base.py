@@ -42,8 +42,9 @@ ORD_MAP_LAWS: dict[str, str] = {
     "remove": "remove(m, k) of a present key is (m', v) with find(m, k) = SOME v, k absent from m', "
     "numItems(m') = numItems(m) - 1 and every other item unchanged",
     "remove_absent": "remove(m, k) raises NotFound when k is absent from m",
-    "listItemsi": "listItemsi(m) is strictly increasing by Key.compare, agrees with find and has numItems(m) entries",
-    "listKeys": "listKeys(m) = the keys of listItemsi(m)",
+    "listItemsi": "listItemsi(m) is a fresh list, strictly increasing by Key.compare, that agrees with find "
+    "and has numItems(m) entries",
+    "listKeys": "listKeys(m) = the keys of listItemsi(m), a fresh list",
     "foldli": "foldli(f, init, m) applies f to the items of listItemsi(m) in increasing key order, threading the accumulator",
     "isEmpty": "isEmpty(m) exactly when numItems(m) = 0",
     "persistence": "every earlier version is unchanged by any later operation",

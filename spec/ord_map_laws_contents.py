@@ -8,8 +8,8 @@ which re-exports every law.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-from typing import TypeVar
+from collections.abc import Callable, Iterable
+from typing import Any, TypeVar
 
 from persistri.spec.ord_map import NotFound, OrdMap
 from persistri.spec.ord_map_laws_base import (
@@ -128,6 +128,21 @@ def law_listItemsi(s: OrdMap[K, V, M], m: M, probes: Iterable[K] = ()) -> None:
                 f"listItemsi(m) = {_r(items)} {'lists' if listed else 'does not list'} {_r(p)} "
                 f"but find(m, {_r(p)}) = {_show_option(o)}",
             )
+    _fresh_list(s, m, "listItemsi", s.listItemsi, items)
+
+
+def _fresh_list(s: OrdMap[K, V, M], m: M, law: str, listing: Callable[[M], Any], want: list[Any]) -> None:
+    """A list returned by ``listing(m)`` is the caller's: clearing it must leave ``m`` (and the next listing)
+    as it was.  A map that hands out a list it holds breaks persistence through any caller that sorts,
+    appends to or clears its result.  O(n)."""
+    got = listing(m)
+    if isinstance(got, list) and got:
+        got.clear()
+        again = list(listing(m))
+        if again != want or s.numItems(m) != len(want):
+            raise LawViolation(
+                law, f"{law}(m) returned a list that m itself holds: clearing it changed m to {_r(again)} (return a fresh list)"
+            )
 
 
 @_law("listKeys")
@@ -137,6 +152,7 @@ def law_listKeys(s: OrdMap[K, V, M], m: M) -> None:
     want = [k for k, _ in s.listItemsi(m)]
     if keys != want:
         raise LawViolation("listKeys", f"m = {_show(s, m)}: listKeys(m) = {_r(keys)}, want {_r(want)}")
+    _fresh_list(s, m, "listKeys", s.listKeys, keys)
 
 
 @_law("foldli")

@@ -49,6 +49,7 @@ __all__ = [
     "ancestor_mutating",
     "stale_find_cache",
     "shared_table",
+    "shared_listing",
     "BROKEN",
     "AT_SCALE",
     "MutatingMap",
@@ -58,6 +59,7 @@ __all__ = [
     "AncestorMutatingMap",
     "StaleFindCacheMap",
     "SharedTableMap",
+    "SharedListingMap",
 ]
 
 
@@ -481,10 +483,28 @@ class SharedTableMap(RedBlackDelegate):
         red_black._check(self._map(m))
 
 
+class SharedListingMap(_Delegating):
+    """A map is the list of its items, copied by every update; ``listItemsi`` returns that list itself, so a
+    caller that sorts, appends to or clears its result changes the version."""
+
+    def _wrap(self, inner: Any) -> Any:
+        return assoc_list.listItemsi(inner)
+
+    def _unwrap(self, m: Any) -> Any:
+        inner = assoc_list.empty()
+        for k, v in m:
+            inner = assoc_list.insert(inner, k, v)
+        return inner
+
+    def listItemsi(self, m: Any) -> list[tuple[Any, Any]]:
+        return m  # type: ignore[no-any-return]
+
+
 mutating = MutatingMap()
 lossy_remove = LossyRemoveMap()
 miscounting = MiscountingMap()
 bad_check = BadCheckMap()
+shared_listing = SharedListingMap()
 grows_mutating = GrowsMutatingMap()
 grows_mutating_late = GrowsMutatingLateMap()
 ancestor_mutating = AncestorMutatingMap()
@@ -496,6 +516,7 @@ BROKEN: dict[str, tuple[Any, str]] = {
     "lossy_remove": (lossy_remove, "remove"),
     "miscounting": (miscounting, "numItems_insert"),
     "bad_check": (bad_check, "invariants"),
+    "shared_listing": (shared_listing, "listItemsi"),
 }
 """Name → (broken structure, the law the suite must name) for the breaks hypothesis's small maps find."""
 
