@@ -81,3 +81,22 @@ def test_adjust_many_refuses_a_single_nan(backend: str) -> None:
     S = maps.backend(backend)
     with pytest.raises(ValueError):
         S.adjust_many(lambda a, b: b, _filled(S), [(NAN, "x")])
+
+
+@pytest.mark.parametrize("backend", ["hamt", "immutables", "pyrsistent"])
+@pytest.mark.parametrize(
+    "keys",
+    [(frozenset({1}), frozenset({2})), ((NAN,), (1.0,)), ((1.0,), (float("nan"),), (float("nan"),))],
+    ids=["sets", "nan-in-tuple", "two-nans-in-tuples"],
+)
+def test_a_hashing_map_never_lists_keys_that_do_not_order(backend: str, keys: tuple[Any, ...]) -> None:
+    """A hashing backend stores such keys apart (it never compares on insert); its listing, which must be
+    strictly increasing by ``<``, refuses them as the ordered backends refuse them on insert."""
+    pytest.importorskip(backend) if backend != "hamt" else None
+    S = maps.backend(backend)
+    m = S.empty()
+    for i, k in enumerate(keys):
+        m = S.insert(m, k, i)
+    for listing in (S.listItemsi, S.listKeys, lambda m: S.foldli(lambda k, v, a: a, None, m)):
+        with pytest.raises(ValueError, match=rf"{backend}: keys .* are neither '<' nor '=='"):
+            listing(m)

@@ -17,7 +17,7 @@ from collections.abc import Callable, Hashable
 from operator import itemgetter
 from typing import Any, Final, Generic, NamedTuple, Protocol, TypeAlias, TypeVar
 
-from persistri.impl.maps.keys import check_orderable, unorderable
+from persistri.impl.maps.keys import check_orderable, check_sorted_strictly, unorderable
 from persistri.spec.ord_map import NotFound
 from persistri.spec.order import Comparable
 
@@ -270,4 +270,5 @@ def _sorted_items(root: _Node) -> list[tuple[Any, Any]]:
         items.sort(key=_first)
     except TypeError as exc:
         raise TypeError(f"hamt: the keys of this map are not mutually ordered ({exc})") from None
+    check_sorted_strictly("hamt", [k for k, _ in items])
     return items

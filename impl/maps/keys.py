@@ -48,6 +48,16 @@ def check_same_key(owner: str, k: Any, y: Any) -> None:
         raise not_totally_ordered(owner, k, y)
 
 
+def check_sorted_strictly(owner: str, keys: Sequence[Any]) -> None:
+    """Raise :func:`not_totally_ordered`'s error unless each of ``keys`` (just sorted) is ``<`` the next: for
+    the hash-based maps, which never compare keys on insert, the listing is where two keys that ``<`` cannot
+    tell apart (sets under inclusion, tuples holding a NaN) show up.  O(len(keys))."""
+    for j in range(1, len(keys)):
+        a, b = keys[j - 1], keys[j]
+        if not a < b:
+            raise not_totally_ordered(owner, a, b)
+
+
 def not_ordered_with(owner: str, k: object, exc: TypeError) -> TypeError:
     """The error for a key ``k`` that does not order with the map's keys (``exc``: the comparison's own)."""
     return TypeError(f"{owner}: key {k!r} is not ordered with the keys of this map ({exc})")

@@ -35,7 +35,7 @@ from collections.abc import Hashable, Iterable
 from operator import itemgetter
 from typing import Any, Protocol, TypeVar
 
-from persistri.impl.maps.keys import check_orderable
+from persistri.impl.maps.keys import check_orderable, check_sorted_strictly
 
 __all__ = ["HashKey", "check_key", "sorted_items", "sorted_keys"]
 
@@ -68,14 +68,18 @@ def _unordered_keys(owner: str, exc: TypeError) -> TypeError:
 def sorted_items(owner: str, items: Iterable[tuple[K, V]]) -> list[tuple[K, V]]:
     """``items`` in increasing key order. O(n log n); a :class:`TypeError` naming ``owner`` if keys do not order."""
     try:
-        return sorted(items, key=_first)
+        out = sorted(items, key=_first)
     except TypeError as exc:
         raise _unordered_keys(owner, exc) from None
+    check_sorted_strictly(owner, [k for k, _ in out])
+    return out
 
 
 def sorted_keys(owner: str, keys: Iterable[K]) -> list[K]:
     """``keys`` in increasing order. O(n log n); a :class:`TypeError` naming ``owner`` if they do not order."""
     try:
-        return sorted(keys)
+        out = sorted(keys)
     except TypeError as exc:
         raise _unordered_keys(owner, exc) from None
+    check_sorted_strictly(owner, out)
+    return out
