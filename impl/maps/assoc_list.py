@@ -54,6 +54,11 @@ class AssocListMap(Generic[K, V]):
 
     __slots__ = ()
 
+    def __reduce__(self) -> str | tuple[type[AssocListMap[K, V]], tuple[()]]:
+        """Pickle the module's ``assoc_list`` by name, so that an unpickled complex (or map) is a value of
+        *that* structure (complexes compare their backends by identity); another instance by its class."""
+        return "assoc_list" if self is assoc_list else (type(self), ())
+
     name = "assoc_list"
 
     @property

@@ -149,6 +149,11 @@ class HamtMap(Generic[K, V]):
 
     __slots__ = ()
 
+    def __reduce__(self) -> str | tuple[type[HamtMap[K, V]], tuple[()]]:
+        """Pickle the module's ``hamt`` by name, so that an unpickled complex (or map) is a value of
+        *that* structure (complexes compare their backends by identity); another instance by its class."""
+        return "hamt" if self is hamt else (type(self), ())
+
     name = "hamt"
 
     @property

@@ -64,6 +64,11 @@ class ImmutablesMap(Generic[K, V]):
 
     __slots__ = ()
 
+    def __reduce__(self) -> str | tuple[type[ImmutablesMap[K, V]], tuple[()]]:
+        """Pickle the module's ``immutables_map`` by name, so that an unpickled complex (or map) is a value of
+        *that* structure (complexes compare their backends by identity); another instance by its class."""
+        return "immutables_map" if self is immutables_map else (type(self), ())
+
     name = _NAME
 
     @property

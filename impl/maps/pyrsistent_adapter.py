@@ -68,6 +68,11 @@ class PyrsistentMap(Generic[K, V]):
 
     __slots__ = ()
 
+    def __reduce__(self) -> str | tuple[type[PyrsistentMap[K, V]], tuple[()]]:
+        """Pickle the module's ``pyrsistent_map`` by name, so that an unpickled complex (or map) is a value of
+        *that* structure (complexes compare their backends by identity); another instance by its class."""
+        return "pyrsistent_map" if self is pyrsistent_map else (type(self), ())
+
     name = _NAME
 
     @property

@@ -133,6 +133,11 @@ class RedBlackMap(Generic[K, V]):
 
     __slots__ = ()
 
+    def __reduce__(self) -> str | tuple[type[RedBlackMap[K, V]], tuple[()]]:
+        """Pickle the module's ``red_black`` by name, so that an unpickled complex (or map) is a value of
+        *that* structure (complexes compare their backends by identity); another instance by its class."""
+        return "red_black" if self is red_black else (type(self), ())
+
     name = _NAME
 
     @property
