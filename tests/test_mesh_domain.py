@@ -352,3 +352,39 @@ def test_coordinates_too_large_for_the_refinement_are_refused_clearly() -> None:
             as_pslg(square + bad, ring)
     with pytest.raises(DomainError, match=r"holes row 0 .*2\^510"):
         as_pslg(square, ring, holes=[[1e200, 0.0]])
+
+
+# -- the validation's candidate blocks and its predicates ---------------------------------------------
+
+
+def test_blocks_of_candidate_pairs_change_nothing(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Splitting and the crossing sweep give the same PSLG, notes and first crossing in blocks of one pair."""
+    from persistri.impl.mesh import segments
+
+    # A square whose sides carry vertices (splits), an overlapping repeat, a crack and a cross-free interior.
+    verts = [[0, 0], [4, 0], [4, 4], [0, 4], [1, 0], [2, 0], [4, 2], [1, 1], [3, 3], [2, 2], [0, 2]]
+    segs = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [7, 9], [9, 8], [6, 9]]
+    crossing = segs + [[10, 8], [7, 3]]
+
+    def outcome() -> tuple[object, ...]:
+        p = as_pslg(verts, segs)
+        with pytest.raises(DomainError) as info:
+            as_pslg(verts, crossing)
+        return p.segments.tolist(), p.segment_origin.tolist() if p.segment_origin is not None else None, p.notes, str(info.value)
+
+    whole = outcome()
+    assert len(whole[2]) >= 3  # the sides were split and the repeat merged: the blocks have work to do
+    monkeypatch.setattr(segments, "_PAIR_BUDGET", 1)
+    assert outcome() == whole
+
+
+def test_validation_hands_its_predicates_to_the_mesher() -> None:
+    """``validate_dict``'s predicates are the vertices' (nothing appended), and a dictionary meshes as its PSLG."""
+    from persistri.impl.mesh.api import triangulate
+    from persistri.impl.mesh.domain import validate_dict
+
+    data = {"vertices": OUTER + INNER, "segments": RING8, "holes": [[1.5, 1.5]]}
+    pslg, pred = validate_dict(data)
+    assert len(pred) == pslg.vertices.shape[0] and np.array_equal(pred.points, pslg.vertices)
+    a, b = triangulate(data, min_angle=30), triangulate(pslg, min_angle=30)
+    assert np.array_equal(a.vertices, b.vertices) and np.array_equal(a.triangles, b.triangles)
