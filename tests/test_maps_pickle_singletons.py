@@ -41,3 +41,13 @@ def test_a_pickled_version_is_read_by_the_structure_that_made_it() -> None:
     assert sorted(S.items(v2)) == sorted(S.items(v))
     face = next(iter(dict(S.items(v2))))
     assert len(list(S.items(S.rem(v2, face)))) == len(list(S.items(v))) - 1
+
+
+def test_a_value_of_a_lookalike_structure_is_told_apart_in_words() -> None:
+    """Two backends of one class print alike; the error says why the complex is still foreign."""
+    from persistri.impl.complex.errors import ForeignComplexError
+    from persistri.impl.complex.simpcomp import complex_structure
+
+    A, B = complex_structure(2, maps.RedBlackMap()), complex_structure(2, maps.RedBlackMap())
+    with pytest.raises(ForeignComplexError, match=r"red_black\] built on other backend objects .* given to a structure"):
+        list(B.items(A.new(2)))

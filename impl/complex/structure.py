@@ -179,7 +179,10 @@ class ComplexStructure(Generic[D]):
         except AttributeError:
             raise ForeignComplexError(f"{what}: expected a complex, got {type(c).__name__}") from None
         if fam is not self.family and fam != self.family:
-            raise ForeignComplexError(f"{what}: a value of {fam!r} given to a structure of {self.family!r}")
+            mine, theirs = repr(self.family), repr(fam)
+            if mine == theirs:  # same names, other objects: e.g. a backend instance made apart from persistri.maps'
+                theirs += " built on other backend objects (another instance, or one unpickled without its module's)"
+            raise ForeignComplexError(f"{what}: a value of {theirs} given to a structure of {mine}")
         return rep, lin
 
     def _arg(self, s: Any, k: int, lin: Lineage | None, what: str) -> tuple[_Simplex, Lineage | None]:
