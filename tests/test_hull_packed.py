@@ -26,6 +26,7 @@ def _lists() -> list[np.ndarray]:
         rng.permutation(2000).astype(np.int32),  # unsorted
         runs.astype(np.int32),  # joined increasing parts, as the bulldozer makes them
         np.array([7, 8, 9, 3, 4, 5, 100, 101, 90], dtype=np.int32),
+        np.array([500, 372, 373, 501, 629, 1000, 1001, 1002], dtype=np.int32),  # gaps of -128, +127, +128
     ]
 
 
@@ -41,7 +42,11 @@ def test_runs_cost_a_byte_or_two() -> None:
     assert len(pack_points(np.arange(1000, dtype=np.int32))) < 40
     # 100 runs of 5 with gaps of 3: two int8 per run.
     pts = np.concatenate([np.arange(s, s + 5) for s in range(0, 800, 8)]).astype(np.int32)
-    assert len(pack_points(pts)) == 8 + 100 + 8 + 100
+    assert len(pack_points(pts)) == 12 + 100 + 12 + 100
+    # Gaps of 200 (an int16 escape: two bytes more) and -128 (the escape mark itself, escaped).
+    pts = np.array([1000, 1201, 1202, 1075, 1076], dtype=np.int32)
+    assert np.array_equal(unpack_points(pack_points(pts)), pts)
+    assert len(pack_points(pts)) == 12 + 3 * 2 + 3 + 12 + 3  # the first point (1000) escapes too
 
 
 @pytest.mark.parametrize("fid", [0, 1, 255, 256, 123456, ID_MASK])
@@ -63,6 +68,15 @@ def test_pack_face_round_trip(fid: int, n: int) -> None:
     assert pack_face(fid, fast) == d and pack_face(fid, list(pts) if n < KERNEL_BATCH else conflict) == d
     tup = (fid, conflict)
     assert face_id(tup) == fid and conflict_list(tup) is conflict
+
+
+@pytest.mark.parametrize("pts", [(0, 65535, 7), (0, 65536, 7), (2**31 - 1, 5), (70000, 4, 2**20)])
+def test_short_lists_near_and_far(pts: tuple[int, ...]) -> None:
+    # Within 65535 of the lowest point: uint16 offsets (two bytes a point), else int32 points; the same list.
+    d = pack_face(9, pts)
+    assert conflict_list(d) == pts and points_of(d) == list(pts) and face_id(d) == 9
+    near = max(pts) - min(pts) <= 0xFFFF
+    assert d.bit_length() <= 64 + 8 * ((4 + 2 * len(pts)) if near else 4 * len(pts))
 
 
 def test_pack_face_id_range() -> None:

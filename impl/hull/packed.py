@@ -6,9 +6,12 @@ Every version of a history keeps the data of its faces, so a face's datum
 ``history=True`` stores each datum as **one** plain ``int`` instead, whose bits are::
 
     bits 0-31    the face id
-    bits 32-63   2 × (bytes of the payload) + 1 if the list is long (run-coded)
-    bits 64-     the payload, little-endian: the points as int32 (a short list,
-                 below KERNEL_BATCH entries), or the long list's run code
+    bits 32-33   the payload's kind: 0 int32 points, 1 a run code, 2 offsets
+    bits 34-63   the payload's byte count
+    bits 64-     the payload, little-endian: a short list (below KERNEL_BATCH
+                 entries) as its lowest point (int32) and each point's uint16
+                 offset from it when they fit (spatial labels: near points),
+                 else as int32 points; a long list's run code
 
 A face whose list is empty is its id alone (28 bytes, against 84 for ``(id, ())``
 and its ``int``).  A long list — a read-only int32 array in a run without
@@ -18,8 +21,8 @@ spatially numbered points (Morton labels: a face's points lie near one another),
 and 79 % of the steps between consecutive points of a long list are +1 on
 InBall 256K.  Each run is its length and its gap (its first point minus the
 end of the run before it, negative at a join), both as int8, any value outside
-``-128 … 127`` stored apart as an ``(index, value)`` pair of int32 ("escapes"):
-0.7 bytes a point there, against 4.  Exact: decoding gives the same points in
+``-127 … 127`` marked ``-128`` and stored apart, in order, as int16 (int32 when
+one of the list's does not fit): 0.6 bytes a point there, against 4.  Exact: decoding gives the same points in
 the same order (:func:`unpack_points`: a cumulative sum, a repeat and a range).
 
 Read a datum of either form with :func:`face_id` and :func:`conflict_list` (the
@@ -49,8 +52,17 @@ __all__ = ["PackedFace", "pack_face", "face_id", "conflict_list", "points_of", "
 ID_MASK: Final = 0xFFFFFFFF
 """The face id's bits in a :class:`PackedFace` (``datum & ID_MASK``); ids are below 2**32."""
 
-_COUNTS: Final = struct.Struct("<2i")
-"""A coded int32 sequence starts with its length and its number of escapes (int32 each)."""
+_COUNTS: Final = struct.Struct("<3i")
+"""A coded int32 sequence starts with its length, its number of escapes and their width (int32 each)."""
+
+_INT32: Final = 0
+_RUNS: Final = 1
+_OFFSETS: Final = 2
+"""The payload's kind, bits 32-33 of a packed datum (bits 34-63: its byte count): a short list's points as
+int32, a long list's run code, or a short list's lowest point (int32) and each point's uint16 offset from it."""
+
+_ESCAPE: Final = -128
+"""The int8 that marks an escaped value (its value is in the escapes, in order)."""
 
 ListArray = NDArray[np.int32]
 
@@ -60,26 +72,30 @@ PackedFace = int
 
 
 def _code(values: ListArray) -> bytes:
-    """int32 ``values`` as int8, those outside ``-128 … 127`` as escapes: ``_COUNTS`` (values, escapes ``e``),
-    ``e`` int32 positions, ``e`` int32 values, then one int8 a value (0 at an escape). O(len(values))."""
+    """int32 ``values`` as int8, each outside ``-127 … 127`` an escape: ``_COUNTS`` (values, escapes ``e``, their
+    width ``w``: 2 if every escaped value fits int16, else 4), the ``e`` escaped values in order (``w`` bytes
+    each), then one int8 a value, ``-128`` at an escape. O(len(values))."""
     small = values.astype(np.int8)
-    bad = np.flatnonzero(small != values)
-    if bad.size:
-        small[bad] = 0
-        return b"".join((_COUNTS.pack(values.size, bad.size), bad.astype(np.int32).tobytes(), values[bad].tobytes(), small.tobytes()))
-    return _COUNTS.pack(values.size, 0) + small.tobytes()
+    bad = (small != values) | (small == _ESCAPE)
+    if bad.any():
+        small[bad] = _ESCAPE
+        escaped = values[bad]
+        narrow = escaped.astype(np.int16)
+        if np.array_equal(narrow, escaped):
+            return b"".join((_COUNTS.pack(values.size, escaped.size, 2), narrow.tobytes(), small.tobytes()))
+        return b"".join((_COUNTS.pack(values.size, escaped.size, 4), escaped.tobytes(), small.tobytes()))
+    return _COUNTS.pack(values.size, 0, 0) + small.tobytes()
 
 
 def _decode(code: bytes, off: int) -> tuple[ListArray, int]:
     """The int32 values :func:`_code` wrote at ``code[off:]``, and the offset after them. O(their number)."""
-    n, e = _COUNTS.unpack_from(code, off)
+    n, e, w = _COUNTS.unpack_from(code, off)
     off += _COUNTS.size
-    values = np.frombuffer(code, dtype=np.int8, count=n, offset=off + 8 * e).astype(np.int32)
+    small = np.frombuffer(code, dtype=np.int8, count=n, offset=off + w * e)
+    values = small.astype(np.int32)
     if e:
-        values[np.frombuffer(code, dtype=np.int32, count=e, offset=off)] = np.frombuffer(
-            code, dtype=np.int32, count=e, offset=off + 4 * e
-        )
-    return values, off + 8 * e + n
+        values[small == _ESCAPE] = np.frombuffer(code, dtype=np.int16 if w == 2 else np.int32, count=e, offset=off)
+    return values, off + w * e + n
 
 
 def pack_points(pts: ListArray) -> bytes:
@@ -123,11 +139,19 @@ def pack_face(fid: int, conflict: Any) -> PackedFace:
     kind = type(conflict)
     if kind is np.ndarray:
         code = pack_points(conflict)
-        return fid | (2 * len(code) + 1) << 32 | int.from_bytes(code, "little") << 64
-    if not len(conflict):
+        return fid | (4 * len(code) + _RUNS) << 32 | int.from_bytes(code, "little") << 64
+    k = len(conflict)
+    if not k:
         return fid
+    lo = min(conflict)
+    if max(conflict) - lo <= 0xFFFF:
+        # Near points (spatial labels): the lowest as int32, each as its uint16 offset from it.
+        meta = 4 * (4 + 2 * k) + _OFFSETS
+        half = array("H", (fid & 0xFFFF, fid >> 16, meta & 0xFFFF, meta >> 16, lo & 0xFFFF, lo >> 16))
+        half.fromlist([q - lo for q in conflict])
+        return int.from_bytes(half, "little")
     # The id, the byte count and the points as one uint32 array, read as one int (no shifts, no copy of the bytes).
-    words = array("I", (fid, 8 * len(conflict)))
+    words = array("I", (fid, 4 * 4 * k + _INT32))
     if kind is list:
         words.fromlist(conflict)
     elif kind is array:
@@ -137,26 +161,35 @@ def pack_face(fid: int, conflict: Any) -> PackedFace:
     return int.from_bytes(words, "little")
 
 
+def _short(datum: int, meta: int) -> list[int]:
+    """The points of a packed short list (``meta`` its bits 32-63). O(length)."""
+    code = datum.to_bytes(8 + (meta >> 2), "little")
+    if meta & 3 == _INT32:
+        return array("i", code)[2:].tolist()
+    half = array("H", code)
+    lo = half[4] | half[5] << 16
+    return [lo + x for x in half[6:]]
+
+
 def _unpack(datum: int) -> Any:
     """The conflict list of a packed datum, in its usual form: a tuple when short, else a read-only int32 array."""
     meta = (datum >> 32) & ID_MASK
     if not meta:
         return ()
-    code = (datum >> 64).to_bytes(meta >> 1, "little")
-    if meta & 1:
-        return unpack_points(code)
-    return tuple(array("i", code))
+    if meta & 3 == _RUNS:
+        return unpack_points((datum >> 64).to_bytes(meta >> 2, "little"))
+    return tuple(_short(datum, meta))
 
 
 def points_of(datum: int) -> Any:
-    """The conflict list of a packed datum as the bulldozer reads it: an int32 ``array`` when short (no tuple
-    made), else the read-only int32 array of :func:`unpack_points`. O(length)."""
+    """The conflict list of a packed datum as the bulldozer reads it: a ``list`` when short (no tuple made),
+    else the read-only int32 array of :func:`unpack_points`. O(length)."""
     meta = (datum >> 32) & ID_MASK
-    if meta & 1:
-        return unpack_points((datum >> 64).to_bytes(meta >> 1, "little"))
+    if meta & 3 == _RUNS:
+        return unpack_points((datum >> 64).to_bytes(meta >> 2, "little"))
     if not meta:
         return ()
-    return array("i", datum.to_bytes(8 + (meta >> 1), "little"))[2:]
+    return _short(datum, meta)
 
 
 def face_id(datum: Any) -> int:
