@@ -72,11 +72,10 @@ def test_pack_face_round_trip(fid: int, n: int) -> None:
 
 @pytest.mark.parametrize("pts", [(0, 65535, 7), (0, 65536, 7), (2**31 - 1, 5), (70000, 4, 2**20)])
 def test_short_lists_near_and_far(pts: tuple[int, ...]) -> None:
-    # Within 65535 of the lowest point: uint16 offsets (two bytes a point), else int32 points; the same list.
+    # Near or far apart, up to the largest int32: the same list, four bytes a point after the id and byte count.
     d = pack_face(9, pts)
-    assert conflict_list(d) == pts and points_of(d) == list(pts) and face_id(d) == 9
-    near = max(pts) - min(pts) <= 0xFFFF
-    assert d.bit_length() <= 64 + 8 * ((4 + 2 * len(pts)) if near else 4 * len(pts))
+    assert conflict_list(d) == pts and list(points_of(d)) == list(pts) and face_id(d) == 9
+    assert d.bit_length() <= 64 + 32 * len(pts)
 
 
 def test_pack_face_id_range() -> None:

@@ -6,12 +6,9 @@ Every version of a history keeps the data of its faces, so a face's datum
 ``history=True`` stores each datum as **one** plain ``int`` instead, whose bits are::
 
     bits 0-31    the face id
-    bits 32-33   the payload's kind: 0 int32 points, 1 a run code, 2 offsets
-    bits 34-63   the payload's byte count
-    bits 64-     the payload, little-endian: a short list (below KERNEL_BATCH
-                 entries) as its lowest point (int32) and each point's uint16
-                 offset from it when they fit (spatial labels: near points),
-                 else as int32 points; a long list's run code
+    bits 32-63   2 × (bytes of the payload) + 1 if the list is long (run-coded)
+    bits 64-     the payload, little-endian: the points as int32 (a short list,
+                 below KERNEL_BATCH entries), or the long list's run code
 
 A face whose list is empty is its id alone (28 bytes, against 84 for ``(id, ())``
 and its ``int``).  A long list — a read-only int32 array in a run without
@@ -54,12 +51,6 @@ ID_MASK: Final = 0xFFFFFFFF
 
 _COUNTS: Final = struct.Struct("<3i")
 """A coded int32 sequence starts with its length, its number of escapes and their width (int32 each)."""
-
-_INT32: Final = 0
-_RUNS: Final = 1
-_OFFSETS: Final = 2
-"""The payload's kind, bits 32-33 of a packed datum (bits 34-63: its byte count): a short list's points as
-int32, a long list's run code, or a short list's lowest point (int32) and each point's uint16 offset from it."""
 
 _ESCAPE: Final = -128
 """The int8 that marks an escaped value (its value is in the escapes, in order)."""
@@ -139,19 +130,11 @@ def pack_face(fid: int, conflict: Any) -> PackedFace:
     kind = type(conflict)
     if kind is np.ndarray:
         code = pack_points(conflict)
-        return fid | (4 * len(code) + _RUNS) << 32 | int.from_bytes(code, "little") << 64
-    k = len(conflict)
-    if not k:
+        return fid | (2 * len(code) + 1) << 32 | int.from_bytes(code, "little") << 64
+    if not len(conflict):
         return fid
-    lo = min(conflict)
-    if max(conflict) - lo <= 0xFFFF:
-        # Near points (spatial labels): the lowest as int32, each as its uint16 offset from it.
-        meta = 4 * (4 + 2 * k) + _OFFSETS
-        half = array("H", (fid & 0xFFFF, fid >> 16, meta & 0xFFFF, meta >> 16, lo & 0xFFFF, lo >> 16))
-        half.fromlist([q - lo for q in conflict])
-        return int.from_bytes(half, "little")
     # The id, the byte count and the points as one uint32 array, read as one int (no shifts, no copy of the bytes).
-    words = array("I", (fid, 4 * 4 * k + _INT32))
+    words = array("I", (fid, 8 * len(conflict)))
     if kind is list:
         words.fromlist(conflict)
     elif kind is array:
@@ -161,35 +144,26 @@ def pack_face(fid: int, conflict: Any) -> PackedFace:
     return int.from_bytes(words, "little")
 
 
-def _short(datum: int, meta: int) -> list[int]:
-    """The points of a packed short list (``meta`` its bits 32-63). O(length)."""
-    code = datum.to_bytes(8 + (meta >> 2), "little")
-    if meta & 3 == _INT32:
-        return array("i", code)[2:].tolist()
-    half = array("H", code)
-    lo = half[4] | half[5] << 16
-    return [lo + x for x in half[6:]]
-
-
 def _unpack(datum: int) -> Any:
     """The conflict list of a packed datum, in its usual form: a tuple when short, else a read-only int32 array."""
     meta = (datum >> 32) & ID_MASK
     if not meta:
         return ()
-    if meta & 3 == _RUNS:
-        return unpack_points((datum >> 64).to_bytes(meta >> 2, "little"))
-    return tuple(_short(datum, meta))
+    code = (datum >> 64).to_bytes(meta >> 1, "little")
+    if meta & 1:
+        return unpack_points(code)
+    return tuple(array("i", code))
 
 
 def points_of(datum: int) -> Any:
-    """The conflict list of a packed datum as the bulldozer reads it: a ``list`` when short (no tuple made),
-    else the read-only int32 array of :func:`unpack_points`. O(length)."""
+    """The conflict list of a packed datum as the bulldozer reads it: an int32 ``array`` when short (no tuple
+    made), else the read-only int32 array of :func:`unpack_points`. O(length)."""
     meta = (datum >> 32) & ID_MASK
-    if meta & 3 == _RUNS:
-        return unpack_points((datum >> 64).to_bytes(meta >> 2, "little"))
+    if meta & 1:
+        return unpack_points((datum >> 64).to_bytes(meta >> 1, "little"))
     if not meta:
         return ()
-    return _short(datum, meta)
+    return array("i", datum.to_bytes(8 + (meta >> 1), "little"))[2:]
 
 
 def face_id(datum: Any) -> int:
