@@ -33,6 +33,7 @@ MODULES = (
     "persistri/impl/geometry/kernel_split.py",
     "persistri/impl/hull/bulldozer.py",
     "persistri/impl/hull/conflicts.py",
+    "persistri/impl/hull/packed.py",
     "persistri/impl/maps/red_black_tree.py",
     "persistri/impl/maps/red_black_adjust.py",
     "persistri/impl/maps/red_black_arena_tree.py",
@@ -50,7 +51,8 @@ MODULES = (
     "persistri/impl/terrain/greedy_run.py",
     "persistri/impl/terrain/plane_errors.py",
 )
-"""The modules compiled: the bulldozer's insertion loop and its conflict-list helpers, the predicate
+"""The modules compiled: the bulldozer's insertion loop and its conflict-list helpers (and the packed face
+data of a run that keeps its history), the predicate
 kernel it calls (and its split), and the inner functions of the persistent structures it changes — the red-black
 tree's node algorithms, its batched update (with the fused insertion of ``replace``'s new vertex), the
 same two for the arena red-black tree (the backend for keeping histories, ``red_black_arena``), the
