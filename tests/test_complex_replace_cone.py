@@ -337,3 +337,48 @@ def test_the_delaunay_checks_its_cones_against_replace(points: np.ndarray) -> No
     checked = delaunay(points, seed=1, check=True)
     plain = delaunay(points, seed=1)
     assert np.array_equal(checked.triangles, plain.triangles)
+
+
+@pytest.mark.parametrize("name,angle", [("circle", 30), ("comb", 30), ("fan", 20), ("utm-tile", 33)])
+def test_the_meshs_insertions_are_cones_and_their_versions_replaces(
+    name: str, angle: float, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The mesh's insertions with no triangle beyond and no deletion before (impl/mesh/triangulation.py's
+    ``build``) go to replace_cone, and each is a cone (group_cone takes it); every version of the run, list for
+    list and tree for tree, is that of the same run through replace_trusted, and a checked run (replace_cone
+    against replace at every step) makes the same mesh."""
+    from persistri.impl.mesh import api as mesh_api
+    from persistri.impl.mesh import triangulation
+    from persistri.impl.mesh.gallery import gallery_domain
+
+    pslg = gallery_domain(name).pslg
+    cones: list[bool] = []
+    real_cone = triangulation.replace_cone
+
+    def spied(S: Any, c: Any, removed: list[Any], added: list[Any]) -> Any:
+        try:
+            group_cone(removed, added, c[2])
+            cones.append(True)
+        except Unbatched:
+            cones.append(False)
+        return real_cone(S, c, removed, added)
+
+    monkeypatch.setattr(triangulation, "replace_cone", spied)
+    mesh = mesh_api.triangulate(pslg, min_angle=angle)
+    assert cones and all(cones) and len(cones) <= mesh.insertions
+    monkeypatch.setattr(triangulation, "replace_cone", triangulation.replace_trusted)
+    model = mesh_api.triangulate(pslg, min_angle=angle)
+    S, R = mesh.history.structure, model.history.structure
+    assert len(mesh.history) == len(model.history) == mesh.insertions + 1
+    for c, d in zip(mesh.history, model.history):
+        assert lists_of(S, c) == lists_of(R, d)
+    monkeypatch.setattr(triangulation, "replace_cone", real_cone)
+    checked_class = triangulation.MeshTriangulation
+
+    def checked(pred: Any, structure: Any) -> Any:
+        return checked_class(pred, structure, check=True)
+
+    monkeypatch.setattr(mesh_api, "MeshTriangulation", checked)
+    again = mesh_api.triangulate(pslg, min_angle=angle)
+    assert again.history.structure is not S
+    assert [lists_of(again.history.structure, c) for c in again.history] == [lists_of(S, c) for c in mesh.history]

@@ -60,7 +60,7 @@ from __future__ import annotations
 from operator import itemgetter
 from typing import Any, Literal
 
-from persistri.impl.complex.replace import replace_trusted, same_replace
+from persistri.impl.complex.replace import replace_cone, replace_trusted, same_replace
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Lineage, Vertex, VertexState
@@ -412,23 +412,31 @@ class MeshTriangulation:
             crossing = edge_key(split[0], split[1])
             created.append((gt, self.new_datum(EXTERIOR, tuple(k for k in gd[2] if (k[0], k[1]) != crossing))))
         if before is None:
-            version = self._replace(c, list(map(itemgetter(0), removed)), created)  # no comprehension frame
+            # With no triangle beyond, created is the cone from vp over the cavity's boundary cycle in order (its
+            # ghosts last when open), as the scattered Delaunay's fan: replace_cone groups it from the cycle.
+            gone = list(map(itemgetter(0), removed))  # no comprehension frame
+            version = self._replace(c, gone, created, beyond is None)
         else:
             gone, made = before.then(removed, tuple(created))
             version = self._replace(before.base, gone, made)
         return Insertion(version, removed, tuple(created))
 
-    def _replace(self, c: Complex[MeshDatum], removed: list[Tri], added: list[tuple[Tri, MeshDatum]]) -> Complex[MeshDatum]:
+    def _replace(
+        self, c: Complex[MeshDatum], removed: list[Tri], added: list[tuple[Tri, MeshDatum]], cone: bool = False
+    ) -> Complex[MeshDatum]:
         """``self.S.replace(c, removed, added)``: through the 2-complex's entry for algorithms that pass two lists
         (:func:`~persistri.impl.complex.replace.replace_trusted`, compiled on the twin; the same version), compared
-        with the public ``replace`` when :attr:`check` is on.  A structure without that entry (the CDT's scratch
-        triangulation, a counted structure) gets its own ``replace``.  O(V_t·lg V + Σ δ) as ``replace``."""
+        with the public ``replace`` when :attr:`check` is on.  ``cone``: ``added`` is the cone from a new vertex over
+        the cycle of ``removed``'s boundary in order, through
+        :func:`~persistri.impl.complex.replace.replace_cone` (grouped from the cycle; anything else it hands on to
+        ``replace_trusted``).  A structure without that entry (the CDT's scratch triangulation, a counted
+        structure) gets its own ``replace``.  O(V_t·lg V + Σ δ) as ``replace``."""
         S = self.S
         if not self._trusted:
             return S.replace(c, removed, added)
-        done: Complex[MeshDatum] = replace_trusted(S, c, removed, added)
+        done: Complex[MeshDatum] = (replace_cone if cone else replace_trusted)(S, c, removed, added)
         if self.check and not same_replace(S, done, S.replace(c, removed, added), removed, added):
-            raise MeshError("internal: replace_trusted differs from replace")
+            raise MeshError(f"internal: {'replace_cone' if cone else 'replace_trusted'} differs from replace")
         return done
 
     # -- deletion and location: persistri.impl.mesh.deletion, persistri.impl.mesh.walk ---------------
