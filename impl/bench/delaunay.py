@@ -76,7 +76,7 @@ def terrain_build() -> str:
     by mypyc)"`` naming those of them imported as extension modules (``tools/compiled_twin.py``): the 2D kernel
     and the triangulator's modules, and the persistent structures' inner modules, which the twin compiles for
     the hull and a terrain run spends a third of its time in."""
-    from persistri.impl.complex import replace, vertex_lists
+    from persistri.impl.complex import replace, vertex_changes, vertex_lists
     from persistri.impl.geometry import kernel2d
     from persistri.impl.maps import red_black_adjust, red_black_tree
     from persistri.impl.terrain import cavity, greedy_run, plane_errors, sectors
@@ -84,7 +84,7 @@ def terrain_build() -> str:
 
     mods = (
         kernel2d, triangulator, cavity, sectors, greedy_run, plane_errors,
-        red_black_tree, red_black_adjust, replace, vertex_lists,
+        red_black_tree, red_black_adjust, replace, vertex_lists, vertex_changes,
     )
     compiled = [m.__name__.rsplit(".", 1)[1] for m in mods if not str(m.__file__).endswith(".py")]
     return f"compiled twin ({', '.join(compiled)} by mypyc)" if compiled else "interpreted"
