@@ -91,6 +91,9 @@ def test_versions_share_structure() -> None:
         ({"max_area": 0.0}, ValueError, "max_area"),
         ({"max_area": float("nan")}, ValueError, "max_area"),
         ({"backend": "nope"}, Exception, "backend"),
+        ({"encroachment": "bad"}, ValueError, "encroachment must be 'lens'"),  # no refinement runs: still refused
+        ({"encroachment": "bad", "min_angle": 20}, ValueError, "encroachment must be 'lens'"),
+        ({"max_steiner": -1}, ValueError, "max_steiner must be a nonnegative integer"),
     ],
 )
 def test_bad_arguments_are_one_line_errors(kwargs: dict[str, object], error: type[Exception], match: str) -> None:

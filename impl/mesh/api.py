@@ -346,10 +346,7 @@ def _refine_run(
     area = _area(max_area)
     regs = run.domain.regions
     region_area = {r + 1: Fraction(float(regs[r, 3])) for r in range(regs.shape[0]) if regs[r, 3] > 0}
-    if max_steiner is not None and (isinstance(max_steiner, bool) or not isinstance(max_steiner, int) or max_steiner < 0):
-        raise ValueError(f"max_steiner must be a nonnegative integer or None, got {max_steiner!r}")
-    if encroachment not in ("lens", "circle"):
-        raise ValueError(f"encroachment must be 'lens' (Chew's, Triangle's default) or 'circle' (Ruppert's), not {encroachment!r}")
+    _refinement_options(max_steiner, encroachment)
     refiner = Refiner(
         run.T,
         run.geo,
@@ -403,6 +400,15 @@ def _check(mesh: QualityMesh) -> None:
         raise AssertionError(f"check=True: the mesh fails the exact checker ({len(report.problems)} problems; first: {first})")
 
 
+def _refinement_options(max_steiner: object, encroachment: object) -> None:
+    """Raise :class:`ValueError` for a ``max_steiner`` or ``encroachment`` that :func:`triangulate` and
+    :func:`refine` do not take. O(1)."""
+    if max_steiner is not None and (isinstance(max_steiner, bool) or not isinstance(max_steiner, int) or max_steiner < 0):
+        raise ValueError(f"max_steiner must be a nonnegative integer or None, got {max_steiner!r}")
+    if encroachment not in ("lens", "circle"):
+        raise ValueError(f"encroachment must be 'lens' (Chew's, Triangle's default) or 'circle' (Ruppert's), not {encroachment!r}")
+
+
 def triangulate(
     domain: PSLG | Mapping[str, Any],
     *,
@@ -450,6 +456,7 @@ def triangulate(
     a split on a subsegment with no double on it).  Expected
     O(n log n) for the CDT, then O(lg n) complex work per insertion.
     """
+    _refinement_options(max_steiner, encroachment)  # checked even when no refinement runs
     pslg, pred = _as_domain(domain)
     bound = AngleBound.of(min_angle)
     _area(max_area)
