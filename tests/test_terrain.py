@@ -328,6 +328,7 @@ def test_verification_detects_a_wrong_error() -> None:
         (np.array([[1.0, np.inf], [0.0, 0.0]]), ValueError, "infinite"),
         (np.array([[1.0, 1e300], [0.0, 0.0]]), ValueError, r"cell \(row 0, col 1\) is 1e\+300, beyond"),
         (np.array([[1.0, np.nan], [np.nan, 0.0]]), ValueError, r"2 no-data cells \(NaN\), the first at \(row 0, col 1\)"),
+        (np.where(np.arange(2500).reshape(50, 50) < 1234, np.nan, 1.0), ValueError, r"1,234 no-data cells \(NaN\), the first at \(row 0, col 0\)"),
         (np.full((3, 3), np.nan), ValueError, "every cell is no-data"),
     ],
 )

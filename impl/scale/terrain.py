@@ -110,7 +110,7 @@ class MissingHeights(ValueError):
     def __init__(self, name: str, count: int, first: tuple[int, int]) -> None:
         self.name, self.count, self.first = name, count, first
         super().__init__(
-            f"{name}: {count} no-data cell{'s' if count != 1 else ''} (NaN), the first at (row {first[0]}, col "
+            f"{name}: {count:,} no-data cell{'s' if count != 1 else ''} (NaN), the first at (row {first[0]}, col "
             f"{first[1]}); say how to treat them with nodata='fill', 'min' or a height"
         )
 

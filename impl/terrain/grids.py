@@ -238,7 +238,7 @@ def as_heights(
     if isinstance(nodata, str):
         if nodata == "error":
             raise ValueError(
-                f"{what}: {count} no-data cell{'s' if count != 1 else ''} (NaN), the first at (row {r}, col {c}); "
+                f"{what}: {count:,} no-data cell{'s' if count != 1 else ''} (NaN), the first at (row {r}, col {c}); "
                 "say how to treat them with nodata='fill', 'min' or a height"
             )
         if nodata == "fill":
