@@ -38,6 +38,7 @@ from persistri.impl.hull.bulldozer import (
     initial_tetrahedron,
     triangle_array,
 )
+from persistri.impl.flags import flag
 from persistri.impl.hull.errors import DegenerateInputError
 from persistri.impl.hull.packed import conflict_list
 from persistri.impl.hull.slivers import remove_slivers
@@ -235,6 +236,7 @@ def convex_hull(
 
     Expected O(n lg n) time (Theorem 11, §3).
     """
+    check, history, stepwise = flag("check", check), flag("history", history), flag("stepwise", stepwise)
     arr = as_points(points, 3)
     if labels not in ("spatial", "input"):
         raise ValueError(f"convex_hull: labels must be 'spatial' or 'input', got {labels!r}")

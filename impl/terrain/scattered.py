@@ -47,6 +47,7 @@ from numpy.typing import ArrayLike, NDArray
 from persistri.impl.collector import collector_paused
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
+from persistri.impl.flags import flag
 from persistri.impl.geometry.points import as_points, unique_rows
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.maps import backend as map_backend
@@ -320,6 +321,7 @@ def delaunay(
     ``ValueError``) for fewer than 3 distinct points or all of them collinear.
     Expected O(n log n).
     """
+    check, history = flag("check", check), flag("history", history)
     arr = as_points(points_xy, 2, what="points_xy")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
         raise TypeError(f"seed must be an integer, not {type(seed).__name__}")
