@@ -94,6 +94,9 @@ def test_versions_share_structure() -> None:
         ({"encroachment": "bad"}, ValueError, "encroachment must be 'lens'"),  # no refinement runs: still refused
         ({"encroachment": "bad", "min_angle": 20}, ValueError, "encroachment must be 'lens'"),
         ({"max_steiner": -1}, ValueError, "max_steiner must be a nonnegative integer"),
+        ({"check": "yes"}, TypeError, "check must be True or False, not str 'yes'"),
+        ({"offcenters": "no", "min_angle": 20}, TypeError, "offcenters must be True or False"),
+        ({"exact_segments": 1}, TypeError, "exact_segments must be True or False, not int 1"),
     ],
 )
 def test_bad_arguments_are_one_line_errors(kwargs: dict[str, object], error: type[Exception], match: str) -> None:

@@ -42,6 +42,7 @@ from persistri.impl.collector import collector_paused
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.versions import Versions
 from persistri.impl.complex.two_complex import TwoComplex
+from persistri.impl.flags import flag
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.maps import backend as map_backend
 from persistri.impl.mesh.cdt import SegmentGeometry, constrained_delaunay
@@ -346,7 +347,7 @@ def _refine_run(
     area = _area(max_area)
     regs = run.domain.regions
     region_area = {r + 1: Fraction(float(regs[r, 3])) for r in range(regs.shape[0]) if regs[r, 3] > 0}
-    _refinement_options(max_steiner, encroachment)
+    _refinement_options(max_steiner, encroachment, check=check, offcenters=offcenters, exact_segments=exact_segments)
     refiner = Refiner(
         run.T,
         run.geo,
@@ -400,9 +401,12 @@ def _check(mesh: QualityMesh) -> None:
         raise AssertionError(f"check=True: the mesh fails the exact checker ({len(report.problems)} problems; first: {first})")
 
 
-def _refinement_options(max_steiner: object, encroachment: object) -> None:
+def _refinement_options(max_steiner: object, encroachment: object, **flags: object) -> None:
     """Raise :class:`ValueError` for a ``max_steiner`` or ``encroachment`` that :func:`triangulate` and
-    :func:`refine` do not take. O(1)."""
+    :func:`refine` do not take, and :class:`TypeError` for a yes/no argument (``flags``, by name) that is
+    not a bool (:func:`~persistri.impl.flags.flag`). O(1)."""
+    for name, value in flags.items():
+        flag(name, value)
     if max_steiner is not None and (isinstance(max_steiner, bool) or not isinstance(max_steiner, int) or max_steiner < 0):
         raise ValueError(f"max_steiner must be a nonnegative integer or None, got {max_steiner!r}")
     if encroachment not in ("lens", "circle"):
@@ -456,7 +460,9 @@ def triangulate(
     a split on a subsegment with no double on it).  Expected
     O(n log n) for the CDT, then O(lg n) complex work per insertion.
     """
-    _refinement_options(max_steiner, encroachment)  # checked even when no refinement runs
+    _refinement_options(  # checked even when no refinement runs
+        max_steiner, encroachment, check=check, offcenters=offcenters, exact_segments=exact_segments
+    )
     pslg, pred = _as_domain(domain)
     bound = AngleBound.of(min_angle)
     _area(max_area)
