@@ -84,6 +84,8 @@ def verify_hull(
     orientation tests, and a walk per input point (short when points are
     spatially coherent).
     """
+    if isinstance(max_problems, bool) or not isinstance(max_problems, (int, np.integer)) or max_problems < 1:
+        raise ValueError(f"max_problems must be a positive integer, got {max_problems!r}")
     pts = as_points(points, 3)
     tri = np.asarray(simplices)
     rep = HullReport()

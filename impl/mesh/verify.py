@@ -89,6 +89,7 @@ The report and its problems (:class:`MeshReport`, :class:`MeshProblem`,
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Mapping
 from fractions import Fraction
 from typing import Any
@@ -141,8 +142,13 @@ def verify_mesh(
     (Triangle's; module docstring).  Returns a
     :class:`MeshReport`; ``report.raise_if_failed()`` raises with every problem
     kept.  The module docstring lists the checks and proves them sufficient.
-    Raises :class:`ValueError` only for a bad ``min_angle`` or ``max_area``.
+    Raises :class:`ValueError` (a value) or :class:`TypeError` (not a real number) only for a bad
+    ``min_angle``, ``max_area`` or ``rounding_ulps``.
     """
+    bounds: tuple[tuple[str, object], ...] = (("min_angle", min_angle), ("max_area", max_area), ("rounding_ulps", rounding_ulps))
+    for name, bound in bounds:  # typed float, but called from untyped code too
+        if (bound is not None or name == "rounding_ulps") and (isinstance(bound, bool) or not isinstance(bound, numbers.Real)):
+            raise TypeError(f"{name} must be a real number, not {type(bound).__name__}")
     if min_angle is not None and not (math.isfinite(min_angle) and 0.0 <= min_angle <= 60.0):
         raise ValueError(f"min_angle must be between 0 and 60 degrees, got {min_angle}")
     if max_area is not None and not (math.isfinite(max_area) and max_area > 0):
