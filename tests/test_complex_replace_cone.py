@@ -161,25 +161,6 @@ def test_a_cavity_and_its_cone_is_replace_list_for_list() -> None:
     assert lists_of(C, c) == before
 
 
-@pytest.mark.parametrize("make", [m for _, m in TWO_COMPLEXES], ids=IDS)
-@given(batch=batches)
-def test_replace_cone_is_replace_on_any_change(make: Make, batch: Any) -> None:
-    """Any change (mostly not cones: replace_trusted or replace decide) on every 2-complex: the same outcome."""
-    removed_ix, added_ix = batch
-    vs = fresh(N_VERTS + 3)
-    removed = [tuple(vs[i] for i in t) for t in removed_ix]
-    added = [(tuple(vs[i] for i in t), x) for t, x in added_ix]
-    C = make(2)
-    R = make(2)
-    c = build(C, vs, ICOSA)
-    before = items_of(C, c)
-    want = outcome(lambda: items_of(R, R.replace(build(R, vs, ICOSA), removed, added)))
-    got = outcome(lambda: items_of(C, replace_cone(C, c, removed, added)))
-    assert got == want
-    if got[0] != "ok" or type(C) is TwoComplex:
-        assert items_of(C, c) == before
-
-
 def _icosa_cavity(vs: list[Any]) -> tuple[list[Any], list[Any]]:
     """Two adjacent triangles of the icosahedron (no interior vertex) and their boundary cycle."""
     t0 = ICOSA[0]

@@ -19,7 +19,7 @@ from hypothesis import given
 from complex_helpers import Make, build, fresh
 from test_complex_replace import ICOSA, IDS, N_VERTS, TWO_COMPLEXES, batches, items_of, outcome
 from persistri.impl.complex import two_complex
-from persistri.impl.complex.replace import replace_trusted, same_replace
+from persistri.impl.complex.replace import replace_cone, replace_trusted, same_replace
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.trace_record import TracingTwoComplex
 from persistri.impl.complex.two_complex import TwoComplex
@@ -27,9 +27,12 @@ from persistri.impl.maps.red_black import red_black
 from persistri.impl.stats import Stats
 
 
+@pytest.mark.parametrize("entry", [replace_trusted, replace_cone], ids=["replace_trusted", "replace_cone"])
 @pytest.mark.parametrize("make", [m for _, m in TWO_COMPLEXES], ids=IDS)
 @given(batch=batches)
-def test_replace_trusted_is_replace(make: Make, batch: Any) -> None:
+def test_replace_trusted_is_replace(entry: Any, make: Make, batch: Any) -> None:
+    """Any change (for ``replace_cone`` mostly not a cone: ``replace_trusted`` or ``replace`` decide), on every
+    2-complex: the same outcome as the public ``replace``, and the operand unchanged."""
     removed_ix, added_ix = batch
     vs = fresh(N_VERTS + 3)
     removed = [tuple(vs[i] for i in t) for t in removed_ix]
@@ -39,7 +42,7 @@ def test_replace_trusted_is_replace(make: Make, batch: Any) -> None:
     c = build(C, vs, ICOSA)
     before = items_of(C, c)
     want = outcome(lambda: items_of(R, R.replace(build(R, vs, ICOSA), removed, added)))
-    got = outcome(lambda: items_of(C, replace_trusted(C, c, removed, added)))
+    got = outcome(lambda: items_of(C, entry(C, c, removed, added)))
     assert got == want
     if got[0] != "ok" or type(C) is TwoComplex:
         assert items_of(C, c) == before
