@@ -144,6 +144,13 @@ V = TypeVar("V")
 B = TypeVar("B")
 
 
+def _refuse_nan(k: Any) -> None:
+    """Refuse a new key unequal to itself (a NaN): hashing would keep each NaN apart, but no order can list them,
+    and ``find`` could never reach one (a present key is found by ``is`` or ``==``). O(1)."""
+    if k != k:
+        raise not_totally_ordered("hamt", k, k)
+
+
 class HamtMap(Generic[K, V]):
     """``structure HamtMap : ORD_MAP``: Bagwell's hash array mapped trie (see the module docstring)."""
 
@@ -191,17 +198,18 @@ class HamtMap(Generic[K, V]):
             h = hash(k)
         except TypeError:
             raise _unhashable(k) from None
-        if k != k:  # a NaN: hashing would keep each NaN apart, but no order can list them
-            raise not_totally_ordered("hamt", k, k)
         grew: list[bool] = []
         try:
             root = _update(m[1], h, k, f, v, grew)
         except _Absent:
             return self._insert(m, k, v, f, h)
+        if grew:
+            _refuse_nan(k)
         return _new_map(HMap, (m[0] + 1 if grew else m[0], root))
 
     def _insert(self, m: HMap[K, V], k: K, v: V, f: Callable[[V, V], V], h0: int) -> HMap[K, V]:
         """Path-copying insertion: walk down to ``k``'s slot, change it, rebuild the path upwards."""
+        _refuse_nan(k)
         size, node = m
         h = h0
         path: list[tuple[_Node, int]] = []

@@ -171,10 +171,7 @@ class RedBlackMap(Generic[K, V]):
             new = _tree.ins(t, k, v)
         except TypeError as exc:
             raise _key_error(k, exc) from None
-        if new is None:
-            found: Tree[K, V] = _tree.search(t, k)
-            if found is not None:  # found: not a NaN taken for another key
-                check_same_key(_NAME, k, found[2])
+        if new is None:  # present (ins checked that the key found is == k)
             return (n, _tree.replace(t, k, v))
         if new[0] is RED:
             new = (BLACK, new[1], new[2], new[3], new[4])

@@ -166,10 +166,7 @@ class ArenaRedBlackMap(Generic[K, V]):
             new = _tree.ins(A, t, k, v)
         except TypeError as exc:
             raise _key_error(k, exc) from None
-        if not new:
-            found = _tree.search(A, t, k)
-            if found:  # found: not a NaN taken for another key
-                check_same_key(_NAME, k, A.key[A.item[found]])
+        if not new:  # present (ins checked that the key found is == k)
             return (n, _tree.replace(A, t, k, v), A)
         return (n + 1, _blacken_new(A, new), A)
 

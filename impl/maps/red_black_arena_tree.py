@@ -305,6 +305,8 @@ def ins(A: Arena, t: int, k: Any, v: Any) -> int:
                 return _balance_right(A, A.left[t], yi, n)
             return A.node(BLACK, A.left[t], yi, n)
         return A.node(RED, A.left[t], yi, n)
+    if y is not k and not y == k:  # neither '<' nor '==': a NaN, say, is no key of the map
+        raise not_totally_ordered(_NAME, k, y)
     return NIL
 
 

@@ -112,7 +112,8 @@ def find(m: tuple[Any, ...], k: Any) -> tuple[Any, ...] | None:
 
 
 def ins(t: Tree, k: Any, v: Any) -> Node | None:
-    """Okasaki's ``ins``: ``t`` with a new red leaf ``k ↦ v``, or None when ``k`` is already in ``t``.
+    """Okasaki's ``ins``: ``t`` with a new red leaf ``k ↦ v``, or None when ``k`` is already in ``t``
+    (a :class:`ValueError` when the key met is neither ``<``, ``>`` nor ``==`` ``k``: ``not_totally_ordered``).
 
     The result keeps the black height of ``t``; its root may be red with a red
     child (only when ``t``'s root was red), which the caller above repairs.
@@ -150,6 +151,8 @@ def ins(t: Tree, k: Any, v: Any) -> Node | None:
                 # balance B a x (T R b y (T R c z d)) = T R (T B a x b) y (T B c z d)
                 return (RED, (BLACK, a, y, yv, nl), n[2], n[3], (BLACK, nr[1], nr[2], nr[3], nr[4]))
         return (c, a, y, yv, n)
+    if y is not k and not y == k:  # neither '<' nor '==': a NaN, say, is no key of the map
+        raise not_totally_ordered(_NAME, k, y)
     return None
 
 
