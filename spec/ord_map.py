@@ -77,7 +77,14 @@ class OrdMap(Protocol[K, V, M]):
         ...
 
     def insert(self, m: M, k: K, v: V, /) -> M:
-        """``insert (m, k, v)``: ``m`` with ``k ↦ v``, replacing any earlier value of ``k``."""
+        """``insert (m, k, v)``: ``m`` with ``k ↦ v``, replacing any earlier value of ``k``.
+
+        A key is replaced by any key that ``Key.compare`` calls EQUAL.  Which of two
+        equal but distinguishable key objects (``1``, ``1.0``, ``True``) the result
+        stores is not part of the signature, and no law checks it: persistri's own
+        backends store ``k``, as SML/NJ's ``RedBlackMapFn`` does, the adapters for
+        ``immutables`` and ``pyrsistent`` keep the stored key, as ``dict`` does.
+        """
         ...
 
     def insertWith(self, f: Callable[[V, V], V], m: M, k: K, v: V, /) -> M:
