@@ -134,7 +134,9 @@ class TiffSource:
             log.disabled = quiet
         out = _as_float(raw, self.path, r0, c0)
         if self.nodata is not None:
-            out[out == self.nodata] = np.nan
+            from persistri.impl.terrain.geotiff import nodata_cells  # in the band's type, as GDAL compares
+
+            out[nodata_cells(raw, self.nodata)] = np.nan
         return out
 
 

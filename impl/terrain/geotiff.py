@@ -23,11 +23,12 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from persistri.impl.terrain.crs import crs_from_geokeys
 from persistri.impl.terrain.grids import GridTransform, HeightGrid, _float_heights
 
-__all__ = ["read_geotiff"]
+__all__ = ["nodata_cells", "read_geotiff"]
 
 
 def read_geotiff(path: Path) -> HeightGrid:
@@ -68,8 +69,33 @@ def read_geotiff(path: Path) -> HeightGrid:
             value = float(str(nodata).strip().strip("\x00"))
         except ValueError:
             raise ValueError(f"{path}: GDAL_NODATA tag is not a number: {nodata!r}") from None
-        heights[heights == value] = np.nan
+        heights[nodata_cells(data, value)] = np.nan
     return HeightGrid(heights, _tiff_transform(path, geokeys), str(path))
+
+
+def nodata_cells(data: NDArray[Any], value: float) -> NDArray[np.bool_]:
+    """The cells of the band ``data`` that hold the no-data ``value`` (the GDAL_NODATA tag, as a double). O(size).
+
+    As GDAL reads the tag: the value is first converted to the band's own type, and the
+    cells are compared in that type.  A float32 band written with the tag
+    ``-3.4028235e+38`` (float32's lowest value, printed as a float32) or ``-9999.9``
+    holds float32 cells that equal no double of that spelling: compared as doubles,
+    no cell would match and the no-data cells would become heights.  An integer band
+    matches only an integral value within its range (``-9999.5`` matches no cell).
+    """
+    if data.dtype.kind == "f":
+        with np.errstate(over="ignore"):
+            cast = np.asarray(value, dtype=np.float64).astype(data.dtype)
+        if np.isinf(cast) and not np.isinf(value):  # beyond the band's range: no cell can hold it
+            return np.zeros(data.shape, dtype=np.bool_)
+        cells: NDArray[np.bool_] = data == cast
+        return cells
+    if data.dtype.kind in "iu" and np.isfinite(value) and value == int(value):
+        info = np.iinfo(data.dtype)
+        if info.min <= int(value) <= info.max:
+            ints: NDArray[np.bool_] = data == data.dtype.type(int(value))
+            return ints
+    return np.zeros(data.shape, dtype=np.bool_)
 
 
 def _codec_name(page: Any) -> str:

@@ -1,0 +1,73 @@
+"""A new user's third pass (H7, 2026-11-28, round 3): files of other programs, each case failed before its fix.
+
+Wrong answers first: a no-data cell kept as a height, a region's number written where Triangle
+writes its attribute.  Then valid files refused with a misleading line.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from persistri.impl.terrain.grids import read_grid
+
+
+def _geotiff(path: Path, heights: np.ndarray, nodata: str) -> Path:
+    tifffile = pytest.importorskip("tifffile")
+    tifffile.imwrite(
+        path,
+        heights,
+        extratags=[
+            (33550, "d", 3, (10.0, 10.0, 0.0)),  # ModelPixelScale
+            (33922, "d", 6, (0.0, 0.0, 0.0, 500000.0, 4000000.0, 0.0)),  # ModelTiepoint
+            (42113, "s", 0, nodata, False),  # GDAL_NODATA
+        ],
+        photometric="minisblack",
+    )
+    return path
+
+
+@pytest.mark.parametrize(
+    ("dtype", "fill", "tag"),
+    [
+        # float32's lowest value, its tag as numpy and rasterio print a float32: as a double it is another number.
+        (np.float32, float(np.finfo(np.float32).min), str(np.finfo(np.float32).min)),
+        (np.float32, -9999.9, "-9999.9"),  # float32(-9999.9) == -9999.900390625 as a double
+        (np.float32, 1e20, "1e+20"),
+        (np.float64, -9999.9, "-9999.9"),  # a double band: the tag's double itself
+        (np.int16, -32768, "-32768.0"),
+    ],
+)
+def test_geotiff_nodata_is_compared_in_the_band_type(tmp_path: Path, dtype: type, fill: float, tag: str) -> None:
+    # Before: the tag was compared as a double with the cells widened to doubles, so a float32 band's
+    # no-data cells (float32(-3.4028235e+38) is not the double -3.4028235e+38) became heights of -3.4e38,
+    # and `persistri terrain` meshed them as vertices.
+    heights = np.arange(30, dtype=np.float64).reshape(5, 6).astype(dtype)
+    heights[1, 2] = fill
+    heights[4, 5] = fill
+    g = read_grid(_geotiff(tmp_path / "dem.tif", heights, tag))
+    assert np.isnan(g.heights).sum() == 2 and np.isnan(g.heights[1, 2]) and np.isnan(g.heights[4, 5])
+    assert np.nanmax(np.abs(g.heights)) == 28.0  # 29 was the no-data cell (4, 5)
+
+
+def test_geotiff_nodata_that_the_band_cannot_hold_matches_nothing(tmp_path: Path) -> None:
+    ints = np.arange(30, dtype=np.int16).reshape(5, 6)
+    assert not np.isnan(read_grid(_geotiff(tmp_path / "a.tif", ints, "3.5")).heights).any()  # not integral
+    assert not np.isnan(read_grid(_geotiff(tmp_path / "b.tif", ints, "70000")).heights).any()  # beyond int16
+    floats = np.arange(30, dtype=np.float32).reshape(5, 6)
+    assert not np.isnan(read_grid(_geotiff(tmp_path / "c.tif", floats, "1e300")).heights).any()  # beyond float32
+    assert np.isnan(read_grid(_geotiff(tmp_path / "d.tif", floats, "7")).heights).sum() == 1
+
+
+def test_tiled_terrain_reads_the_same_nodata_cells(tmp_path: Path) -> None:
+    # `persistri terrain dem.tif --tile` reads its windows through another reader, which had the same comparison.
+    pytest.importorskip("zarr")
+    from persistri.impl.scale.terrain_source import open_dem
+
+    heights = np.arange(30, dtype=np.float32).reshape(5, 6)
+    heights[1, 2] = np.finfo(np.float32).min
+    path = _geotiff(tmp_path / "dem.tif", heights, str(np.finfo(np.float32).min))
+    window = open_dem(path).source.read(0, 5, 0, 6)
+    assert np.array_equal(np.isnan(window), np.isnan(read_grid(path).heights)) and np.isnan(window).sum() == 1
