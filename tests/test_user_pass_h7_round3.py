@@ -71,3 +71,49 @@ def test_tiled_terrain_reads_the_same_nodata_cells(tmp_path: Path) -> None:
     path = _geotiff(tmp_path / "dem.tif", heights, str(np.finfo(np.float32).min))
     window = open_dem(path).source.read(0, 5, 0, 6)
     assert np.array_equal(np.isnan(window), np.isnan(read_grid(path).heights)) and np.isnan(window).sum() == 1
+
+
+_TWO_REGIONS = """# two regions, a wall between them, Triangle's regional attributes 7 and -2.5
+6 2 0 0
+1 0 0
+2 10 0
+3 10 10
+4 0 10
+5 5 0
+6 5 10
+7 0
+1 1 5
+2 5 2
+3 2 3
+4 3 6
+5 6 4
+6 4 1
+7 5 6
+0
+2
+1 1 1 7 0
+2 9 1 -2.5 0
+"""
+
+
+@pytest.mark.parametrize("min_angle", ["0", "25"])
+def test_mesh_ele_carries_the_regional_attribute_as_triangle_does(tmp_path: Path, min_angle: str) -> None:
+    # Before: the .ele's attribute column held each triangle's region number (1, 2), where Triangle's -A
+    # writes the region's attribute (7, -2.5): a side-by-side comparison with Triangle's output disagreed.
+    from cli_contract import invoke
+
+    from persistri.impl.mesh.polyfile import read_mesh
+
+    (tmp_path / "two.poly").write_text(_TWO_REGIONS)
+    result, _ = invoke(["mesh", str(tmp_path / "two.poly"), "--min-angle", min_angle, "-o", str(tmp_path / "out.ele"), "--quiet"])
+    assert result.exit_code == 0, result.output
+    node, ele = read_mesh(tmp_path / "out.ele")
+    assert ele.attributes is not None
+    centroid_x = node.vertices[ele.triangles].mean(axis=1)[:, 0]
+    assert np.array_equal(ele.attributes[:, 0], np.where(centroid_x < 5, 7.0, -2.5))
+    triangle = pytest.importorskip("triangle")
+    from persistri.impl.mesh.polyfile import read_poly
+
+    d = read_poly(tmp_path / "two.poly")
+    theirs = triangle.triangulate({"vertices": d.vertices, "segments": d.segments, "regions": d.regions}, "pA")
+    assert set(theirs["triangle_attributes"][:, 0]) == set(ele.attributes[:, 0]) == {7.0, -2.5}

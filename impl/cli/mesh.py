@@ -174,7 +174,10 @@ def _write_triangle_files(path: Path, mesh: QualityMesh, first_number: int) -> N
         vertices=mesh.vertices, segments=mesh.segments, holes=d.holes, regions=d.regions, segment_markers=markers
     )
     write_poly(path.with_suffix(".poly"), segments, first_number=first_number, node_file=True)
-    attributes = mesh.regions.astype(np.float64) if d.regions.shape[0] else None
+    attributes = None
+    if d.regions.shape[0]:
+        # Triangle's -A: each triangle carries its region's attribute (0 outside every region), not the region's number.
+        attributes = np.where(mesh.regions > 0, np.asarray(d.regions[:, 2])[np.maximum(mesh.regions - 1, 0)], 0.0)
     write_ele(path, mesh.triangles, attributes=attributes, first_number=first_number)
 
 
