@@ -2,12 +2,14 @@
 
 The text rules of persistri's point and grid files (:mod:`persistri.impl.files`):
 numbers separated by commas, semicolons, tabs or spaces (the delimiter is the
-first of ``;`` ``,`` tab found on the first data line, else whitespace; a number
-with a decimal comma, ``0,5``, is named as such, never read nor skipped), any
+first of ``;`` ``,`` tab found on the first data line, else whitespace — also for
+columns aligned with spaces and tabs mixed; a delimiter that ends every row,
+``1,2,3,``, is dropped; a number with a decimal comma, ``0,5``, is named as
+such, never read nor skipped), any
 number of leading header lines (lines whose first — or first chosen — field is
 not a number, e.g. ``x,y,z``), ``#`` comments (whole lines or after the numbers),
 blank lines, Windows line ends, a UTF-8 byte-order mark and fields in double
-quotes (``"1","2","3"``, as spreadsheets export them), read by
+quotes (``"1","2","3"`` or ``"1", "2", "3"``, as spreadsheets export them), read by
 :func:`numpy.loadtxt`.  Columns are chosen by number or by the header's names
 (:data:`Fields`); without a choice a header naming ``x`` and ``y`` (and ``z``)
 among other columns picks those (:data:`XY_NAMES`).  A bad row is found by
@@ -52,7 +54,22 @@ def _delimiter(line: str) -> str | None:
     ``0,5;1;2``, as spreadsheets write them where the comma is the decimal sign), which are then named as such.
     """
     data = line.split("#", 1)[0]  # a comment after the numbers may hold any of them
-    return next((d for d in (";", ",", "\t") if d in data), None)
+    found = next((d for d in (";", ",", "\t") if d in data), None)
+    if found == "\t" and any(len(field.split()) > 1 for field in data.split("\t")):
+        return None  # columns aligned with spaces and tabs mixed ("1.5   2.5\t 3"): whitespace separates them
+    return found
+
+
+def _normalised(lines: Sequence[str], delimiter: str | None) -> list[str]:
+    """Data lines as :func:`numpy.loadtxt` reads them: blanks before a quoted field dropped (``"1", "2"``), and
+    a delimiter that ends every line (``1,2,3,``, as some exporters write rows) removed.  O(total length)."""
+    if delimiter is None:
+        return list(lines)
+    out = [re.sub(rf'(^|{re.escape(delimiter)})\s+"', r'\1"', line) if '"' in line else line for line in lines]
+    bodies = [line.split("#", 1)[0].rstrip() for line in out]
+    if all(body.endswith(delimiter) for body in bodies):
+        out = [body[: -len(delimiter)] for body in bodies]
+    return out
 
 
 def _loadtxt(lines: Sequence[str], delimiter: str | None, usecols: Sequence[int] | None = None) -> NDArray[np.float64]:
@@ -222,10 +239,15 @@ def read_text(
         if usecols is not None:
             raise InputFileError(path, f"no {what}: column {usecols[0]} holds no number on any line")
         shown = "a header line" if headers == 1 else f"{headers} lines of text"
-        raise InputFileError(path, f"no {what}: {shown} and no row of numbers")
+        opening = lines[content[0]].strip()
+        raise InputFileError(
+            path,
+            f"no {what}: {shown} and no row of numbers separated by commas, semicolons, tabs or spaces "
+            f"(line {content[0] + 1}: {quote(opening)})",
+        )
     numbers = content[headers:]
-    data = [lines[i] for i in numbers]
-    delimiter = _delimiter(data[0])
+    delimiter = _delimiter(lines[numbers[0]])
+    data = _normalised([lines[i] for i in numbers], delimiter)
     first = numbers[0] + 1
     try:
         width = _loadtxt(data[:1], delimiter, usecols).shape[1]

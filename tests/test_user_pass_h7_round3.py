@@ -117,3 +117,58 @@ def test_mesh_ele_carries_the_regional_attribute_as_triangle_does(tmp_path: Path
     d = read_poly(tmp_path / "two.poly")
     theirs = triangle.triangulate({"vertices": d.vertices, "segments": d.segments, "regions": d.regions}, "pA")
     assert set(theirs["triangle_attributes"][:, 0]) == set(ele.attributes[:, 0]) == {7.0, -2.5}
+
+
+_POINTS = [(0.25, 0.5, 0.75), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0), (1.5, 2.5, 3.5)]
+
+
+@pytest.mark.parametrize(
+    ("name", "row", "header"),
+    [
+        # columns aligned with spaces and a tab: the tab was taken for the delimiter, every line for a header
+        # ("no points: 5 lines of text and no row of numbers").
+        ("aligned.xyz", "   {}    {}\t {}  ", ""),
+        ("aligned_tab_first.txt", "{}\t   {}   {}", ""),
+        # a delimiter ending every row (some exporters): "an empty field" without a header line.
+        ("trailing.csv", "{},{},{},", ""),
+        ("trailing_semicolon.csv", "{};{};{};", ""),
+        ("trailing_crlf.csv", "{},{},{},\r", ""),
+        # a blank after the delimiter, before a quoted field: '""0.5"" is not a number'.
+        ("quoted_spaced.csv", '"{}", "{}", "{}"', '"x", "y", "z"\n'),
+        ("quoted_leading.csv", '  "{}","{}","{}"', ""),
+    ],
+)
+def test_valid_text_points_are_read(tmp_path: Path, name: str, row: str, header: str) -> None:
+    from persistri.impl.files import read_points
+
+    path = tmp_path / name
+    path.write_text(header + "".join(row.format(*p) + "\n" for p in _POINTS), newline="")
+    assert np.array_equal(read_points(path), np.array(_POINTS))
+
+
+def test_a_trailing_delimiter_on_some_rows_only_is_still_an_empty_field(tmp_path: Path) -> None:
+    from persistri.impl.files import InputFileError, read_points
+
+    path = tmp_path / "ragged.csv"
+    path.write_text("0,0,0,\n1,0,0\n0,1,0,\n0,0,1,\n")
+    with pytest.raises(InputFileError, match=r"line 1: an empty field"):
+        read_points(path)
+
+
+def test_a_tab_separated_file_with_an_empty_field_is_still_named(tmp_path: Path) -> None:
+    from persistri.impl.files import InputFileError, read_points
+
+    path = tmp_path / "tabs.txt"
+    path.write_text("0\t0\t0\n1\t\t0\n")
+    with pytest.raises(InputFileError, match=r"line 2: an empty field"):
+        read_points(path)
+
+
+def test_no_row_of_numbers_shows_the_first_line(tmp_path: Path) -> None:
+    # Was "no points: 3 lines of text and no row of numbers": it did not say what was read, nor what is accepted.
+    from persistri.impl.files import InputFileError, read_points
+
+    path = tmp_path / "pipes.txt"
+    path.write_text("0|0|0\n1|0|0\n0|1|0\n")
+    with pytest.raises(InputFileError, match=r"3 lines of text and no row of numbers separated by commas, semicolons, tabs or spaces \(line 1: \"0\|0\|0\"\)"):
+        read_points(path)
