@@ -4,7 +4,7 @@ Point inputs (:func:`read_points`):
 
 * ``.npy`` — an ``(n, d)`` array of reals (integers must be exact in float64;
   object arrays are never unpickled);
-* ``.csv`` / ``.xyz`` / ``.txt`` — text, one point per line, by the rules of
+* ``.csv`` / ``.xyz`` / ``.txt`` (or gzip-compressed, ``.xyz.gz``) — text, one point per line, by the rules of
   :mod:`persistri.impl.text_tables` (delimiters, header lines, ``#`` comments);
   columns are chosen by number or by the header's names (``fields``); without a
   choice a header naming ``x`` and ``y`` (and ``z``) among other columns picks
@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from persistri.impl.file_errors import InputFileError, os_error, quote, widths
 from persistri.impl.geometry.points import as_points
-from persistri.impl.text_tables import Fields, read_text, read_text_table
+from persistri.impl.text_tables import Fields, read_text, read_text_table, text_of
 
 __all__ = [
     "POINT_FORMATS",
@@ -239,6 +239,10 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None, fields: 
     suffix = p.suffix.lower()
     if p.is_symlink() and not p.exists():
         raise InputFileError(p, f"a broken symbolic link (to {p.readlink()})")
+    if suffix == ".gz":  # points.xyz.gz: text is read through gzip (text_tables), nothing else is
+        suffix = Path(p.stem).suffix.lower()
+        if suffix not in TEXT_FORMATS:
+            raise InputFileError(p, f"a gzip-compressed {suffix or 'file'}: persistri decompresses text only ({', '.join(t + '.gz' for t in TEXT_FORMATS)}); decompress it first")
     if suffix not in POINT_FORMATS:
         raise InputFileError(p, f"unknown point format {suffix or '(no extension)'}; use one of {', '.join(POINT_FORMATS)}")
     try:
@@ -284,7 +288,7 @@ def _check_columns(columns: object) -> None:
 def _overflow_note(path: Path, line: int) -> str:
     """Where line ``line`` of ``path`` spells no inf or nan, its infinity is a number too large for a double
     (``1e400``): say so, with the line as written.  Read again on this error path only; O(file)."""
-    text = path.read_text(encoding="utf-8-sig", errors="replace").splitlines()[line - 1]
+    text = text_of(path).replace("\r\n", "\n").replace("\r", "\n").split("\n")[line - 1]
     if re.search(r"inf|nan", text, re.IGNORECASE):
         return ""
     return f": a number beyond the largest double (about 1.8e308) in {quote(text.strip())}"

@@ -8,7 +8,8 @@ columns aligned with spaces and tabs mixed; a delimiter that ends every row,
 such, never read nor skipped), any
 number of leading header lines (lines whose first — or first chosen — field is
 not a number, e.g. ``x,y,z``), ``#`` comments (whole lines or after the numbers),
-blank lines, Windows line ends, a UTF-8 byte-order mark and fields in double
+blank lines, Windows line ends, a UTF-8 byte-order mark (or UTF-16 text with its
+byte-order mark; a gzip-compressed file is decompressed first) and fields in double
 quotes (``"1","2","3"`` or ``"1", "2", "3"``, as spreadsheets export them), read by
 :func:`numpy.loadtxt`.  Columns are chosen by number or by the header's names
 (:data:`Fields`); without a choice a header naming ``x`` and ``y`` (and ``z``)
@@ -18,7 +19,9 @@ halving (:func:`_first_bad`) and reported with its line number in the file.
 
 from __future__ import annotations
 
+import gzip
 import re
+import zlib
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -27,13 +30,22 @@ from numpy.typing import NDArray
 
 from persistri.impl.file_errors import InputFileError, os_error, quote, widths
 
-__all__ = ["Fields", "XY_NAMES", "read_text", "read_text_table"]
+__all__ = ["Fields", "XY_NAMES", "read_text", "read_text_table", "text_of"]
 
 
 def _decode(path: Path, raw: bytes) -> str:
-    """The text of a point file: UTF-8 (a byte-order mark is dropped); binary files are refused by name."""
+    """The text of a point file: UTF-8, or UTF-16 after its byte-order mark (as Windows PowerShell writes
+    files), a gzip stream decompressed first; binary files are refused by name."""
+    if raw[:2] == b"\x1f\x8b":  # gzip's magic number: points.xyz.gz
+        try:
+            raw = gzip.decompress(raw)
+        except (OSError, EOFError, zlib.error) as exc:
+            raise InputFileError(path, f"a damaged gzip file ({str(exc) or type(exc).__name__})") from None
     if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):
-        raise InputFileError(path, "UTF-16 text; save it as UTF-8 (or plain ASCII)")
+        try:
+            return raw.decode("utf-16")
+        except UnicodeDecodeError as exc:
+            raise InputFileError(path, f"not UTF-16 text after its byte-order mark (at offset {exc.start})") from None
     nul = raw.find(b"\x00")
     if nul >= 0:
         raise InputFileError(path, f"a binary file, not text (a NUL byte at offset {nul})")
@@ -41,6 +53,11 @@ def _decode(path: Path, raw: bytes) -> str:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InputFileError(path, f"not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start})") from None
+
+
+def text_of(path: Path) -> str:
+    """The text of the file ``path`` by the rules of :func:`_decode` (UTF-8 or UTF-16 with its mark, gzip). O(size)."""
+    return _decode(path, path.read_bytes())
 
 
 _DECIMAL_COMMA = re.compile(r"\s*[+-]?\d*,\d+\s*")
@@ -222,7 +239,7 @@ def read_text(
     that names ``x`` and ``y`` (and maybe ``z``) among other columns selects
     those (:data:`XY_NAMES`), else every column is read.
     """
-    text = _decode(path, path.read_bytes())
+    text = text_of(path)
     lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
     content = [i for i, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#")]
     if not content:

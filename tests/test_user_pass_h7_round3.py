@@ -172,3 +172,49 @@ def test_no_row_of_numbers_shows_the_first_line(tmp_path: Path) -> None:
     path.write_text("0|0|0\n1|0|0\n0|1|0\n")
     with pytest.raises(InputFileError, match=r"3 lines of text and no row of numbers separated by commas, semicolons, tabs or spaces \(line 1: \"0\|0\|0\"\)"):
         read_points(path)
+
+
+def _xyz_text() -> str:
+    return "x,y,z\r\n" + "".join(f"{a},{b},{c}\r\n" for a, b, c in _POINTS)
+
+
+@pytest.mark.parametrize("encoding", ["utf-16", "utf-16-le", "utf-16-be"])
+def test_utf16_text_with_its_mark_is_read(tmp_path: Path, encoding: str) -> None:
+    # Windows PowerShell 5's `Out-File` and `>` write UTF-16 with a byte-order mark: was refused ("save it as UTF-8").
+    from persistri.impl.files import read_points
+
+    path = tmp_path / "points.csv"
+    mark = {"utf-16": b"", "utf-16-le": b"\xff\xfe", "utf-16-be": b"\xfe\xff"}[encoding]
+    path.write_bytes(mark + _xyz_text().encode(encoding))
+    assert np.array_equal(read_points(path), np.array(_POINTS))
+
+
+def test_gzip_text_points_and_grids_are_read(tmp_path: Path) -> None:
+    # Was "unknown point format .gz" from the command and the library alike.
+    import gzip
+
+    from cli_contract import invoke
+
+    from persistri.impl.files import InputFileError, read_points
+
+    (tmp_path / "points.xyz.gz").write_bytes(gzip.compress(_xyz_text().encode()))
+    assert np.array_equal(read_points(tmp_path / "points.xyz.gz"), np.array(_POINTS))
+    result, _ = invoke(["hull", str(tmp_path / "points.xyz.gz"), "-o", str(tmp_path / "h.npz")])
+    assert result.exit_code == 0, result.output
+    (tmp_path / "points.xyz").write_text(_xyz_text())
+    plain, _ = invoke(["hull", str(tmp_path / "points.xyz"), "-o", str(tmp_path / "plain.npz")])
+    assert np.array_equal(np.load(tmp_path / "h.npz")["simplices"], np.load(tmp_path / "plain.npz")["simplices"])
+    (tmp_path / "heights.csv.gz").write_bytes(gzip.compress(b"1,2,3\n4,5,6\n7,8,10\n"))
+    assert np.array_equal(read_grid(tmp_path / "heights.csv.gz").heights, [[1, 2, 3], [4, 5, 6], [7, 8, 10]])
+    result, _ = invoke(["terrain", str(tmp_path / "heights.csv.gz"), "--max-points", "4", "-o", str(tmp_path / "t.npz")])
+    assert result.exit_code == 0, result.output
+    # a truncated stream, a line beyond a double's range (read again on the error path, through gzip too)
+    (tmp_path / "cut.xyz.gz").write_bytes(gzip.compress(_xyz_text().encode())[:25])
+    with pytest.raises(InputFileError, match=r"cut\.xyz\.gz: a damaged gzip file"):
+        read_points(tmp_path / "cut.xyz.gz")
+    (tmp_path / "big.xyz.gz").write_bytes(gzip.compress(b"0 0 0\n1e400 0 0\n0 1 0\n0 0 1\n"))
+    with pytest.raises(InputFileError, match=r"line 2: .*beyond the largest double .* \"1e400 0 0\""):
+        read_points(tmp_path / "big.xyz.gz")
+    (tmp_path / "p.npy.gz").write_bytes(gzip.compress(b"\x93NUMPY"))
+    with pytest.raises(InputFileError, match=r"a gzip-compressed \.npy: .*decompress it first"):
+        read_points(tmp_path / "p.npy.gz")

@@ -105,6 +105,10 @@ def check_input(path: Path, formats: Sequence[str], *, kind: str, words: Sequenc
     if path.is_dir():
         fail(f"{path}: a directory, not a file")
     suffix = path.suffix.lower()
+    from persistri.impl.files import TEXT_FORMATS
+
+    if suffix == ".gz" and Path(path.stem).suffix.lower() in set(formats) & set(TEXT_FORMATS):
+        suffix = Path(path.stem).suffix.lower()  # points.xyz.gz: the text readers decompress it
     if suffix not in formats:
         also = f" or {', '.join(words)}" if words else ""
         fail(f"{path}: unknown {kind} format {_extension(path)}; use one of {_formats(formats)}{also}")

@@ -39,7 +39,7 @@ def delaunay_command(
     show_stats: bool,
     quiet: bool,
 ) -> None:
-    """The exact Delaunay triangulation of the points in INPUT (.npy, .csv/.xyz/.txt: rows of x,y or x,y,z;
+    """The exact Delaunay triangulation of the points in INPUT (.npy, .csv/.xyz/.txt, also .gz: rows of x,y or x,y,z;
     a header naming x, y (z) among other columns picks those, --columns any two or three; .ply: the
     vertices' x, y, z).
 

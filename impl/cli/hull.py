@@ -109,7 +109,8 @@ def hull(
     the arrays points (the input as read), simplices and vertices (input row indices).
     Text input: one point x y z per line, separated by commas, semicolons, tabs
     or spaces; header lines, # comments and blank lines are skipped; a header
-    naming x, y, z among other columns picks those, --columns any three.
+    naming x, y, z among other columns picks those, --columns any three; UTF-8
+    or UTF-16 with its byte-order mark, or gzip-compressed (points.xyz.gz).
 
     On a Dask cluster (--workers N, --scheduler ADDR) the points are hulled chunk by
     chunk on the workers and the chunk hulls merged: exactly the same hull.  A .npy is

@@ -21,7 +21,7 @@ Inputs (:func:`read_grid`):
   ``xllcenter``, ``yllcorner`` or ``yllcenter``, ``cellsize`` or ``dx``/``dy``,
   optional ``NODATA_value``; rows from north to south, which become rows 0, 1, …),
   and its CRS from the ``.prj`` file of the same name beside it, if there is one;
-* ``.csv`` / ``.txt`` — text, one row of heights per line, every row as long
+* ``.csv`` / ``.txt`` (or gzip-compressed, ``.csv.gz``) — text, one row of heights per line, every row as long
   (the text rules of the point files, :mod:`persistri.impl.files`: commas,
   semicolons, tabs or spaces; header lines, ``#`` comments; ``nan`` is no-data).
   A ragged row is an error naming its line.  A table of exactly three columns
@@ -379,6 +379,8 @@ def read_grid(source: str | Path) -> HeightGrid:
     if path.is_dir():
         raise ValueError(f"{path}: a directory, not a file")
     suffix = path.suffix.lower()
+    if suffix == ".gz" and Path(path.stem).suffix.lower() in (".csv", ".txt"):
+        suffix = Path(path.stem).suffix.lower()  # heights.csv.gz: the text reader decompresses it
     if suffix == ".npy":
         from persistri.impl.files import read_npy
 
