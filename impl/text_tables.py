@@ -128,6 +128,10 @@ def _what_is_wrong(line: str, delimiter: str | None, width: int, usecols: Sequen
     try:
         alone = _loadtxt([line], delimiter, usecols)
     except ValueError as exc:
+        tokens = line.split("#", 1)[0].split()
+        if delimiter == "," and len(tokens) > 1 and all(_DECIMAL_COMMA.fullmatch(t) for t in tokens):
+            # "0,5<TAB>1,5": decimal commas between tabs or spaces, which the comma's role as delimiter splits apart
+            return f"numbers with decimal commas ({quote(tokens[0])}) separated by tabs or spaces: persistri reads decimal points, 0.5"
         field = re.search(r"could not convert string '(.*)' to", str(exc))
         if field is None:
             if usecols is not None and "invalid column index" in str(exc):

@@ -218,3 +218,14 @@ def test_gzip_text_points_and_grids_are_read(tmp_path: Path) -> None:
     (tmp_path / "p.npy.gz").write_bytes(gzip.compress(b"\x93NUMPY"))
     with pytest.raises(InputFileError, match=r"a gzip-compressed \.npy: .*decompress it first"):
         read_points(tmp_path / "p.npy.gz")
+
+
+@pytest.mark.parametrize("separator", ["\t", " "])
+def test_decimal_commas_between_tabs_are_named(tmp_path: Path, separator: str) -> None:
+    # German Excel's "Text (tab-delimited)": the comma was taken for the delimiter, and the line said '"5\t1" is not a number'.
+    from persistri.impl.files import InputFileError, read_points
+
+    path = tmp_path / "points.txt"
+    path.write_text("".join(separator.join(f"{v:.1f}".replace(".", ",") for v in p) + "\n" for p in _POINTS))
+    with pytest.raises(InputFileError, match=r"line 1: numbers with decimal commas \(\"0,2\"\) separated by tabs or spaces: .*decimal points"):
+        read_points(path)
