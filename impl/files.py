@@ -104,7 +104,17 @@ def _read_npy(path: Path, mmap: bool) -> NDArray[Any]:
             raise InputFileError(path, f"a damaged .npy header ({str(exc).splitlines()[0]})") from None
     if dtype.hasobject:
         raise InputFileError(path, "holds Python objects (a pickled array); persistri never unpickles: save numbers")
-    if dtype.kind not in "biuf" or dtype.fields is not None:
+    if dtype.fields is not None:  # a record per row (PDAL, a laspy point record): the columns are not ours to guess
+        names = list(dtype.names or ())
+        shown = ", ".join(names[:6]) + (", …" if len(names) > 6 else "")
+        first = names[:3] if len(names) >= 3 else names
+        stack = ", ".join(f"a[{n!r}]" for n in first)
+        raise InputFileError(
+            path,
+            f"a structured array (a record per row, fields {shown}), not an array of numbers: save the numbers "
+            f"as a plain array, e.g. np.column_stack([{stack}])",
+        )
+    if dtype.kind not in "biuf":
         raise InputFileError(path, f"holds {dtype} values, not real numbers")
     expected = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
     held = path.stat().st_size - offset

@@ -229,3 +229,16 @@ def test_decimal_commas_between_tabs_are_named(tmp_path: Path, separator: str) -
     path.write_text("".join(separator.join(f"{v:.1f}".replace(".", ",") for v in p) + "\n" for p in _POINTS))
     with pytest.raises(InputFileError, match=r"line 1: numbers with decimal commas \(\"0,2\"\) separated by tabs or spaces: .*decimal points"):
         read_points(path)
+
+
+def test_a_structured_npy_says_how_to_save_the_numbers(tmp_path: Path) -> None:
+    # Was "holds [('x', '<f8'), ('y', '<f8'), ('z', '<f8'), ('intensity', '<u2')] values, not real numbers": the
+    # fields are real numbers, what is wrong is the record layout (PDAL's arrays, a point record).
+    from persistri.impl.files import InputFileError, read_points
+
+    records = np.zeros(4, dtype=[("x", "f8"), ("y", "f8"), ("z", "f8"), ("intensity", "u2")])
+    np.save(tmp_path / "cloud.npy", records)
+    with pytest.raises(InputFileError, match=r"a structured array \(a record per row, fields x, y, z, intensity\), .*np\.column_stack\(\[a\['x'\], a\['y'\], a\['z'\]\]\)"):
+        read_points(tmp_path / "cloud.npy")
+    with pytest.raises(ValueError, match=r"a structured array"):
+        read_grid(tmp_path / "cloud.npy")
