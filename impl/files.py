@@ -137,6 +137,15 @@ def _check_shape(path: Path, shape: tuple[int, ...], columns: Sequence[int] | No
         raise InputFileError(path, f"expected {widths(columns)} columns, got shape {shape}")
 
 
+_PLY_SIZES: dict[str, int] = {
+    **dict.fromkeys(("char", "uchar", "int8", "uint8"), 1),
+    **dict.fromkeys(("short", "ushort", "int16", "uint16"), 2),
+    **dict.fromkeys(("int", "uint", "float", "int32", "uint32", "float32"), 4),
+    **dict.fromkeys(("double", "float64"), 8),
+}
+"""Bytes of each PLY scalar type (PLY 1.0's names and their sized aliases)."""
+
+
 def _ply_vertex_header(path: Path) -> tuple[int, list[str]]:
     """The vertex count and the vertex properties' names that the PLY header of ``path`` announces.
 
@@ -152,6 +161,9 @@ def _ply_vertex_header(path: Path) -> tuple[int, list[str]]:
         names: list[str] = []
         element = ""
         ascii_ = False
+        elements = 0
+        first = False  # whether the vertex element comes first (its data then starts the body)
+        record: int | None = 0  # bytes of one vertex of a binary file (None: a list property, no fixed size)
         for _ in range(100_000):
             raw = fh.readline(4096)
             if not raw:
@@ -163,18 +175,27 @@ def _ply_vertex_header(path: Path) -> tuple[int, list[str]]:
                 ascii_ = True
             elif words[:1] == ["element"]:
                 element = words[1] if len(words) > 1 else ""
+                elements += 1
                 if element == "vertex":
                     if len(words) != 3 or not words[2].isdecimal():
                         raise InputFileError(path, f"a damaged PLY header (line {raw.decode('latin-1').strip()!r})")
                     count = int(words[2])
+                    first = elements == 1
             elif words[:1] == ["property"] and element == "vertex":
                 names.append(words[-1])
+                size = _PLY_SIZES.get(words[1]) if len(words) == 3 else None
+                record = None if record is None or size is None else record + size
         else:
             raise InputFileError(path, "a damaged PLY header (no end_header line)")
+        data_start = fh.tell()
     if count is None:
         raise InputFileError(path, "no points: the PLY file has no vertex element")
     if count == 0:
         raise InputFileError(path, "no points: the PLY header announces 0 vertices")
+    if not ascii_ and first and record:
+        held = path.stat().st_size - data_start
+        if held < count * record:  # a binary file cut short: numpy's reader would say only "buffer size must be …"
+            raise InputFileError(path, f"truncated: the PLY header announces {count:,} vertices of {record} bytes, the file holds {held:,} bytes of data")
     if (names[:3] != ["x", "y", "z"]) if ascii_ else not {"x", "y", "z"} <= set(names):
         shown = ", ".join(names) or "none"
         where = " as the first three (in ASCII PLY)" if ascii_ else ""

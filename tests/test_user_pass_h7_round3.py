@@ -242,3 +242,17 @@ def test_a_structured_npy_says_how_to_save_the_numbers(tmp_path: Path) -> None:
         read_points(tmp_path / "cloud.npy")
     with pytest.raises(ValueError, match=r"a structured array"):
         read_grid(tmp_path / "cloud.npy")
+
+
+def test_a_binary_ply_cut_short_is_named_truncated(tmp_path: Path) -> None:
+    # Was "cannot read PLY (buffer size must be a multiple of element size)", numpy's words.
+    from persistri.impl.files import InputFileError, read_points
+
+    header = b"ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float intensity\nproperty double x\nproperty double y\nproperty double z\nend_header\n"
+    body = np.zeros(5, dtype=[("i", "<f4"), ("x", "<f8"), ("y", "<f8"), ("z", "<f8")])
+    body["x"], body["y"], body["z"] = np.array(_POINTS).T
+    (tmp_path / "whole.ply").write_bytes(header + body.tobytes())
+    assert np.array_equal(read_points(tmp_path / "whole.ply"), np.array(_POINTS))
+    (tmp_path / "cut.ply").write_bytes(header + body.tobytes()[:-7])
+    with pytest.raises(InputFileError, match=r"cut\.ply: truncated: the PLY header announces 5 vertices of 28 bytes, the file holds 133 bytes"):
+        read_points(tmp_path / "cut.ply")
