@@ -256,3 +256,24 @@ def test_a_binary_ply_cut_short_is_named_truncated(tmp_path: Path) -> None:
     (tmp_path / "cut.ply").write_bytes(header + body.tobytes()[:-7])
     with pytest.raises(InputFileError, match=r"cut\.ply: truncated: the PLY header announces 5 vertices of 28 bytes, the file holds 133 bytes"):
         read_points(tmp_path / "cut.ply")
+
+
+def test_a_grayscale_png_heightmap_is_a_grid(tmp_path: Path) -> None:
+    # Was "unknown grid format .png": the heightmaps of games and terrain editors are 8- or 16-bit grayscale PNGs.
+    from cli_contract import invoke
+    from PIL import Image
+
+    heights = (np.arange(12 * 9, dtype=np.uint32).reshape(12, 9) * 601 % 65536).astype(np.uint16)
+    Image.fromarray(heights).save(tmp_path / "h16.png")
+    Image.fromarray((heights // 256).astype(np.uint8)).save(tmp_path / "h8.png")
+    assert np.array_equal(read_grid(tmp_path / "h16.png").heights, heights)
+    assert np.array_equal(read_grid(tmp_path / "h8.png").heights, heights // 256)
+    result, _ = invoke(["terrain", str(tmp_path / "h16.png"), "--max-error", "0", "-o", str(tmp_path / "t.npz")])
+    assert result.exit_code == 0, result.output
+    assert float(np.load(tmp_path / "t.npz")["max_error"]) == 0.0
+    Image.fromarray(np.stack([heights // 256] * 3, axis=-1).astype(np.uint8)).save(tmp_path / "rgb.png")
+    with pytest.raises(ValueError, match=r"rgb\.png: an image of mode RGB .*one grayscale band"):
+        read_grid(tmp_path / "rgb.png")
+    (tmp_path / "cut.png").write_bytes((tmp_path / "h16.png").read_bytes()[:60])
+    with pytest.raises(ValueError, match=r"cut\.png: cannot read PNG"):
+        read_grid(tmp_path / "cut.png")

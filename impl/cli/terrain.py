@@ -111,8 +111,9 @@ def terrain(
 ) -> None:
     """Approximate the height grid INPUT by a Delaunay TIN, greedily (Garland–Heckbert).
 
-    INPUT is a grid file (.npy, .npz, .asc, .csv/.txt rows of heights, .tif/.tiff) or the word jacksboro
-    (the DEM shipped with matplotlib).  Give --max-error, --max-points or both.
+    INPUT is a grid file (.npy, .npz, .asc, .csv/.txt rows of heights, also .gz, .tif/.tiff, a grayscale
+    .png heightmap) or the word jacksboro (the DEM shipped with matplotlib).  Give --max-error,
+    --max-points or both.
 
     Vertices are x = column, y = row, z = height (row 0 is the grid's first row),
     triangles counterclockwise in (x, y).  With --world they are in the input's

@@ -30,6 +30,11 @@ Inputs (:func:`read_grid`):
 * ``.tif`` / ``.tiff`` — a GeoTIFF, compressed or not, through ``tifffile`` (the
   optional extra ``persistri[geotiff]``): its transform, CRS and ``GDAL_NODATA``
   (:mod:`persistri.impl.terrain.geotiff`);
+* ``.png`` — a heightmap: one grayscale band of 8 or 16 bits (or 32-bit integers or
+  floats), each pixel's value its height as stored (scale it yourself: a 16-bit
+  heightmap's 0–65535 are rarely metres); row 0 is the image's top row; read by
+  Pillow (which matplotlib needs); no georeferencing.  A colour image is refused: its
+  colours are not heights;
 * the word ``jacksboro``: the DEM shipped with matplotlib
   (``jacksboro_fault_dem.npz``, 344 × 403 integer heights in metres, cells of
   1/1200 degree).
@@ -64,7 +69,7 @@ __all__ = [
     "write_asc",
 ]
 
-GRID_FORMATS: Final = (".npy", ".npz", ".asc", ".csv", ".txt", ".tif", ".tiff")
+GRID_FORMATS: Final = (".npy", ".npz", ".asc", ".csv", ".txt", ".tif", ".tiff", ".png")
 """The file extensions :func:`read_grid` reads (and the word ``jacksboro``)."""
 
 NODATA_RULES: Final = ("error", "fill", "min")
@@ -391,6 +396,8 @@ def read_grid(source: str | Path) -> HeightGrid:
         grid = _read_asc(path)
     elif suffix in (".csv", ".txt"):
         grid = _read_text_grid(path)
+    elif suffix == ".png":
+        grid = _read_png(path)
     elif suffix in (".tif", ".tiff"):
         from persistri.impl.terrain.geotiff import read_geotiff  # grids is imported by geotiff: import late
 
@@ -404,6 +411,27 @@ def read_grid(source: str | Path) -> HeightGrid:
         raise ValueError(f"{path}: unknown grid format {suffix or '(no extension)'}; use one of {', '.join(GRID_FORMATS)} or jacksboro")
     _check_grid(grid, path)
     return grid
+
+
+_PNG_HEIGHT_MODES: Final = {"L": "8-bit", "I;16": "16-bit", "I;16B": "16-bit", "I": "32-bit integer", "F": "32-bit float"}
+"""Pillow's modes of one band of numbers, which a heightmap is."""
+
+
+def _read_png(path: Path) -> HeightGrid:
+    """The grid of a grayscale PNG heightmap (module docstring); a colour or damaged image is one error line. O(pixels)."""
+    from PIL import Image, UnidentifiedImageError
+
+    try:
+        with Image.open(path) as image:
+            if image.mode not in _PNG_HEIGHT_MODES:
+                raise ValueError(
+                    f"{path}: an image of mode {image.mode} (colour, palette or alpha); a heightmap is one grayscale "
+                    "band of 8 or 16 bits (or 32-bit integers or floats): save it as one"
+                )
+            pixels = np.asarray(image)
+    except (UnidentifiedImageError, OSError, SyntaxError) as exc:  # Pillow's words for a file that is no (whole) PNG
+        raise ValueError(f"{path}: cannot read PNG ({' '.join(str(exc).split()) or type(exc).__name__})") from None
+    return HeightGrid(_float_heights(pixels, str(path)), None, str(path))
 
 
 def _read_text_grid(path: Path) -> HeightGrid:
