@@ -277,3 +277,14 @@ def test_a_grayscale_png_heightmap_is_a_grid(tmp_path: Path) -> None:
     (tmp_path / "cut.png").write_bytes((tmp_path / "h16.png").read_bytes()[:60])
     with pytest.raises(ValueError, match=r"cut\.png: cannot read PNG"):
         read_grid(tmp_path / "cut.png")
+
+
+def test_an_esri_grid_names_its_first_field_that_is_no_number(tmp_path: Path) -> None:
+    # Was "the grid holds something that is not a number": which line, which field?
+    header = "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n"
+    (tmp_path / "commas.asc").write_text(header + "1,2,3\n4,5,6\n")
+    with pytest.raises(ValueError, match=r"commas\.asc: line 6: '1,2,3' is not a number \(fields are separated by blanks"):
+        read_grid(tmp_path / "commas.asc")
+    (tmp_path / "word.asc").write_text(header + "1 2 3\n4 n/a 6\n")
+    with pytest.raises(ValueError, match=r"word\.asc: line 7: 'n/a' is not a number$"):
+        read_grid(tmp_path / "word.asc")

@@ -340,7 +340,7 @@ def _read_asc(path: Path) -> HeightGrid:
     try:
         values = np.array(" ".join(lines[body_start:]).split(), dtype=np.float64)
     except ValueError:
-        raise ValueError(f"{path}: the grid holds something that is not a number") from None
+        raise ValueError(f"{path}: {_first_non_number(lines, body_start)}") from None
     if values.size != ncols * nrows:
         raise ValueError(f"{path}: the header says {nrows} rows × {ncols} columns but the file holds {values.size} values")
     heights = values.reshape(nrows, ncols)
@@ -368,6 +368,21 @@ def _read_asc(path: Path) -> HeightGrid:
     crs = None if prj is None else read_prj(prj)
     # The first data row is the northernmost: row 0 sits (nrows - 1) cells above the lowest row's centre.
     return HeightGrid(heights, GridTransform(x0, ylow + (nrows - 1) * dy, dx, -dy, crs), str(path))
+
+
+def _first_non_number(lines: list[str], start: int) -> str:
+    """Where the body of an ESRI grid (``lines[start:]``) first holds a field that is no number, as an error's words.
+
+    Only on the error path; O(size).
+    """
+    for i in range(start, len(lines)):
+        for field in lines[i].split():
+            try:
+                float(field)
+            except ValueError:
+                comma = " (fields are separated by blanks in an ESRI grid, and decimals written with a point)" if "," in field else ""
+                return f"line {i + 1}: {field[:40]!r} is not a number{comma}"
+    return "the grid holds something that is not a number"
 
 
 def read_grid(source: str | Path) -> HeightGrid:
