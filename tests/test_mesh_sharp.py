@@ -7,6 +7,7 @@ exact checker, and the triangle counts must stay near Triangle's ``pq<angle>`` (
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from fractions import Fraction
 
 import numpy as np
@@ -98,6 +99,30 @@ def test_sharp_clusters_terminate_verified(angle: int) -> None:
     for d in (gallery_domain("fan").pslg, fan(gap=1e-3), fan(3, math.radians(0.1)), vee(1e-3)):
         m = triangulate(d, min_angle=angle, max_steiner=20_000)
         _verified(d, m, angle)
+
+
+CLUSTER_FAMILIES = [
+    pytest.param(lambda g: fan(gap=g), 33, id="fan-1e-6-q33"),
+    pytest.param(lambda g: fan(gap=g * 1e3), 30, id="fan-1e-3-q30"),
+    pytest.param(lambda g: vee(g * 1e3), 33, id="vee-1e-3-q33"),
+]
+
+
+@pytest.mark.parametrize("build, angle", CLUSTER_FAMILIES)
+def test_cluster_counts_over_eight_gaps_within_ten_percent_of_triangle(
+    build: Callable[[float], PSLG], angle: int
+) -> None:
+    # The three open rows above are single gaps; near a cluster both programs' counts swing by up to 2x with a
+    # change of the gap (docs/meshing.md, "The three open rows, measured").  Over the eight gaps from 0.7 g to
+    # 1.4 g the totals are what the order of the work cannot move by luck: measured 0.99x, 1.08x and 0.97x.
+    ours = ref = 0
+    for k in range(8):
+        d = build(0.7e-6 * 2 ** (k / 8))
+        m = triangulate(d, min_angle=angle, max_steiner=20_000)
+        assert m.min_angle_reached
+        ours += int(m.triangles.shape[0])
+        ref += int(tr.triangulate(d.to_dict(), f"pq{angle}")["triangles"].shape[0])
+    assert ours <= 1.1 * ref, (ours, ref)
 
 
 def test_needle_split_points_pair_up_at_equal_distances_from_the_tip() -> None:
