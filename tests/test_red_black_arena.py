@@ -11,6 +11,7 @@ operation counts are those of the tuple tree.  The conformance suite runs in
 
 from __future__ import annotations
 
+import copy
 import pickle
 import random
 from typing import Any
@@ -23,6 +24,7 @@ from tree_helpers import nodes
 from persistri.impl.maps import backend
 from persistri.impl.maps.red_black import RBMap, red_black
 from persistri.impl.maps.red_black_arena import NIL, Arena, ArenaMap, ArenaRedBlackMap, red_black_arena
+from persistri.impl.maps.red_black_arena_map import fields, make, map_class
 from persistri.spec.ord_map import NotFound, OrdMap
 
 S = red_black_arena
@@ -34,7 +36,7 @@ _typed: OrdMap[int, str, ArenaMap] = ArenaRedBlackMap[int, str]()
 
 def as_tuples(m: ArenaMap) -> Any:
     """The tree of ``m`` as the tuple tree's nested 5-tuples ``(colour, left, key, value, right)``."""
-    _, root, A = m
+    _, root, A = fields(m)
 
     def build(t: int) -> Any:
         if not t:
@@ -48,7 +50,7 @@ def as_tuples(m: ArenaMap) -> Any:
 
 def reachable(m: ArenaMap) -> set[int]:
     """The arena indices of the nodes of ``m``."""
-    _, root, A = m
+    _, root, A = fields(m)
     out: set[int] = set()
     stack = [root]
     while stack:
@@ -62,7 +64,7 @@ def reachable(m: ArenaMap) -> set[int]:
 
 def mark(m: ArenaMap) -> int:
     """The nodes ``m``'s arena holds now (1 without an arena: the empty leaf)."""
-    return len(m[2]) if m[2] is not None else 1
+    return len(m.arena) if m.arena is not None else 1
 
 
 def made(before: int, after: ArenaMap) -> int:
@@ -142,7 +144,7 @@ def test_growing_and_shrinking_to_empty(keys: list[int], rnd: random.Random) -> 
     for k in keys:
         a, t = S.remove(a, k)[0], T.remove(t, k)[0]
         same(a, t)
-    assert S.isEmpty(a) and a[1] == NIL
+    assert S.isEmpty(a) and a.root == NIL
     a = S.insert(a, 5, None)  # an emptied map grows again in the same arena
     same(a, T.insert(T.empty(), 5, None))
 
@@ -203,7 +205,7 @@ def test_adjust_insert_remove_is_adjust_insert_then_the_removals(
     ks = sorted({k for k in probe if k in present or not all_present} | {extra})
     j = ks.index(extra)
     vs: list[tuple[int, ...]] = [(-k,) if k % 3 else () for k in ks]
-    A = a[2]
+    A = a.arena
     assert A is not None
     frozen = (A.item.tolist(), A.left.tolist(), A.right.tolist(), bytes(A.red), list(A.key), list(A.val))
     before = mark(a)
@@ -262,7 +264,7 @@ def test_failed_operations_leave_the_map_as_it_was() -> None:
     with pytest.raises(KeyError, match="f says no"):
         S.adjust_insert(f, a, [1, 60], [(0,), (0,)], 1, (0,))
     with pytest.raises(TypeError, match="red_black_arena: key 'x' is not ordered"):
-        S.insert(a, "x", (0,))  # type: ignore[arg-type]  # the point of the test
+        S.insert(a, "x", (0,))  # the point of the test
     with pytest.raises(TypeError, match="not orderable"):
         S.singleton(object(), 1)
     with pytest.raises(TypeError, match="not orderable"):
@@ -279,16 +281,20 @@ def test_failed_operations_leave_the_map_as_it_was() -> None:
 
 def test_the_empty_map_has_no_arena_and_maps_share_theirs() -> None:
     e = S.empty()
-    assert e == (0, NIL, None) and S.isEmpty(e) and S.listItemsi(e) == [] and S.find(e, 1) is None
+    assert e == make(0, NIL, None) and fields(e) == (0, NIL, None) and e.arena is None and S.isEmpty(e) and S.listItemsi(e) == [] and S.find(e, 1) is None
     assert S.foldli(lambda k, v, acc: acc + 1, 0, e) == 0 and S.search_cost(e, 3) == 0
     assert S.adjust_sorted(combine, e, [1], [2]) == (e, [0], [])
     a = S.insert(e, 1, "one")
     b = S.insert(a, 2, "two")
     c = S.insert(a, 0, "zero")  # a branch: the same arena, nodes appended after b's
-    assert a[2] is b[2] is c[2] and isinstance(a[2], Arena)
+    assert a.arena is b.arena is c.arena and isinstance(a.arena, Arena)
+    assert type(a) is type(b) is map_class(a.arena) and (a.size, b.size, c.size) == (1, 2, 2)
     assert S.listItemsi(b) == [(1, "one"), (2, "two")] and S.listItemsi(c) == [(0, "zero"), (1, "one")]
     assert S.listItemsi(a) == [(1, "one")]
-    assert S.singleton(3, "x")[2] is not a[2]  # a new family of maps, a new arena
+    d = S.singleton(3, "x")
+    assert d.arena is not a.arena and type(d) is not type(a)  # a new family of maps, a new arena, its class
+    # Equal as maps only in one arena: the same int in another arena is another map.
+    assert int(d) == int(a) and d != a and a == make(1, a.root, a.arena) and hash(a) == hash(int(a))
 
 
 def _leaf(A: Arena, c: int, l: int, k: Any, v: Any, r: int) -> int:
@@ -297,7 +303,7 @@ def _leaf(A: Arena, c: int, l: int, k: Any, v: Any, r: int) -> int:
 
 def test_check_rejects_broken_arenas() -> None:
     a, _ = _adjusted_pair(list(range(20)))
-    _, root, A = a
+    _, root, A = fields(a)
     assert A is not None
     S._check(a)
     # A child made after its parent: the root pointed at a node appended later.
@@ -305,33 +311,35 @@ def test_check_rejects_broken_arenas() -> None:
     low = _leaf(B, 0, NIL, 1, "a", NIL)
     top = _leaf(B, 0, NIL, 0, "r", NIL)
     late = _leaf(B, 0, NIL, 2, "b", NIL)
-    bad = (2, _leaf(B, 0, low, 1, "x", NIL), B)
-    S._check((1, top, B))
-    S._check((1, low, B))
+    bad = make(2, _leaf(B, 0, low, 1, "x", NIL), B)
+    S._check(make(1, top, B))
+    S._check(make(1, low, B))
     with pytest.raises(AssertionError, match="child must be made before its parent"):
         B.right[top] = late  # an overwrite, which the arena never does
-        S._check((2, top, B))
+        S._check(make(2, top, B))
     with pytest.raises(AssertionError, match="out of order"):
         S._check(bad)
     C = Arena()
     _leaf(C, 1, NIL, 1, "a", NIL)
     with pytest.raises(AssertionError, match="root is not black"):
-        S._check((1, 1, C))
+        S._check(make(1, 1, C))
     C.key.append(3)
     with pytest.raises(AssertionError, match="unequal lengths"):
-        S._check((1, 1, C))
+        S._check(make(1, 1, C))
     with pytest.raises(AssertionError, match="stored size"):
-        S._check((5, root, A))
+        S._check(make(5, root, A))
     with pytest.raises(AssertionError, match="must be empty"):
-        S._check((1, 0, None))
+        S._check(make(1, 0, None))
+    with pytest.raises(AssertionError, match="a map is an ArenaMap"):
+        S._check((0, NIL, None))  # type: ignore[arg-type]
     D = Arena()
     r = _leaf(D, 0, _leaf(D, 0, NIL, 0, "a", NIL), 1, "b", NIL)  # black heights 2 and 1
     with pytest.raises(AssertionError, match="unequal black heights"):
-        S._check((2, r, D))
+        S._check(make(2, r, D))
     E = Arena()
     t = E.node(0, NIL, 5, NIL)  # an item the arena does not hold
     with pytest.raises(AssertionError, match="outside the arena's 1 items"):
-        S._check((1, t, E))
+        S._check(make(1, t, E))
 
 
 def test_copies_share_items_and_only_new_values_make_items() -> None:
@@ -339,7 +347,7 @@ def test_copies_share_items_and_only_new_values_make_items() -> None:
     a: ArenaMap = S.empty()
     for k in range(100):
         a = S.insert(a, k, "old")
-    A = a[2]
+    A = a.arena
     assert A is not None
     nodes_before, items_before = len(A), len(A.key)
     b = S.insertWith(lambda old, new: new, a, 37, "new")
@@ -351,7 +359,11 @@ def test_a_pickled_version_keeps_its_contents() -> None:
     a, _ = _adjusted_pair(list(range(30)))
     b = S.remove(a, 7)[0]
     a2, b2 = pickle.loads(pickle.dumps((a, b)))
-    assert a2[2] is b2[2]  # one arena, pickled once
+    assert a2.arena is b2.arena is not a.arena  # one arena, pickled once
+    assert type(a2) is type(b2) is map_class(a2.arena) and (a2.size, a2.root) == (a.size, a.root)
+    c = copy.deepcopy(b)
+    assert c.arena is not b.arena and c == make(b.size, b.root, c.arena) and copy.copy(b) is b
+    assert S.listItemsi(c) == S.listItemsi(b)
     S._check(a2)
     S._check(b2)
     assert S.listItemsi(a2) == S.listItemsi(a) and S.listItemsi(b2) == S.listItemsi(b)

@@ -15,9 +15,12 @@ per inserted point (docs/performance.md, "Memory of a full history").
 
 Representation
 --------------
-A map value is the 3-tuple ``(number of items, root index, arena)``; the empty
-map is ``(0, 0, None)`` (index 0 is the empty leaf, and an arena is made by the
-first insertion).  Every map derived from one map shares its arena: operations
+A map value is an :class:`~persistri.impl.maps.red_black_arena_map.ArenaMap`:
+one ``int``, ``number of items << 32 | root index``, whose class holds the arena
+(one class per arena: a kept history holds one map value per version, about 56
+bytes where a 3-tuple and its two ``int`` s took 128); the empty map is
+``ArenaMap(0)`` (index 0 is the empty leaf, and an arena is made by the first
+insertion).  Every map derived from one map shares its arena: operations
 append the nodes they make and return a new root, as path copying does with
 tuples.  **Nothing a returned map reaches is ever overwritten** (an operation
 writes again only nodes it made itself, before returning: Okasaki's and
@@ -66,12 +69,13 @@ listItemsi, foldli     O(n)        iterative in-order walk
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, Final, Generic, TypeAlias, TypeVar
+from typing import Any, Final, Generic, TypeVar
 
 from persistri.impl.maps import red_black_arena_adjust as _adjust
 from persistri.impl.maps import red_black_arena_tree as _tree
 from persistri.impl.maps.keys import check_increasing, check_orderable, check_same_key, not_ordered_with
-from persistri.impl.maps.red_black_arena_tree import BLACK, NIL, RED, Arena, FailedWith
+from persistri.impl.maps.red_black_arena_map import ONE, ArenaMap, map_class
+from persistri.impl.maps.red_black_arena_tree import BLACK, NIL, RED, ROOT_BITS, ROOT_MASK, Arena, FailedWith
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound
 from persistri.spec.order import NATURAL_ORDER, Comparable, NaturalOrder
@@ -82,12 +86,9 @@ K = TypeVar("K", bound=Comparable)
 V = TypeVar("V")
 B = TypeVar("B")
 
-ArenaMap: TypeAlias = tuple[int, int, "Arena | None"]
-"""An arena red-black map: ``(number of items, root index, arena)``; ``(0, 0, None)`` is empty."""
-
 _NAME: Final = "red_black_arena"
 
-_EMPTY: Final[ArenaMap] = (0, NIL, None)
+_EMPTY: Final = ArenaMap(0)
 
 
 def _key_error(k: object, exc: TypeError) -> TypeError:
@@ -143,42 +144,46 @@ class ArenaRedBlackMap(Generic[K, V]):
 
     def isEmpty(self, m: ArenaMap, /) -> bool:
         """Whether ``m`` is empty. O(1)."""
-        return m[0] == 0
+        return not m >> ROOT_BITS
 
     def singleton(self, k: K, v: V, /) -> ArenaMap:
         """The map ``{k ↦ v}``: one black node in a new arena. O(1)."""
         _check_orderable(k)
         A = Arena()
-        return (1, A.node(BLACK, NIL, A.pair(k, v), NIL), A)
+        return map_class(A)(ONE + A.node(BLACK, NIL, A.pair(k, v), NIL))
 
     def insert(self, m: ArenaMap, k: K, v: V, /) -> ArenaMap:
         """``m`` with ``k ↦ v``, replacing an earlier value of ``k`` (and its key object).
 
         Okasaki's insertion: O(lg n) time, O(lg n) new nodes.
         """
-        n, t, A = m
+        t = m & ROOT_MASK
+        A = m.arena
         if not t or A is None:
             _check_orderable(k)
             if A is None:
                 A = Arena()
-            return (n + 1, A.node(BLACK, NIL, A.pair(k, v), NIL), A)
+                return map_class(A)(ONE + A.node(BLACK, NIL, A.pair(k, v), NIL))
+            return type(m)(m + ONE + A.node(BLACK, NIL, A.pair(k, v), NIL))
         try:
             new = _tree.ins(A, t, k, v)
         except TypeError as exc:
             raise _key_error(k, exc) from None
         if not new:  # present (ins checked that the key found is == k)
-            return (n, _tree.replace(A, t, k, v), A)
-        return (n + 1, _blacken_new(A, new), A)
+            return type(m)(m - t + _tree.replace(A, t, k, v))
+        return type(m)(m - t + ONE + _blacken_new(A, new))
 
     def insert_absent(self, m: ArenaMap, k: K, v: V, /) -> ArenaMap:
         """``m`` with ``k ↦ v`` for a key known not to be in ``m`` and ordered with its keys: nothing is checked.
 
         As :meth:`~persistri.impl.maps.red_black.RedBlackMap.insert_absent`.  O(lg n).
         """
-        n, t, A = m
+        t = m & ROOT_MASK
+        A = m.arena
         if A is None:
             A = Arena()
-        return (n + 1, _blacken_new(A, _tree.ins_absent(A, t, k, v)), A)
+            return map_class(A)(ONE + _blacken_new(A, _tree.ins_absent(A, t, k, v)))
+        return type(m)(m - t + ONE + _blacken_new(A, _tree.ins_absent(A, t, k, v)))
 
     def insertWith(self, f: Callable[[V, V], V], m: ArenaMap, k: K, v: V, /) -> ArenaMap:
         """``m`` with ``k ↦ f(old, v)`` if ``k ↦ old`` is in ``m``, else ``k ↦ v``.
@@ -186,7 +191,8 @@ class ArenaRedBlackMap(Generic[K, V]):
         O(lg n) plus one call of ``f``.  Exceptions raised by ``f`` propagate
         unchanged, and ``m`` is unaffected.  A present key costs one descent.
         """
-        n, t, A = m
+        t = m & ROOT_MASK
+        A = m.arena
         if not t or A is None:
             return self.insert(m, k, v)
         try:
@@ -197,7 +203,7 @@ class ArenaRedBlackMap(Generic[K, V]):
             raise _key_error(k, exc) from None
         if not new:
             return self.insert(m, k, v)
-        return (n, new, A)
+        return type(m)(m - t + new)
 
     def adjust_many(
         self, f: Callable[[V, V], V], m: ArenaMap, items: list[tuple[K, V]], /
@@ -205,7 +211,8 @@ class ArenaRedBlackMap(Generic[K, V]):
         """``(m', absent)``: ``m`` with ``k ↦ f(old, v)`` for each ``(k, v)`` of ``items`` whose key is in ``m``,
         and the items whose key is not (as :meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_many`:
         strictly increasing keys, else ValueError).  O(k + new nodes)."""
-        n, t, A = m
+        t = m & ROOT_MASK
+        A = m.arena
         check_increasing(_NAME, "adjust_many", items)
         if len(items) == 1:  # a NaN passes an order check of one key
             check_orderable(_NAME, items[0][0])
@@ -220,7 +227,7 @@ class ArenaRedBlackMap(Generic[K, V]):
             raise failed.exc from None
         except TypeError as exc:
             raise _key_error(items[0][0], exc) from None
-        return (n, new, A), [items[i] for i in absent]
+        return type(m)(m - t + new), [items[i] for i in absent]
 
     def adjust_sorted(
         self, f: Callable[[V, V], V], m: ArenaMap, keys: list[K], vals: list[V], /
@@ -228,7 +235,8 @@ class ArenaRedBlackMap(Generic[K, V]):
         """``(m', absent, emptied)``: :meth:`adjust_many` for keys known to be strictly increasing and ordered
         with the map's, nothing checked (as :meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_sorted`).
         O(k + new nodes)."""
-        n, t, A = m
+        t = m & ROOT_MASK
+        A = m.arena
         if not t or A is None or not keys:
             return m, list(range(len(keys))), []
         absent: list[int] = []
@@ -237,7 +245,7 @@ class ArenaRedBlackMap(Generic[K, V]):
             new = _adjust.adjust(A, t, keys, vals, 0, len(keys), f, absent, emptied)
         except FailedWith as failed:
             raise failed.exc from None
-        return (n, new, A), absent, emptied
+        return type(m)(m - t + new), absent, emptied
 
     def adjust_insert(
         self, f: Callable[[V, V], V], m: ArenaMap, keys: list[K], vals: list[V], j: int, v: V, /
@@ -245,7 +253,8 @@ class ArenaRedBlackMap(Generic[K, V]):
         """``(m', absent, emptied, inserted)``: :meth:`adjust_sorted`, and ``keys[j] ↦ v`` inserted in the same
         descent if ``keys[j]`` is not in ``m`` (as :meth:`~persistri.impl.maps.red_black.RedBlackMap.adjust_insert`:
         the same trees as :meth:`adjust_sorted` then :meth:`insert_absent`).  O(k + new nodes)."""
-        n, t, A = m
+        t = m & ROOT_MASK
+        A = m.arena
         if not t or A is None or not keys:
             return m, list(range(len(keys))), [], False
         absent: list[int] = []
@@ -256,8 +265,8 @@ class ArenaRedBlackMap(Generic[K, V]):
         except FailedWith as failed:
             raise failed.exc from None
         if new:
-            return (n, root, A), absent, emptied, False
-        return (n + 1, _blacken_new(A, root), A), absent, emptied, True
+            return type(m)(m - t + root), absent, emptied, False
+        return type(m)(m - t + ONE + _blacken_new(A, root)), absent, emptied, True
 
     def adjust_insert_remove(
         self, f: Callable[[V, V], V], m: ArenaMap, keys: list[K], vals: list[V], j: int, v: V, /
@@ -270,7 +279,8 @@ class ArenaRedBlackMap(Generic[K, V]):
         update made on their paths (no map refers to them yet), where :meth:`remove` would copy that path
         again: a full InBall 256K hull history holds 5.9 dropped nodes a point fewer (docs/performance.md,
         "Memory of a full history").  O(k + new nodes) plus O(lg n) a removed key."""
-        n, t, A = m
+        t = m & ROOT_MASK
+        A = m.arena
         if not t or A is None or not keys:
             return m, list(range(len(keys))), [], False
         absent: list[int] = []
@@ -283,20 +293,22 @@ class ArenaRedBlackMap(Generic[K, V]):
             raise failed.exc from None
         if emptied and not absent:
             inserted = not new
+            n = m - t
             if inserted:
-                n += 1
+                n += ONE
                 root = _blacken_new(A, root)
             for i in emptied:
                 root = _tree.delete(A, root, keys[i], made)
                 root = _blacken(A, root, made) if root else NIL
-            return (n - len(emptied), root, A), absent, [], inserted
+            return type(m)(n - len(emptied) * ONE + root), absent, [], inserted
         if new:
-            return (n, root, A), absent, emptied, False
-        return (n + 1, _blacken_new(A, root), A), absent, emptied, True
+            return type(m)(m - t + root), absent, emptied, False
+        return type(m)(m - t + ONE + _blacken_new(A, root)), absent, emptied, True
 
     def find(self, m: ArenaMap, k: K, /) -> Option[V]:
         """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``. O(lg n)."""
-        n, t, A = m
+        t = m & ROOT_MASK
+        A = m.arena
         if not t or A is None:
             return None
         try:
@@ -330,7 +342,8 @@ class ArenaRedBlackMap(Generic[K, V]):
 
         Kahrs' deletion after a search for the value: O(lg n) time, O(lg n) new nodes.
         """
-        n, t, A = m
+        t = m & ROOT_MASK
+        A = m.arena
         if not t or A is None:
             raise NotFound(k)
         try:
@@ -343,16 +356,16 @@ class ArenaRedBlackMap(Generic[K, V]):
         value: V = A.val[A.item[node]]
         made = len(A.item)
         new = _tree.delete(A, t, k, made)
-        return (n - 1, _blacken(A, new, made) if new else NIL, A), value
+        return type(m)(m - t - ONE + (_blacken(A, new, made) if new else NIL)), value
 
     def numItems(self, m: ArenaMap, /) -> int:
         """The number of items. O(1)."""
-        return m[0]
+        return m >> ROOT_BITS
 
     def _inorder(self, m: ArenaMap) -> list[int]:
         """The nodes of ``m`` in increasing key order.  O(n), iterative."""
         out: list[int] = []
-        t, A = m[1], m[2]
+        t, A = m & ROOT_MASK, m.arena
         if not t or A is None:
             return out
         left = A.left
@@ -370,7 +383,7 @@ class ArenaRedBlackMap(Generic[K, V]):
 
     def listItemsi(self, m: ArenaMap, /) -> list[tuple[K, V]]:
         """The items in increasing key order. O(n), iterative."""
-        A = m[2]
+        A = m.arena
         if A is None:
             return []
         key = A.key
@@ -380,7 +393,7 @@ class ArenaRedBlackMap(Generic[K, V]):
 
     def listKeys(self, m: ArenaMap, /) -> list[K]:
         """The keys in increasing order. O(n), iterative."""
-        A = m[2]
+        A = m.arena
         if A is None:
             return []
         key = A.key
@@ -390,7 +403,7 @@ class ArenaRedBlackMap(Generic[K, V]):
     def foldli(self, f: Callable[[K, V, B], B], init: B, m: ArenaMap, /) -> B:
         """``f`` folded over the items in increasing key order. O(n) calls of ``f``, iterative."""
         acc = init
-        A = m[2]
+        A = m.arena
         if A is None:
             return acc
         key = A.key
@@ -409,7 +422,7 @@ class ArenaRedBlackMap(Generic[K, V]):
         The same count as the tuple tree's (the same tree).  O(lg n).
         """
         cost = 0
-        t, A = m[1], m[2]
+        t, A = m & ROOT_MASK, m.arena
         if A is None:
             return 0
         try:
@@ -438,13 +451,13 @@ class ArenaRedBlackMap(Generic[K, V]):
         the stored size.  Raises :class:`AssertionError` naming the first
         violation found.
         """
-        assert isinstance(m, tuple) and len(m) == 3, f"{_NAME}: a map is (size, root, arena), got {m!r}"
-        n, root, A = m
-        assert isinstance(n, int) and isinstance(root, int), f"{_NAME}: size and root are ints, got {m!r}"
+        assert isinstance(m, ArenaMap), f"{_NAME}: a map is an ArenaMap (size << 32 | root), got {m!r}"
+        assert m >= 0, f"{_NAME}: a map's int is not negative, got {int(m)}"
+        n, root, A = m >> ROOT_BITS, m & ROOT_MASK, m.arena
         if A is None:
             assert root == NIL and n == 0, f"{_NAME}: a map without an arena must be empty, got {m!r}"
             return
-        assert isinstance(A, Arena), f"{_NAME}: the third field is not an arena: {A!r}"
+        assert isinstance(A, Arena), f"{_NAME}: the map class's arena is not an Arena: {A!r}"
         size = len(A.item)
         items = len(A.key)
         assert len(A.left) == len(A.right) == len(A.red) == size and len(A.val) == items, (

@@ -45,6 +45,8 @@ __all__ = [
     "RED",
     "BLACK",
     "NIL",
+    "ROOT_BITS",
+    "ROOT_MASK",
     "Arena",
     "Combine",
     "FailedWith",
@@ -69,6 +71,12 @@ BLACK: Final = 0
 
 NIL: Final = 0
 """The empty tree: the index of the arena's placeholder leaf."""
+
+ROOT_BITS: Final = 32
+"""A map value is the ``int`` ``size << ROOT_BITS | root`` (:mod:`~persistri.impl.maps.red_black_arena_map`)."""
+
+ROOT_MASK: Final = (1 << ROOT_BITS) - 1
+"""A map value's root index: ``m & ROOT_MASK`` (node indices are unsigned 32-bit)."""
 
 Combine: TypeAlias = Callable[[Any, Any], Any]
 """``insertWith``'s function: ``(old value, given value) -> new value``."""
@@ -162,13 +170,14 @@ def search(A: Arena, t: int, k: Any) -> int:
     return NIL
 
 
-def find(m: tuple[Any, ...], k: Any) -> tuple[Any, ...] | None:
-    """``find`` of the map ``m = (size, root, arena)``: ``(v,)`` if ``k ↦ v`` is in it, else None; for a key
-    known to be ordered with the map's keys.  O(lg n), one ``<`` per level."""
-    t: int = m[1]
+def find(m: Any, k: Any) -> tuple[Any, ...] | None:
+    """``find`` of the map value ``m`` (an :class:`~persistri.impl.maps.red_black_arena_map.ArenaMap`: ``size << 32 |
+    root``, its class holding the arena): ``(v,)`` if ``k ↦ v`` is in it, else None; for a key known to be ordered
+    with the map's keys.  O(lg n), one ``<`` per level."""
+    t: int = m & ROOT_MASK
     if not t:
         return None
-    A: Arena = m[2]
+    A: Arena = m.arena
     key = A.key
     item = A.item
     left = A.left
