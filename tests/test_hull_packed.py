@@ -12,7 +12,7 @@ from persistri.impl.hull.api import convex_hull
 from persistri.impl.hull.conflicts import _freeze
 from persistri.impl.hull.distributions import generate
 from persistri.impl.hull.extend import extend_hull
-from persistri.impl.hull.packed import ID_MASK, conflict_list, face_id, pack_face, pack_points, points_of, unpack_points
+from persistri.impl.hull.packed import ID_MASK, SHORT_MAX, conflict_list, face_id, pack_face, pack_points, points_of, unpack_points
 
 
 def _lists() -> list[np.ndarray]:
@@ -72,10 +72,20 @@ def test_pack_face_round_trip(fid: int, n: int) -> None:
 
 @pytest.mark.parametrize("pts", [(0, 65535, 7), (0, 65536, 7), (2**31 - 1, 5), (70000, 4, 2**20)])
 def test_short_lists_near_and_far(pts: tuple[int, ...]) -> None:
-    # Near or far apart, up to the largest int32: the same list, four bytes a point after the id and byte count.
+    # Near or far apart, up to the largest int32: the same list, four bytes a point after the id and one-byte count.
     d = pack_face(9, pts)
     assert conflict_list(d) == pts and list(points_of(d)) == list(pts) and face_id(d) == 9
-    assert d.bit_length() <= 64 + 32 * len(pts)
+    assert d.bit_length() <= 40 + 32 * len(pts)
+
+
+@pytest.mark.parametrize("n", [SHORT_MAX, SHORT_MAX + 1, 300])
+def test_a_short_list_longer_than_its_count_byte_is_run_coded(n: int) -> None:
+    # The bulldozer's short lists are below KERNEL_BATCH; a longer tuple is still packed exactly, as a long list.
+    pts = tuple(range(5, 5 + 2 * n, 2))
+    d = pack_face(77, pts)
+    got = conflict_list(d)
+    assert face_id(d) == 77 and np.asarray(got).tolist() == list(pts) == np.asarray(points_of(d)).tolist()
+    assert type(got) is (tuple if n <= SHORT_MAX else np.ndarray)
 
 
 def test_pack_face_id_range() -> None:

@@ -6,12 +6,17 @@ Every version of a history keeps the data of its faces, so a face's datum
 ``history=True`` stores each datum as **one** plain ``int`` instead, whose bits are::
 
     bits 0-31    the face id
-    bits 32-63   2 × (bytes of the payload) + 1 if the list is long (run-coded)
-    bits 64-     the payload, little-endian: the points as int32 (a short list,
-                 below KERNEL_BATCH entries), or the long list's run code
+    then, a short list (below KERNEL_BATCH entries, at most SHORT_MAX):
+    bits 32-39   2 × (its number of points), even
+    bits 40-     the points as int32, little-endian
+    or a long list (run-coded):
+    bits 32-63   2 × (bytes of the run code) + 1, odd
+    bits 64-     the run code, little-endian
 
 A face whose list is empty is its id alone (28 bytes, against 84 for ``(id, ())``
-and its ``int``).  A long list — a read-only int32 array in a run without
+and its ``int``).  A short list's count takes one byte, not four: 3 bytes a
+short face, about 10 bytes an inserted point at InBall 256K (docs/performance.md,
+"Memory of a full history").  A long list — a read-only int32 array in a run without
 history — is coded by :func:`pack_points` as its **runs** of consecutive
 indices: the bulldozer's lists are concatenations of a few increasing parts of
 spatially numbered points (Morton labels: a face's points lie near one another),
@@ -44,10 +49,24 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["PackedFace", "pack_face", "face_id", "conflict_list", "points_of", "pack_points", "unpack_points", "ID_MASK"]
+__all__ = [
+    "PackedFace",
+    "pack_face",
+    "face_id",
+    "conflict_list",
+    "points_of",
+    "pack_points",
+    "unpack_points",
+    "ID_MASK",
+    "SHORT_MAX",
+]
 
 ID_MASK: Final = 0xFFFFFFFF
 """The face id's bits in a :class:`PackedFace` (``datum & ID_MASK``); ids are below 2**32."""
+
+SHORT_MAX: Final = 127
+"""The most points a short list's one-byte count holds (``2 × count`` is even and below 256); a tuple or list of
+more is packed as a long list (the bulldozer's short lists are below KERNEL_BATCH = 64)."""
 
 _COUNTS: Final = struct.Struct("<3i")
 """A coded int32 sequence starts with its length, its number of escapes and their width (int32 each)."""
@@ -128,42 +147,42 @@ def pack_face(fid: int, conflict: Any) -> PackedFace:
     if not 0 <= fid <= ID_MASK:
         raise OverflowError(f"face id {fid} does not fit a packed face datum (32 bits)")
     kind = type(conflict)
-    if kind is np.ndarray:
-        code = pack_points(conflict)
+    n = len(conflict)
+    if kind is np.ndarray or n > SHORT_MAX:
+        code = pack_points(np.asarray(conflict, dtype=np.int32))
         return fid | (2 * len(code) + 1) << 32 | int.from_bytes(code, "little") << 64
-    if not len(conflict):
+    if not n:
         return fid
-    # The id, the byte count and the points as one uint32 array, read as one int (no shifts, no copy of the bytes).
-    words = array("I", (fid, 8 * len(conflict)))
-    if kind is list:
+    # The points as one uint32 array, read as one int, above the id and the one-byte count.
+    if kind is array:
+        words = conflict  # an int32 array of points (points_of): non-negative, the same bytes as uint32
+    elif kind is list:
+        words = array("I")
         words.fromlist(conflict)
-    elif kind is array:
-        words.frombytes(conflict.tobytes())  # an int32 array of points (points_of): non-negative, the same bytes
     else:
-        words.extend(conflict)
-    return int.from_bytes(words, "little")
+        words = array("I", conflict)
+    return fid | n << 33 | int.from_bytes(words, "little") << 40
 
 
 def _unpack(datum: int) -> Any:
     """The conflict list of a packed datum, in its usual form: a tuple when short, else a read-only int32 array."""
-    meta = (datum >> 32) & ID_MASK
+    meta = (datum >> 32) & 0xFF
+    if meta & 1:
+        return unpack_points((datum >> 64).to_bytes(((datum >> 32) & ID_MASK) >> 1, "little"))
     if not meta:
         return ()
-    code = (datum >> 64).to_bytes(meta >> 1, "little")
-    if meta & 1:
-        return unpack_points(code)
-    return tuple(array("i", code))
+    return tuple(array("i", (datum >> 40).to_bytes(2 * meta, "little")))
 
 
 def points_of(datum: int) -> Any:
     """The conflict list of a packed datum as the bulldozer reads it: an int32 ``array`` when short (no tuple
     made), else the read-only int32 array of :func:`unpack_points`. O(length)."""
-    meta = (datum >> 32) & ID_MASK
+    meta = (datum >> 32) & 0xFF
     if meta & 1:
-        return unpack_points((datum >> 64).to_bytes(meta >> 1, "little"))
+        return unpack_points((datum >> 64).to_bytes(((datum >> 32) & ID_MASK) >> 1, "little"))
     if not meta:
         return ()
-    return array("i", datum.to_bytes(8 + (meta >> 1), "little"))[2:]
+    return array("i", (datum >> 40).to_bytes(2 * meta, "little"))
 
 
 def face_id(datum: Any) -> int:
