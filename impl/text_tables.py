@@ -270,12 +270,18 @@ def read_text(
     delimiter = _delimiter(lines[numbers[0]])
     data = _normalised([lines[i] for i in numbers], delimiter)
     first = numbers[0] + 1
+    # Every column is read: where a header names them, say how to choose (survey.csv: id, date, east, north, height).
+    hint = ""
+    if usecols is None and headers:
+        names = quote(", ".join(_names(lines[content[headers - 1]], delimiter)))[1:-1]
+        hint = f"; choose the columns by the header's names ({names}): --columns, or fields= in Python"
     try:
         width = _loadtxt(data[:1], delimiter, usecols).shape[1]
     except ValueError:
-        raise InputFileError(path, _what_is_wrong(data[0], delimiter, 0, usecols), line=first) from None
+        why = _what_is_wrong(data[0], delimiter, 0, usecols)
+        raise InputFileError(path, why + (hint if why.endswith("is not a number") else ""), line=first) from None
     if columns is not None and width not in columns:
-        raise InputFileError(path, f"expected {widths(columns)} numbers, got {width}", line=first)
+        raise InputFileError(path, f"expected {widths(columns)} numbers, got {width}{hint}", line=first)
     try:
         arr = _loadtxt(data, delimiter, usecols)
     except ValueError:

@@ -288,3 +288,21 @@ def test_an_esri_grid_names_its_first_field_that_is_no_number(tmp_path: Path) ->
     (tmp_path / "word.asc").write_text(header + "1 2 3\n4 n/a 6\n")
     with pytest.raises(ValueError, match=r"word\.asc: line 7: 'n/a' is not a number$"):
         read_grid(tmp_path / "word.asc")
+
+
+def test_a_header_without_x_y_says_how_to_choose_columns(tmp_path: Path) -> None:
+    # The README's `persistri delaunay survey.csv` on the survey.csv of `hull ... --columns east,north,height`:
+    # was 'line 2: "2024-01-01" is not a number', with no word of --columns.
+    from cli_contract import assert_one_line_failure, invoke
+
+    from persistri.impl.files import InputFileError, read_points
+
+    path = tmp_path / "survey.csv"
+    path.write_text("id,date,east,north,height\n1,2024-01-01,5.5,4.25,101.5\n2,2024-01-01,10,0,99\n3,2024-01-02,0,10,98\n")
+    result, caught = invoke(["delaunay", str(path), "-o", str(tmp_path / "tin.npz")])
+    assert_one_line_failure(result, caught, "survey.csv", r"line 2: \"2024-01-01\" is not a number; choose the columns by the header's names \(id, date, east, north, height\): --columns")
+    wide = tmp_path / "wide.csv"
+    wide.write_text("id,east,north,height,q\n1,0,0,0,1\n2,1,0,0,1\n3,0,1,0,1\n4,0,0,1,1\n")
+    with pytest.raises(InputFileError, match=r"line 2: expected 3 numbers, got 5; choose the columns by the header's names \(id, east, north, height, q\)"):
+        read_points(wide, columns=(3,))
+    assert read_points(wide, columns=(3,), fields=["east", "north", "height"]).shape == (4, 3)
