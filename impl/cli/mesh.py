@@ -324,9 +324,11 @@ def mesh(
 
     OUTPUT by extension: .npz with the arrays vertices (N × 2), triangles
     (T × 3, counterclockwise), segments (the mesh edges on input segments),
-    segment_of (the input segment of each), regions, and the bounds, what was
-    reached and the counts; .ele writes Triangle's .node, .ele and .poly (the
-    mesh segments) side by side; .ply, .obj, .off with z = 0.
+    segment_of (the input segment of each), regions (each triangle's region,
+    numbered from 1 in the .poly's order; 0: none), and the bounds, what was
+    reached and the counts; .ele writes Triangle's .node, .ele (with each
+    triangle's regional attribute, as Triangle's -A) and .poly (the mesh
+    segments) side by side; .ply, .obj, .off with z = 0.
     """
     from persistri.impl.mesh.api import triangulate
     from persistri.impl.mesh.steiner import PrecisionLimitError
