@@ -272,9 +272,9 @@ def read_text(
     first = numbers[0] + 1
     # Every column is read: where a header names them, say how to choose (survey.csv: id, date, east, north, height).
     hint = ""
-    if usecols is None and headers:
-        names = quote(", ".join(_names(lines[content[headers - 1]], delimiter)))[1:-1]
-        hint = f"; choose the columns by the header's names ({names}): --columns, or fields= in Python"
+    named = _names(lines[content[headers - 1]], delimiter) if usecols is None and headers else []
+    if len(named) > max(columns or (3,)):  # more columns than a point has: some are to be left out
+        hint = f"; choose the columns by the header's names ({quote(', '.join(named))[1:-1]}): --columns, or fields= in Python"
     try:
         width = _loadtxt(data[:1], delimiter, usecols).shape[1]
     except ValueError:
