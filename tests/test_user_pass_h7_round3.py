@@ -308,11 +308,6 @@ def test_a_header_without_x_y_says_how_to_choose_columns(tmp_path: Path) -> None
     assert read_points(wide, columns=(3,), fields=["east", "north", "height"]).shape == (4, 3)
     # a header that names no more columns than a point has: nothing to choose, no hint
     narrow = tmp_path / "narrow.csv"
-    narrow.write_text('easting,northing,elevation
-"1,000.5",2,3
-0,1,0
-0,0,1
-1,1,1
-')
-    with pytest.raises(InputFileError, match=r"line 2: "1,000\.5" is not a number$"):
+    narrow.write_text('easting,northing,elevation\n"1,000.5",2,3\n0,1,0\n0,0,1\n1,1,1\n')
+    with pytest.raises(InputFileError, match=r"line 2: \"1,000\.5\" is not a number$"):
         read_points(narrow, columns=(3,))
