@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-__all__ = ["InputFileError", "quote", "widths", "os_error"]
+__all__ = ["InputFileError", "foreign_format", "quote", "widths", "os_error"]
 
 _SHOWN = 40  # characters of a bad line or field quoted in a message
 
@@ -49,3 +49,31 @@ def os_error(p: Path, exc: OSError) -> InputFileError:
     if isinstance(exc, PermissionError):
         return InputFileError(p, "cannot read it (permission denied)")
     return InputFileError(p, f"cannot read it ({exc.strerror or exc})")
+
+
+_FOREIGN: dict[str, str] = {
+    ".las": "a LAS point cloud: convert it, e.g. `pdal translate cloud.las cloud.ply`, or save laspy's x, y, z with np.save",
+    ".laz": "a compressed LAS point cloud: convert it, e.g. `pdal translate cloud.laz cloud.ply`",
+    ".xlsx": "a spreadsheet: save the sheet as CSV",
+    ".xls": "a spreadsheet: save the sheet as CSV",
+    ".ods": "a spreadsheet: save the sheet as CSV",
+    ".node": "a Triangle .node file: `persistri mesh FILE --min-angle 0` triangulates its vertices",
+    ".poly": "a Triangle .poly file: `persistri mesh FILE` meshes it",
+    ".zip": "a zip archive: extract the file first",
+    ".gz": "gzip is decompressed only around text, .csv.gz, .xyz.gz, .txt.gz: decompress this file first",
+    ".bz2": "bzip2-compressed: decompress it first",
+    ".xz": "xz-compressed: decompress it first",
+    ".hgt": "an SRTM tile: convert it to GeoTIFF first, e.g. `gdal_translate N45E006.hgt dem.tif`",
+    ".jpg": "a JPEG, whose lossy compression changes heights: use a 16-bit grayscale PNG or a GeoTIFF",
+    ".jpeg": "a JPEG, whose lossy compression changes heights: use a 16-bit grayscale PNG or a GeoTIFF",
+}
+
+
+def foreign_format(path: str | Path) -> str:
+    """What to do with ``path`` whose extension persistri does not read, when it is a well-known format; else "".
+
+    Appended to the "unknown format" messages of the readers and of the command line: ``"; a LAS point
+    cloud: convert it, ..."``.  O(1).
+    """
+    advice = _FOREIGN.get(Path(path).suffix.lower())
+    return f"; {advice}" if advice else ""

@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from persistri.impl.file_errors import InputFileError, os_error, quote, widths
+from persistri.impl.file_errors import InputFileError, foreign_format, os_error, quote, widths
 from persistri.impl.geometry.points import as_points
 from persistri.impl.text_tables import Fields, read_text, read_text_table, text_of
 
@@ -275,7 +275,7 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None, fields: 
         if suffix not in TEXT_FORMATS:
             raise InputFileError(p, f"a gzip-compressed {suffix or 'file'}: persistri decompresses text only ({', '.join(t + '.gz' for t in TEXT_FORMATS)}); decompress it first")
     if suffix not in POINT_FORMATS:
-        raise InputFileError(p, f"unknown point format {suffix or '(no extension)'}; use one of {', '.join(POINT_FORMATS)}")
+        raise InputFileError(p, f"unknown point format {suffix or '(no extension)'}; use one of {', '.join(POINT_FORMATS)}{foreign_format(p)}")
     try:
         if suffix in TEXT_FORMATS:
             arr, lines = read_text(p, columns, fields=fields)

@@ -311,3 +311,23 @@ def test_a_header_without_x_y_says_how_to_choose_columns(tmp_path: Path) -> None
     narrow.write_text('easting,northing,elevation\n"1,000.5",2,3\n0,1,0\n0,0,1\n1,1,1\n')
     with pytest.raises(InputFileError, match=r"line 2: \"1,000\.5\" is not a number$"):
         read_points(narrow, columns=(3,))
+
+
+@pytest.mark.parametrize(
+    ("command", "name", "advice"),
+    [
+        ("hull", "cloud.las", r"a LAS point cloud: convert it, e\.g\. `pdal translate"),
+        ("delaunay", "survey.xlsx", r"a spreadsheet: save the sheet as CSV"),
+        ("delaunay", "dots.node", r"a Triangle \.node file: `persistri mesh FILE --min-angle 0`"),
+        ("terrain", "N45E006.hgt", r"an SRTM tile: convert it to GeoTIFF first"),
+        ("hull", "points.npy.gz", r"gzip is decompressed only around text"),
+    ],
+)
+def test_a_known_foreign_format_says_what_to_do(tmp_path: Path, command: str, name: str, advice: str) -> None:
+    # Was only "unknown point format .las; use one of ...": the formats a user brings most often get a way forward.
+    from cli_contract import assert_one_line_failure, invoke
+
+    (tmp_path / name).write_bytes(b"\x00" * 16)
+    args = [command, str(tmp_path / name), "-o", str(tmp_path / "out.npz")] + (["--max-points", "5"] if command == "terrain" else [])
+    result, caught = invoke(args)
+    assert_one_line_failure(result, caught, name, r"unknown (point|grid) format \.\w+; use one of .*; " + advice)

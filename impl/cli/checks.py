@@ -111,7 +111,9 @@ def check_input(path: Path, formats: Sequence[str], *, kind: str, words: Sequenc
         suffix = Path(path.stem).suffix.lower()  # points.xyz.gz: the text readers decompress it
     if suffix not in formats:
         also = f" or {', '.join(words)}" if words else ""
-        fail(f"{path}: unknown {kind} format {_extension(path)}; use one of {_formats(formats)}{also}")
+        from persistri.impl.file_errors import foreign_format
+
+        fail(f"{path}: unknown {kind} format {_extension(path)}; use one of {_formats(formats)}{also}{foreign_format(path)}")
     try:
         with path.open("rb"):
             pass

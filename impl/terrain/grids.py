@@ -423,7 +423,11 @@ def read_grid(source: str | Path) -> HeightGrid:
         finally:
             tifffile_log.disabled = quiet
     else:
-        raise ValueError(f"{path}: unknown grid format {suffix or '(no extension)'}; use one of {', '.join(GRID_FORMATS)} or jacksboro")
+        from persistri.impl.file_errors import foreign_format
+
+        raise ValueError(
+            f"{path}: unknown grid format {suffix or '(no extension)'}; use one of {', '.join(GRID_FORMATS)} or jacksboro{foreign_format(path)}"
+        )
     _check_grid(grid, path)
     return grid
 
