@@ -331,3 +331,30 @@ def test_a_known_foreign_format_says_what_to_do(tmp_path: Path, command: str, na
     args = [command, str(tmp_path / name), "-o", str(tmp_path / "out.npz")] + (["--max-points", "5"] if command == "terrain" else [])
     result, caught = invoke(args)
     assert_one_line_failure(result, caught, name, r"unknown (point|grid) format \.\w+; use one of .*; " + advice)
+
+
+def test_an_output_that_is_the_input_is_refused(tmp_path: Path) -> None:
+    # `persistri hull cloud.ply -o cloud.ply` replaced the 30-point cloud by its 17-vertex hull; `terrain dem.npz
+    # -o dem.npz` replaced the grid by the mesh; `terrain h.png --plot h.png` the heightmap by its picture.
+    from cli_contract import assert_one_line_failure, invoke
+    from PIL import Image
+
+    cloud = tmp_path / "cloud.ply"
+    text = "ply\nformat ascii 1.0\nelement vertex 5\nproperty double x\nproperty double y\nproperty double z\nend_header\n"
+    cloud.write_text(text + "".join(f"{a} {b} {c}\n" for a, b, c in _POINTS))
+    before = cloud.read_bytes()
+    np.savez(tmp_path / "dem.npz", heights=np.arange(20.0).reshape(4, 5) ** 2)
+    Image.fromarray(np.arange(20, dtype=np.uint8).reshape(4, 5)).save(tmp_path / "h.png")
+    (tmp_path / "alias.ply").symlink_to(cloud)
+    for args, name in [
+        (["hull", str(cloud), "-o", str(cloud)], "cloud.ply"),
+        (["hull", str(cloud), "-o", str(tmp_path / "alias.ply")], "alias.ply"),
+        (["delaunay", str(cloud), "-o", str(tmp_path / "." / "cloud.ply")], "cloud.ply"),
+        (["terrain", str(tmp_path / "dem.npz"), "--max-points", "5", "-o", str(tmp_path / "dem.npz")], "dem.npz"),
+        (["terrain", str(tmp_path / "h.png"), "--max-points", "5", "--plot", str(tmp_path / "h.png")], "h.png"),
+    ]:
+        result, caught = invoke(args)
+        assert_one_line_failure(result, caught, name, r"is an input of this run; name the output otherwise")
+    assert cloud.read_bytes() == before
+    assert set(np.load(tmp_path / "dem.npz")) == {"heights"}
+    assert np.array_equal(read_grid(tmp_path / "h.png").heights, np.arange(20).reshape(4, 5))

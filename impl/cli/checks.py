@@ -204,16 +204,20 @@ def _check_directory(directory: Path, target: Path) -> bool:
 class Outputs:
     """The files (and directories) one command writes, checked as they are named, written at the end.
 
-    ``outputs.file(path, formats, what="mesh")`` checks a file option;
+    ``outputs.file(path, formats, what="mesh")`` checks a file option (never one of
+    the run's ``inputs``, which it would replace before or while they are read);
     ``with outputs.staged() as stage: write(stage(path))`` writes each file to
     a temporary path and, when the block ends without an exception, renames
     them all into place.  On an exception the temporary files (and directories
     made for them) are removed and the failure names the file being written.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, inputs: Sequence[Path | str | None] = ()) -> None:
         self._targets: set[Path] = set()
         self._make: set[Path] = set()
+        # The input files of the run: an output that is one of them would replace what is being read
+        # (`persistri hull cloud.ply -o cloud.ply` replaced the cloud by its hull).
+        self._inputs = [Path(p) for p in inputs if p is not None and Path(p).is_file()]
 
     def file(self, path: Path | None, formats: Sequence[str], *, what: str) -> Path | None:
         """``path`` checked as an output of one of ``formats`` (``what`` names them: "mesh", "plot"); None passes."""
@@ -229,6 +233,8 @@ class Outputs:
         key = Path(os.path.abspath(path))
         if key in self._targets:
             fail(f"{path}: named as two outputs")
+        if path.exists() and any(os.path.samefile(path, p) for p in self._inputs):
+            fail(f"{path}: is an input of this run; name the output otherwise")
         if path.exists() and not os.access(path, os.W_OK):
             fail(f"{path}: exists and is read-only")
         if _check_directory(path.parent, path):

@@ -55,7 +55,7 @@ def delaunay_command(
     err = stderr_console()
     check_column_count(columns, (2, 3), "x,y or x,y,z")
     check_input(input_path, POINT_FORMATS, kind="point")
-    outputs = Outputs()
+    outputs = Outputs([input_path])
     outputs.file(output, MESH_FORMATS, what="mesh")
     outputs.file(plot, PLOT_FORMATS, what="plot")
     check_backend(backend)

@@ -131,7 +131,7 @@ def hull(
     check_column_count(columns, (3,), "x,y,z")
     if input_path is not None and not directory:
         check_input(input_path, POINT_FORMATS, kind="point")
-    outputs = Outputs()
+    outputs = Outputs([input_path])
     outputs.file(output, MESH_FORMATS, what="mesh")
     outputs.file(plot, PLOT_FORMATS, what="plot")
     check_backend(backend)

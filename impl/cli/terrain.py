@@ -149,7 +149,7 @@ def terrain(
                workers, tile, scheduler, tile_output)
         return
     check_input(Path(source), GRID_FORMATS, kind="grid", words=("jacksboro",))
-    outputs = Outputs()
+    outputs = Outputs([source])
     outputs.file(output, TERRAIN_MESH_FORMATS, what="mesh")
     outputs.file(plot, PLOT_FORMATS, what="plot")
     check_backend(backend)
@@ -258,7 +258,7 @@ def _tiled(
     path = Path(source)
     if not (path.suffix.lower() == ".zarr" and path.is_dir()):
         check_input(path, (*GRID_FORMATS, *LAZY_FORMATS), kind="grid", words=("jacksboro",))
-    outputs = Outputs()
+    outputs = Outputs([source])
     outputs.file(output, TERRAIN_MESH_FORMATS, what="mesh")
     if tile_output is not None:
         check_output_dir(tile_output)
