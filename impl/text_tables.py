@@ -52,7 +52,12 @@ def _decode(path: Path, raw: bytes) -> str:
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise InputFileError(path, f"not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start})") from None
+        line = raw.count(b"\n", 0, exc.start) + 1
+        raise InputFileError(
+            path,
+            f"not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start}, line {line}; Latin-1 or "
+            "Windows-1252, as older spreadsheets save?): save it as UTF-8",
+        ) from None
 
 
 def text_of(path: Path) -> str:

@@ -358,3 +358,13 @@ def test_an_output_that_is_the_input_is_refused(tmp_path: Path) -> None:
     assert cloud.read_bytes() == before
     assert set(np.load(tmp_path / "dem.npz")) == {"heights"}
     assert np.array_equal(read_grid(tmp_path / "h.png").heights, np.arange(20).reshape(4, 5))
+
+
+def test_text_that_is_not_utf8_says_how_to_save_it(tmp_path: Path) -> None:
+    # Was "not UTF-8 text (byte 0xf6 at offset 21)": which line, and what to do?
+    from persistri.impl.files import InputFileError, read_points
+
+    path = tmp_path / "survey.csv"
+    path.write_bytes("x,y,z\n0,0,0\n# H\xf6he in m\n1,0,0\n".encode("latin-1"))
+    with pytest.raises(InputFileError, match=r"not UTF-8 text \(byte 0xf6 at offset 15, line 3; Latin-1 or Windows-1252.*\): save it as UTF-8$"):
+        read_points(path)
