@@ -82,15 +82,20 @@ def _delimiter(line: str) -> str | None:
     return found
 
 
-def _normalised(lines: Sequence[str], delimiter: str | None) -> list[str]:
+def _normalised(lines: list[str], delimiter: str | None, quoted: bool) -> list[str]:
     """Data lines as :func:`numpy.loadtxt` reads them: blanks before a quoted field dropped (``"1", "2"``), and
-    a delimiter that ends every line (``1,2,3,``, as some exporters write rows) removed.  O(total length)."""
+    a delimiter that ends every line (``1,2,3,``, as some exporters write rows) removed.
+
+    ``quoted`` — whether the file holds a double quote at all.  O(total length) where a rule applies; a
+    file of plain rows is returned as it is after a look at its first line.
+    """
     if delimiter is None:
-        return list(lines)
-    out = [re.sub(rf'(^|{re.escape(delimiter)})\s+"', r'\1"', line) if '"' in line else line for line in lines]
-    bodies = [line.split("#", 1)[0].rstrip() for line in out]
-    if all(body.endswith(delimiter) for body in bodies):
-        out = [body[: -len(delimiter)] for body in bodies]
+        return lines
+    out = [re.sub(rf'(^|{re.escape(delimiter)})\s+"', r'\1"', line) for line in lines] if quoted else lines
+    if out and out[0].split("#", 1)[0].rstrip().endswith(delimiter):
+        bodies = [line.split("#", 1)[0].rstrip() for line in out]
+        if all(body.endswith(delimiter) for body in bodies):
+            out = [body[: -len(delimiter)] for body in bodies]
     return out
 
 
@@ -273,7 +278,7 @@ def read_text(
         )
     numbers = content[headers:]
     delimiter = _delimiter(lines[numbers[0]])
-    data = _normalised([lines[i] for i in numbers], delimiter)
+    data = _normalised([lines[i] for i in numbers], delimiter, '"' in text)
     first = numbers[0] + 1
     # Every column is read: where a header names them, say how to choose (survey.csv: id, date, east, north, height).
     hint = ""
