@@ -113,62 +113,10 @@ def make_split(
         ny = zx - xz
         nz = xy - yx
         # (its permanents: settle)
-        # The plane lo (the same statements, names suffixed _lo), when given; else NaN: never read.
-        a_lo = b_lo = c_lo = 0
-        ax_lo = ay_lo = az_lo = nx_lo = ny_lo = nz_lo = nan
-        yz_lo = zy_lo = zx_lo = xz_lo = xy_lo = yx_lo = nan
-        if lo is not None:
-            a_lo, b_lo, c_lo = lo
-            try:
-                ax_lo, ay_lo, az_lo = rows[a_lo]
-                bx_lo, by_lo, bz_lo = rows[b_lo]
-                cx_lo, cy_lo, cz_lo = rows[c_lo]
-            except ValueError:
-                (ax_lo, ay_lo, az_lo), (bx_lo, by_lo, bz_lo), (cx_lo, cy_lo, cz_lo) = row(a_lo), row(b_lo), row(c_lo)
-            # filter.plane_terms (lo):
-            bax_lo = bx_lo - ax_lo
-            bay_lo = by_lo - ay_lo
-            baz_lo = bz_lo - az_lo
-            cax_lo = cx_lo - ax_lo
-            cay_lo = cy_lo - ay_lo
-            caz_lo = cz_lo - az_lo
-            yz_lo = bay_lo * caz_lo
-            zy_lo = baz_lo * cay_lo
-            zx_lo = baz_lo * cax_lo
-            xz_lo = bax_lo * caz_lo
-            xy_lo = bax_lo * cay_lo
-            yx_lo = bay_lo * cax_lo
-            nx_lo = yz_lo - zy_lo
-            ny_lo = zx_lo - xz_lo
-            nz_lo = xy_lo - yx_lo
-        # The plane hi, likewise (names suffixed _hi).
-        a_hi = b_hi = c_hi = 0
-        ax_hi = ay_hi = az_hi = nx_hi = ny_hi = nz_hi = nan
-        yz_hi = zy_hi = zx_hi = xz_hi = xy_hi = yx_hi = nan
-        if hi is not None:
-            a_hi, b_hi, c_hi = hi
-            try:
-                ax_hi, ay_hi, az_hi = rows[a_hi]
-                bx_hi, by_hi, bz_hi = rows[b_hi]
-                cx_hi, cy_hi, cz_hi = rows[c_hi]
-            except ValueError:
-                (ax_hi, ay_hi, az_hi), (bx_hi, by_hi, bz_hi), (cx_hi, cy_hi, cz_hi) = row(a_hi), row(b_hi), row(c_hi)
-            # filter.plane_terms (hi):
-            bax_hi = bx_hi - ax_hi
-            bay_hi = by_hi - ay_hi
-            baz_hi = bz_hi - az_hi
-            cax_hi = cx_hi - ax_hi
-            cay_hi = cy_hi - ay_hi
-            caz_hi = cz_hi - az_hi
-            yz_hi = bay_hi * caz_hi
-            zy_hi = baz_hi * cay_hi
-            zx_hi = baz_hi * cax_hi
-            xz_hi = bax_hi * caz_hi
-            xy_hi = bax_hi * cay_hi
-            yx_hi = bay_hi * cax_hi
-            nx_hi = yz_hi - zy_hi
-            ny_hi = zx_hi - xz_hi
-            nz_hi = xy_hi - yx_hi
+        # The planes lo and hi (the same statements, names suffixed _lo and _hi) are made for the first point
+        # that reaches them (lo_made, hi_made): a side with no point needs none (a fifth of the short calls
+        # have one), and their names are bound only then (no default values to store at every call).
+        lo_made = hi_made = False
         lo_on = lo is not None
         hi_on = hi is not None
         st = pred.stats
@@ -197,9 +145,34 @@ def make_split(
                 if s > 1 or s < -1:
                     failures += 1
             if s < 0:
-                if not lo_on:
+                if lo is None:
                     mm.append(q)
                     continue
+                if not lo_made:
+                    lo_made = True
+                    a_lo, b_lo, c_lo = lo
+                    try:
+                        ax_lo, ay_lo, az_lo = rows[a_lo]
+                        bx_lo, by_lo, bz_lo = rows[b_lo]
+                        cx_lo, cy_lo, cz_lo = rows[c_lo]
+                    except ValueError:
+                        (ax_lo, ay_lo, az_lo), (bx_lo, by_lo, bz_lo), (cx_lo, cy_lo, cz_lo) = row(a_lo), row(b_lo), row(c_lo)
+                    # filter.plane_terms (lo):
+                    bax_lo = bx_lo - ax_lo
+                    bay_lo = by_lo - ay_lo
+                    baz_lo = bz_lo - az_lo
+                    cax_lo = cx_lo - ax_lo
+                    cay_lo = cy_lo - ay_lo
+                    caz_lo = cz_lo - az_lo
+                    yz_lo = bay_lo * caz_lo
+                    zy_lo = baz_lo * cay_lo
+                    zx_lo = baz_lo * cax_lo
+                    xz_lo = bax_lo * caz_lo
+                    xy_lo = bax_lo * cay_lo
+                    yx_lo = bay_lo * cax_lo
+                    nx_lo = yz_lo - zy_lo
+                    ny_lo = zx_lo - xz_lo
+                    nz_lo = xy_lo - yx_lo
                 # filter.plane_side_det (lo):
                 det = (ax_lo - qx) * nx_lo + (ay_lo - qy) * ny_lo + (az_lo - qz) * nz_lo
                 if det < below:
@@ -212,9 +185,34 @@ def make_split(
                         failures += 1
                     (mm if s < 0 else mp).append(q)
             else:
-                if not hi_on:
+                if hi is None:
                     pm.append(q)
                     continue
+                if not hi_made:
+                    hi_made = True
+                    a_hi, b_hi, c_hi = hi
+                    try:
+                        ax_hi, ay_hi, az_hi = rows[a_hi]
+                        bx_hi, by_hi, bz_hi = rows[b_hi]
+                        cx_hi, cy_hi, cz_hi = rows[c_hi]
+                    except ValueError:
+                        (ax_hi, ay_hi, az_hi), (bx_hi, by_hi, bz_hi), (cx_hi, cy_hi, cz_hi) = row(a_hi), row(b_hi), row(c_hi)
+                    # filter.plane_terms (hi):
+                    bax_hi = bx_hi - ax_hi
+                    bay_hi = by_hi - ay_hi
+                    baz_hi = bz_hi - az_hi
+                    cax_hi = cx_hi - ax_hi
+                    cay_hi = cy_hi - ay_hi
+                    caz_hi = cz_hi - az_hi
+                    yz_hi = bay_hi * caz_hi
+                    zy_hi = baz_hi * cay_hi
+                    zx_hi = baz_hi * cax_hi
+                    xz_hi = bax_hi * caz_hi
+                    xy_hi = bax_hi * cay_hi
+                    yx_hi = bay_hi * cax_hi
+                    nx_hi = yz_hi - zy_hi
+                    ny_hi = zx_hi - xz_hi
+                    nz_hi = xy_hi - yx_hi
                 # filter.plane_side_det (hi):
                 det = (ax_hi - qx) * nx_hi + (ay_hi - qy) * ny_hi + (az_hi - qz) * nz_hi
                 if det < below:
