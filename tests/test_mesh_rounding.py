@@ -506,3 +506,26 @@ def test_rounded_candidates_agree_on_the_gallery_utm_edge() -> None:
         assert list(rounded_candidates(P, 0, 1, 0, 1, Fraction(0), Fraction(1), wanted)) == _reference_candidates(
             P, 0, 1, 0, 1, Fraction(0), Fraction(1), wanted
         )
+
+
+@pytest.mark.parametrize("apex", [1e-30, 1e-150, 1e-200, 1e-300])
+def test_a_steiner_point_that_rounding_moves_far_is_refused_at_once(apex: float) -> None:
+    # A thin triangle whose apex is `apex` above its base: the off-centres of its needles lie a few `apex` from
+    # the base's midpoint, and the doubles nearest them are on the line x = 0.5 itself.  Without the check the
+    # refiner inserted points on that line without end from 1e-150 down (H7's report); at 1e-30 it stopped only
+    # after 55 insertions, when one rounded onto a vertex.
+    d = {"vertices": np.array([[0.0, 0.0], [1.0, 0.0], [0.5, apex]]), "segments": np.array([[0, 1], [1, 2], [2, 0]])}
+    with pytest.raises(PrecisionLimitError) as info:
+        triangulate(d, min_angle=20, max_steiner=500)
+    message = str(info.value)
+    assert "rounding moves it by an eighth of the triangle's shortest edge" in message
+    # The distance in the message is the exact one, not a square root that underflowed to 0.
+    assert f"lies {apex:.2g} (" in message, message
+
+
+@pytest.mark.parametrize("apex", [1e-3, 1e-10])
+def test_thin_triangles_that_doubles_resolve_are_meshed(apex: float) -> None:
+    d = {"vertices": np.array([[0.0, 0.0], [1.0, 0.0], [0.5, apex]]), "segments": np.array([[0, 1], [1, 2], [2, 0]])}
+    m = triangulate(d, min_angle=20)
+    assert m.min_angle_reached
+    assert verify_mesh(d, m.vertices, m.triangles, min_angle=20, exact_segments=m.rounded_splits == 0).ok

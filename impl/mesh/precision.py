@@ -72,6 +72,14 @@ def segment_distance2(P: GrowingPredicates2, v: int, a: int, b: int) -> Fraction
     return Fraction(cross * cross, length2) * scale
 
 
+def _sqrt(f: Fraction) -> float:
+    """``√f`` as a double, also where ``f`` itself is below the smallest double (a distance of 1e-200). O(1)."""
+    if f <= 0:
+        return 0.0
+    m = (f.denominator.bit_length() - f.numerator.bit_length()) // 2  # f · 4^m is near 1
+    return math.ldexp(math.sqrt(f * 4**m if m >= 0 else f / 4**-m), -m)
+
+
 def _ulps(P: GrowingPredicates2, v: int, a: int, b: int) -> float:
     """One unit in the last place of the largest coordinate magnitude among ``v``, ``a`` and ``b``."""
     return math.ulp(max(abs(c) for i in (v, a, b) for c in P.xy(i)))
@@ -81,7 +89,7 @@ def _describe(P: GrowingPredicates2, geo: SegmentGeometry, v: int, s: int) -> st
     """``v`` and its distance to segment ``s``, in coordinates; an input vertex and the segment named as the user
     wrote them (input rows counted from 0; an added convex hull edge as such: ``geo.names``)."""
     a, b = geo.ends[s]
-    d = math.sqrt(segment_distance2(P, v, a, b))
+    d = _sqrt(segment_distance2(P, v, a, b))
     who = f"input vertex {geo.names.vertex(v)}" if v < geo.n_input else f"vertex {int(v)}"
     return (
         f"{who} at {_at(P, v)} lies {d:.2g} ({d / _ulps(P, v, a, b):.2g} units in the last place) from "
@@ -199,7 +207,7 @@ def nearest_features(P: GrowingPredicates2, geo: SegmentGeometry, x: float, y: f
         for s in np.argsort(gap)[:4].tolist():
             if v in geo.ends[s] or P.orient2d_sign(geo.ends[s][0], geo.ends[s][1], v) == 0:
                 continue
-            ulps = math.sqrt(segment_distance2(P, v, *geo.ends[s])) / _ulps(P, v, *geo.ends[s])
+            ulps = _sqrt(segment_distance2(P, v, *geo.ends[s])) / _ulps(P, v, *geo.ends[s])
             if best is None or ulps < best[0]:
                 best = (ulps, v, s)
     if best is None:

@@ -123,8 +123,36 @@ def steiner_point(
         if lhs < rhs:
             ox = sx * kd - 2 * kn * dy
             oy = sy * kd + 2 * kn * dx
-            return _to_double(ox, 2 * kd, ex), _to_double(oy, 2 * kd, ex), True
-    return _to_double(cx, den, ex), _to_double(cy, den, ex), False
+            x, y = _to_double(ox, 2 * kd, ex), _to_double(oy, 2 * kd, ex)
+            _check_rounding(ox, oy, 2 * kd, ex, x, y, d2, (p, q, r))
+            return x, y, True
+    x, y = _to_double(cx, den, ex), _to_double(cy, den, ex)
+    _check_rounding(cx, cy, den, ex, x, y, d2, (p, q, r))
+    return x, y, False
+
+
+def _check_rounding(nx: int, ny: int, den: int, e: int, x: float, y: float, d2: int, t: tuple[int, int, int]) -> None:
+    """Raise :class:`PrecisionLimitError` if rounding the exact point ``(nx, ny) / den · 2^e`` to the doubles
+    ``(x, y)`` moved it by an eighth of the shortest edge (``|pq|² = d2 · 4^e``) or more.
+
+    The exact circumcentre lies at least ``|pq| / √3`` from every vertex it can see, the off-centre at least
+    ``0.82 |pq|`` (its constant exceeds ``0.475 · cot 30°``): the distance that Ruppert's termination argument
+    counts on.  A point that rounding moved by ``|pq| / 8`` or more no longer keeps it — where ``|pq|`` is a few
+    units in the last place, the doubles near the exact point may lie on ``pq`` itself, and the refinement
+    would insert points there without end.  Rounding moves a coordinate by half a unit in its last place at
+    most, so an integer comparison of exponents clears every point but those within about 16 units in the
+    last place of their edge; only those are measured exactly.  O(1).
+    """
+    u = max(math.frexp(math.ulp(x))[1], math.frexp(math.ulp(y))[1]) - 1  # the larger ulp is 2^u
+    if 2 * (u - e) + 5 < d2.bit_length() - 1:  # moved² <= 2^(2u - 1) < 4^e d2 / 64
+        return
+    s = _pow2(e)
+    mx, my = Fraction(x) - Fraction(nx, den) * s, Fraction(y) - Fraction(ny, den) * s
+    if 64 * (mx * mx + my * my) >= d2 * s * s:
+        raise PrecisionLimitError(
+            f"the Steiner point of triangle {tuple(int(v) for v in t)} cannot be placed in doubles: rounding moves it by an eighth of the "
+            "triangle's shortest edge or more, and the mesh is at the limit of double precision here"
+        )
 
 
 def point_at(P: GrowingPredicates2, a: int, b: int, t: Fraction) -> tuple[Fraction, Fraction]:
