@@ -8,8 +8,8 @@ takes the same steps, in the same order, in persistri, letting persistri decide 
 
 * the triangle Triangle tries is bad and not exempt for persistri, and persistri's point for it is Triangle's up to
   a millionth of the shortest edge (Triangle computes circumcentres and off-centres in floating point, persistri
-  exactly and rounds once; where the two differ beyond the ulp, the replay inserts Triangle's point, so that the
-  two runs stay on one mesh — measured, they differ by less than 10⁻⁷ of the shortest edge);
+  exactly and rounds once; where the two differ, the replay inserts Triangle's point, so that the two runs stay
+  on one mesh — measured, they differ by less than 10⁻⁷ of the shortest edge);
 * persistri keeps the point exactly where Triangle keeps it, and undoes or blocks it exactly where Triangle rejects
   it; the subsegments it then queues are among those Triangle splits next, the first of them included;
 * every subsegment Triangle splits is one persistri has queued as encroached; persistri deletes the same free
