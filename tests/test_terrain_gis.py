@@ -314,6 +314,22 @@ def test_asc_with_and_without_prj(tmp_path: Path) -> None:
     assert read is not None and data["transform"].tolist() == [read.x0, read.y0, read.dx, read.dy]
 
 
+def test_a_mesh_named_like_its_asc_leaves_the_input_prj_as_it_is(tmp_path: Path) -> None:
+    # dem.asc meshed to dem.ply: the sidecar due beside the mesh is dem.prj, the input's own; it already holds the
+    # CRS, so it is not rewritten (it was, stripped and with a newline added: an input file changed by a run).
+    src = write_asc(tmp_path / "dem.asc", terrain(), x0=500000.0, y0=4000000.0, cellsize=10.0)
+    own = "  " + UTM14N_WKT + "\r\n\r\n"
+    (tmp_path / "dem.prj").write_bytes(own.encode())
+    code, text = run("terrain", str(src), "--max-points", "20", "--world", "-o", str(tmp_path / "dem.ply"), "--quiet")
+    assert code == 0, text
+    assert (tmp_path / "dem.prj").read_bytes() == own.encode()
+    assert (tmp_path / "dem.ply").is_file()
+    # A .prj beside the output that holds another CRS is replaced, as before.
+    (tmp_path / "other.prj").write_text('PROJCS["something else"]')
+    assert run("terrain", str(src), "--max-points", "20", "--world", "-o", str(tmp_path / "other.ply"), "--quiet")[0] == 0
+    assert (tmp_path / "other.prj").read_text().strip() == UTM14N_WKT
+
+
 def test_prj_that_is_not_wkt_is_one_line(tmp_path: Path) -> None:
     src = write_asc(tmp_path / "dem.asc", terrain(), cellsize=10.0)
     (tmp_path / "dem.prj").write_text("Projection    UTM\nZone          14\nDatum         WGS84\n")

@@ -181,7 +181,8 @@ def terrain(
     written: list[Path] = []
     with outputs.staged() as stage:
         if output is not None:
-            written = [stage.target(w) for w in write_tin(stage(output), tin, world=world)]
+            files = write_tin(stage(output), tin, world=world, sidecar_at=output.with_suffix(".prj"))
+            written = [stage.target(w) for w in files]
         if plot is not None:
             from persistri.impl.terrain.plot import plot_tin
 
@@ -292,7 +293,8 @@ def _tiled(
     written: list[Path] = []
     with outputs.staged() as stage:
         if output is not None:
-            written = [stage.target(w) for w in write_tin(stage(output), tin, world=world)]
+            files = write_tin(stage(output), tin, world=world, sidecar_at=output.with_suffix(".prj"))
+            written = [stage.target(w) for w in files]
     if tile_output is not None:
         with about(tile_output):
             write_tile_meshes(tile_output, tin, world=world)

@@ -37,10 +37,19 @@ import numpy as np
 from numpy.typing import NDArray
 
 from persistri.impl.files import compact_mesh, write_mesh
-from persistri.impl.terrain.crs import Crs
+from persistri.impl.terrain.crs import Crs, read_prj
 from persistri.impl.terrain.grids import GridTransform
 
-__all__ = ["TIN_FORMATS", "SIDECAR_SUFFIX", "TerrainMesh", "tin_mesh", "tin_arrays", "sidecar_wkt", "write_tin"]
+__all__ = [
+    "TIN_FORMATS",
+    "SIDECAR_SUFFIX",
+    "TerrainMesh",
+    "tin_mesh",
+    "tin_arrays",
+    "sidecar_wkt",
+    "holds_wkt",
+    "write_tin",
+]
 
 TIN_FORMATS: Final = (".ply", ".obj", ".stl", ".off", ".npz")
 """The output formats of :func:`write_tin`, by extension."""
@@ -131,10 +140,13 @@ def sidecar_wkt(path: str | Path, crs: Crs | None, *, world: bool) -> str | None
     return crs.to_wkt()
 
 
-def write_tin(path: str | Path, tin: TerrainMesh, *, world: bool = False) -> list[Path]:
+def write_tin(path: str | Path, tin: TerrainMesh, *, world: bool = False, sidecar_at: Path | None = None) -> list[Path]:
     """Write ``tin`` to ``path`` by its extension (:data:`TIN_FORMATS`), and its ``.prj`` sidecar when due.
 
-    Returns the files written, the mesh first.  ``world=True`` writes world
+    Returns the files written, the mesh first (a ``.prj`` that already holds the
+    CRS — the input's own, for ``dem.asc`` meshed to ``dem.ply`` — is listed but
+    left as it is; ``sidecar_at``, when a caller writes ``path`` under another name
+    first, is where the ``.prj`` will end up, and decides that).  ``world=True`` writes world
     coordinates (:class:`ValueError` without a transform).  Everything that can
     fail before the mesh is written (format, georeferencing, the sidecar's WKT) is
     decided first, so a failure leaves no partial output.  O(k + m).
@@ -150,6 +162,19 @@ def write_tin(path: str | Path, tin: TerrainMesh, *, world: bool = False) -> lis
         written = [write_mesh(p, vertices, triangles)]
     if wkt is not None:
         prj = p.with_suffix(SIDECAR_SUFFIX)
-        prj.write_text(wkt + "\n", encoding="utf-8")
-        written.append(prj)
+        if not holds_wkt(prj if sidecar_at is None else sidecar_at, wkt):  # dem.asc meshed to dem.ply: its dem.prj
+            prj.write_text(wkt + "\n", encoding="utf-8")
+            written.append(prj)
+        else:
+            written.append(prj if sidecar_at is None else sidecar_at)
     return written
+
+
+def holds_wkt(prj: Path, wkt: str) -> bool:
+    """Whether the file ``prj`` exists and already holds the CRS ``wkt`` (then it is not rewritten). O(file)."""
+    if not prj.is_file():
+        return False
+    try:
+        return read_prj(prj).wkt == wkt
+    except ValueError:
+        return False
