@@ -10,6 +10,7 @@ from __future__ import annotations
 import io
 import os
 import platform
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -17,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from persistri.impl.cli.console import UNBOUNDED_WIDTH, make_console, pipe_width, text_console
+from persistri.impl.cli.console import MIN_WIDTH, UNBOUNDED_WIDTH, make_console, pipe_width, text_console
 
 PERSISTRI = str(Path(sys.executable).with_name("persistri"))
 
@@ -73,6 +74,13 @@ def test_hull_message_and_stats_are_not_folded(tmp_path: Path) -> None:
     assert any("key comparisons" in line for line in stats) and len({len(line) for line in stats}) == 1
 
 
+def test_a_narrow_columns_still_shows_the_values(tmp_path: Path) -> None:
+    # COLUMNS=5 printed a stats table of empty cells: every row "│ │ │".
+    result = _persistri(["hull", "--dist", "InBall", "-n", "200", "--stats"], tmp_path, columns="5")
+    stats = _table_lines(result.stdout)
+    assert any(re.search(r"key comparisons +│ +[1-9][\d,]* │", line) for line in stats), stats
+
+
 def test_the_factory(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.delenv("COLUMNS", raising=False)
     monkeypatch.delenv("FORCE_COLOR", raising=False)
@@ -87,7 +95,13 @@ def test_the_factory(monkeypatch: pytest.MonkeyPatch) -> None:
         console.print("x" * 300, "[bold]y[/bold]")
     # No markup: square brackets are text (a file named survey[final].csv, persistri[geotiff]), and no codes.
     assert out.getvalue() == err.getvalue() == "x" * 300 + " [bold]y[/bold]\n"
-    for value, width in (("132", 132), ("", UNBOUNDED_WIDTH), ("wide", UNBOUNDED_WIDTH), ("0", UNBOUNDED_WIDTH)):
+    for value, width in (
+        ("132", 132),
+        ("", UNBOUNDED_WIDTH),
+        ("wide", UNBOUNDED_WIDTH),
+        ("0", UNBOUNDED_WIDTH),
+        ("5", MIN_WIDTH),  # rich would squeeze every column to nothing
+    ):
         monkeypatch.setenv("COLUMNS", value)
         assert pipe_width() == width
         assert make_console().width == width

@@ -27,24 +27,30 @@ from typing import Final, TextIO
 
 from rich.console import Console
 
-__all__ = ["UNBOUNDED_WIDTH", "make_console", "stdout_console", "stderr_console", "text_console", "pipe_width"]
+__all__ = ["UNBOUNDED_WIDTH", "MIN_WIDTH", "make_console", "stdout_console", "stderr_console", "text_console", "pipe_width"]
 
 UNBOUNDED_WIDTH: Final = 10_000
 """The width a console off a terminal lays out in when ``COLUMNS`` is unset: wider than any table
 persistri prints, so tables keep their natural width (a rich table does not pad itself to the console)."""
 
 
+MIN_WIDTH: Final = 40
+"""The narrowest width tables are laid out in: below it rich squeezes every column to nothing and a table shows
+no values (``COLUMNS=5``); the table is then wider than the screen, and readable."""
+
+
 def pipe_width() -> int:
-    """The width for output that is not a terminal: ``COLUMNS`` when it is a positive integer, else :data:`UNBOUNDED_WIDTH`."""
+    """The width for output that is not a terminal: ``COLUMNS`` when it is a positive integer (at least
+    :data:`MIN_WIDTH`), else :data:`UNBOUNDED_WIDTH`."""
     columns = os.environ.get("COLUMNS", "").strip()
-    return int(columns) if columns.isdigit() and int(columns) > 0 else UNBOUNDED_WIDTH
+    return max(int(columns), MIN_WIDTH) if columns.isdigit() and int(columns) > 0 else UNBOUNDED_WIDTH
 
 
 def make_console(*, stderr: bool = False) -> Console:
     """A rich console on stdout (or stderr): rich's defaults on a terminal; off one, unwrapped plain text (module docstring)."""
     console = Console(stderr=stderr, markup=False)
     if console.is_terminal:
-        return console
+        return console if console.width >= MIN_WIDTH else Console(stderr=stderr, markup=False, width=MIN_WIDTH)
     return Console(stderr=stderr, width=pipe_width(), soft_wrap=True, markup=False)
 
 
