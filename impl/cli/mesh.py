@@ -9,8 +9,9 @@ when the mesh does not pass.  The inputs and outputs are checked before the
 refinement starts and written all or nothing (:mod:`persistri.impl.cli.checks`).
 
 Outputs by extension: ``.npz`` (the arrays and the counts), ``.ele`` (Triangle's
-``.node`` + ``.ele`` + ``.poly`` of the mesh segments, side by side with
-Triangle's own output), ``.ply`` / ``.obj`` / ``.off`` (z = 0).
+``.node`` with attributes and boundary markers + ``.ele`` + ``.poly`` of the mesh
+segments with their markers, as Triangle's ``-p`` writes them:
+:mod:`persistri.impl.mesh.markers`), ``.ply`` / ``.obj`` / ``.off`` (z = 0).
 """
 
 from __future__ import annotations
@@ -135,7 +136,16 @@ def _dropped_arrays(mesh: QualityMesh) -> dict[str, Any]:
 
 def npz_arrays(mesh: QualityMesh, smallest: float) -> dict[str, Any]:
     """What an ``.npz`` output holds: the mesh's arrays, the bounds, what was reached, the refinement's counts and
-    its record of the points it dropped (:func:`_dropped_arrays`)."""
+    its record of the points it dropped (:func:`_dropped_arrays`), and what Triangle's files carry
+    (:mod:`persistri.impl.mesh.markers`): ``vertex_markers`` (N), ``segment_markers`` (one per ``segments`` row) and,
+    when the domain has them, ``vertex_attributes`` (N × k)."""
+    from persistri.impl.mesh.markers import triangle_markers, vertex_attributes
+
+    marks = triangle_markers(mesh)
+    attributes = vertex_attributes(mesh)
+    extra: dict[str, Any] = {"vertex_markers": marks.vertex, "segment_markers": marks.segment}
+    if attributes is not None:
+        extra["vertex_attributes"] = attributes
     return {
         "vertices": mesh.vertices,
         "triangles": mesh.triangles,
@@ -160,18 +170,28 @@ def npz_arrays(mesh: QualityMesh, smallest: float) -> dict[str, Any]:
         "rounded_splits": np.int64(mesh.rounded_splits),
         "exact_segments": np.bool_(mesh.exact_segments),
         **_dropped_arrays(mesh),
+        **extra,
     }
 
 
 def _write_triangle_files(path: Path, mesh: QualityMesh, first_number: int) -> None:
-    """``path`` (.ele) with the ``.node`` and the ``.poly`` of the mesh segments beside it, as Triangle's ``-p`` writes them."""
+    """``path`` (.ele) with the ``.node`` and the ``.poly`` of the mesh segments beside it, as Triangle's ``-p`` writes
+    them: every vertex with its attributes and boundary marker, every segment with its marker
+    (:mod:`persistri.impl.mesh.markers`: Triangle's rules), each triangle with its regional attribute."""
     from persistri.impl.mesh.domain import PSLG
+    from persistri.impl.mesh.markers import triangle_markers, vertex_attributes
     from persistri.impl.mesh.polyfile import write_ele, write_poly
 
     d = mesh.domain
-    markers = None if d.segment_markers is None else np.asarray(d.segment_markers)[mesh.segment_of]
+    marks = triangle_markers(mesh)
     segments = PSLG(
-        vertices=mesh.vertices, segments=mesh.segments, holes=d.holes, regions=d.regions, segment_markers=markers
+        vertices=mesh.vertices,
+        segments=mesh.segments[marks.kept],
+        holes=d.holes,
+        regions=d.regions,
+        vertex_markers=marks.vertex,
+        segment_markers=marks.segment[marks.kept],
+        vertex_attributes=vertex_attributes(mesh),
     )
     write_poly(path.with_suffix(".poly"), segments, first_number=first_number, node_file=True)
     attributes = None
@@ -326,9 +346,17 @@ def mesh(
     (T × 3, counterclockwise), segments (the mesh edges on input segments),
     segment_of (the input segment of each), regions (each triangle's region,
     numbered from 1 in the .poly's order; 0: none), and the bounds, what was
-    reached and the counts; .ele writes Triangle's .node, .ele (with each
-    triangle's regional attribute, as Triangle's -A) and .poly (the mesh
-    segments) side by side; .ply, .obj, .off with z = 0.
+    reached and the counts, and vertex_markers, segment_markers and
+    vertex_attributes as below; .ele writes Triangle's files side by side, as
+    triangle -p writes them: .node (every vertex with its attributes and
+    boundary marker), .ele (each triangle with its regional attribute, as
+    Triangle's -A) and .poly (the mesh segments with their markers, the holes
+    and regions). Markers follow Triangle's rules: a nonzero input marker is
+    kept; a segment is otherwise 1 on the domain's boundary, 0 inside; a vertex
+    on a segment takes its marker, others 0. Attributes: input vertices keep
+    theirs; new vertices get them by linear interpolation, as Triangle does
+    (along the segment for a split point, in the bad triangle for a
+    circumcentre). .ply, .obj, .off with z = 0.
     """
     from persistri.impl.mesh.api import triangulate
     from persistri.impl.mesh.steiner import PrecisionLimitError

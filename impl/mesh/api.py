@@ -226,6 +226,8 @@ class QualityMesh:
     notes: tuple[str, ...] = ()
     deletions: int = 0
     rounding_retries: int = 0
+    points: IntArray | None = None
+    """The index in the run's point set of each row of ``vertices`` (``history.mesh(-1).points``)."""
 
     @property
     def complex(self) -> Complex[MeshDatum]:
@@ -327,6 +329,7 @@ def _finish(
         notes=tuple(notes),
         deletions=counts.deletions,
         rounding_retries=counts.rounding_retries,
+        points=arr.points,
     )
 
 

@@ -103,6 +103,9 @@ class SegmentGeometry:
     incident: list[int]
     """The number of segments at each input vertex."""
     off_segment: set[int] = field(default_factory=set)
+    made_in: dict[int, tuple[int, int, int]] = field(default_factory=dict)
+    """The bad triangle (its three corners) each inserted circumcentre or off-centre was the Steiner point of: what
+    :mod:`~persistri.impl.mesh.markers` interpolates the new vertex's attributes in, as Triangle does."""
     names: InputNames = field(default_factory=InputNames)
     """How messages name the segments and input vertices (the rows the user wrote, :mod:`~persistri.impl.mesh.naming`)."""
     _at: dict[int, tuple[int, ...]] | None = field(default=None, repr=False, compare=False)

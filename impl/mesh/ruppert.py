@@ -317,6 +317,7 @@ class Refiner(RefinerState):
         # Every subsegment edge of the new triangles is a constrained edge of the cavity's boundary, with apex p: each
         # was tested above and none is encroached, so they are not tested again.
         self._adopt(step, False)
+        self.geo.made_in[p] = (int(t[0]), int(t[1]), int(t[2]))
         return step.version, p
 
     def _encroached_on(self, cav: Cavity, p: int) -> list[Constraint]:
