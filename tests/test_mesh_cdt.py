@@ -10,6 +10,7 @@ import triangle as tr
 from hypothesis import given, settings
 
 from mesh_helpers import check_mesh, circle, hole_square_area2, l_shape, pslgs, ring, square_with_hole, twice_area
+from persistri.impl.complex.replace import same_replace
 from persistri.impl.mesh.api import MeshHistory, triangulate
 from persistri.impl.mesh.domain import as_pslg
 from persistri.impl.mesh.triangulation import EXTERIOR, MeshError
@@ -115,6 +116,9 @@ def test_removing_a_free_vertex_leaves_the_cdt_of_the_rest(make, angle, area) ->
         check_mesh(d, after.vertices, after.triangles, after.segments, after.segment_of, area2=twice_area(before.vertices, before.triangles))
         assert v not in after.points.tolist() and after.points.size == before.points.size - 1
         assert len(step.created) == len(step.removed) - 2  # a star of k triangles, a polygon of k vertices
+        # Through the trusted entry: the same version the public replace makes.
+        public = S.replace(last, [t for t, _ in step.removed], list(step.created))
+        assert same_replace(S, step.version, public, [t for t, _ in step.removed], list(step.created))
     # The version removed from is untouched.
     again = m.history.mesh(len(m.history) - 1)
     assert np.array_equal(again.triangles, before.triangles) and np.array_equal(again.vertices, before.vertices)

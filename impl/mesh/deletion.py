@@ -7,7 +7,10 @@ one new version, the old one unchanged (paper §1: every step a version).  It is
 :meth:`MeshTriangulation.remove <persistri.impl.mesh.triangulation.MeshTriangulation.remove>`.
 
 Costs: O(k²) exact predicates (float-filtered) and one ``replace`` for a star of
-``k`` triangles.
+``k`` triangles, through the trusted entry the insertions use
+(:meth:`~persistri.impl.mesh.triangulation.MeshTriangulation._replace`).  The refinement
+itself never makes a version for a deletion: it takes :func:`star_replacement` and
+composes it with the split that follows into that split's one ``replace``.
 """
 
 from __future__ import annotations
@@ -49,7 +52,8 @@ def remove_vertex(
     """
     get = index.get if index is not None else edge_reader(T.S, c)  # every lookup is from v (edges of its star)
     star, created = star_replacement(T, v, start, get)
-    version = T.S.replace(c, [t2 for t2, _ in star], created)
+    # The trusted entry the insertions use (compiled on the twin; compared with the public replace when T.check is on).
+    version = T._replace(c, [t2 for t2, _ in star], list(created))
     return Insertion(version, star, created)
 
 
