@@ -26,16 +26,15 @@ the same line); a circumcentre or off-centre gets the affine interpolation, at i
 position, of the three corners of the bad triangle it was the Steiner point of
 (``SegmentGeometry.made_in``; Triangle's ``findcircumcenter`` ξ, η), those corners'
 values computed the same way first.  Each value is computed exactly from its parents'
-doubles and rounded once (Triangle computes in floating point: the two agree up to
+doubles (integers times a power of two) and rounded once (Triangle computes in floating point: the two agree up to
 rounding where the meshes agree).
 
-Cost: markers O(N + T log T); attributes O(k) exact rational operations per Steiner point
+Cost: markers O(N + T log T); attributes O(k) exact integer operations per Steiner point
 (and ancestor deleted since), only when the domain has attributes.
 """
 
 from __future__ import annotations
 
-from fractions import Fraction
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -116,7 +115,8 @@ def triangle_markers(mesh: QualityMesh) -> TriangleMarkers:
 
 def vertex_attributes(mesh: QualityMesh) -> NDArray[np.float64] | None:
     """Every row of ``mesh.vertices``' attributes, or None when the domain has none (module docstring: input vertices'
-    kept, Steiner points' interpolated as Triangle does, exactly and rounded once). O(k) rationals per Steiner point."""
+    kept, Steiner points' interpolated as Triangle does, exactly and rounded once). O(k) integer operations per Steiner
+    point."""
     d = mesh.domain
     given = d.vertex_attributes
     if given is None or given.size == 0:
@@ -140,29 +140,37 @@ def vertex_attributes(mesh: QualityMesh) -> NDArray[np.float64] | None:
         parents = geo.made_in.get(p)
         if parents is not None:
             stack.extend(parents)
-    value: dict[int, list[Fraction]] = {}
-
-    def of(v: int) -> list[Fraction]:
-        if v < n_in:
-            return [Fraction(float(a)) for a in given[v]]
-        return value[v]
-
+    value: dict[int, list[float]] = {v: given[v].tolist() for v in range(n_in)}
     for p in sorted(needed):  # parents are older than their children: smaller indices
         found = geo.on_segment.get(p)
         if found is not None:
             s, t = found
             a, b = geo.ends[s]
-            va, vb = of(a), of(b)
-            value[p] = [x + t * (y - x) for x, y in zip(va, vb)]
+            tn, td = t.numerator, t.denominator
+            value[p] = [_affine(x, ((y, tn, td),)) for x, y in zip(value[a], value[b])]
         else:
             a, b, c = geo.made_in[p]
-            (ax, ay), (bx, by), (cx, cy), (px, py) = (tuple(map(Fraction, pred.xy(v))) for v in (a, b, c, p))
+            (ax, ay, bx, by, cx, cy, px, py), _ = _scaled((*pred.xy(a), *pred.xy(b), *pred.xy(c), *pred.xy(p)))
             det = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-            xi = ((px - ax) * (cy - ay) - (py - ay) * (cx - ax)) / det
-            eta = ((bx - ax) * (py - ay) - (by - ay) * (px - ax)) / det
-            va, vb, vc = of(a), of(b), of(c)
-            value[p] = [x + xi * (y - x) + eta * (z - x) for x, y, z in zip(va, vb, vc)]
-        value[p] = [Fraction(float(x)) for x in value[p]]  # stored as the double Triangle would store
+            xi = (px - ax) * (cy - ay) - (py - ay) * (cx - ax)  # ξ = xi / det, η = eta / det: p = a + ξ (b − a) + η (c − a)
+            eta = (bx - ax) * (py - ay) - (by - ay) * (px - ax)
+            value[p] = [_affine(x, ((y, xi, det), (z, eta, det))) for x, y, z in zip(value[a], value[b], value[c])]
     for row, p in enumerate(points[n_in:].tolist(), start=n_in):
-        out[row] = [float(x) for x in value[p]]
+        out[row] = value[p]
     return out
+
+
+def _scaled(values: tuple[float, ...]) -> tuple[list[int], int]:
+    """The doubles ``values`` as integers times one power of two ``2^-shift``: ``(integers, shift)``, exactly."""
+    ratios = [v.as_integer_ratio() for v in values]
+    shift = max(d.bit_length() for _, d in ratios) - 1  # every denominator is a power of two
+    return [n << (shift - d.bit_length() + 1) for n, d in ratios], shift
+
+
+def _affine(x: float, terms: tuple[tuple[float, int, int], ...]) -> float:
+    """``x + Σ (n / d)(y − x)`` over ``terms`` ``(y, n, d)`` (one ``d`` for all), exactly, rounded once to a double:
+    Python's ``int / int`` rounds correctly."""
+    d = terms[0][2]
+    (xs, *ys), shift = _scaled((x, *(y for y, _, _ in terms)))
+    num = xs * d + sum(n * (y - xs) for y, (_, n, _) in zip(ys, terms))
+    return num / (d << shift)
