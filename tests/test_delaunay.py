@@ -231,10 +231,10 @@ def test_all_points_cocircular() -> None:
     assert len(d.triangles) == len(circle)  # the fan from the centre
 
 
-def _triangulator_after(pts: NDArray[np.float64], seed: int) -> tuple[Triangulator, list[int]]:
+def _triangulator_after(pts: NDArray[np.float64], seed: int, edge_index: bool = True) -> tuple[Triangulator, list[int]]:
     """A Triangulator with the first triangle of ``pts``'s insertion order laid, and the rest of that order."""
     pred = Predicates2(pts)
-    T = Triangulator(pred, TwoComplex(map_backend("red_black")), check=True, edge_index=True)
+    T = Triangulator(pred, TwoComplex(map_backend("red_black")), check=True, edge_index=edge_index)
     order = insertion_order(pts, seed)
     first = _first_triangle(pred, order)
     T.begin([(first, EMPTY)])
@@ -292,17 +292,16 @@ def _edges_of_complex(T: Triangulator) -> dict[tuple[int, int], tuple[int, int]]
     return out
 
 
-def test_the_edge_index_is_the_current_versions_and_spares_every_read_of_the_complex() -> None:
-    # With the index of edges, the walks and the cavities read no edge from the complex, the index is the
-    # current version's edges after every insertion (the same datum objects as the complex's), and the
-    # triangulation is the same as without it (check=True, which reads the complex for every indexed answer,
-    # is off here so that the reads are counted; the other tests run with it on).
+def test_the_neighbour_records_are_the_current_versions_and_spare_every_read_of_the_complex() -> None:
+    # With the neighbour records, the walks and the cavities read no edge from the complex, the records are the
+    # current version's triangles and neighbours after every insertion (the complex's triangles, and its datum
+    # objects), and the triangulation is the same as without them (check=True, which reads the complex for every
+    # answer of the records, is off here so that the reads are counted; the other tests run with it on).
     pts = np.random.default_rng(5).random((300, 2))
     found: dict[bool, tuple[int, list[tuple[int, ...]]]] = {}
     for indexed in (False, True):
-        T, rest = _triangulator_after(pts, 0)
-        if not indexed:
-            T.edges = None
+        T, rest = _triangulator_after(pts, 0, edge_index=indexed)
+        assert (T.adj is not None) == indexed
         T.check = False
         reads = 0
         last = None
@@ -317,13 +316,21 @@ def test_the_edge_index_is_the_current_versions_and_spares_every_read_of_the_com
             T._read = counted
             last = T.insert(q, T.locate(q, next(iter(T.tri_of))) if last is None else T.locate_after(q, last))
             if indexed and (k % 10 == 0 or k == len(rest) - 1):
-                index = T.edges
-                assert index is not None
-                assert {
-                    (int(u), int(w)): (int(third(t, u)), int(d[0])) for u, row in index.items() for w, (t, d) in row.items()
-                } == _edges_of_complex(T)
-                data = {int(d[0]): d for _, d in T.S.items(T.complex)}
-                assert all(d is data[int(d[0])] for row in index.values() for _, d in row.values())
+                adj = T.adj
+                assert adj is not None and len(adj) == T._next_id
+                live = {i: R for i, R in enumerate(adj) if R is not None}
+                assert set(live) == {int(d[0]) for _, d in T.S.items(T.complex)}
+                edges = _edges_of_complex(T)
+                data = {int(d[0]): (t, d) for t, d in T.S.items(T.complex)}
+                for i, R in live.items():
+                    tri, d = R[0], R[1]
+                    ct = data[i][0]  # the complex's triangle, in the rotation its items give
+                    assert tri in (ct, (ct[1], ct[2], ct[0]), (ct[2], ct[0], ct[1]))
+                    assert data[i][1] is d and T.tri_of[i] is tri and int(d[0]) == i
+                    for j in range(3):
+                        u, w = int(tri[j]), int(tri[(j + 1) % 3])
+                        # The record's edge j is (u, w); the triangle across it holds (w, u).
+                        assert edges[(w, u)][1] == int(R[2 + j])
         found[indexed] = (reads, sorted(tuple(sorted(t)) for t, _ in T.finite_triangles()))
     assert found[True][1] == found[False][1]
     assert found[True][0] == 0 < found[False][0]
@@ -331,18 +338,22 @@ def test_the_edge_index_is_the_current_versions_and_spares_every_read_of_the_com
 
 @pytest.mark.parametrize("wrong", ["datum", "vertex"])
 def test_check_compares_every_indexed_answer_with_the_complex(wrong: str) -> None:
-    # check=True compares each answer of the edge index with the complex's: an entry with an equal datum that is
-    # not the complex's object, or whose triangle has another third vertex, is caught at the next look-up.
+    # check=True compares each answer of the neighbour records with the complex's: a record with an equal datum
+    # that is not the complex's object, or whose triangle has another third vertex, is caught at the next look-up.
     pts = np.random.default_rng(7).random((60, 2))
     T, rest = _triangulator_after(pts, 1)
     last = None
     for q in rest[:30]:
         last = T.insert(q, T.locate(q, next(iter(T.tri_of))) if last is None else T.locate_after(q, last))
-    index = T.edges
-    assert index is not None and last is not None
-    for row in index.values():
-        for w, (t, d) in list(row.items()):
-            row[w] = (t, (d[0], d[1])) if wrong == "datum" else ((t[0], t[2], t[1]), d)
+    adj = T.adj
+    assert adj is not None and last is not None
+    for R in adj:
+        if R is not None:
+            t, d = R[0], R[1]
+            if wrong == "datum":
+                R[1] = (d[0], d[1])
+            else:
+                R[0] = (t[0], t[2], t[1])
     q = rest[30]
     with pytest.raises(TriangulationCheckError, match="indexed neighbour"):
         T.insert(q, T.locate_after(q, last))
@@ -360,7 +371,10 @@ def test_check_compares_the_live_index_with_the_complex(counted: bool, monkeypat
         out = real_insert(self, *args)
         calls[0] += 1
         if calls[0] == len(pts) - 3:  # the last insertion (the first triangle's three points are not inserted)
-            self.tri_of.pop(next(iter(self.tri_of)))
+            if self.adj is None:
+                self.tri_of.pop(next(iter(self.tri_of)))
+            else:  # uncounted: the neighbour records are the index of the live triangles
+                self.adj[next(i for i, R in enumerate(self.adj) if R is not None)] = None
         return out
 
     monkeypatch.setattr(Triangulator, "insert", insert_then_forget)

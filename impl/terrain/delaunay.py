@@ -48,7 +48,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from itertools import chain
-from typing import Any
+from typing import Any, Final
 
 import numpy as np
 
@@ -66,7 +66,7 @@ from persistri.impl.terrain.insertion import (
     TriDatum,
     canonical_triangles,
     _frozen,
-    enter,
+    link,
     sample_dtype,
     third,
 )
@@ -84,6 +84,10 @@ __all__ = [
     "canonical_triangles",
 ]
 
+_NEW_INT: Final[Any] = int.__new__
+"""``int.__new__``, read once (compiled, ``int.__new__(cls, i)`` looks the method up on ``int`` at every call)."""
+
+
 class Triangulator:
     """The state of an incremental Delaunay triangulation: the current complex version and its bookkeeping.
 
@@ -96,8 +100,8 @@ class Triangulator:
     point by walking, for inputs without conflict lists.
 
     ``tri_of`` maps the id of every live triangle (ghosts included) to its
-    vertices; it is the run's scratch index of the current version, not part of
-    any version (an older version is read through the complex alone; the
+    vertices (read from :attr:`adj` when the run keeps neighbour records); it is
+    the run's scratch index of the current version, not part of any version (an older version is read through the complex alone; the
     scattered ``delaunay`` reads its final triangles from it when nothing is
     counted, and compares it with the complex under ``check=True``).  Sample lists are read-only arrays of
     :attr:`sample_dtype` (:func:`sample_dtype`: ``int32`` up to 2^31 points).
@@ -108,17 +112,23 @@ class Triangulator:
     paper's code, a ``rem`` per cavity triangle and an ``add`` per fan triangle
     (the experiments count that).
 
-    ``edge_index=True`` (the scattered Delaunay) keeps, beside ``tri_of``, an index
-    of the current version's directed edges (:attr:`edges`: ``edges[u][w]`` is
-    the record ``(triangle, datum)`` of the live triangle holding ``(u, w)``, one
-    record shared by its three edges; :func:`~persistri.impl.terrain.insertion.third` reads ``x``),
-    updated by every insertion with the complex, and answers the walk's and the cavity's neighbour look-ups
-    from it instead of the complex's maps: the same answers (``check=True``
-    compares each with the complex's), a dictionary read each instead of a tree
-    search and a scan of a vertex list.  Like ``tri_of`` it is the run's scratch
-    index of the current version, not part of any version (about 0.5 KB a point while
-    the run lasts).  Off by default (greedy insertion keeps its memory for the
-    grid's samples) and in counted runs, which count the paper's look-ups.
+    ``edge_index=True`` (the scattered Delaunay) keeps, beside ``tri_of``, a
+    *neighbour record* for every live triangle of the current version
+    (:attr:`adj`, a list by triangle id, None at the ids of dead triangles):
+    ``[triangle, datum, n0, n1, n2, mark]``, the triangle and datum objects the
+    complex holds, ``nk`` the id of the triangle across the record's edge ``k``
+    (edge 0 is ``(triangle[0], triangle[1])``, 1 and 2 follow it), and ``mark``
+    the scratch of one cavity search (:mod:`persistri.impl.terrain.cavity`).
+    Every insertion updates it with the complex; the walk's and the cavity's
+    neighbour look-ups read it instead of the complex's maps: the same answers
+    (``check=True`` compares each with the complex's), two list reads each
+    instead of a tree search and a scan of a vertex list (or, as the index of
+    directed edges it replaced did, two dictionary reads, and a dictionary
+    store or deletion for every edge an insertion makes or removes).  Like
+    ``tri_of`` it is the run's scratch index of the current version, not part of
+    any version (about 0.3 KB a point while the run lasts, from the objects' sizes).  Off by default
+    (greedy insertion keeps its memory for the grid's samples) and in counted
+    runs, which count the paper's look-ups.
 
     ``counted`` — whether the predicates count (their ``stats`` is set), decided at construction: a run's
     predicates keep their ``stats``.  Uncounted, the cavity and the walks call the kernel's
@@ -152,7 +162,8 @@ class Triangulator:
         # the lineage (resume).
         self._label_class: type[Vertex] | None = None
         self.infinite: Vertex = self.vertex(self.n)
-        self.tri_of: dict[int, Triangle] = {}
+        # The live triangles by id (tri_of), kept here when the run keeps no neighbour records (else adj has them).
+        self._tri_of: dict[int, Triangle] = {}
         self._next_id = 0
         self.complex: Complex[TriDatum] = structure.new(2)
         # The neighbour function of one version (TwoComplex.neighbours), kept while that version is current:
@@ -160,16 +171,13 @@ class Triangulator:
         # vertex lists it has read from the map (a lookup of a list already read is a scan, not a tree search).
         self._read_version: Complex[TriDatum] | None = None
         self._read: Callable[[Any], Any] | None = None
-        # The directed edges of the current version (class docstring): edges[u][w] = (triangle, datum) for the
-        # live triangle holding (u, w), or None when the look-ups read the complex.  Off in counted runs: they count the
-        # paper's look-ups, one per edge crossed.  Values are tuples of any length: compiled by mypyc, an element
-        # of a fixed-length tuple type would be unboxed, and the datum must stay the object the complex holds.
-        self.edges: dict[Any, dict[Any, tuple[Any, ...]]] | None = (
-            {} if edge_index and pred.stats is None and structure.stats is None else None
-        )
+        # The neighbour records of the current version's triangles, by id (class docstring), or None when the
+        # look-ups read the complex.  Off in counted runs: they count the paper's look-ups, one per edge crossed.
+        # Items typed Any: compiled by mypyc, the triangle and datum stay the objects the complex holds.
+        self.adj: list[Any] | None = [] if edge_index and pred.stats is None and structure.stats is None else None
         self.kernel = pred.kernel()
-        # Whether the run is counted, decided once (the predicates' stats is fixed for a run, as the edge index
-        # assumes): uncounted, the cavity and the walks call the kernel's tests that do not read stats.
+        # Whether the run is counted, decided once (the predicates' stats is fixed for a run, as the neighbour
+        # records assume): uncounted, the cavity and the walks call the kernel's tests that do not read stats.
         self.counted = pred.stats is not None
         # The sector test's float path is exact when orient2d's is (docs of kernel2d and sectors).
         self.small_integers = self.kernel.exact_orient2d
@@ -177,8 +185,8 @@ class Triangulator:
     # -- construction ------------------------------------------------------------------
 
     def _check_indexed(self, w: Any, u: Any, nb: Any) -> None:
-        """``check=True``: what :attr:`edges` answered across ``(w, u)`` is what the complex answers (the same
-        triangle and the same datum object)."""
+        """``check=True``: what :attr:`adj` answered across ``(w, u)`` — ``nb``, the neighbour's ``(triangle,
+        datum)`` — is what the complex answers (the same triangle and the same datum object)."""
         ref: Any = self.neighbours()((w, u))
         if nb is None or ref is None or ref[0] != (w, u, third(nb[0], w)) or ref[1] is not nb[1]:
             raise TriangulationCheckError(f"insert: the indexed neighbour across {(w, u)} is {nb}, the complex has {ref}")
@@ -203,22 +211,46 @@ class Triangulator:
         are made as that class's ``int`` directly — the same object ``Vertex`` would make, without its
         interpreted ``__new__``.
         """
-        v = self._verts.get(i)
+        io: Any = i  # boxed once (compiled: an int parameter is boxed again at every use as an object)
+        v = self._verts.get(io)
         if v is None:
-            cls = self._label_class
-            if cls is not None and type(i) is int and i < self.n:
-                v = int.__new__(cls, i)
-            else:
-                v = Vertex(i, i if i < self.n else None, self.lineage)
-                if type(i) is int and i < self.n:
-                    self._label_class = type(v)
-            self._verts[i] = v
+            v = self.new_vertex(io)
         return v
+
+    def new_vertex(self, i: Any) -> Vertex:
+        """:meth:`vertex` of a point ``i`` that has no vertex yet (the caller has asked ``_verts``): made now. O(1)."""
+        cls = self._label_class
+        v: Vertex
+        if cls is not None and type(i) is int and i < self.n:
+            v = _NEW_INT(cls, i)
+        else:
+            v = Vertex(i, i if i < self.n else None, self.lineage)
+            if type(i) is int and i < self.n:
+                self._label_class = type(v)
+        self._verts[i] = v
+        return v
+
+    @property
+    def tri_of(self) -> dict[int, Triangle]:
+        """The id of every live triangle of the current version (ghosts included) to its vertices (class docstring).
+
+        Kept up to date by every insertion when the run keeps no neighbour records; with them (:attr:`adj`) the
+        records are the index, and this is a new dictionary read from them: O(1) without records, O(ids made)
+        with them (the scattered ``delaunay`` reads it once, for its result)."""
+        adj = self.adj
+        if adj is None:
+            return self._tri_of
+        R: Any
+        return {i: R[0] for i, R in enumerate(adj) if R is not None}
+
+    @tri_of.setter
+    def tri_of(self, live: dict[int, Triangle]) -> None:
+        self._tri_of = live
 
     def _new_id(self, tri: Triangle) -> int:
         tid = self._next_id
         self._next_id += 1
-        self.tri_of[tid] = tri
+        self._tri_of[tid] = tri
         return tid
 
     def begin(self, triangles: list[tuple[tuple[int, int, int], Samples]]) -> Complex[TriDatum]:
@@ -236,6 +268,7 @@ class Triangulator:
         P, V, S = self.pred, self.vertex, self.S
         cx = self.complex
         edges: set[tuple[int, int]] = set()
+        laid: list[Any] = []  # (triangle, datum), for the neighbour records
         for (a, b, c), samples in triangles:
             if P.orient2d_sign(a, b, c) <= 0:
                 raise ValueError(f"begin: triangle {(a, b, c)} is not strictly counterclockwise")
@@ -243,16 +276,17 @@ class Triangulator:
             # Any: compiled, a fixed-length tuple would be unboxed and boxed anew for the complex and for the index.
             datum: Any = (self._new_id(tri), _frozen(np.array(samples, dtype=self.sample_dtype)))
             cx = S.add(cx, tri, datum)
-            if self.edges is not None:
-                enter(self.edges, tri, datum)
+            laid.append((tri, datum))
             edges.update(((a, b), (b, c), (c, a)))
         for u, w in sorted(edges):
             if (w, u) not in edges:
                 ghost = (V(w), V(u), self.infinite)
                 datum = (self._new_id(ghost), EMPTY)
                 cx = S.add(cx, ghost, datum)
-                if self.edges is not None:
-                    enter(self.edges, ghost, datum)
+                laid.append((ghost, datum))
+        if self.adj is not None:
+            link(self.adj, laid)
+            self._tri_of = {}  # the records are the index of the live triangles
         self.complex = cx
         return cx
 
@@ -265,8 +299,8 @@ class Triangulator:
         ``c`` must be a finished Delaunay triangulation with ghosts (a scattered
         run's version, its infinite vertex labelled ``infinite``) over the first
         points of ``pred`` (labels index ``pred``; the row at ``infinite`` is never
-        read).  The live-triangle index, the edge index (when the run keeps one:
-        uncounted), the next triangle id and the vertices are read back from ``c``:
+        read).  The live-triangle index, the neighbour records (when the run keeps
+        them: uncounted), the next triangle id and the vertices are read back from ``c``:
         its triangles and data are the same objects, its vertices the complex's own
         (so new triangles join their lineage).  :class:`ValueError` if ``c`` has no
         vertex labelled ``infinite``.  O(size of ``c``).
@@ -282,16 +316,15 @@ class Triangulator:
         verts: dict[int, Vertex] = dict(zip(every, every))
         if infinite not in verts:
             raise ValueError(f"Triangulator.resume: the complex has no vertex labelled {infinite} (the infinite vertex)")
-        edges = T.edges
-        if edges is not None:
-            for item in items:
-                enter(edges, item[0], item[1])
+        if T.adj is not None:
+            link(T.adj, items)
         inf = verts[infinite]
         T.lineage = inf.lineage
         T._label_class = None  # the lineage changed: its class is made by its first new vertex
         T._verts = verts
         T.infinite = inf
-        T.tri_of = tri_of
+        if T.adj is None:
+            T.tri_of = tri_of
         T._next_id = max(tri_of) + 1
         T.complex = c
         return T
@@ -349,7 +382,8 @@ class Triangulator:
         needed on inputs in general position).  Each step is one ``neighbour``
         look-up in the current version and at most three ``orient2d`` tests.
         """
-        return walk(self, p, hint, self.tri_of[hint], False, seed)
+        adj = self.adj
+        return walk(self, p, hint, self._tri_of[hint] if adj is None else adj[hint][0], False, seed)
 
     def locate_after(self, p: int, last: Insertion) -> int:
         """:meth:`locate`, starting around the point of ``last``, the insertion that made the current version.

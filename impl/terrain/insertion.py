@@ -9,10 +9,11 @@ lists' dtype (:func:`sample_dtype`), the way a cavity's samples are pooled, sort
 into the fan's sectors and cut into its triangles' lists (:func:`fan_samples`,
 :class:`FanSort`), the canonical form of a list of
 triangles used to compare meshes (:func:`canonical_triangles`), and what an
-insertion changes besides the complex when the triangulator keeps an index of
-the current version's directed edges (``Triangulator.edges``: ``index[u][w]``
-is the record ``(triangle, datum)`` of the triangle holding ``(u, w)``;
-:func:`enter`, :func:`third`; :meth:`~persistri.impl.terrain.delaunay.Triangulator.insert` updates it as it
+insertion changes besides the complex when the triangulator keeps neighbour
+records of the current version's triangles (``Triangulator.adj``: the record of
+a triangle names the triangle across each of its edges; :func:`link` makes them
+for a whole surface, :func:`third` reads a triangle's third vertex;
+:meth:`~persistri.impl.terrain.delaunay.Triangulator.insert` updates them as it
 goes).  The compiled twin compiles it with the triangulator (an insertion makes one record).
 """
 
@@ -42,8 +43,8 @@ __all__ = [
     "Triangle",
     "TriDatum",
     "canonical_triangles",
-    "enter",
     "fan_samples",
+    "link",
     "sample_dtype",
     "third",
 ]
@@ -344,15 +345,25 @@ def third(tri: Any, w: Any) -> Any:
     return tri[2] if tri[0] is w else (tri[0] if tri[1] is w else tri[1])
 
 
-def enter(index: dict[Any, dict[Any, tuple[Any, ...]]], tri: Any, datum: Any) -> None:
-    """Enter the live triangle ``tri`` (three vertices) with its datum into the edge index ``index``: one record
-    ``(tri, datum)`` for its three directed edges. O(1)."""
-    rec = (tri, datum)
-    for u in tri:
-        if u not in index:
-            index[u] = {}
-    a, b, c = tri
-    index[a][b] = index[b][c] = index[c][a] = rec
+def link(adj: list[Any], items: list[Any]) -> None:
+    """Make the neighbour records of a closed surface's triangles in ``adj`` (the triangulator's list by triangle
+    id; ``Triangulator.adj``): ``items`` are its ``(triangle, datum)`` pairs, ``datum[0]`` the triangle's id, and
+    each gets the record ``[triangle, datum, n0, n1, n2, None]``, ``nk`` the id of the triangle across its edge
+    ``k``.  ``adj`` is extended with None to the largest id.  O(len(items)) (one dictionary of directed edges).
+    """
+    holder: dict[tuple[Any, Any], Any] = {}
+    item: Any
+    for item in items:
+        a, b, c = item[0]
+        tid = item[1][0]
+        holder[(a, b)] = holder[(b, c)] = holder[(c, a)] = tid
+    top = max([item[1][0] for item in items], default=-1)
+    if top >= len(adj):
+        adj.extend([None] * (top + 1 - len(adj)))
+    for item in items:
+        tri = item[0]
+        a, b, c = tri
+        adj[item[1][0]] = [tri, item[1], holder[(b, a)], holder[(c, b)], holder[(a, c)], None]
 
 
 def canonical_triangles(tris: IntArray) -> IntArray:

@@ -57,16 +57,18 @@ def walk_from_fan(T: Triangulator, p: int, last: Insertion) -> int:
         if (kern.orient2d_uncounted(u, w, pp) if uncounted else kern.orient2d(u, w, pp)) > 0:
             tid: int = created[i][0]
             return tid
-        index = T.edges
-        if index is not None:
-            nb: Any = index[w].get(u)  # (triangle, datum) of the triangle (w, u, x)
+        adj = T.adj
+        if adj is not None:
+            # The triangle across (u, w) of fan triangle i = (u, w, q): its record's edge 0 faces it.
+            nid: Any = adj[created[i][0]][2]
+            Rn: list[Any] = adj[nid]
+            nb: Any = (Rn[0], Rn[1])
             if T.check:
                 T._check_indexed(w, u, nb)
-            rec: tuple[Any, ...] = nb  # a tuple of any length: compiled, its items are read directly
-            return walk(T, p, rec[1][0], (w, u, third(rec[0], w)), True, 0)
+            return walk(T, p, nid, (w, u, third(Rn[0], w)), True, 0)
         nb = T.neighbours()((w, u))
         assert nb is not None, "a closed surface: every oriented edge has its reverse"
-        rec = nb
+        rec: tuple[Any, ...] = nb  # a tuple of any length: compiled, its items are read directly
         return walk(T, p, rec[1][0], rec[0], True, 0)
     # Not reached (the fan's angles cover the plane around q); kept safe all the same.
     return T.locate(p, created[0][0])
@@ -78,12 +80,12 @@ def walk(T: Triangulator, p: int, tid: int, tri: tuple[Any, ...], entered: bool,
     step one ``neighbour`` look-up and at most three ``orient2d`` tests; O(n) as a last resort (never needed)."""
     kern = T.kernel  # its tests called as methods: compiled, a direct call each
     uncounted = not T.counted  # as in walk_from_fan
-    index = T.edges  # the index of the current version's edges, when the triangulator keeps one
-    neighbour = T.neighbours() if index is None else None
+    adj = T.adj  # the neighbour records of the current version, when the triangulator keeps them
+    neighbour = T.neighbours() if adj is None else None
     check = T.check
     inf = T.infinite
     pp: Any = p  # an object for the kernel (as in walk_from_fan)
-    limit = 4 * len(T.tri_of) + 16
+    limit = 4 * (len(adj) if adj is not None else len(T.tri_of)) + 16  # a bound on the live triangles, times 4
     for _ in range(limit):
         a, b, c = tri
         if a is inf or b is inf or c is inf:  # vertices are made once each (Triangulator.vertex): identity is equality
@@ -107,20 +109,24 @@ def walk(T: Triangulator, p: int, tid: int, tri: tuple[Any, ...], entered: bool,
             k = k + 1 if k < 2 else 0
         if not moved:
             return tid
-        rec: tuple[Any, ...]  # tuples of any length: compiled, their items are read directly
-        if index is not None:
-            nb: Any = index[w].get(u)  # (triangle, datum) of the triangle (w, u, x)
+        if adj is not None:
+            # The record of tid names the triangle across each of its edges; (u, w) is its edge at u's position.
+            R: list[Any] = adj[tid]
+            t: tuple[Any, ...] = R[0]
+            nid: Any = R[2] if t[0] is u else (R[3] if t[1] is u else R[4])
+            Rn: list[Any] = adj[nid]
+            t = Rn[0]
             if check:
-                T._check_indexed(w, u, nb)
-            rec = nb
-            t: tuple[Any, ...] = rec[0]
+                T._check_indexed(w, u, (t, Rn[1]))
             tri = (w, u, t[2] if t[0] is w else (t[0] if t[1] is w else t[1]))  # third(t, w), inlined
-        else:
-            assert neighbour is not None
-            nb = neighbour((w, u))
-            assert nb is not None, "a closed surface: every oriented edge has its reverse"
-            rec = nb
-            tri = rec[0]
+            tid = nid
+            entered = True
+            continue
+        assert neighbour is not None
+        nb = neighbour((w, u))
+        assert nb is not None, "a closed surface: every oriented edge has its reverse"
+        rec: tuple[Any, ...] = nb  # tuples of any length: compiled, their items are read directly
+        tri = rec[0]
         tid = rec[1][0]
         entered = True
     for tid, tri in T.tri_of.items():
