@@ -168,16 +168,23 @@ def test_options_reach_the_refiner(tmp_path: Path) -> None:
 
 
 def test_region_area_bounds_apply_and_are_checked(tmp_path: Path) -> None:
-    """A .poly region with an area bound: every triangle in it meets the bound, and --check checks it."""
+    """A .poly region with an area bound: with --region-areas (Triangle's -a without a number) every triangle in it
+    meets the bound, and --check checks it; without, the bound is read but not applied, as in Triangle."""
     poly = tmp_path / "regions.poly"
     poly.write_text(FRAME_POLY.replace("1\n0 2 2\n", "0\n1\n0 0.5 2 3 0.05\n"))
     out = tmp_path / "r.npz"
-    _ok(["mesh", str(poly), "-q", "20", "-o", str(out), "--check", "--quiet"])
+    _ok(["mesh", str(poly), "-q", "20", "--region-areas", "-o", str(out), "--check", "--quiet"])
     mesh = _npz(out)
     areas = _twice_area(mesh["vertices"], mesh["triangles"])
     inside = [a for a, r in zip(areas, mesh["regions"].tolist()) if r == 1]  # the frame; the inner square is region 0
     assert sum(inside) == 2 * 12 and max(inside) <= 2 * Fraction(0.05)
     assert sum(areas) == 2 * 16 and max(a for a, r in zip(areas, mesh["regions"].tolist()) if r == 0) > 2 * Fraction(0.05)
+    _ok(["mesh", str(poly), "-q", "20", "-o", str(out), "--check", "--quiet"])
+    plain = _npz(out)
+    inside = [a for a, r in zip(_twice_area(plain["vertices"], plain["triangles"]), plain["regions"].tolist()) if r == 1]
+    assert max(inside) > 2 * Fraction(0.05) and len(plain["triangles"]) < len(mesh["triangles"])
+    _ok(["mesh", str(poly), "-q", "0", "-o", str(out), "--quiet"])  # the plain CDT: nothing inserted
+    assert len(_npz(out)["vertices"]) == len(read_poly(poly).vertices)
 
 
 def test_precision_limit_names_the_command_line_option(tmp_path: Path) -> None:

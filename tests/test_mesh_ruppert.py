@@ -122,12 +122,23 @@ def test_region_area_bounds() -> None:
         ring(6) + [[1, 4]],
         regions=[[1.5, 0.5, 7.0, 0.01]],
     )
-    m = triangulate(d, min_angle=20)
+    m = triangulate(d, min_angle=20, region_areas=True)  # Triangle's -a without a number
     right = m.regions == 1
     e1 = m.vertices[m.triangles[:, 1]] - m.vertices[m.triangles[:, 0]]
     e2 = m.vertices[m.triangles[:, 2]] - m.vertices[m.triangles[:, 0]]
     areas = (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) / 2
     assert right.any() and areas[right].max() <= 0.01 and areas[~right].max() > 0.01
+    # Without it the regional bound is read but not applied, as in Triangle ('pq20' against 'pq20a').
+    import triangle as tr
+
+    plain = triangulate(d, min_angle=20)
+    assert len(plain.triangles) < len(m.triangles) / 10
+    ours, theirs = len(plain.triangles), len(tr.triangulate(d.to_dict(), "pq20")["triangles"])
+    assert ours <= 1.1 * theirs and theirs <= 1.1 * ours, (ours, theirs)
+    assert len(tr.triangulate(d.to_dict(), "pq20a")["triangles"]) > 10 * theirs
+    assert len(triangulate(d).vertices) == 6  # the CDT, whatever the regions' bounds
+    with pytest.raises(TypeError, match="region_areas"):
+        triangulate(d, min_angle=20, region_areas="yes")  # type: ignore[arg-type]
 
 
 def test_full_precision_segment_is_a_clear_error() -> None:

@@ -138,7 +138,7 @@ def test_bundled_file_meshes_or_fails_for_its_reason(name: str, angle: float) ->
         assert shown is not None and _ulp_distance(domain, v) < 2
         assert math.isclose(float(shown.group(1)), _ulp_distance(domain, v), rel_tol=0.05)
         return
-    mesh = triangulate(domain, min_angle=angle)
+    mesh = triangulate(domain, min_angle=angle, region_areas=True)  # Triangle's -a: the regions' own bounds too
     _check(domain, mesh, angle, None)
 
 

@@ -296,7 +296,12 @@ def _stats_table(source: str, mesh: QualityMesh, smallest: float, report: MeshRe
 )
 @click.option(
     "-a", "--max-area", type=click.FloatRange(min=0, min_open=True), default=None, callback=_finite,
-    help="Largest triangle area wanted (Triangle's -a); a .poly's regions may carry their own.",
+    help="Largest triangle area wanted (Triangle's -a with a number); see also --region-areas.",
+)
+@click.option(
+    "--region-areas", is_flag=True,
+    help="Also keep each triangle within its .poly region's own area bound (Triangle's -a without a number); "
+    "without it, as in Triangle, regional bounds are read but not applied.",
 )
 @click.option("-o", "--output", type=FILE_PATH, help=f"Output mesh ({', '.join(MESH_OUTPUT_FORMATS)}).")
 @click.option("--plot", type=FILE_PATH, help=f"Draw the mesh to this image ({', '.join(PLOT_FORMATS)}).")
@@ -321,6 +326,7 @@ def mesh(
     source: str,
     min_angle: float,
     max_area: float | None,
+    region_areas: bool,
     output: Path | None,
     plot: Path | None,
     check: bool,
@@ -391,6 +397,7 @@ def mesh(
                 domain,
                 min_angle=min_angle,
                 max_area=max_area,
+                region_areas=region_areas,
                 backend=backend,
                 progress=not quiet,
                 offcenters=not no_offcenters,
@@ -416,7 +423,7 @@ def mesh(
             min_angle=min_angle or None,
             max_area=max_area,
             exact_segments=result.exact_segments,
-            region_areas=True,
+            region_areas=region_areas,
         )
         if check and not report.ok:
             total = sum(report.counts.values())

@@ -339,6 +339,7 @@ def _refine_run(
     min_angle: float,
     max_area: float | None,
     *,
+    region_areas: bool,
     offcenters: bool,
     max_steiner: int | None,
     progress: bool | Callable[[int], Any],
@@ -348,9 +349,12 @@ def _refine_run(
 ) -> QualityMesh:
     bound = AngleBound.of(min_angle)
     area = _area(max_area)
-    regs = run.domain.regions
+    _refinement_options(
+        max_steiner, encroachment, check=check, offcenters=offcenters, exact_segments=exact_segments,
+        region_areas=region_areas,
+    )
+    regs = run.domain.regions if region_areas else run.domain.regions[:0]
     region_area = {r + 1: Fraction(float(regs[r, 3])) for r in range(regs.shape[0]) if regs[r, 3] > 0}
-    _refinement_options(max_steiner, encroachment, check=check, offcenters=offcenters, exact_segments=exact_segments)
     refiner = Refiner(
         run.T,
         run.geo,
@@ -421,6 +425,7 @@ def triangulate(
     *,
     min_angle: float = 0.0,
     max_area: float | None = None,
+    region_areas: bool = False,
     backend: str = "red_black",
     check: bool = False,
     progress: bool | Callable[[int], Any] = False,
@@ -433,8 +438,11 @@ def triangulate(
 
     * ``min_angle`` — the smallest angle wanted, degrees in ``[0, 60)`` (0: none;
       20.7 is the bound Ruppert's theory guarantees; Triangle's users ask 20–34);
-    * ``max_area`` — the largest triangle area wanted (None: none); regions'
-      own bounds (``domain.regions[:, 3] > 0``) apply inside them;
+    * ``max_area`` — the largest triangle area wanted (None: none);
+    * ``region_areas`` — also the area bounds of ``domain``'s regions
+      (``domain.regions[:, 3] > 0``), each inside its region: Triangle's ``-a``
+      without a number.  Off by default, as in Triangle, so that a ``.poly`` with
+      regional bounds meshed at ``min_angle=0`` is its constrained Delaunay triangulation;
     * ``backend`` — the ``ORD_MAP`` backend of the complex;
     * ``check`` — run the independent exact checker on the result (:mod:`~persistri.impl.mesh.verify`);
     * ``progress`` — a progress bar (or a callable taking step counts);
@@ -464,7 +472,8 @@ def triangulate(
     O(n log n) for the CDT, then O(lg n) complex work per insertion.
     """
     _refinement_options(  # checked even when no refinement runs
-        max_steiner, encroachment, check=check, offcenters=offcenters, exact_segments=exact_segments
+        max_steiner, encroachment, check=check, offcenters=offcenters, exact_segments=exact_segments,
+        region_areas=region_areas,
     )
     pslg, pred = _as_domain(domain)
     bound = AngleBound.of(min_angle)
@@ -476,7 +485,7 @@ def triangulate(
     with collector_paused():
         cdt, geo = constrained_delaunay(T, pslg)
     run = _Run(T, geo, pslg)
-    if bound.degrees == 0.0 and max_area is None and not bool(np.any(pslg.regions[:, 3] > 0)):
+    if bound.degrees == 0.0 and max_area is None and not (region_areas and bool(np.any(pslg.regions[:, 3] > 0))):
         mesh = _finish(run, [cdt], [], Counts(), True, 0.0, None, True, bool(exact_segments))
         if check:
             _check(mesh)
@@ -486,6 +495,7 @@ def triangulate(
         cdt,
         bound.degrees,
         max_area,
+        region_areas=region_areas,
         offcenters=offcenters,
         max_steiner=max_steiner,
         progress=progress,
@@ -500,6 +510,7 @@ def refine(
     *,
     min_angle: float,
     max_area: float | None = None,
+    region_areas: bool = False,
     offcenters: bool = True,
     max_steiner: int | None = None,
     progress: bool | Callable[[int], Any] = False,
@@ -519,6 +530,7 @@ def refine(
         mesh.complex,
         min_angle,
         max_area,
+        region_areas=region_areas,
         offcenters=offcenters,
         max_steiner=max_steiner,
         progress=progress,
