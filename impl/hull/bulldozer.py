@@ -66,7 +66,8 @@ dictionary-operation counts stay the paper's).  The complex is what the walk
 answers the walk's adjacency questions (the face across each edge, the one face holding the
 reversed edge): ``findi`` in the stepwise mode, as the paper's code asks them, and
 ``neighbours`` of the version being changed (each vertex's list read once) where the
-complex counts or records its calls or the run was resumed.  Otherwise an **edge index**
+complex counts or records its calls, is the ephemeral baseline's ``dict`` (whose look-up is
+what an index gives), or the run was resumed.  Otherwise an **edge index**
 of the current version answers them: ``edges[u][w]`` is the entry of the face holding the
 directed edge ``(u, w)`` — the table's own entry, the complex's datum object — changed
 with the complex at every insertion (the lit faces' edges out, the tent's in), two
@@ -170,10 +171,12 @@ interpreted, making one costs a third of calling a class's ``__init__``, four ti
 
 
 def _plain_neighbours(S: TwoComplex[Any]) -> bool:
-    """Whether the walk may read the bulldozer's edge index instead of asking ``S``: ``S`` neither counts
-    (its counts are the paper's look-ups) nor redefines ``neighbour`` (e.g. to record each call). O(1)."""
-    nb = type(S).neighbour
-    return S.stats is None and (nb is TwoComplex.neighbour or nb is EphemeralTwoComplex.neighbour)
+    """Whether the walk reads the bulldozer's edge index instead of asking ``S``: ``S`` is a persistent
+    2-complex (its ``neighbour`` searches the map for the vertex) that neither counts (its counts are the
+    paper's look-ups) nor redefines ``neighbour`` (e.g. to record each call).  The ephemeral complex's
+    ``neighbour`` is a ``dict`` read and a scan already, what the index gives: an index beside it only
+    doubles the adjacency kept (OnSphere 256K: +117 MB peak, +15% time). O(1)."""
+    return S.stats is None and type(S).neighbour is TwoComplex.neighbour and not isinstance(S, EphemeralTwoComplex)
 
 
 class Bulldozer:
@@ -254,7 +257,7 @@ class Bulldozer:
         # The edge index of the current version (module docstring): edges[u][w] is the entry (triangle, datum)
         # of the face holding the directed edge (u, w), or None when the walk asks the complex (stepwise runs
         # ask findi, as the paper's code does; counted or recording structures count or record each question;
-        # a resumed run's old faces are not in the table).  A vertex buried by an insertion keeps an empty dict.
+        # the ephemeral complex's look-up is a dict read already; a resumed run's old faces are not in the table).  A vertex buried by an insertion keeps an empty dict.
         # Values typed Any: compiled, an entry typed as a fixed-length tuple would be unboxed and made anew.
         self._edges: dict[Any, dict[Any, Any]] | None = (
             {} if resume is None and not stepwise and _plain_neighbours(structure) else None
