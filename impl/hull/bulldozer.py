@@ -63,17 +63,10 @@ conflict list))`` — the very tuple the complex holds — so that the list of t
 point being inserted is read from the table, not looked up in the complex (the
 ``stepwise`` mode reads it from the complex, as the paper's code does, so its
 dictionary-operation counts stay the paper's).  The complex is what the walk
-answers the walk's adjacency questions (the face across each edge, the one face holding the
-reversed edge): ``findi`` in the stepwise mode, as the paper's code asks them, and
-``neighbours`` of the version being changed (each vertex's list read once) where the
-complex counts or records its calls, is the ephemeral baseline's ``dict`` (whose look-up is
-what an index gives), or the run was resumed.  Otherwise an **edge index**
-of the current version answers them: ``edges[u][w]`` is the entry of the face holding the
-directed edge ``(u, w)`` — the table's own entry, the complex's datum object — changed
-with the complex at every insertion (the lit faces' edges out, the tent's in), two
-dictionary reads a question where the complex makes a tree search per vertex and a scan
-of its list.  ``check=True`` compares every answer with the complex's.  Like the
-table, it only mirrors the current version, and is not kept in the result.
+asks for adjacency (``neighbour`` across each edge, the one face holding the
+reversed edge, through ``neighbours`` of the version being changed, which reads
+each vertex's list once; ``findi`` in the stepwise mode); the table only mirrors
+its faces.
 
 Insertion order: a random permutation of the points from the seed; a point
 that is interior when its turn comes is skipped.  This is equivalent to the
@@ -105,13 +98,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from persistri.impl.complex.replace import replace_trusted
-from persistri.impl.complex.ephemeral import EphemeralTwoComplex
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Vertex, VertexState
 from persistri.impl.geometry.kernel import Indices
 from persistri.impl.geometry.predicates import Predicates3
-from persistri.impl.hull.bulldozer_checks import check_bulldozed, check_indexed, check_sectors, check_walk
+from persistri.impl.hull.bulldozer_checks import check_bulldozed, check_sectors, check_walk
 from persistri.impl.hull.conflicts import (
     INTERIOR,
     ON_HULL,
@@ -164,19 +156,10 @@ its packed datum: decoded when the neighbour is expanded, not for every neighbou
 
 _Visible = list[Any]
 """Bookkeeping of one visible face during one insertion (local to the insertion, never persistent): the list
-``[tri, own, incoming, indeg, outs, fid]`` — the triangle, its conflict list (all see it), the lists of points
+``[tri, own, incoming, indeg, outs]`` — the triangle, its conflict list (all see it), the lists of points
 bulldozed into it along arcs (not yet tested), the number of arcs into it from faces not processed yet,
-its out-edges in the edge order (a, b), (b, d), (d, a), and its id.  A list, not an object with attributes:
+and its out-edges in the edge order (a, b), (b, d), (d, a).  A list, not an object with attributes:
 interpreted, making one costs a third of calling a class's ``__init__``, four times an insertion."""
-
-
-def _plain_neighbours(S: TwoComplex[Any]) -> bool:
-    """Whether the walk reads the bulldozer's edge index instead of asking ``S``: ``S`` is a persistent
-    2-complex (its ``neighbour`` searches the map for the vertex) that neither counts (its counts are the
-    paper's look-ups) nor redefines ``neighbour`` (e.g. to record each call).  The ephemeral complex's
-    ``neighbour`` is a ``dict`` read and a scan already, what the index gives: an index beside it only
-    doubles the adjacency kept (OnSphere 256K: +117 MB peak, +15% time). O(1)."""
-    return S.stats is None and type(S).neighbour is TwoComplex.neighbour and not isinstance(S, EphemeralTwoComplex)
 
 
 class Bulldozer:
@@ -239,7 +222,6 @@ class Bulldozer:
         self.stepwise = stepwise
         self.packed = pack
         self._lineage = VertexState.initial().lineage
-        self._label_class: type[Vertex] | None = None  # the class of the lineage's vertices labelled by their point
         self.verts: dict[int, Vertex] = {}
         # Per point, its status and the id of its associated face (-1 before it has one; the last face's
         # id once it is interior or on the hull: read only while the point is pending): Python containers,
@@ -254,14 +236,6 @@ class Bulldozer:
         self._next_fid = 0
         self._table = _FaceTable() if check else None
         self._resumed = resume is not None
-        # The edge index of the current version (module docstring): edges[u][w] is the entry (triangle, datum)
-        # of the face holding the directed edge (u, w), or None when the walk asks the complex (stepwise runs
-        # ask findi, as the paper's code does; counted or recording structures count or record each question;
-        # the ephemeral complex's look-up is a dict read already; a resumed run's old faces are not in the table).  A vertex buried by an insertion keeps an empty dict.
-        # Values typed Any: compiled, an entry typed as a fixed-length tuple would be unboxed and made anew.
-        self._edges: dict[Any, dict[Any, Any]] | None = (
-            {} if resume is None and not stepwise and _plain_neighbours(structure) else None
-        )
         self.complex: Complex[FaceDatum] = first_hull(self, tetra) if resume is None else self._resume(*resume)
 
     def _vertex(self, i: int) -> Vertex:
@@ -288,7 +262,6 @@ class Bulldozer:
         :func:`.resume.attach`).  Returns the new version, or the current one when
         no point is outside.  O(len(points)) plane-side tests and one ``replace``.
         """
-        self._edges = None  # attach changes faces' data in place of the index's entries: the walk asks the complex
         return attach(self, points, fids)
 
     # -- the current version's faces --------------------------------------------------
@@ -339,16 +312,7 @@ class Bulldozer:
         faces = self.faces
         cx = self.complex
         # Each point is inserted once, so its vertex is new: made here, not looked up in (and added to) verts.
-        # A vertex whose point is its label is an instance of one class per lineage: after the first, made by
-        # Vertex, the others are made as that class's int directly — the object Vertex would make, without
-        # its interpreted __new__.
-        vcls = self._label_class
-        if vcls is not None and type(p) is int:
-            vp = int.__new__(vcls, p)
-        else:
-            vp = Vertex(p, p, self._lineage)
-            if type(p) is int:
-                self._label_class = type(vp)
+        vp = Vertex(p, p, self._lineage)
         fid0: Any = assoc[p]  # face ids stay int objects from here on: compiled, an int variable is re-boxed at
         # every use as a key or tuple item (a new object above 256), e.g. once per point in assoc[q] = fid below
         packed = self.packed
@@ -367,14 +331,12 @@ class Bulldozer:
             rest = list(lst)
             rest.remove(p)  # p is in its own face's list, once
             own0 = rest
-        # The face across an edge: from the edge index (two dictionary reads), or where there is none from
-        # the complex — neighbour (one lookup, a scan that stops at the face; each vertex's list read once in
-        # this version; unchecked: the walk asks only about edges of faces it read from cx), or findi in
-        # stepwise mode, whose counts (the whole list scanned) are the paper's.
+        # The face across an edge: neighbour (one lookup, a scan that stops at the face; each vertex's list
+        # read once in this version; unchecked: the walk asks only about edges of faces it read from cx), or
+        # findi in stepwise mode, whose counts (the whole list scanned) are the paper's.
         # Its datum typed Any here: a tuple unpacked as one (FaceTuple below) when not packed, no cast call.
-        edges = self._edges
-        across: Callable[[tuple[Vertex, Vertex]], tuple[Triangle, Any] | None] | None = (
-            None if edges is not None else self._across_counted(cx) if self.stepwise else S.neighbours_unchecked(cx)
+        across: Callable[[tuple[Vertex, Vertex]], tuple[Triangle, Any] | None] = (
+            self._across_counted(cx) if self.stepwise else S.neighbours_unchecked(cx)
         )
 
         visible: dict[int, bool] = {fid0: True}  # face id -> can p see it (each face tested once)
@@ -406,29 +368,10 @@ class Bulldozer:
                     else:
                         indeg += 1
                     continue
-                gdatum: Any
-                if edges is not None:
-                    try:
-                        ix: Any = edges[w][u]
-                    except KeyError:
-                        raise BulldozerCheckError(f"the hull is not a closed surface: no face across edge {(u, w)} of {tri}") from None
-                    t: Triangle = ix[0]
-                    gdatum = ix[1]
-                    # The face rotated to start at w, as neighbour answers it (the walk's edge order follows it).
-                    if t[0] is w:
-                        gtri = t
-                    elif t[1] is w:
-                        gtri = (w, t[2], t[0])
-                    else:
-                        gtri = (w, t[0], t[1])
-                    if check:
-                        check_indexed(self, cx, back, gtri, gdatum)
-                else:
-                    assert across is not None
-                    found = across(back)
-                    if found is None:
-                        raise BulldozerCheckError(f"the hull is not a closed surface: no face across edge {(u, w)} of {tri}")
-                    gtri, gdatum = found
+                found = across(back)
+                if found is None:
+                    raise BulldozerCheckError(f"the hull is not a closed surface: no face across edge {(u, w)} of {tri}")
+                gtri, gdatum = found
                 gpts: Conflict | PackedFace
                 if packed:
                     gid = face_id(gdatum)
@@ -450,7 +393,7 @@ class Bulldozer:
                 else:
                     indeg += 1
                 pending_edges[(u, w)] = (s, fid, tri)
-            rec: _Visible = [tri, own, [], indeg, outs, fid]
+            rec: _Visible = [tri, own, [], indeg, outs]
             work[fid] = rec
             return rec
 
@@ -460,7 +403,7 @@ class Bulldozer:
                 f"the associated face of point {p} has in-degree {first[3]} and out-degree "
                 f"{len(first[4])} in the walking graph (expected 0 and 3)"
             )
-        queue: list[_Visible] = [first]  # the records of the faces whose in-arcs are all processed
+        queue: list[Any] = [fid0]
         processed: list[Any] = []
         lit: list[Triangle] = []  # the lit faces as the walk met them (the rotation findi gave)
         tents: list[tuple[Triangle, Indices]] = []
@@ -472,7 +415,8 @@ class Bulldozer:
         incoming: list[Indices]
         outs: list[Out]
         while queue:
-            tri, own, incoming, _, outs, fid = queue.pop()
+            fid = queue.pop()
+            tri, own, incoming, _, outs = work[fid]
             processed.append(fid)
             lit.append(tri)
             a, b, d = tri
@@ -548,29 +492,17 @@ class Bulldozer:
                 indeg -= 1
                 target[3] = indeg
                 if indeg == 0:
-                    queue.append(target)
+                    queue.append(gid)
 
         if check:
             check_walk(self, p, fid0, work, processed)
 
         # The new version: the lit faces removed, the tent added.
-        if edges is not None:
-            # The lit faces leave the table and their edges the index (the horizon's come back with the tent's
-            # faces); a buried vertex keeps an empty dict, never read again (each point is inserted once).
-            k = 0
-            for t in lit:
-                del faces[processed[k]]
-                k += 1
-                a, b, d = t
-                del edges[a][b]
-                del edges[b][d]
-                del edges[d][a]
-        else:
-            for fid in processed:
-                faces.pop(fid, None)  # a resumed run's old faces are not in the dict
+        for fid in processed:
+            faces.pop(fid, None)  # a resumed run's old faces are not in the dict
         if self._table is not None:
             self._table.live[processed] = False
-        added = tent_faces(tents, self._next_fid, faces, assoc, self.assoc, self._table, packed, edges)
+        added = tent_faces(tents, self._next_fid, faces, assoc, self.assoc, self._table, packed)
         self._next_fid += len(added)
         if self.stepwise:
             for tri in lit:

@@ -18,16 +18,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from persistri.impl.geometry.kernel import Indices
-from persistri.impl.complex.structure import Complex
-from persistri.impl.complex.vertex import Vertex
-from persistri.impl.hull.conflicts import INTERIOR, PENDING, Entry, FaceDatum, IntArray, Triangle, _as_list
+from persistri.impl.hull.conflicts import INTERIOR, PENDING, Entry, IntArray, Triangle, _as_list
 from persistri.impl.hull.errors import BulldozerCheckError
 from persistri.impl.hull.packed import face_id
 
 if TYPE_CHECKING:
     from persistri.impl.hull.bulldozer import Bulldozer, _Visible
 
-__all__ = ["check_cones", "check_sectors", "check_indexed", "check_walk", "check_bulldozed"]
+__all__ = ["check_cones", "check_sectors", "check_walk", "check_bulldozed"]
 
 
 def check_cones(bd: Bulldozer, points: IntArray, fids: IntArray) -> None:
@@ -57,14 +55,6 @@ def check_sectors(bd: Bulldozer, p: int, tri: Triangle, pts: Indices, groups: tu
         for q in _as_list(grp):
             if not (o3(C, p, x, q) == -1 and o3(C, p, y, q) == 1):
                 raise BulldozerCheckError(f"point {q} is routed across edge {(x, y)} of face {tri} but its ray is not there")
-
-
-def check_indexed(bd: Bulldozer, cx: Complex[FaceDatum], edge: tuple[Vertex, Vertex], tri: Triangle, datum: FaceDatum) -> None:
-    """What the edge index answered across ``edge`` is what the complex ``cx`` answers: the same triangle, in the
-    same rotation, and the same datum object."""
-    ref = bd.S.neighbour(cx, edge)
-    if ref is None or ref[0] != tri or ref[1] is not datum:
-        raise BulldozerCheckError(f"the edge index answers {(tri, datum)} across {edge}, the complex {ref}")
 
 
 def check_walk(bd: Bulldozer, p: int, fid0: int, work: dict[int, _Visible], processed: list[int]) -> None:

@@ -36,7 +36,6 @@ __all__ = [
     "INTERIOR",
     "ON_HULL",
     "all_but",
-    "enter",
     "tent_faces",
     "triangle_array",
 ]
@@ -117,64 +116,60 @@ def tent_faces(
     assoc_view: NDArray[np.int64],
     table: _FaceTable | None,
     pack: bool = False,
-    index: dict[Any, dict[Any, Any]] | None = None,
 ) -> list[Entry]:
     """The tent's new faces as entries ``(triangle, (id, conflict list))``, ids from ``fid`` on, in the
-    order of ``tents`` (each a triangle ``(u, w, x)`` with the apex ``x`` last, and the points kept for
-    it): each face entered in ``faces`` (and ``table``, and under its three directed edges in the edge
-    ``index`` — the lit faces' edges already out of it: see :func:`enter`), each of its points associated with
-    it in ``assoc`` (through ``assoc_view``, its numpy view, for a long list).
-    :meth:`Bulldozer.insert <persistri.impl.hull.bulldozer.Bulldozer.insert>`'s last step before the new
-    version; ``first_hull.new_face`` for each tent face, written out.  ``pack``: each datum packed in one
-    ``int`` (:func:`~persistri.impl.hull.packed.pack_face`).  O(faces + points)."""
-    at_apex: dict[Any, Any] | None = None
-    if index is not None and tents:
-        # The apex is every tent face's last vertex, new: its dict is made here (the horizon's have theirs).
-        at_apex = index[tents[0][0][2]] = {}
+    order of ``tents`` (each a triangle and the points kept for it): each face entered in ``faces``
+    (and ``table``), each of its points associated with it in ``assoc`` (through ``assoc_view``, its
+    numpy view, for a long list).  :meth:`Bulldozer.insert <persistri.impl.hull.bulldozer.Bulldozer.insert>`'s
+    last step before the new version; ``first_hull.new_face`` for each tent face, written out.
+    ``pack``: each datum packed in one ``int`` (:func:`~persistri.impl.hull.packed.pack_face`).
+    O(faces + points)."""
+    if pack:
+        return _tent_faces_packed(tents, fid, faces, assoc, assoc_view, table)
     added: list[Entry] = []
-    # One object for the table, the list and the index, and the tent's triangle as it is (compiled, a variable
-    # of a tuple type is unboxed, and a new tuple made at each use as an object).
-    entry: Any
-    tent: Any
     for tent, kept in tents:
         key: Any = fid  # one int object for the id (compiled, an int would be boxed at each use)
         if type(kept) is np.ndarray or len(kept) >= KERNEL_BATCH:
             conflict = _freeze(kept)
             _assign(assoc, assoc_view, conflict, fid)
-            entry = (tent, pack_face(fid, conflict) if pack else (key, conflict))
-        elif pack:
-            for q in kept:
-                assoc[q] = key
-            entry = (tent, pack_face(fid, kept))
         else:
-            short = tuple(kept)
-            points: Any = short  # its ints as they are, not unboxed and boxed again
+            conflict = tuple(kept)
+            points: Any = conflict  # its ints as they are, not unboxed and boxed again
             for q in points:
                 assoc[q] = key
-            entry = (tent, (key, short))
-        faces[key] = entry
+        entry = faces[key] = (tent, (key, conflict))
         added.append(entry)
-        if at_apex is not None and index is not None:
-            u, w, x = tent
-            index[u][w] = entry
-            index[w][x] = entry
-            at_apex[u] = entry
         if table is not None:
             table.add(fid, tent)
         fid += 1
     return added
 
 
-def enter(index: dict[Any, dict[Any, Any]], entry: Entry) -> None:
-    """Enter the face ``entry = (triangle, datum)`` in the bulldozer's edge index: ``index[u][w]`` is the entry
-    of the face holding the directed edge ``(u, w)`` of the current version (one entry object for its three
-    edges). O(1)."""
-    e: Any = entry
-    a, b, d = e[0]
-    for v in (a, b, d):
-        if v not in index:
-            index[v] = {}
-    index[a][b] = index[b][d] = index[d][a] = e
+def _tent_faces_packed(
+    tents: list[tuple[Triangle, Indices]],
+    fid: int,
+    faces: dict[int, Entry],
+    assoc: array[int],
+    assoc_view: NDArray[np.int64],
+    table: _FaceTable | None,
+) -> list[Entry]:
+    """:func:`tent_faces` with each datum packed (a run keeping its history). O(faces + points)."""
+    added: list[Entry] = []
+    for tent, kept in tents:
+        if type(kept) is np.ndarray or len(kept) >= KERNEL_BATCH:
+            conflict = _freeze(kept)
+            _assign(assoc, assoc_view, conflict, fid)
+            datum = pack_face(fid, conflict)
+        else:
+            for q in kept:
+                assoc[q] = fid
+            datum = pack_face(fid, kept)
+        entry = faces[fid] = (tent, datum)
+        added.append(entry)
+        if table is not None:
+            table.add(fid, tent)
+        fid += 1
+    return added
 
 
 def _smallest_first(a: int, b: int, d: int) -> tuple[int, int, int]:

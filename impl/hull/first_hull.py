@@ -33,7 +33,6 @@ from persistri.impl.hull.conflicts import (
     _freeze,
     _join,
     all_but,
-    enter,
 )
 from persistri.impl.hull.errors import BulldozerCheckError, DegenerateInputError
 from persistri.impl.hull.packed import pack_face
@@ -174,8 +173,6 @@ def new_face(bd: Bulldozer, tri: Triangle, kept: Indices) -> Entry:
     bd.faces[fid] = entry
     if bd._table is not None:
         bd._table.add(fid, tri)
-    if bd._edges is not None:
-        enter(bd._edges, entry)
     return entry
 
 
