@@ -14,7 +14,8 @@ from persistri.impl.cli.main import main
 from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.terrain.check import verify_triangulation
 from persistri.impl.terrain.greedy import greedy_insertion
-from persistri.impl.terrain.grids import GridTransform, as_heights, jacksboro, read_grid, write_asc
+from persistri.impl.terrain.esri_grid import write_asc
+from persistri.impl.terrain.grids import GridTransform, as_heights, jacksboro, read_grid
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 

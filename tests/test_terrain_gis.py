@@ -21,7 +21,8 @@ from persistri.impl.files import compact_mesh
 from persistri.impl.terrain.crs import Crs, crs_from_geokeys
 from persistri.impl.terrain.export import tin_arrays, write_tin
 from persistri.impl.terrain.greedy import greedy_insertion
-from persistri.impl.terrain.grids import GridTransform, read_grid, write_asc
+from persistri.impl.terrain.esri_grid import write_asc
+from persistri.impl.terrain.grids import GridTransform, read_grid
 
 tifffile = pytest.importorskip("tifffile")
 pytest.importorskip("imagecodecs")

@@ -20,7 +20,8 @@ Inputs (:func:`read_grid`):
 * ``.asc`` — an ESRI ASCII grid (header ``ncols``, ``nrows``, ``xllcorner`` or
   ``xllcenter``, ``yllcorner`` or ``yllcenter``, ``cellsize`` or ``dx``/``dy``,
   optional ``NODATA_value``; rows from north to south, which become rows 0, 1, …),
-  and its CRS from the ``.prj`` file of the same name beside it, if there is one;
+  and its CRS from the ``.prj`` file of the same name beside it, if there is one
+  (:mod:`persistri.impl.terrain.esri_grid`, which also writes one);
 * ``.csv`` / ``.txt`` (or gzip-compressed, ``.csv.gz``) — text, one row of heights per line, every row as long
   (the text rules of the point files, :mod:`persistri.impl.files`: commas,
   semicolons, tabs or spaces; header lines, ``#`` comments; ``nan`` is no-data).
@@ -54,7 +55,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from persistri.impl.terrain.crs import Crs, prj_beside, read_prj
+from persistri.impl.terrain.crs import Crs
 
 __all__ = [
     "GRID_FORMATS",
@@ -66,7 +67,6 @@ __all__ = [
     "as_transform",
     "read_grid",
     "jacksboro",
-    "write_asc",
 ]
 
 GRID_FORMATS: Final = (".npy", ".npz", ".asc", ".csv", ".txt", ".tif", ".tiff", ".png")
@@ -311,80 +311,6 @@ def _float_heights(a: NDArray[Any], source: str) -> NDArray[np.float64]:
     return out
 
 
-def _read_asc(path: Path) -> HeightGrid:
-    header: dict[str, float] = {}
-    with path.open("r", encoding="ascii", errors="replace") as fh:
-        lines = fh.read().splitlines()
-    body_start = 0
-    for i, line in enumerate(lines):
-        parts = line.split()
-        if len(parts) == 2 and parts[0][:1].isalpha():
-            try:
-                header[parts[0].lower()] = float(parts[1])
-            except ValueError:
-                raise ValueError(f"{path}: line {i + 1}: the header value of {parts[0]} is not a number: {parts[1]}") from None
-            if not np.isfinite(header[parts[0].lower()]):
-                raise ValueError(f"{path}: line {i + 1}: the header value of {parts[0]} is not finite: {parts[1]}")
-            body_start = i + 1
-        else:
-            break
-    for key in ("ncols", "nrows"):
-        if key not in header:
-            raise ValueError(f"{path}: not an ESRI ASCII grid (no {key} in the header)")
-        if header[key] != int(header[key]) or header[key] < 1:
-            raise ValueError(f"{path}: {key} in the header must be a positive integer, not {header[key]:g}")
-    for key in ("cellsize", "dx", "dy"):
-        if key in header and header[key] <= 0:
-            raise ValueError(f"{path}: {key} in the header must be positive, not {header[key]:g}")
-    ncols, nrows = int(header["ncols"]), int(header["nrows"])
-    try:
-        values = np.array(" ".join(lines[body_start:]).split(), dtype=np.float64)
-    except ValueError:
-        raise ValueError(f"{path}: {_first_non_number(lines, body_start)}") from None
-    if values.size != ncols * nrows:
-        raise ValueError(f"{path}: the header says {nrows} rows × {ncols} columns but the file holds {values.size} values")
-    heights = values.reshape(nrows, ncols)
-    if "nodata_value" in header:
-        heights = np.where(heights == header["nodata_value"], np.nan, heights)
-    if "cellsize" in header:
-        dx = dy = header["cellsize"]
-    elif "dx" in header and "dy" in header:
-        dx, dy = header["dx"], header["dy"]
-    else:
-        raise ValueError(f"{path}: no cellsize (or dx and dy) in the header")
-    if "xllcenter" in header:
-        x0 = header["xllcenter"]
-    elif "xllcorner" in header:
-        x0 = header["xllcorner"] + dx / 2
-    else:
-        raise ValueError(f"{path}: no xllcorner or xllcenter in the header")
-    if "yllcenter" in header:
-        ylow = header["yllcenter"]
-    elif "yllcorner" in header:
-        ylow = header["yllcorner"] + dy / 2
-    else:
-        raise ValueError(f"{path}: no yllcorner or yllcenter in the header")
-    prj = prj_beside(path)
-    crs = None if prj is None else read_prj(prj)
-    # The first data row is the northernmost: row 0 sits (nrows - 1) cells above the lowest row's centre.
-    return HeightGrid(heights, GridTransform(x0, ylow + (nrows - 1) * dy, dx, -dy, crs), str(path))
-
-
-def _first_non_number(lines: list[str], start: int) -> str:
-    """Where the body of an ESRI grid (``lines[start:]``) first holds a field that is no number, as an error's words.
-
-    Only on the error path; O(size).
-    """
-    for i in range(start, len(lines)):
-        for field in lines[i].split():
-            try:
-                float(field)
-            except ValueError:
-                comma = " (fields are separated by blanks in an ESRI grid, and decimals written with a point)" if "," in field else ""
-                return f"line {i + 1}: {field[:40]!r} is not a number{comma}"
-    return "the grid holds something that is not a number"
-
-
 def read_grid(source: str | Path) -> HeightGrid:
     """The height grid in ``source`` (a path with one of :data:`GRID_FORMATS`, or the word ``jacksboro``).
 
@@ -408,7 +334,9 @@ def read_grid(source: str | Path) -> HeightGrid:
     elif suffix == ".npz":
         grid = _read_npz(path)
     elif suffix == ".asc":
-        grid = _read_asc(path)
+        from persistri.impl.terrain.esri_grid import read_asc  # esri_grid imports grids: import late
+
+        grid = read_asc(path)
     elif suffix in (".csv", ".txt"):
         grid = _read_text_grid(path)
     elif suffix == ".png":
@@ -502,26 +430,3 @@ def _check_grid(grid: HeightGrid, path: Path) -> None:
             world = grid.transform.apply(corners)
         if not bool(np.isfinite(world).all()):
             raise ValueError(f"{path}: its georeferencing puts cells beyond float64's range (origin and cell size too large)")
-
-
-def write_asc(path: str | Path, heights: ArrayLike, *, x0: float = 0.0, y0: float = 0.0, cellsize: float = 1.0,
-              nodata: float = -9999.0) -> Path:
-    """Write ``heights`` as an ESRI ASCII grid (row 0 first, i.e. northernmost); NaN cells as ``nodata``.
-
-    ``(x0, y0)`` is the lower-left corner (``xllcorner``, ``yllcorner``).  For tests and examples.
-    """
-    arr = np.asarray(heights, dtype=np.float64)
-    p = Path(path)
-    rows, cols = arr.shape
-    lines = [
-        f"ncols {cols}",
-        f"nrows {rows}",
-        f"xllcorner {x0!r}",
-        f"yllcorner {y0!r}",
-        f"cellsize {cellsize!r}",
-        f"NODATA_value {nodata!r}",
-    ]
-    for row in arr:
-        lines.append(" ".join(repr(float(nodata)) if np.isnan(v) else repr(float(v)) for v in row))
-    p.write_text("\n".join(lines) + "\n", encoding="ascii")
-    return p
