@@ -107,6 +107,8 @@ class Present(Exception):
 
 
 def cat(old: VertexList, new: VertexList) -> VertexList:
+    """``old + new``, unchecked: ``add``'s second and third lists, once the first (``cat_first``) has found the
+    triangle absent in either orientation. O(len(old) + len(new))."""
     return old + new
 
 
