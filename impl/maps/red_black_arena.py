@@ -279,31 +279,18 @@ class ArenaRedBlackMap(Generic[K, V]):
         update made on their paths (no map refers to them yet), where :meth:`remove` would copy that path
         again: a full InBall 256K hull history holds 5.9 dropped nodes a point fewer (docs/performance.md,
         "Memory of a full history").  O(k + new nodes) plus O(lg n) a removed key."""
-        t = m & ROOT_MASK
         A = m.arena
-        if not t or A is None or not keys:
-            return m, list(range(len(keys))), [], False
-        absent: list[int] = []
-        emptied: list[int] = []
-        new = [v]
-        made = len(A.item)
-        try:
-            root = _adjust.adjust_insert(A, t, keys, vals, 0, len(keys), f, absent, emptied, j, new)
-        except FailedWith as failed:
-            raise failed.exc from None
-        if emptied and not absent:
-            inserted = not new
-            n = m - t
-            if inserted:
-                n += ONE
-                root = _blacken_new(A, root)
-            for i in emptied:
-                root = _tree.delete(A, root, keys[i], made)
-                root = _blacken(A, root, made) if root else NIL
-            return type(m)(n - len(emptied) * ONE + root), absent, [], inserted
-        if new:
-            return type(m)(m - t + root), absent, emptied, False
-        return type(m)(m - t + ONE + _blacken_new(A, root)), absent, emptied, True
+        made = len(A.item) if A is not None else 0  # nodes from here on are this operation's own
+        m2, absent, emptied, inserted = self.adjust_insert(f, m, keys, vals, j, v)
+        if not emptied or absent:
+            return m2, absent, emptied, inserted
+        assert A is not None
+        root = m2 & ROOT_MASK
+        n = m2 - root
+        for i in emptied:
+            root = _tree.delete(A, root, keys[i], made)
+            root = _blacken(A, root, made) if root else NIL
+        return type(m)(n - len(emptied) * ONE + root), absent, [], inserted
 
     def find(self, m: ArenaMap, k: K, /) -> Option[V]:
         """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``. O(lg n)."""
