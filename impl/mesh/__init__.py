@@ -26,5 +26,8 @@ The mesher:
 * :mod:`~persistri.impl.mesh.steiner` — Steiner points as doubles: split points, circumcentres;
 * :mod:`~persistri.impl.mesh.quality` — triangle quality against the bounds, exactly;
 * :mod:`~persistri.impl.mesh.ruppert` — Ruppert's refinement with undo by persistence;
-* :mod:`~persistri.impl.mesh.api` — :func:`triangulate` and :func:`refine`, every step a version.
+* :mod:`~persistri.impl.mesh.api` — :func:`triangulate` and :func:`refine`, every step a version;
+* :mod:`~persistri.impl.mesh.result` — what they return: :class:`QualityMesh`, :class:`MeshHistory`;
+* :mod:`~persistri.impl.mesh.readout` — a version read back as arrays;
+* :mod:`~persistri.impl.mesh.options` — their arguments, checked.
 """
