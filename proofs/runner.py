@@ -67,7 +67,7 @@ PROOFS_DIR = Path(__file__).resolve().parent
 PER_CONDITION_TIMEOUT = 8.0
 """CPU seconds per postcondition for a ``crosshair_*.py`` module without a top-level budget directive.
 
-``proofs/crosshair_maps.py`` sets its own budgets (see its module docstring);
+``proofs/crosshair_maps.py`` and ``crosshair_order.py`` set their own budgets (see their module docstrings);
 their sum keeps the CrossHair step near two minutes on 2 free cores, as
 ``make test`` requires.
 """

@@ -2,7 +2,7 @@
 
 ``tests/test_crosshair_catches.py`` runs the proofs runner's CrossHair step on
 this file.  It shows that the pipeline that checks ``proofs/crosshair_maps.py``
-really reports broken laws, through the same helpers (``_holds`` and the law
+really reports broken laws, through the same helpers (``holds`` and the law
 functions) applied to two deliberately broken association lists, and that it
 passes a true contract checked in the same run.  Not under ``proofs/``, so
 ``python -m proofs`` never runs it.
@@ -14,7 +14,7 @@ from typing import Any
 
 from persistri.impl.maps.assoc_list import ALMap, AssocListMap
 from persistri.spec.order import NATURAL_ORDER, Order
-from proofs.crosshair_maps import _holds, _invariant, _remove
+from proofs.map_laws import holds, invariant, remove
 
 
 class _LeakyRemove(AssocListMap[Any, Any]):
@@ -48,7 +48,7 @@ def false_leaky_remove(keys: list[int], k: int) -> bool:
     pre: len(keys) <= 6
     post: __return__
     """
-    return _holds(_remove, _LeakyRemove(), keys, k)
+    return holds(remove, _LeakyRemove(), keys, k)
 
 
 def false_front_insert_invariant(keys: list[int], dels: list[int]) -> bool:
@@ -57,7 +57,7 @@ def false_front_insert_invariant(keys: list[int], dels: list[int]) -> bool:
     pre: len(keys) <= 5 and len(dels) <= 3
     post: __return__
     """
-    return _holds(_invariant, _FrontInsert(), keys, dels)
+    return holds(invariant, _FrontInsert(), keys, dels)
 
 
 def true_compare_antisymmetric(a: int, b: int) -> bool:
