@@ -1,6 +1,6 @@
 """CrossHair, as the proofs runner drives it, really catches broken laws.
 
-The runner's CrossHair step (:func:`proofs.runner.run_crosshair`) is run on
+The runner's CrossHair step (:func:`proofs.contracts.run_crosshair`) is run on
 ``tests/crosshair_fixtures/broken_laws.py``: three deliberately false contracts
 (a false property of ``compare``; the ``remove`` laws on an association list
 whose ``remove`` keeps the old count; the ``_check`` invariant on one that
@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from proofs.runner import discover_contracts, run_crosshair  # noqa: E402
+from proofs.contracts import discover_contracts, run_crosshair  # noqa: E402
 
 FIXTURE = Path(__file__).resolve().parent / "crosshair_fixtures" / "broken_laws.py"
 

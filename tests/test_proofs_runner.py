@@ -22,6 +22,7 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
+from proofs import contracts as crosshair_step  # noqa: E402
 from proofs import runner  # noqa: E402
 
 _fresh = itertools.count()
@@ -181,22 +182,22 @@ def test_crosshair_reports_are_judged(tmp_path: Path) -> None:
     post_a, post_b = a.first_line + 3, b.first_line + 4
     # A counterexample for law_b, and law_a not confirmed within the budget.
     out = f"{path}:{post_a}: info: Not confirmed.\n{path}:{post_b}: error: false when calling law_b(1)\n"
-    ra, rb = runner._judge_batch(contracts, 1, out, "")
+    ra, rb = crosshair_step._judge_batch(contracts, 1, out, "")
     assert ra.ok and ra.detail == "no counterexample within the budget"
     assert not rb.ok and rb.detail == "counterexample: false when calling law_b(1)"
     # Confirmed over all paths.
     out = f"{path}:{post_a}: info: Confirmed over all paths.\n{path}:{post_b}: info: Confirmed over all paths.\n"
-    assert all(r.ok and r.detail == "confirmed over all paths" for r in runner._judge_batch(contracts, 0, out, ""))
+    assert all(r.ok and r.detail == "confirmed over all paths" for r in crosshair_step._judge_batch(contracts, 0, out, ""))
     # A contract CrossHair says nothing about is not checked: a failure.
-    ra, rb = runner._judge_batch(contracts, 0, f"{path}:{post_a}: info: Not confirmed.\n", "")
+    ra, rb = crosshair_step._judge_batch(contracts, 0, f"{path}:{post_a}: info: Not confirmed.\n", "")
     assert ra.ok and not rb.ok and "did not check it" in rb.detail
     # A CrossHair crash fails every contract it did not refute.
     crash = "Traceback (most recent call last):\n  ...\ncrosshair.util.CrossHairInternal: boom\n"
-    results = runner._judge_batch(contracts, 2, f"{path}:{post_a}: info: Not confirmed.\n", crash)
+    results = crosshair_step._judge_batch(contracts, 2, f"{path}:{post_a}: info: Not confirmed.\n", crash)
     assert not any(r.ok for r in results) and "CrossHairInternal: boom" in results[0].detail
     # Exit status 1 with no error line that a contract owns is never passed silently.
     out = f"{path}:{post_a}: info: Not confirmed.\n{path}:{post_b}: info: Not confirmed.\nelsewhere.py:3: error: boom\n"
-    assert not any(r.ok for r in runner._judge_batch(contracts, 1, out, ""))
+    assert not any(r.ok for r in crosshair_step._judge_batch(contracts, 1, out, ""))
 
 
 _BUDGETED = '''
@@ -229,13 +230,13 @@ def test_budgets_come_from_crosshair_directives(tmp_path: Path) -> None:
     assert all(c.budget is None and c.module_budget is None for c in plain)
 
     # Directives are honoured (no command-line timeout); a module without one gets the default on the command line.
-    batches = runner._plan([cheap, dear, *plain], None, 2)
+    batches = crosshair_step._plan([cheap, dear, *plain], None, 2)
     by_path = {b.contracts[0].path: b for b in batches if len(b.contracts) == 1 and b.contracts[0] is dear}
     assert by_path[budgeted.resolve()].cli_timeout is None and by_path[budgeted.resolve()].budgets == [12.0]
     plain_batches = [b for b in batches if b.contracts[0].path == plain_path.resolve()]
     assert all(b.cli_timeout == runner.PER_CONDITION_TIMEOUT for b in plain_batches)
     assert sorted(c.function for b in batches for c in b.contracts) == ["cheap", "dear", "law_a", "law_b"]
     # An explicit timeout overrides every directive.
-    assert all(b.cli_timeout == 5.0 and set(b.budgets) == {5.0} for b in runner._plan([cheap, dear], 5.0, 2))
+    assert all(b.cli_timeout == 5.0 and set(b.budgets) == {5.0} for b in crosshair_step._plan([cheap, dear], 5.0, 2))
     # One job: one batch per module, holding all of its contracts.
-    assert [len(b.contracts) for b in runner._plan([cheap, dear], None, 1)] == [2]
+    assert [len(b.contracts) for b in crosshair_step._plan([cheap, dear], None, 1)] == [2]
