@@ -33,7 +33,7 @@ from collections.abc import Callable, Mapping, Sequence, Set
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from persistri.spec.conformance.hidden_state import Ballast, second_instance
+from persistri.spec.conformance.hidden_state import Ballast, same_observation, second_instance
 from persistri.spec.law import SignatureLawViolation
 
 __all__ = ["Growth", "GrowthFailure", "GrowthPlan", "GrowthRun", "checkpoints", "counted", "first_change"]
@@ -245,7 +245,7 @@ class Growth:
             return self.violation(
                 "determinism", "\n".join([f"determinism: {lines[0]}, but a replay did not get there", *lines[1:], str(exc)])
             )
-        if again is not None and again.key == f.key and again.detail == f.detail:
+        if again is not None and again.key == f.key and same_observation(f.detail, again.detail):
             return self.violation(f.law, "\n".join([*lines, self.rerun]))
         seen = "it passed" if again is None else f"it failed differently: {again.detail}"
         return self.violation(

@@ -17,17 +17,43 @@ things:
   differently than in the first run;
 * :class:`Holding` — a structure that answers as another one does and keeps
   every version it returns alive, so that no id is reused while a test is
-  rerun on it.
+  rerun on it;
+* :func:`same_observation` — whether a rerun saw what the first run saw: the
+  same text but for the memory addresses of Python's default ``repr``, which a
+  rerun moves by design.
 """
 
 from __future__ import annotations
 
 import copy
 import inspect
+import re
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["Ballast", "Holding", "fresh_for", "second_instance", "snapshots"]
+__all__ = ["Ballast", "Holding", "fresh_for", "same_observation", "second_instance", "snapshots"]
+
+_ADDRESS = re.compile(r"\b0x[0-9a-fA-F]+\b")
+"""A hexadecimal address, as Python's default ``repr`` prints one (``<Node object at 0x7f3a…>``)."""
+
+
+def same_observation(first: str, again: str) -> bool:
+    """Whether two failure reports say the same once memory addresses are set aside.
+
+    A failure's text shows the values the structure returned, and an outside
+    backend's map values often print with Python's default ``repr``, which names
+    the object's address.  A rerun makes its objects elsewhere (that is what the
+    second instance and the ballast are for), so the addresses differ even when
+    the structure gave exactly the same wrong answer; comparing them would report
+    a plainly wrong structure under ``determinism``.  Every other character must
+    match.  O(len(first) + len(again)).
+
+    >>> same_observation("returned (<Node object at 0x7f01>, None)", "returned (<Node object at 0x7e99>, None)")
+    True
+    >>> same_observation("returned (<Node object at 0x7f01>, None)", "returned (<Node object at 0x7f01>, 3)")
+    False
+    """
+    return first == again or _ADDRESS.sub("0x…", first) == _ADDRESS.sub("0x…", again)
 
 
 def snapshots(structure: Any) -> Callable[[], Any] | None:

@@ -38,7 +38,7 @@ from hypothesis.database import InMemoryExampleDatabase, MultiplexedDatabase
 from hypothesis.errors import Flaky
 from hypothesis.reporting import with_reporter
 
-from persistri.spec.conformance.hidden_state import Ballast, Holding
+from persistri.spec.conformance.hidden_state import Ballast, Holding, same_observation
 from persistri.spec.law import LawViolation, SignatureLawViolation
 
 __all__ = [
@@ -270,7 +270,8 @@ def _confirmed(
 ) -> LawViolation:
     """``exc`` when ``test`` fails the same way on a second instance that keeps its versions alive, else
     ``determinism``.  "The same way": the same law and the same observation on the same example (the rerun
-    meets it, :func:`_rerun_settings`); a structure that is simply wrong repeats itself exactly."""
+    meets it, :func:`_rerun_settings`); a structure that is simply wrong repeats itself exactly, but for the
+    memory addresses its values print with (:func:`~.hidden_state.same_observation`)."""
     rerun, searches = _rerun_settings(hs, private)
     # Two reruns of the same example, with different ballast, must both repeat the failure (an id-keyed cache
     # copied with its stale entries can repeat one by the accident of the allocator).
@@ -287,7 +288,7 @@ def _confirmed(
             seen = "it failed and then passed the same example (hypothesis's Flaky)"
             break
         except LawViolation as again:
-            if again.law == exc.law and again.detail == exc.detail:
+            if again.law == exc.law and same_observation(exc.detail, again.detail):
                 continue
             seen = f"it failed differently: law {again.law}: {again.detail}"
             break
