@@ -18,7 +18,7 @@ from typing import Any
 import pytest
 from hypothesis import Phase, settings
 
-from broken_maps import BROKEN
+from broken_maps import BROKEN, absent_remove
 from persistri.impl.maps.assoc_list import assoc_list
 from persistri.spec.conformance import ORD_MAP_TESTS, NotAnOrdMap, OrdMapConformance, run_conformance
 from persistri.spec.ord_map_laws import ORD_MAP_LAWS, LawViolation
@@ -86,6 +86,18 @@ def test_full_run_on_a_mutating_map_blames_persistence_only() -> None:
     assert [o.test for o in report.outcomes] == [t.name for t in ORD_MAP_TESTS]
     assert report.count("skipped") == 1  # no _check
     assert {f.test for f in report.failures} >= {"persistence", "stateful_history", "find_insert"}
+
+
+def test_the_same_wrong_answer_printed_with_addresses_is_not_hidden_state() -> None:
+    # absent_remove answers remove of an absent key with a map (whose repr names its address) every time: the
+    # session replays of `determinism` see the same answers, and every test that fails names remove_absent.
+    tests = ("determinism", "remove_absent", "edge_empty_map", "edge_remove_absent", "persistence")
+    report = run_conformance(absent_remove, max_examples=30, workload_size=200, tests=tests, derandomize=True)
+    outcomes = {o.test: o for o in report.outcomes}
+    assert outcomes["determinism"].status == "passed", report.format()
+    failed = {f.test: f.law for f in report.failures}
+    assert failed == {t: "remove_absent" for t in tests[1:]}, report.format()
+    assert "0x" in report.failures[0].detail  # the address is shown, as the structure printed it
 
 
 def test_runner_rejects_non_structures_and_bad_options() -> None:
