@@ -9,8 +9,9 @@ points (paper §5, Fig. 11; issue item 8):
 * **persistri** run *to pydelatin's vertex count* — its time (a fresh run per
   size, best of ``repeat``) and the time ratio;
 * the **maximum error** of both meshes, each recomputed independently over
-  every grid sample by :func:`persistri.impl.terrain.check.mesh_errors` (pydelatin's
-  rows flipped back: its ``y`` is ``rows − 1 − row``);
+  every grid sample, both the same way (:func:`persistri.impl.bench.terrain_sweep.max_error`:
+  pydelatin's rows flipped back — its ``y`` is ``rows − 1 − row`` — and each vertex
+  at the grid's own height);
 * persistri's **best level within the budget**: the smallest maximum error among
   the kept levels of detail with at most that many points — free to read from the
   history.  The maximum error of greedy insertion is not monotone in the number
@@ -18,6 +19,12 @@ points (paper §5, Fig. 11; issue item 8):
   insertions repair): on Jacksboro about a quarter of the levels are more than
   10 % above the best level before them, for pydelatin as for persistri, so the
   error *at* one vertex count is partly luck;
+* the **sweep** (``sweep`` counts, log-spaced from the smallest size to the
+  largest; :mod:`persistri.impl.bench.terrain_sweep`): the distribution of the
+  error ratio over many vertex counts — its median and quartiles, and the shares
+  of counts where persistri's mesh is better, equal or worse — for the level at
+  the count and for the best level within it.  This, not the ratio at one count,
+  is what says whether one rule is better than the other;
 * the **operation counts** of the paper's Fig. 11 — key comparisons, dictionary
   operations, plane-side (orient2d / incircle) tests and their flops — from one
   counted run to the largest size, read at each size (the run is deterministic,
@@ -44,10 +51,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from persistri.impl.bench.terrain_sweep import ErrorSweep, error_sweep, max_error, pydelatin_mesh, sweep_counts
 from persistri.impl.stats import Stats
 
 __all__ = [
     "DEFAULT_TERRAIN_SIZES",
+    "DEFAULT_SWEEP",
     "TerrainRecord",
     "TerrainMemory",
     "TerrainBench",
@@ -57,6 +66,9 @@ __all__ = [
 
 DEFAULT_TERRAIN_SIZES: tuple[int, ...] = (1_600, 3_200, 6_400, 12_800)
 """The vertex counts of the issue's table."""
+
+DEFAULT_SWEEP = 24
+"""Vertex counts of the error sweep, log-spaced from the smallest size to the largest (0: no sweep)."""
 
 ProgressCallback = Callable[[int, int, str], None]
 
@@ -111,6 +123,7 @@ class TerrainBench:
     repeat: int
     records: list[TerrainRecord] = field(default_factory=list)
     memory: TerrainMemory | None = None
+    sweep: ErrorSweep | None = None
 
     def as_dict(self) -> dict[str, Any]:
         """A JSON-ready dictionary (ratios included)."""
@@ -123,6 +136,8 @@ class TerrainBench:
         }
         if self.memory is not None:
             out["memory"] = asdict(self.memory)
+        if self.sweep is not None:
+            out["sweep"] = self.sweep.as_dict()
         return out
 
 
@@ -130,24 +145,18 @@ def _pydelatin(heights: NDArray[np.float64], k: int, repeat: int) -> tuple[float
     """(best time, vertex count, maximum error recomputed) of pydelatin refined to ``k`` points."""
     from pydelatin import Delatin
 
-    from persistri.impl.terrain.check import mesh_errors
-
     h32 = heights.astype(np.float32)
     best = float("inf")
-    mesh: Any = None
     for _ in range(max(3, repeat)):
         t0 = time.process_time()
-        mesh = Delatin(h32, max_points=k, max_error=0.0)
+        Delatin(h32, max_points=k, max_error=0.0)
         best = min(best, time.process_time() - t0)
-    v = np.asarray(mesh.vertices, dtype=np.float64).copy()
-    v[:, 1] = heights.shape[0] - 1 - v[:, 1]  # pydelatin's y runs up from the last row
-    err, _ = mesh_errors(heights, v, mesh.triangles)
-    return best, int(v.shape[0]), float(np.nanmax(err))
+    xy, tri = pydelatin_mesh(heights, k)  # the same (deterministic) mesh, read in grid coordinates
+    return best, int(xy.shape[0]), max_error(heights, xy, tri)
 
 
 def _ours(heights: NDArray[np.float64], k: int, backend: str, repeat: int) -> tuple[float, float, int]:
     """(best time, maximum error recomputed, vertex count) of persistri's greedy insertion to ``k`` points."""
-    from persistri.impl.terrain.check import mesh_errors
     from persistri.impl.terrain.greedy import greedy_insertion
 
     best = float("inf")
@@ -158,12 +167,11 @@ def _ours(heights: NDArray[np.float64], k: int, backend: str, repeat: int) -> tu
         t0 = time.process_time()
         tin = greedy_insertion(heights, max_points=k, backend=backend)
         best = min(best, time.process_time() - t0)
-    err, _ = mesh_errors(heights, tin.vertices, tin.triangles)
-    return best, float(np.nanmax(err)), int(tin.n_points)
+    return best, max_error(heights, tin.vertices, tin.triangles), int(tin.n_points)
 
 
-def _counts(heights: NDArray[np.float64], sizes: Sequence[int], backend: str) -> tuple[dict[int, Stats], NDArray[np.float64]]:
-    """The Stats of one counted run, read when the mesh reaches each of ``sizes`` vertices, and its levels' errors."""
+def _counts(heights: NDArray[np.float64], sizes: Sequence[int], backend: str) -> tuple[dict[int, Stats], Any]:
+    """The Stats of one counted run, read when the mesh reaches each of ``sizes`` vertices, and its history."""
     from persistri.impl.terrain.greedy import greedy_insertion
 
     stats = Stats()
@@ -180,7 +188,7 @@ def _counts(heights: NDArray[np.float64], sizes: Sequence[int], backend: str) ->
 
     tin = greedy_insertion(heights, max_points=max(sizes), backend=backend, stats=stats, progress=tick)
     assert tin.history is not None
-    return seen, np.asarray(tin.history.max_errors)
+    return seen, tin.history
 
 
 def _memory(heights: NDArray[np.float64], k: int, backend: str) -> TerrainMemory:
@@ -214,9 +222,11 @@ def run_terrain_bench(
     backend: str = "red_black",
     repeat: int = 1,
     memory: bool = False,
+    sweep: int = DEFAULT_SWEEP,
     on_progress: ProgressCallback | None = None,
 ) -> TerrainBench:
-    """Run the benchmark (module docstring) on ``heights`` (default: the Jacksboro DEM) at ``sizes`` points."""
+    """Run the benchmark (module docstring) on ``heights`` (default: the Jacksboro DEM) at ``sizes`` points;
+    ``sweep`` vertex counts from the smallest size to the largest for the error sweep (0: none)."""
     from persistri.impl.terrain.grids import as_heights, jacksboro
 
     if heights is None:
@@ -226,8 +236,10 @@ def run_terrain_bench(
     sizes = sorted({int(s) for s in sizes})
     if not sizes or sizes[0] < 4:
         raise ValueError("sizes must be vertex counts of at least 4")
+    if sweep < 0:
+        raise ValueError(f"sweep must be a number of vertex counts >= 0, got {sweep}")
     bench = TerrainBench(grid_name, (int(h.shape[0]), int(h.shape[1])), backend, repeat)
-    steps = 2 * len(sizes) + 1 + (1 if memory else 0)
+    steps = 2 * len(sizes) + 1 + (1 if memory else 0) + (1 if sweep else 0)
     done = 0
 
     def report(what: str) -> None:
@@ -244,7 +256,8 @@ def run_terrain_bench(
         done += 1
         measured.append((k, o_points, p_time, o_time, p_err, o_err))
     report("operation counts")
-    counts, levels = _counts(h, [m[1] for m in measured], backend)
+    counts, history = _counts(h, [m[1] for m in measured], backend)
+    levels = np.asarray(history.max_errors)
     done += 1
     for k, points, p_time, o_time, p_err, o_err in measured:
         st = counts.get(points, Stats())
@@ -254,6 +267,13 @@ def run_terrain_bench(
                 k, points, p_time, o_time, p_err, o_err, best, st.key_comparisons, st.dict_ops, st.plane_side_tests, st.flops
             )
         )
+    if sweep:
+        ks = sweep_counts(sizes[0], sizes[-1], sweep)
+        report(f"max error at {len(ks)} vertex counts")
+        # persistri's run went to pydelatin's largest count: the sweep's counts beyond it are read at its end.
+        bench.sweep = error_sweep(h, ks, history)
+        done += 1
+    del history
     if memory:
         report(f"memory at {measured[-1][1]:,} points")
         bench.memory = _memory(h, measured[-1][1], backend)
@@ -310,6 +330,8 @@ def terrain_table(bench: TerrainBench) -> Any:
             _millions(r.flops),
         )
     parts: list[Any] = [table]
+    if bench.sweep is not None:
+        parts.append(Text(bench.sweep.summary()))
     m = bench.memory
     if m is not None:
         parts.append(

@@ -36,6 +36,7 @@ __all__ = ["delaunay_", "hull", "mesh", "terrain"]
 @click.option("--repeat", type=click.IntRange(min=1), default=1, show_default=True, help="Timed runs per figure; the best is kept.")
 @click.option("--backend", default="red_black", show_default=True, help="ORD_MAP backend of the complex.")
 @click.option("--memory", is_flag=True, help="Also measure the memory of keeping every level of detail (tracemalloc; slow).")
+@click.option("--sweep", type=click.IntRange(min=0), default=24, show_default=True, help="Vertex counts, log-spaced from the smallest size to the largest, at which both maximum errors are compared (0: none).")
 @click.option("--grid", "grid_source", default="jacksboro", show_default=True, help="The height grid: jacksboro, synthetic[:SIZE[:SEED]] or a grid file.")
 @click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
 def terrain(
@@ -46,6 +47,7 @@ def terrain(
     repeat: int,
     backend: str,
     memory: bool,
+    sweep: int,
     grid_source: str,
     as_json: bool,
 ) -> None:
@@ -54,7 +56,9 @@ def terrain(
     For each size: pydelatin's time and vertex count, persistri's time to the
     same vertex count, both maximum errors (recomputed over every sample), and
     persistri's key comparisons, dictionary operations, plane-side tests and
-    flops.  --memory adds the memory kept with every level of detail against
+    flops; then both maximum errors at --sweep vertex counts between the
+    smallest size and the largest (their ratio's median and quartiles, and
+    how often persistri's mesh is better, equal or worse).  --memory adds the memory kept with every level of detail against
     the final mesh alone.  --max-error (or --relief) refines both meshers to
     that error and compares their times instead; --peak-memory adds their peak
     memory.  --grid synthetic:2048 is a 2,048 × 2,048 fractal terrain
@@ -105,7 +109,7 @@ def terrain(
         if size_list:
             result = run_terrain_bench(
                 size_list, heights=grid.heights, grid_name=name, backend=backend, repeat=repeat, memory=memory,
-                on_progress=update,
+                sweep=sweep, on_progress=update,
             )
             out.update(result.as_dict())
             renderables.append(terrain_table(result))
