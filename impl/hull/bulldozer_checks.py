@@ -23,7 +23,8 @@ from persistri.impl.hull.errors import BulldozerCheckError
 from persistri.impl.hull.packed import face_id
 
 if TYPE_CHECKING:
-    from persistri.impl.hull.bulldozer import Bulldozer, _Visible
+    from persistri.impl.hull.bulldozer import Bulldozer
+    from persistri.impl.hull.insertion import _Visible
 
 __all__ = ["check_cones", "check_sectors", "check_walk", "check_bulldozed"]
 
