@@ -8,7 +8,7 @@ which re-exports every law.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from typing import Any, TypeVar
 
 from persistri.spec.ord_map import NotFound, OrdMap
@@ -132,10 +132,16 @@ def law_listItemsi(s: OrdMap[K, V, M], m: M, probes: Iterable[K] = ()) -> None:
 
 
 def _fresh_list(s: OrdMap[K, V, M], m: M, law: str, listing: Callable[[M], Any], want: list[Any]) -> None:
-    """A list returned by ``listing(m)`` is the caller's: clearing it must leave ``m`` (and the next listing)
-    as it was.  A map that hands out a list it holds breaks persistence through any caller that sorts,
+    """``listing(m)`` returns a sequence (an iterator or generator is refused: it reads once), and a list it
+    returns is the caller's: clearing it must leave ``m`` (and the next listing) as it was.  A map that hands out a list it holds breaks persistence through any caller that sorts,
     appends to or clears its result.  O(n)."""
     got = listing(m)
+    if not isinstance(got, Sequence) or isinstance(got, (str, bytes)):
+        raise LawViolation(
+            law,
+            f"{law}(m) returned a {type(got).__name__}, not a list: callers read a listing more than once, "
+            "index it and take its len (return a fresh list)",
+        )
     if isinstance(got, list) and got:
         got.clear()
         again = list(listing(m))

@@ -9,6 +9,8 @@ naming the wrong law (or none) is a defect of the suite:
 * :data:`absent_remove` — ``remove`` of an absent key returns the map instead of
   raising ``NotFound`` (remove_absent); its map values print with Python's default
   repr, which names a memory address that differs on every run;
+* :data:`iterator_listing` — ``listItemsi`` returns an iterator over the items, which a
+  caller can read only once (listItemsi);
 * :data:`bad_check` — externally correct, but its representation breaks the
   invariant its own ``_check`` asserts (invariants);
 * :data:`grows_mutating` and :data:`grows_mutating_late` — persistent while
@@ -25,7 +27,7 @@ naming the wrong law (or none) is a defect of the suite:
   attribute, each instance numbering its handles from 0: a second instance's
   versions overwrite the first's (isolation).
 
-The first six are built on the association list (correct by the suite's own
+The first seven are built on the association list (correct by the suite's own
 tests) so that each break is a few lines; the last four on the red-black tree,
 so that the whole suite runs on them at its default size (10^5 keys).
 """
@@ -54,6 +56,7 @@ __all__ = [
     "shared_table",
     "shared_listing",
     "absent_remove",
+    "iterator_listing",
     "BROKEN",
     "AT_SCALE",
     "MutatingMap",
@@ -65,6 +68,7 @@ __all__ = [
     "SharedTableMap",
     "SharedListingMap",
     "AbsentRemoveMap",
+    "IteratorListingMap",
 ]
 
 
@@ -532,12 +536,21 @@ class AbsentRemoveMap(_Delegating):
         return super().remove(m, k)
 
 
+class IteratorListingMap(_Delegating):
+    """``listItemsi`` returns an iterator over the right items, in the right order: a caller that reads the
+    listing twice, indexes it or takes its ``len`` gets nothing or an error."""
+
+    def listItemsi(self, m: Any) -> Any:
+        return iter(assoc_list.listItemsi(m))
+
+
 mutating = MutatingMap()
 lossy_remove = LossyRemoveMap()
 miscounting = MiscountingMap()
 bad_check = BadCheckMap()
 shared_listing = SharedListingMap()
 absent_remove = AbsentRemoveMap()
+iterator_listing = IteratorListingMap()
 grows_mutating = GrowsMutatingMap()
 grows_mutating_late = GrowsMutatingLateMap()
 ancestor_mutating = AncestorMutatingMap()
@@ -551,6 +564,7 @@ BROKEN: dict[str, tuple[Any, str]] = {
     "bad_check": (bad_check, "invariants"),
     "shared_listing": (shared_listing, "listItemsi"),
     "absent_remove": (absent_remove, "remove_absent"),
+    "iterator_listing": (iterator_listing, "listItemsi"),
 }
 """Name → (broken structure, the law the suite must name) for the breaks hypothesis's small maps find."""
 

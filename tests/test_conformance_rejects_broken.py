@@ -18,7 +18,7 @@ from typing import Any
 import pytest
 from hypothesis import Phase, settings
 
-from broken_maps import BROKEN, absent_remove
+from broken_maps import BROKEN, absent_remove, iterator_listing
 from persistri.impl.maps.assoc_list import assoc_list
 from persistri.spec.conformance import ORD_MAP_TESTS, NotAnOrdMap, OrdMapConformance, run_conformance
 from persistri.spec.ord_map_laws import ORD_MAP_LAWS, LawViolation
@@ -98,6 +98,12 @@ def test_the_same_wrong_answer_printed_with_addresses_is_not_hidden_state() -> N
     failed = {f.test: f.law for f in report.failures}
     assert failed == {t: "remove_absent" for t in tests[1:]}, report.format()
     assert "0x" in report.failures[0].detail  # the address is shown, as the structure printed it
+
+
+def test_a_listing_that_reads_once_is_named_by_the_listItemsi_law_not_determinism() -> None:
+    report = run_conformance(iterator_listing, max_examples=30, workload_size=200, tests=("listItemsi", "determinism"), derandomize=True)
+    assert report.failed_laws == {"listItemsi"}, report.format()
+    assert "returned a list_iterator, not a list" in report.failures[0].detail
 
 
 def test_runner_rejects_non_structures_and_bad_options() -> None:

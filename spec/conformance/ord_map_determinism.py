@@ -27,7 +27,7 @@ too (:mod:`.runner`).
 from __future__ import annotations
 
 import random
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -75,6 +75,8 @@ class _Session:
             answer = "raises NotFound"
         except Exception as exc:
             answer = f"raises {type(exc).__name__}: {exc}"
+        if isinstance(answer, Iterator):  # read once: its items are the answer (the listItemsi law refuses it)
+            answer = ("an iterator over", tuple(answer))
         if isinstance(answer, list):
             answer = tuple(answer)
         self.questions.append(question)
