@@ -136,11 +136,18 @@ def lifted_equations(points: FloatArray, triangles: IndexArray, scale: float, sh
 
     ``normal · lift(x) + offset`` is the signed distance of ``lift(x)`` from the
     plane, positive below it (inside the circumcircle, in exact arithmetic). Float64,
-    like scipy's. O(m).
+    like scipy's.  Each triangle's two edge vectors are first scaled by a power of
+    two near their size (the direction is unchanged), so that the cross product and
+    its norm neither underflow nor overflow: tiny inputs (coordinates of 1e-80 and
+    below, where the plain cross product's squares underflow to 0 and the normal
+    came out NaN) get their planes as scipy's do. O(m).
     """
     lifted = paraboloid_lift(points, scale, shift)
     la, lb, lc = (lifted[triangles[:, k]] for k in range(3))
-    normal = np.cross(lb - la, lc - la)
+    u, v = lb - la, lc - la
+    size = np.maximum(np.abs(u).max(axis=1), np.abs(v).max(axis=1))
+    exponent = np.frexp(np.where(size > 0, size, 1.0))[1][:, None]
+    normal = np.cross(np.ldexp(u, -exponent), np.ldexp(v, -exponent))
     # Counterclockwise triangles give an upward cross product: flip it out of the lower hull.
     normal = -normal / np.linalg.norm(normal, axis=1, keepdims=True)
     offset = -(normal * la).sum(axis=1)

@@ -1,0 +1,40 @@
+"""H7's fourth new-user pass: an installed wheel, scipy.spatial side by side, the conformance suite from outside.
+
+Each test fails without the fix it names (the conformance suite's own are in
+``test_conformance_rejects_broken.py``).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from scipy.spatial import Delaunay as QhullDelaunay
+
+import persistri
+
+
+@pytest.mark.parametrize("size", [1e-160, 1e-120, 1e-80, 1e-60])
+def test_lifted_planes_of_tiny_inputs_are_finite_and_agree_with_scipy(size: float) -> None:
+    # The cross product of two edge vectors of size 1e-80 squares to 1e-320 and its norm underflowed: the
+    # normals, equations and plane_distance were NaN where scipy's are numbers.
+    rng = np.random.default_rng(3)
+    pts = rng.random((30, 2)) * size
+    tri, ref = persistri.Delaunay(pts), QhullDelaunay(pts)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow, underflow-to-NaN or division by zero on the way
+        eq = tri.equations
+        queries = (rng.random((20, 2)) * 0.8 + 0.1) * size
+        dist = tri.plane_distance(queries)
+    assert np.isfinite(eq).all() and np.allclose(np.linalg.norm(eq[:, :3], axis=1), 1.0)
+    assert (eq[:, 2] < 0).all()
+    # The same triangles as Qhull's (random points), and the same side of every lifted plane.
+    index = {tuple(sorted(t)): i for i, t in enumerate(ref.simplices.tolist())}
+    order = [index[tuple(sorted(t))] for t in tri.simplices.tolist()]
+    want = ref.plane_distance(queries)[:, order]
+    clear = np.abs(want) > 1e-9 * np.abs(want).max()
+    assert (np.sign(dist)[clear] == np.sign(want)[clear]).all()
+    # Inside a triangle's circumcircle (its centroid) is below its plane.
+    a, b, c = (pts[tri.simplices[:, k]] for k in range(3))
+    assert (np.diagonal(tri.plane_distance((a + b + c) / 3)) > 0).all()
