@@ -11,10 +11,11 @@ The exception names the law and states it, so a failing conformance run says
 from __future__ import annotations
 
 import functools
+import traceback
 from collections.abc import Callable, Mapping
 from typing import Any, ClassVar, ParamSpec, TypeVar
 
-__all__ = ["LawViolation", "SignatureLawViolation", "law_decorator"]
+__all__ = ["LawViolation", "SignatureLawViolation", "law_decorator", "raised"]
 
 P = ParamSpec("P")
 R = TypeVar("R")
@@ -65,6 +66,22 @@ class SignatureLawViolation(LawViolation):
         return (type(self), (self.law, self.detail))
 
 
+def raised(exc: BaseException) -> str:
+    """What ``exc`` says, for a message: ``"KeyError: 0"``; an exception with no message (a bare ``assert`` in a
+    structure's ``_check``) names the line that raised it instead, ``"AssertionError at treap.py:109 (assert
+    len(items) == m[1])"``, which is all there is to go on. O(depth of the traceback).
+    """
+    text = str(exc)
+    if text:
+        return f"{type(exc).__name__}: {text}"
+    frames = traceback.extract_tb(exc.__traceback__)
+    if not frames:
+        return f"{type(exc).__name__} (no message)"
+    last = frames[-1]
+    source = f" ({last.line.strip()})" if last.line else ""
+    return f"{type(exc).__name__} at {last.filename}:{last.lineno}{source}"
+
+
 def law_decorator(
     violation: type[SignatureLawViolation],
 ) -> Callable[[str], Callable[[Callable[P, R]], Callable[P, R]]]:
@@ -80,7 +97,7 @@ def law_decorator(
                 except LawViolation:
                     raise
                 except Exception as exc:
-                    raise violation(name, f"the structure raised {type(exc).__name__}: {exc}") from exc
+                    raise violation(name, f"the structure raised {raised(exc)}") from exc
 
             return checked
 

@@ -21,6 +21,7 @@ from persistri.spec.ord_map_laws_base import (
     _same,
     _show_option,
 )
+from persistri.spec.law import raised
 from persistri.spec.order import Order
 
 __all__ = ["law_persistence", "law_invariants"]
@@ -98,4 +99,4 @@ def law_invariants(s: object, m: object, where: str = "") -> None:
         check(m)
     except Exception as exc:
         at = f" {where}" if where else ""
-        raise LawViolation("invariants", f"_check(m){at} raised {type(exc).__name__}: {exc}") from exc
+        raise LawViolation("invariants", f"_check(m){at} raised {raised(exc)}") from exc

@@ -29,7 +29,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from itertools import combinations
 from typing import Any, TypeVar
 
-from persistri.spec.law import SignatureLawViolation, law_decorator
+from persistri.spec.law import SignatureLawViolation, law_decorator, raised
 from persistri.spec.order import Order
 from persistri.spec.simpcomp import SIMPCOMP
 from persistri.spec.simplex import SIMPLEX
@@ -474,4 +474,4 @@ def law_invariants(check: Callable[[Cx], object], c: Cx, where: str = "") -> Non
         check(c)
     except Exception as exc:
         at = f" ({where})" if where else ""
-        raise LawViolation("invariants", f"the check rejected the complex{at}: {type(exc).__name__}: {exc}") from exc
+        raise LawViolation("invariants", f"the check rejected the complex{at}: {raised(exc)}") from exc

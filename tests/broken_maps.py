@@ -69,6 +69,7 @@ __all__ = [
     "SharedListingMap",
     "AbsentRemoveMap",
     "IteratorListingMap",
+    "BareAssertCheckMap",
 ]
 
 
@@ -542,6 +543,15 @@ class IteratorListingMap(_Delegating):
 
     def listItemsi(self, m: Any) -> Any:
         return iter(assoc_list.listItemsi(m))
+
+
+class BareAssertCheckMap(RedBlackDelegate):
+    """The red-black tree with a ``_check`` written as outside authors write them, a bare ``assert`` (here one
+    that fails from three items on): its ``AssertionError`` has no message, so a report must name the line.
+    (Defined here, not in a test module, so that pytest does not rewrite the ``assert`` and add one.)"""
+
+    def _check(self, m: Any) -> None:
+        assert self.numItems(m) < 3
 
 
 mutating = MutatingMap()

@@ -13,6 +13,9 @@ import pytest
 from scipy.spatial import Delaunay as QhullDelaunay
 
 import persistri
+from broken_maps import BareAssertCheckMap
+from persistri.spec.conformance import run_conformance
+from persistri.spec.law import raised
 
 
 @pytest.mark.parametrize("size", [1e-160, 1e-120, 1e-80, 1e-60])
@@ -38,3 +41,23 @@ def test_lifted_planes_of_tiny_inputs_are_finite_and_agree_with_scipy(size: floa
     # Inside a triangle's circumcircle (its centroid) is below its plane.
     a, b, c = (pts[tri.simplices[:, k]] for k in range(3))
     assert (np.diagonal(tri.plane_distance((a + b + c) / 3)) > 0).all()
+
+
+def test_a_check_that_fails_a_bare_assert_is_named_by_its_line() -> None:
+    # An AssertionError without a message printed as "_check(m) raised AssertionError: " and nothing more.
+    report = run_conformance(BareAssertCheckMap(), tests=("invariants",), max_examples=30, derandomize=True)
+    (failure,) = report.failures
+    assert failure.law == "invariants"
+    assert "raised AssertionError at " in failure.detail, failure.detail
+    assert "broken_maps.py:" in failure.detail and "(assert self.numItems(m) < 3)" in failure.detail
+
+
+def test_exceptions_are_described_with_their_message_or_their_line() -> None:
+    assert raised(KeyError(0)) == "KeyError: 0"
+    try:
+        exec(compile("x = 1\nassert x == 3", "<user code>", "exec"))  # not rewritten by pytest: no message
+    except AssertionError as exc:
+        assert raised(exc) == "AssertionError at <user code>:2"
+    else:
+        raise AssertionError("the assert did not fail")
+    assert raised(AssertionError()) == "AssertionError (no message)"

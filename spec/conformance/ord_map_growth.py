@@ -50,6 +50,7 @@ from persistri.spec.conformance.ord_map_config import SuiteConfig
 from persistri.spec.conformance.ord_map_history import combine
 from persistri.spec.conformance.runner import ConformanceSkip
 from persistri.spec.ord_map import NotFound
+from persistri.spec.law import raised
 from persistri.spec.ord_map_laws import LawViolation
 from persistri.spec.order import Order
 
@@ -387,7 +388,7 @@ class _Run:
                     try:
                         self.check(result)
                     except Exception as exc:
-                        detail = f"_check(version {op.result}) raised {type(exc).__name__}: {exc}"
+                        detail = f"_check(version {op.result}) raised {raised(exc)}"
                         return GrowthFailure("invariants", i, "invariants", detail)
         self._release(i)
         return None

@@ -42,6 +42,7 @@ from persistri.spec.conformance.hidden_state import Ballast
 from persistri.spec.conformance.runner import ConformanceSkip
 from persistri.spec.conformance.simpcomp_config import SimpCompSuiteConfig, vertex_pool
 from persistri.spec.conformance.simpcomp_growth_plan import ComplexPlan, face, flipped, growth_plan, index_key, noun, tops_of
+from persistri.spec.law import raised
 from persistri.spec.simpcomp_laws import LawViolation, law_agrees, law_neighbour, oriented_key
 
 __all__ = ["GROWTH_FACTOR", "t_growth"]
@@ -260,7 +261,7 @@ class _Run:
             try:
                 self.check(self.versions[op.result])
             except Exception as exc:
-                detail = f"the check of version {op.result} raised {type(exc).__name__}: {exc}"
+                detail = f"the check of version {op.result} raised {raised(exc)}"
                 return GrowthFailure("invariants", i, "invariants", detail)
         return None
 
