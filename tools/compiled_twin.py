@@ -32,6 +32,7 @@ MODULES = (
     "persistri/impl/geometry/kernel.py",
     "persistri/impl/geometry/kernel_split.py",
     "persistri/impl/hull/bulldozer.py",
+    "persistri/impl/hull/insertion.py",
     "persistri/impl/hull/conflicts.py",
     "persistri/impl/hull/packed.py",
     "persistri/impl/maps/red_black_tree.py",
