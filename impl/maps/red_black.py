@@ -74,7 +74,8 @@ keys), far below Python's recursion limit.
 
 The algorithms over nodes are in :mod:`persistri.impl.maps.red_black_tree`
 and, for several keys in one descent, :mod:`persistri.impl.maps.red_black_adjust`
-(the compiled twin compiles both); this module is the structure: the map
+and :mod:`persistri.impl.maps.red_black_adjust_insert` (the compiled twin compiles all
+three); this module is the structure: the map
 value, key validation, the signature's errors, the instrumentation and the
 invariant check.
 """
@@ -85,6 +86,7 @@ from collections.abc import Callable
 from typing import Any, Final, Generic, Optional, TypeAlias, TypeVar
 
 from persistri.impl.maps import red_black_adjust as _adjust
+from persistri.impl.maps import red_black_adjust_insert as _adjust_insert
 from persistri.impl.maps import red_black_tree as _tree
 from persistri.impl.maps.keys import check_increasing, check_orderable, check_same_key, not_ordered_with
 from persistri.impl.maps.red_black_tree import BLACK, RED, FailedWith
@@ -257,7 +259,7 @@ class RedBlackMap(Generic[K, V]):
     method, :func:`~persistri.impl.maps.red_black_adjust.adjust_sorted_map`: in the
     compiled twin a call of it runs no interpreted code."""
 
-    adjust_insert: Callable[..., tuple[Any, list[int], list[int], bool]] = staticmethod(_adjust.adjust_insert_map)
+    adjust_insert: Callable[..., tuple[Any, list[int], list[int], bool]] = staticmethod(_adjust_insert.adjust_insert_map)
     """``adjust_insert(f, m, keys, vals, j, v)`` → ``(m', absent, emptied, inserted)``: :meth:`adjust_sorted`,
     and ``keys[j] ↦ v`` inserted in the same descent if ``keys[j]`` is not in ``m`` (``inserted`` says
     whether it was).
@@ -266,13 +268,13 @@ class RedBlackMap(Generic[K, V]):
     from a new vertex, which updates the lists of the vertices it touches and
     adds the new vertex: where :meth:`adjust_sorted` and then :meth:`insert_absent`
     descend twice through the top of the tree, this copies it once
-    (:func:`~persistri.impl.maps.red_black_adjust.adjust_insert`).  The result
+    (:func:`~persistri.impl.maps.red_black_adjust_insert.adjust_insert`).  The result
     is exactly theirs: the same shape and colours, the same number of new
     nodes.  Unchecked as :meth:`adjust_sorted` (``0 ≤ j < len(keys)``).  A
     present ``keys[j]`` is updated by ``f`` like the other keys; one absent
     together with other keys that end at the same leaf (or in an empty map) is
     not inserted but listed in ``absent`` with them.  O(k + new nodes).  A static
-    method, :func:`~persistri.impl.maps.red_black_adjust.adjust_insert_map`."""
+    method, :func:`~persistri.impl.maps.red_black_adjust_insert.adjust_insert_map`."""
 
     def find(self, m: RBMap[K, V], k: K, /) -> Option[V]:
         """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``. O(lg n)."""

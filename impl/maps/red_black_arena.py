@@ -72,6 +72,7 @@ from collections.abc import Callable
 from typing import Any, Final, Generic, TypeVar
 
 from persistri.impl.maps import red_black_arena_adjust as _adjust
+from persistri.impl.maps import red_black_arena_delete as _delete
 from persistri.impl.maps import red_black_arena_tree as _tree
 from persistri.impl.maps.keys import check_increasing, check_orderable, check_same_key, not_ordered_with
 from persistri.impl.maps.red_black_arena_map import ONE, ArenaMap, map_class
@@ -288,7 +289,7 @@ class ArenaRedBlackMap(Generic[K, V]):
         root = m2 & ROOT_MASK
         n = m2 - root
         for i in emptied:
-            root = _tree.delete(A, root, keys[i], made)
+            root = _delete.delete(A, root, keys[i], made)
             root = _blacken(A, root, made) if root else NIL
         return type(m)(n - len(emptied) * ONE + root), absent, [], inserted
 
@@ -342,7 +343,7 @@ class ArenaRedBlackMap(Generic[K, V]):
         check_same_key(_NAME, k, A.key[A.item[node]])
         value: V = A.val[A.item[node]]
         made = len(A.item)
-        new = _tree.delete(A, t, k, made)
+        new = _delete.delete(A, t, k, made)
         return type(m)(m - t - ONE + (_blacken(A, new, made) if new else NIL)), value
 
     def numItems(self, m: ArenaMap, /) -> int:

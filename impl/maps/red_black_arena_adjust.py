@@ -1,11 +1,12 @@
 """The arena red-black tree's batched update: several sorted keys in one descent, one of them inserted in it (paper §2, §4).
 
-The functions of :mod:`persistri.impl.maps.red_black_adjust` transcribed to
+The functions of :mod:`persistri.impl.maps.red_black_adjust` and
+:mod:`persistri.impl.maps.red_black_adjust_insert` transcribed to
 the arena of :mod:`persistri.impl.maps.red_black_arena_tree` (nodes are
 indices; :data:`~persistri.impl.maps.red_black_arena_tree.NIL` is the empty
 leaf; a node's key and value are its item, reused by every copy of the node and
 replaced only where ``f`` gives a new value): the same descents, the same
-trees, the same number of new nodes.  Read that module for the algorithm; the
+trees, the same number of new nodes.  Read those modules for the algorithms; the
 docstrings here say only what differs.
 They are the hot path of the 2-complex's ``replace`` on the arena backend.
 Recursive, depth at most the tree height.
@@ -148,7 +149,7 @@ def adjust_insert(
 ) -> int:
     """:func:`adjust` of ``keys[lo:hi]``, and ``keys[j] ↦ new[0]`` inserted if ``keys[j]`` is absent
     (``lo ≤ j < hi``), with Okasaki's repairs on the way back up (see
-    :func:`~persistri.impl.maps.red_black_adjust.adjust_insert`; an insertion empties ``new``)."""
+    :func:`~persistri.impl.maps.red_black_adjust_insert.adjust_insert`; an insertion empties ``new``)."""
     yi = A.item[t]
     y = A.key[yi]
     last = hi - 1

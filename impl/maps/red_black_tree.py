@@ -6,8 +6,9 @@ and the costs.  They are a module of their own because they are where the
 map's time goes: the compiled twin (``make compiled``, docs/performance.md)
 compiles this module with mypyc and leaves the structure, which validates keys
 and raises the signature's errors, interpreted.  The batched update of several
-keys in one descent (``adjust_sorted``, and the insertion fused into it) is in
-:mod:`persistri.impl.maps.red_black_adjust`, compiled too.
+keys in one descent (``adjust_sorted``) is in
+:mod:`persistri.impl.maps.red_black_adjust`, and the insertion fused into it in
+:mod:`persistri.impl.maps.red_black_adjust_insert`, compiled too.
 
 A node is the 5-tuple ``(colour, left, key, value, right)``; a tree is a node
 or ``None``.  Here a node is typed as a tuple of *any* length,
