@@ -25,6 +25,7 @@ from persistri.spec.conformance.hidden_state import second_instance
 from persistri.spec.conformance.runner import ConformanceSkip
 from persistri.spec.conformance.simpcomp_config import SimpCompSuiteConfig, vertex_pool
 from persistri.spec.conformance.simpcomp_growth_plan import index_key, noun
+from persistri.spec.order import Order
 from persistri.spec.simpcomp_laws import LawViolation, oriented_key
 
 __all__ = ["t_determinism", "t_isolation"]
@@ -51,6 +52,16 @@ def _free(rng: random.Random, n: int, held: set[Any]) -> tuple[int, ...] | None:
     return None
 
 
+@dataclass(frozen=True)
+class PoolVertex:
+    """A vertex in a session's answers: its place in the session's pool of vertices (shown as ``pool[i]``)."""
+
+    index: int
+
+    def __repr__(self) -> str:
+        return f"pool[{self.index}]"
+
+
 @dataclass
 class _Session:
     """One run of the fixed session in dimension ``n``: the questions asked and the answers, in order."""
@@ -63,20 +74,46 @@ class _Session:
     answers: list[object] = field(default_factory=list)
     made: dict[int, str] = field(default_factory=dict)
     _alive: list[Any] = field(default_factory=list)
+    _pool: list[Any] = field(default_factory=list)
 
     def ask(self, question: str, call: Callable[[], object]) -> object:
-        """Record ``call()``'s answer (or what it raised) to ``question``; simplices as oriented keys, sorted."""
+        """Record ``call()``'s answer (or what it raised) to ``question``; simplices as oriented keys, sorted.
+
+        Vertices are recorded as their places in this session's pool (:class:`PoolVertex`): each
+        session makes its vertices afresh, and the ``VERTEX`` signature compares them by ``compare``
+        only — an outside vertex type may well have identity equality and an address in its repr.
+        """
         try:
             answer: object = call()
         except Exception as exc:
             answer = f"raises {type(exc).__name__}: {exc}"
         if isinstance(answer, (list, tuple)) and question.split("(")[0] in ("find", "simplices", "vertices"):
             S = self.C.Simplex
-            keys = [oriented_key(S, x) if question.startswith(("find", "simplices")) else x for x in answer]
+            if question.startswith(("find", "simplices")):
+                keys: list[object] = []
+                for x in answer:
+                    vs, parity = oriented_key(S, x)
+                    keys.append((tuple(self._place(v) for v in vs), parity))
+            else:
+                keys = [self._place(v) for v in answer]
             answer = tuple(sorted(keys, key=repr))
         self.questions.append(question)
         self.answers.append(answer)
         return answer
+
+    def _place(self, v: Any) -> object:
+        """``v`` as its place in the pool (the same object, else the vertex ``compare`` finds equal), or ``v``."""
+        for i, p in enumerate(self._pool):
+            if p is v:
+                return PoolVertex(i)
+        compare = self.C.Simplex.Vertex.compare
+        for i, p in enumerate(self._pool):
+            try:
+                if compare(v, p) is Order.EQUAL:
+                    return PoolVertex(i)
+            except Exception:  # not a vertex of this structure: recorded as it is
+                break
+        return v
 
     def version(self, made: str, c: Any) -> int:
         v = len(self.made)
@@ -89,6 +126,7 @@ class _Session:
         C, n = self.C, self.n
         S = C.Simplex
         pool = vertex_pool(self.cfg, _pool_size(n))
+        self._pool = pool
         rng = random.Random(f"persistri-simpcomp-determinism:{n}")
 
         def sx(t: tuple[int, ...]) -> Any:
