@@ -13,6 +13,8 @@ naming the wrong law (or none) is a defect of the suite:
   caller can read only once (listItemsi);
 * :data:`bad_check` — externally correct, but its representation breaks the
   invariant its own ``_check`` asserts (invariants);
+* :data:`shared_listing` — ``listItemsi`` returns the list a version holds, so a
+  caller that edits it edits the version (listItemsi);
 * :data:`grows_mutating` and :data:`grows_mutating_late` — persistent while
   small, but once a map holds 40 (or 2,000) items ``insert`` and ``insertWith``
   write the new tree into the map they were given (persistence: only the growth
@@ -28,8 +30,10 @@ naming the wrong law (or none) is a defect of the suite:
   versions overwrite the first's (isolation).
 
 The first seven are built on the association list (correct by the suite's own
-tests) so that each break is a few lines; the last four on the red-black tree,
+tests) so that each break is a few lines; the others on the red-black tree,
 so that the whole suite runs on them at its default size (10^5 keys).
+:class:`BareAssertCheckMap` (not in the galleries) is the red-black tree with a
+``_check`` that fails a bare ``assert``: its report must name the line.
 """
 
 from __future__ import annotations
