@@ -96,7 +96,8 @@ class TerrainRecord:
 
     @property
     def error_ratio(self) -> float:
-        """persistri's maximum error over pydelatin's (≤ 1.05 is the issue's target)."""
+        """persistri's maximum error over pydelatin's at this one count (issue 17's target is ≤ 1.00; one count is
+        partly luck: read the sweep, :mod:`persistri.impl.bench.terrain_sweep`)."""
         return self.persistri_error / self.pydelatin_error if self.pydelatin_error > 0 else float("nan")
 
 
