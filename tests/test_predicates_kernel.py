@@ -19,7 +19,7 @@ from test_predicates import point_sets
 from persistri.impl.geometry import filter as fp
 from persistri.impl.geometry.filter import FLOPS_ORIENT3D, FLOPS_PLANE, FLOPS_PLANE_SIDE
 from persistri.impl.geometry.points import unique_rows
-from persistri.impl.geometry.kernel import KERNEL_BATCH
+from persistri.impl.geometry.kernel import KERNEL_BATCH, MASK_BELOW, SCALAR_BELOW
 from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.stats import Stats
 
@@ -86,6 +86,26 @@ def test_partition_vectorised_path_agrees(kind: str) -> None:
         assert isinstance(got[0], list)
         assert _lists(got) == _split(p, a, b, c, small)
 
+
+
+@pytest.mark.parametrize("kind", ["random", "offset"])
+def test_partition_by_masks_and_by_index_lists_agree(kind: str) -> None:
+    """Below :data:`MASK_BELOW` points the vectorised partition gathers each side by its boolean mask, from there
+    on through index lists: either way the checked predicates' lists, in the order given, of the type given."""
+    rng = np.random.default_rng(11)
+    p = Predicates3(_point_set(kind, rng, 1600))
+    k = p.kernel()
+    n = len(p)
+    for a, b, c in ((0, 1, 2), (3, 500, 900)):
+        qs = [q for q in rng.permutation(n).tolist() if q not in (a, b, c)]
+        for m in (SCALAR_BELOW, MASK_BELOW - 1, MASK_BELOW, len(qs)):
+            part = qs[:m]
+            expected = _split(p, a, b, c, part)
+            for dtype in (np.int32, np.intp):
+                minus, plus = k.partition(a, b, c, np.array(part, dtype=dtype))
+                assert isinstance(minus, np.ndarray) and isinstance(plus, np.ndarray)
+                assert minus.dtype == plus.dtype == np.dtype(dtype)
+                assert _lists((minus, plus)) == expected
 
 def test_partition_with_the_exact_centroid_and_empty_input() -> None:
     """A needle tetrahedron: the float centroid is not inside, the exact one has no float copy (NaN row)."""
