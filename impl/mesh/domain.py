@@ -36,7 +36,7 @@ from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.geometry.points import as_points, unique_rows
 from persistri.impl.mesh.domain_faces import Domain, domain_of
 from persistri.impl.mesh.errors import DomainError
-from persistri.impl.mesh.segments import convex_hull, dedupe, point_text, refuse_crossings, split_at_vertices
+from persistri.impl.mesh.segments import FEW_SEGMENTS, convex_hull, dedupe, point_text, refuse_crossings, split_at_vertices
 
 __all__ = ["PSLG", "DomainError", "Domain", "Validated", "as_pslg", "domain_of", "validate", "validate_dict"]
 
@@ -381,7 +381,7 @@ def validate(
             marks = np.concatenate([marks, np.zeros(extra.shape[0], dtype=np.intp)])
 
     seg, origin, marks = dedupe(seg, origin, marks, notes, name)
-    columns = pred.filter_columns() if seg.shape[0] else None
+    columns = pred.filter_columns() if seg.shape[0] > FEW_SEGMENTS else None  # the vectorised paths' (segments.py)
     pieces = split_at_vertices(verts, seg, origin, marks, pred, notes, name, repair, columns)
     if pieces[0] is not seg:  # split: pieces of overlapping segments may repeat
         seg, origin, marks = dedupe(*pieces, notes, name)
@@ -402,6 +402,8 @@ def validate(
     dom = domain_of(result)
     for v in np.flatnonzero(~dom.vertex_inside).tolist():
         notes.append(f"vertex {int(name[v])} at {point_text(verts[v])} lies outside the domain: it cannot be a mesh vertex")
+    if not notes:
+        return Validated(result, pred)  # nothing repaired or noticed: the PSLG checked is the one returned
     final = PSLG(
         vertices=result.vertices,
         segments=result.segments,

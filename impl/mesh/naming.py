@@ -27,6 +27,9 @@ from numpy.typing import NDArray
 
 __all__ = ["HULL_EDGE", "InputNames"]
 
+_FEW = 1024
+"""Up to this many vertices :meth:`InputNames.of` tells an identity ``vertex_map`` by one comparison of lists."""
+
 HULL_EDGE = -1
 """``PSLG.segment_origin``'s value for a convex hull edge that ``convex=True`` added."""
 
@@ -44,13 +47,14 @@ class InputNames:
     def of(cls, segment_origin: NDArray[np.intp] | None, vertex_map: NDArray[np.intp] | None) -> InputNames:
         """From a PSLG's ``segment_origin`` and ``vertex_map`` (input row → validated row). O(n)."""
         rows: tuple[int, ...] | None = None
-        if vertex_map is not None and vertex_map.size:
+        # The identity (no merges: the rows as given), told by one comparison of lists when there are few.
+        if vertex_map is not None and vertex_map.size and (vertex_map.size > _FEW or vertex_map.tolist() != list(range(vertex_map.size))):
             vm = np.asarray(vertex_map, dtype=np.intp)
             first = np.full(int(vm.max()) + 1, -1, dtype=np.intp)
             first[vm[::-1]] = np.arange(vm.size - 1, -1, -1, dtype=np.intp)  # the last write wins: the first row
             if not np.array_equal(first, np.arange(first.size)):
                 rows = tuple(first.tolist())
-        origin = None if segment_origin is None else tuple(int(o) for o in segment_origin.tolist())
+        origin = None if segment_origin is None else tuple(segment_origin.tolist())  # Python ints
         if origin is not None and origin == tuple(range(len(origin))):
             origin = None
         return cls(origin, rows)

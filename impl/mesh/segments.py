@@ -17,6 +17,8 @@ vertices).
 
 from __future__ import annotations
 
+from bisect import bisect_left, bisect_right
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -27,7 +29,7 @@ from persistri.impl.geometry.filter import ERRBOUND_ORIENT2D, orient2d_terms
 from persistri.impl.geometry.growing import GrowingPredicates2
 from persistri.impl.mesh.errors import DomainError
 
-__all__ = ["Labels", "OrientSigns", "convex_hull", "dedupe", "orient_signs", "split_at_vertices", "refuse_crossings", "point_text"]
+__all__ = ["FEW_SEGMENTS", "Labels", "OrientSigns", "convex_hull", "dedupe", "orient_signs", "split_at_vertices", "refuse_crossings", "point_text"]
 
 _PAIR_BUDGET = 1 << 22
 """Candidate segment pairs examined per block of the crossing sweep (bounds its memory)."""
@@ -114,13 +116,20 @@ def dedupe(
     name: NDArray[np.intp],
 ) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp] | None]:
     """Merge repeated segments (either orientation) into the first; a note for each input one dropped."""
-    if seg.shape[0] < 2:
+    m = seg.shape[0]
+    if m < 2:
         return seg, origin, marks
+    if m <= FEW_SEGMENTS:
+        # Distinct pairs (the usual case), told by one set of sorted pairs.
+        if len({(a, b) if a < b else (b, a) for a, b in seg.tolist()}) == m:
+            return seg, origin, marks
+    else:
+        key = np.sort(seg, axis=1)
+        # Distinct pairs are told by one set of Python ints: a pair (a, b), a < b <= max, as one code.
+        codes = key[:, 0] * (int(key[:, 1].max()) + 1) + key[:, 1]
+        if len(set(codes.tolist())) == m:
+            return seg, origin, marks
     key = np.sort(seg, axis=1)
-    # Distinct pairs (the usual case) are told by one set of Python ints: a pair (a, b), a < b <= max, as one code.
-    codes = key[:, 0] * (int(key[:, 1].max()) + 1) + key[:, 1]
-    if len(set(codes.tolist())) == seg.shape[0]:
-        return seg, origin, marks
     label = Labels(seg, origin, name)
     _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
     inverse = inverse.reshape(-1)
@@ -158,28 +167,10 @@ def split_at_vertices(
     m = seg.shape[0]
     if m == 0:
         return seg, origin, marks
-    by_x = np.argsort(verts[:, 0], kind="stable")
-    xs_sorted = verts[by_x, 0]
-    ys = verts[:, 1]
-    a_all, b_all = seg[:, 0], seg[:, 1]
-    ax, bx = verts[a_all, 0], verts[b_all, 0]
-    ay, by = verts[a_all, 1], verts[b_all, 1]
-    lo_y, hi_y = np.minimum(ay, by), np.maximum(ay, by)
-    lo = np.searchsorted(xs_sorted, np.minimum(ax, bx), side="left")
-    count = np.searchsorted(xs_sorted, np.maximum(ax, bx), side="right") - lo
-    if columns is None:
-        columns = pred.filter_columns()
-    on_of: dict[int, list[int]] = {}
-    for start, stop in _blocks(count):
-        reps = count[start:stop]
-        k = np.repeat(np.arange(start, stop), reps)  # each pair's segment, candidates in the order of by_x
-        cand = by_x[lo[k] + (np.arange(k.size) - np.repeat(np.cumsum(reps) - reps, reps))]
-        inside = (ys[cand] >= lo_y[k]) & (ys[cand] <= hi_y[k]) & (cand != a_all[k]) & (cand != b_all[k])
-        k, cand = k[inside], cand[inside]
-        if k.size:
-            zero = orient_signs(pred, columns, a_all[k], b_all[k], cand) == 0
-            for s, v in zip(k[zero].tolist(), cand[zero].tolist()):
-                on_of.setdefault(s, []).append(v)
+    if m <= FEW_SEGMENTS:
+        on_of = _vertices_on_few(verts, seg, pred)
+    else:
+        on_of = _vertices_on_many(verts, seg, pred, columns)
     if not on_of:
         return seg, origin, marks
     label = Labels(seg, origin, name)
@@ -210,6 +201,65 @@ def split_at_vertices(
     )
 
 
+FEW_SEGMENTS = 32
+"""Up to this many segments, :func:`split_at_vertices` and :func:`refuse_crossings` find their candidates with
+Python loops over lists (O(m·n) and O(m²) comparisons of doubles) instead of numpy's vectorised sweep, whose
+fixed cost of some fifty array calls is most of a small domain's validation; both ways give the same candidates
+in the same order, and the same exact signs decide (tests/test_mesh_segments_paths.py compares them)."""
+
+
+def _vertices_on_few(verts: NDArray[np.float64], seg: NDArray[np.intp], pred: GrowingPredicates2) -> dict[int, list[int]]:
+    """:func:`_vertices_on_many`'s answer with Python loops (a few segments). O(m·n)."""
+    pts: list[list[float]] = verts.tolist()
+    by_x = sorted(range(len(pts)), key=lambda v: pts[v][0])  # stable, as numpy's stable argsort
+    xs_sorted = [pts[v][0] for v in by_x]
+    sign = pred.orient2d_sign
+    on_of: dict[int, list[int]] = {}
+    for s, (a, b) in enumerate(seg.tolist()):
+        (ax, ay), (bx, by) = pts[a], pts[b]
+        lo_y, hi_y = (ay, by) if ay <= by else (by, ay)
+        lo_x, hi_x = (ax, bx) if ax <= bx else (bx, ax)
+        for k in range(bisect_left(xs_sorted, lo_x), bisect_right(xs_sorted, hi_x)):
+            v = by_x[k]
+            if v != a and v != b and lo_y <= pts[v][1] <= hi_y and sign(a, b, v) == 0:
+                on_of.setdefault(s, []).append(v)
+    return on_of
+
+
+def _vertices_on_many(
+    verts: NDArray[np.float64],
+    seg: NDArray[np.intp],
+    pred: GrowingPredicates2,
+    columns: tuple[NDArray[np.float64], NDArray[np.float64]] | None,
+) -> dict[int, list[int]]:
+    """The vertices on each segment's closed bounding box and line, ends excluded: ``segment -> vertices`` in the
+    order of the vertices sorted by x (stable), for the segments that have any (:func:`split_at_vertices`).
+    Vectorised over every (segment, candidate) pair at once, in blocks of :data:`_PAIR_BUDGET`. O(m log n + k)."""
+    by_x = np.argsort(verts[:, 0], kind="stable")
+    xs_sorted = verts[by_x, 0]
+    ys = verts[:, 1]
+    a_all, b_all = seg[:, 0], seg[:, 1]
+    ax, bx = verts[a_all, 0], verts[b_all, 0]
+    ay, by = verts[a_all, 1], verts[b_all, 1]
+    lo_y, hi_y = np.minimum(ay, by), np.maximum(ay, by)
+    lo = np.searchsorted(xs_sorted, np.minimum(ax, bx), side="left")
+    count = np.searchsorted(xs_sorted, np.maximum(ax, bx), side="right") - lo
+    if columns is None:
+        columns = pred.filter_columns()
+    on_of: dict[int, list[int]] = {}
+    for start, stop in _blocks(count):
+        reps = count[start:stop]
+        k = np.repeat(np.arange(start, stop), reps)  # each pair's segment, candidates in the order of by_x
+        cand = by_x[lo[k] + (np.arange(k.size) - np.repeat(np.cumsum(reps) - reps, reps))]
+        inside = (ys[cand] >= lo_y[k]) & (ys[cand] <= hi_y[k]) & (cand != a_all[k]) & (cand != b_all[k])
+        k, cand = k[inside], cand[inside]
+        if k.size:
+            zero = orient_signs(pred, columns, a_all[k], b_all[k], cand) == 0
+            for s, v in zip(k[zero].tolist(), cand[zero].tolist()):
+                on_of.setdefault(s, []).append(v)
+    return on_of
+
+
 def refuse_crossings(
     verts: NDArray[np.float64],
     seg: NDArray[np.intp],
@@ -231,7 +281,55 @@ def refuse_crossings(
     m = seg.shape[0]
     if m < 2:
         return
-    label = Labels(seg, origin, name)
+    if m <= FEW_SEGMENTS:
+        pairs: Iterable[tuple[int, int]] = _crossing_candidates_few(verts, seg)
+    else:
+        pairs = _crossing_candidates_many(verts, seg, pred, columns)
+    a, b = seg[:, 0].tolist(), seg[:, 1].tolist()
+    for s, t in pairs:
+        p, q, r, u = a[s], b[s], a[t], b[t]
+        if pred.orient2d_sign(p, q, r) * pred.orient2d_sign(p, q, u) < 0 and (
+            pred.orient2d_sign(r, u, p) * pred.orient2d_sign(r, u, q) < 0
+        ):
+            s, t = min(s, t), max(s, t)
+            x, y = _crossing_point(verts, seg[s], seg[t])
+            label = Labels(seg, origin, name)
+            raise DomainError(f"{label(s)} and {label(t)} cross at about ({x:.17g}, {y:.17g}) without a shared vertex")
+
+
+def _crossing_candidates_few(verts: NDArray[np.float64], seg: NDArray[np.intp]) -> Iterator[tuple[int, int]]:
+    """:func:`_crossing_candidates_many`'s pairs with Python loops (a few segments; no filter pass: the exact test
+    decides every pair, and a pair the filter sets aside cannot cross). O(m²)."""
+    pts: list[list[float]] = verts.tolist()
+    ends: list[list[int]] = seg.tolist()
+    boxes = []
+    for a, b in ends:
+        (ax, ay), (bx, by) = pts[a], pts[b]
+        boxes.append((min(ax, bx), max(ax, bx), min(ay, by), max(ay, by)))
+    order = sorted(range(len(ends)), key=lambda k: boxes[k][0])  # stable, as numpy's stable argsort
+    for r, i in enumerate(order):
+        _, hi_x, lo_y, hi_y = boxes[i]
+        a, b = ends[i]
+        for j in order[r + 1 :]:
+            lo_xj, _, lo_yj, hi_yj = boxes[j]
+            if lo_xj > hi_x:
+                break
+            if lo_y <= hi_yj and lo_yj <= hi_y:
+                c, d = ends[j]
+                if a != c and a != d and b != c and b != d:
+                    yield i, j
+
+
+def _crossing_candidates_many(
+    verts: NDArray[np.float64],
+    seg: NDArray[np.intp],
+    pred: GrowingPredicates2,
+    columns: tuple[NDArray[np.float64], NDArray[np.float64]] | None,
+) -> Iterator[tuple[int, int]]:
+    """The pairs of segments that may cross, in sweep order: boxes overlapping (a sweep in x over the segments
+    sorted by their least x, stable), no shared end, and not set aside by the proved filter (both ends of one
+    certainly on one side of the other's line).  Vectorised, in blocks of :data:`_PAIR_BUDGET` pairs."""
+    m = seg.shape[0]
     a, b = seg[:, 0], seg[:, 1]
     lo_x = np.minimum(verts[a, 0], verts[b, 0])
     hi_x = np.maximum(verts[a, 0], verts[b, 0])
@@ -255,14 +353,7 @@ def refuse_crossings(
                 columns = pred.filter_columns()
             apart = _one_side(columns, a[i], b[i], a[j], b[j]) | _one_side(columns, a[j], b[j], a[i], b[i])
             i, j = i[~apart], j[~apart]
-        for s, t in zip(i.tolist(), j.tolist()):
-            p, q, r, u = int(a[s]), int(b[s]), int(a[t]), int(b[t])
-            if pred.orient2d_sign(p, q, r) * pred.orient2d_sign(p, q, u) < 0 and (
-                pred.orient2d_sign(r, u, p) * pred.orient2d_sign(r, u, q) < 0
-            ):
-                s, t = min(s, t), max(s, t)
-                x, y = _crossing_point(verts, seg[s], seg[t])
-                raise DomainError(f"{label(s)} and {label(t)} cross at about ({x:.17g}, {y:.17g}) without a shared vertex")
+        yield from zip(i.tolist(), j.tolist())
 
 
 def _blocks(count: NDArray[np.intp]) -> list[tuple[int, int]]:
