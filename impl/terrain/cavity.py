@@ -175,6 +175,7 @@ def insert(T: Triangulator, p: int, start: int) -> Insertion:
         # The two ghosts on the new hull edges (ring[-1], p) and (p, ring[0]).
         for tri in ((ring[-1], inf, vp), (inf, ring[0], vp)):
             fan.append((tri, (T._new_id(tri), EMPTY)))
+    T.live += len(fan) - len(removed)
     cx = _new_version(T, p, cx, removed_tris, fan)
     return Insertion(p, cx, removed, created, samples, counts, not closed, ring, sector, own)
 
@@ -339,6 +340,7 @@ def _insert_linked(T: Triangulator, adj: list[Any], p: int, start: int) -> Inser
         prev = tid_obj
         u = w
     T._next_id = tid + m
+    T.live += m - len(removed)
     if T.stepwise or check:
         cx = _new_version(T, p, cx, removed_tris, fan)
     else:  # (_new_version's replace_cone, inlined)

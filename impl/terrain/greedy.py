@@ -424,6 +424,7 @@ def greedy_insertion(
         # before the final mesh's errors are measured, whose arrays are of the grid's size.
         run.heap = []
         T.tri_of = {}
+        T.adj = None
         inserted_arr = np.frombuffer(inserted, dtype=np.int64).astype(np.intp)
         inserted_arr.setflags(write=False)
         errors_arr = np.frombuffer(errors, dtype=np.float64).copy()
