@@ -61,7 +61,8 @@ __all__ = ["QualityMesh", "MeshHistory", "MeshArrays", "triangulate", "refine", 
 def _refine_run(
     run: Run,
     start: Complex[MeshDatum],
-    min_angle: float,
+    bound: AngleBound,
+    area: Fraction | None,
     max_area: float | None,
     *,
     region_areas: bool,
@@ -72,14 +73,9 @@ def _refine_run(
     encroachment: str,
     exact_segments: bool,
 ) -> QualityMesh:
-    bound = AngleBound.of(min_angle)
-    area = area_bound(max_area)
-    refinement_options(
-        max_steiner, encroachment, check=check, offcenters=offcenters, exact_segments=exact_segments,
-        region_areas=region_areas,
-    )
-    regs = run.domain.regions if region_areas else run.domain.regions[:0]
-    region_area = {r + 1: Fraction(float(regs[r, 3])) for r in range(regs.shape[0]) if regs[r, 3] > 0}
+    """Refine ``start`` of ``run`` under arguments already checked (``area`` is ``max_area`` exactly)."""
+    regs = run.domain.regions
+    region_area = {r + 1: Fraction(float(regs[r, 3])) for r in range(regs.shape[0]) if regs[r, 3] > 0} if region_areas else {}
     refiner = Refiner(
         run.T,
         run.geo,
@@ -190,7 +186,7 @@ def triangulate(
     )
     pslg, pred = as_domain(domain)
     bound = AngleBound.of(min_angle)
-    area_bound(max_area)
+    area = area_bound(max_area)
     if pred is None:
         pred = GrowingPredicates2(pslg.vertices)
     structure: TwoComplex[MeshDatum] = TwoComplex(map_backend(backend))
@@ -206,7 +202,8 @@ def triangulate(
     return _refine_run(
         run,
         cdt,
-        bound.degrees,
+        bound,
+        area,
         max_area,
         region_areas=region_areas,
         offcenters=offcenters,
@@ -238,10 +235,17 @@ def refine(
     """
     if not isinstance(mesh, QualityMesh):
         raise TypeError(f"refine takes a QualityMesh (from triangulate), not {type(mesh).__name__}")
+    bound = AngleBound.of(min_angle)
+    area = area_bound(max_area)
+    refinement_options(
+        max_steiner, encroachment, check=check, offcenters=offcenters, exact_segments=exact_segments,
+        region_areas=region_areas,
+    )
     return _refine_run(
         mesh._run,
         mesh.complex,
-        min_angle,
+        bound,
+        area,
         max_area,
         region_areas=region_areas,
         offcenters=offcenters,

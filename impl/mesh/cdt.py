@@ -50,6 +50,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from fractions import Fraction
+from operator import itemgetter
 from typing import Final
 
 import numpy as np
@@ -334,7 +335,7 @@ class _Builder:
         for k, found in extra.items():
             found.sort()
             d = datas[k]
-            datas[k] = (d[0], d[1], d[2] + tuple(con for _, con in found))
+            datas[k] = (d[0], d[1], d[2] + tuple([con for _, con in found]))
 
     # -- regions ---------------------------------------------------------------------------
 
@@ -379,7 +380,7 @@ class _Builder:
             if inf in t:
                 i = t.index(inf)
                 u, w = t[(i + 1) % 3], t[(i + 2) % 3]
-                if constraint_of(datas[k], u, w) < 0:
+                if not datas[k][2] or constraint_of(datas[k], u, w) < 0:
                     hull_seeds.append(by_edge[(w, u)])
         flood(hull_seeds, EXTERIOR)
         hint = next((t, d) for t, d in items if inf not in t)
@@ -393,7 +394,7 @@ class _Builder:
                 if region[k] == -2:
                     flood([k], code)
         added = [(t, (d[0], region[k] if region[k] != -2 else 0, d[2])) for k, (t, d) in enumerate(zip(tris, datas))]
-        added.sort(key=lambda item: (item[0][0], item[0][1], item[0][2]))
+        added.sort(key=itemgetter(0))  # by the triangle's labels (tuples compare as the labels; no two are equal)
         return target.replace(target.new(2), [], added)
 
 
