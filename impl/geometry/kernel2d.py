@@ -105,7 +105,9 @@ class Delaunay2Kernel:
     * :meth:`orient2d` ``(a, b, c) -> ±1`` — SoS for exact zeros;
     * :meth:`orient2d_sign` ``(a, b, c) -> -1, 0, +1`` — the true sign;
     * :meth:`incircle` ``(a, b, c, d) -> ±1`` — +1 when ``d`` is inside the circle
-      through ``a, b, c`` (counterclockwise); SoS for cocircular points.
+      through ``a, b, c`` (counterclockwise); SoS for cocircular points, or, when
+      :attr:`strict` is set, −1 (``d`` on the circle counts as outside it: the strict
+      conflict rule of greedy insertion, :mod:`persistri.impl.terrain.delaunay`).
 
     Each is O(1): about half a microsecond interpreted.  A point set that needs
     per-test grain checks (``filter_scale[1]`` False) gets the checked methods.
@@ -116,9 +118,10 @@ class Delaunay2Kernel:
     interpreted, a method call costs what a closure's does (0.6 % more a test, measured).
     """
 
-    __slots__ = ("exact_floats", "exact_orient2d", "_pred", "_rows", "_checked", "_o2_static", "_ic_static")
+    __slots__ = ("exact_floats", "exact_orient2d", "strict", "_pred", "_rows", "_checked", "_o2_static", "_ic_static")
 
     exact_floats: bool
+    strict: bool
     exact_orient2d: bool
     _pred: Predicates2
     _rows: RowTable
@@ -129,6 +132,7 @@ class Delaunay2Kernel:
     def __init__(self, pred: Predicates2) -> None:
         exact_o, exact_i = exact_float_spans(pred)
         self.exact_floats = exact_i
+        self.strict = False
         self.exact_orient2d = exact_o
         self._pred = pred
         self._rows = pred._rows
@@ -155,7 +159,10 @@ class Delaunay2Kernel:
 
     def _incircle_zero(self, a: Any, b: Any, c: Any, d: Any) -> int:
         """SoS of an exact-float zero: the first term of Λ4 (orient2d of the three largest indices), then the rest.
-        Points ranked otherwise than by index (``Predicates2(sos_rank=…)``) go to the predicates' own SoS."""
+        Points ranked otherwise than by index (``Predicates2(sos_rank=…)``) go to the predicates' own SoS.
+        Under :attr:`strict`, −1: ``d`` on the circle is not inside it."""
+        if self.strict:
+            return -1
         if self._pred._sos_rank is not None:
             return self._pred._sos_incircle(a, b, c, d)
         i0, i1, i2, i3 = sorted((a, b, c, d))
@@ -174,9 +181,12 @@ class Delaunay2Kernel:
         return (1 if first > 0.0 else -1) * (-1 if inversions & 1 else 1)
 
     def incircle(self, a: Any, b: Any, c: Any, d: Any) -> int:
-        """±1: +1 when ``d`` is inside the circle through ``a, b, c`` (counterclockwise); SoS for cocircular points. O(1)."""
+        """±1: +1 when ``d`` is inside the circle through ``a, b, c`` (counterclockwise); SoS for cocircular points
+        (−1 under :attr:`strict`). O(1)."""
         pred = self._pred
         if pred.stats is not None:
+            if self.strict:
+                return 1 if pred.incircle_sign(a, b, c, d) > 0 else -1
             return pred.incircle(a, b, c, d)
         return self.incircle_uncounted(a, b, c, d)
 
@@ -219,6 +229,8 @@ class Delaunay2Kernel:
         if self.exact_floats:
             return self._incircle_zero(a, b, c, d)  # the exact determinant is 0
         if self._checked:
+            if self.strict:
+                return 1 if pred.incircle_sign(a, b, c, d) > 0 else -1
             return pred.incircle(a, b, c, d)
         permanent = (
             (abs(bdxcdy) + abs(cdxbdy)) * alift
@@ -231,6 +243,8 @@ class Delaunay2Kernel:
             return 1
         if det < -thr:
             return -1
+        if self.strict:
+            return 1 if pred._incircle_exact(a, b, c, d, False) > 0 else -1
         return pred._incircle_exact(a, b, c, d, True)
 
     # orient2d and orient2d_sign each write the determinant out (a helper returning it would box a

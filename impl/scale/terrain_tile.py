@@ -125,7 +125,9 @@ class _TileRun:
         self.w = w
         self.pred = GridPredicates2((h, w))  # the points (col, row) from their indices: no per-sample coordinates
         self.structure: TwoComplex[TriDatum] = TwoComplex(map_backend(backend))
-        self.T = Triangulator(self.pred, self.structure)
+        # Greedy insertion's conflict rule: a sample on a circumcircle is not in conflict (strict=True; the
+        # triangulator's module docstring says why), as in the untiled run.
+        self.T = Triangulator(self.pred, self.structure, strict=True)
         self.rank = np.full(h * w, -1, dtype=np.intp)
         self.order: list[int] = []
         self.heap: list[tuple[float, int, int]] = []

@@ -26,7 +26,11 @@ The conflict rule (Shewchuk's, exact):
 * a finite triangle ``(a, b, c)`` is in conflict with ``p`` iff
   ``incircle(a, b, c, p) = +1`` — the exact sign, ties among cocircular points
   broken by the predicates' Simulation of Simplicity (one consistent perturbed
-  point set for ``orient2d`` and ``incircle``);
+  point set for ``orient2d`` and ``incircle``); or, for a *strict* triangulator
+  (``Triangulator(strict=True)``, greedy insertion's), iff ``p`` is strictly
+  inside the circle: a point exactly on it is not in conflict, so an insertion
+  keeps every edge that Delaunay allows it to keep (Bowyer–Watson's and Lawson's
+  own rule; below);
 * a ghost ``(u, w, ∞)`` iff ``orient2d_sign(u, w, p) > 0`` (``p`` strictly
   outside the hull edge), or the exact sign is 0 and ``p`` lies strictly between
   ``u`` and ``w``.  The true sign, not SoS: a point exactly on a hull edge
@@ -34,6 +38,26 @@ The conflict rule (Shewchuk's, exact):
   would contain the zero-area triangle ``(u, w, p)``; infinitesimally outside, a
   zero-area triangle would appear on the next collinear insertion.  With this
   rule no finite triangle ever has zero area (:mod:`persistri.impl.terrain.cavity` says why).
+
+The strict rule gives *a* Delaunay triangulation (every interior edge has exact
+``incircle ≤ 0``), the one that depends on the insertion order where four or
+more points are cocircular; SoS gives the one Delaunay triangulation of the
+perturbed points, whatever the order.  The strict rule is a symbolic perturbation
+too, a consistent one: lift each point above the paraboloid by an infinitesimal
+that dominates every earlier point's (and the planar SoS of ``orient2d``, which
+the lift does not touch).  An insertion only ever asks ``incircle(a, b, c, p)``
+with ``p`` the newest of the four, so on an exact zero the lift of ``p`` decides,
+and it puts ``p`` outside the circle; each version is then the one Delaunay
+triangulation of its points so perturbed.  The scattered Delaunay wants the latter
+(an extended run equals one run of all its points); greedy insertion wants the
+former, because the point it inserts is the sample of largest error: SoS
+connects it across a cocircular quadrilateral about half of the time, which
+spreads its height over a triangle that did not hold it, and costs error (on
+grid DEMs, where cocircular samples are everywhere: docs/performance.md,
+"Max error at equal vertex count").  The cavity stays star-shaped with ``p``
+strictly inside it: a boundary edge ``(u, w)`` separates a triangle whose open
+disc holds ``p`` from one whose open disc does not, and both discs contain the
+open segment ``uw``, so ``p`` is strictly on the cavity's side of it.
 
 One insertion of ``p`` (:meth:`Triangulator.insert`) finds the **cavity** (the
 triangles in conflict with ``p``), removes it and adds the **fan** from ``p`` to
@@ -135,6 +159,9 @@ class Triangulator:
     ``live`` — the number of live triangles of the current version (ghosts included), kept by every
     insertion: ``len(tri_of)`` without the dictionary that ``tri_of`` makes from the records.
 
+    ``strict=True`` — a point exactly on a triangle's circumcircle is not in conflict with it
+    (module docstring); greedy insertion's rule.  Default: SoS decides.
+
     ``counted`` — whether the predicates count (their ``stats`` is set), decided at construction: a run's
     predicates keep their ``stats``.  Uncounted, the cavity and the walks call the kernel's
     ``incircle_uncounted`` and ``orient2d_uncounted``, the same signs without reading ``stats`` at every test.
@@ -148,6 +175,7 @@ class Triangulator:
         check: bool = False,
         stepwise: bool = False,
         edge_index: bool = False,
+        strict: bool = False,
     ) -> None:
         self.pred = pred
         self.S = structure
@@ -184,6 +212,9 @@ class Triangulator:
         # Items typed Any: compiled by mypyc, the triangle and datum stay the objects the complex holds.
         self.adj: list[Any] | None = [] if edge_index and pred.stats is None and structure.stats is None else None
         self.kernel = pred.kernel()
+        # The conflict rule for cocircular points (module docstring): SoS, or strictly inside only.
+        self.kernel.strict = strict
+        self.strict = strict
         # Whether the run is counted, decided once (the predicates' stats is fixed for a run, as the neighbour
         # records assume): uncounted, the cavity and the walks call the kernel's tests that do not read stats.
         self.counted = pred.stats is not None
@@ -357,7 +388,7 @@ class Triangulator:
         return self._between(u, w, p)
 
     def conflicts(self, tri: Triangle, p: int) -> bool:
-        """Whether ``p`` is in conflict with ``tri`` (module docstring: incircle with SoS, or the ghost rule). O(1)."""
+        """Whether ``p`` is in conflict with ``tri`` (module docstring: incircle with SoS or strict, or the ghost rule). O(1)."""
         a, b, c = tri
         inf = self.infinite
         if c == inf:

@@ -154,8 +154,9 @@ class GreedyRun:
         self.pred = GridPredicates2(shape, stats=stats)
         self.structure = structure
         # The triangulator keeps neighbour records (edge_index: the look-ups of the cavity search read them
-        # instead of the complex's maps), except in counted runs, which count the paper's look-ups.
-        self.T = Triangulator(self.pred, self.structure, check=check, stepwise=stepwise, edge_index=True)
+        # instead of the complex's maps), except in counted runs, which count the paper's look-ups.  Strict
+        # conflicts: a sample on a circumcircle is not in conflict (delaunay's module docstring says why).
+        self.T = Triangulator(self.pred, self.structure, check=check, stepwise=stepwise, edge_index=True, strict=True)
         n = rows * cols
         self.keys = QueueKeys(n)
         self.heap: list[int] = []
