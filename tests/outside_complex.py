@@ -17,7 +17,7 @@ from typing import Any
 
 from persistri.spec.order import Order
 
-__all__ = ["OutsideComplex", "OutsideVertex", "outside_complex", "LowGrepOneOrientation", "VerticesDropTheLast"]
+__all__ = ["OutsideComplex", "OutsideVertex", "initial_state", "outside_complex", "LowGrepOneOrientation", "VerticesDropTheLast"]
 
 
 class OutsideVertex:
@@ -32,6 +32,11 @@ class OutsideVertex:
 
 def _order(a: Any, b: Any) -> Order:
     return Order.LESS if a < b else Order.GREATER if b < a else Order.EQUAL
+
+
+def initial_state() -> int:
+    """The vertex state the suite starts from (``--state outside_complex:initial_state``): the next number."""
+    return 0
 
 
 class _Vertex:
