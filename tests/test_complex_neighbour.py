@@ -355,6 +355,32 @@ def test_neighbours_unchecked_skips_the_edge_checks() -> None:
     assert C.neighbours_unchecked(c)((vs[0], vs[0])) is None
 
 
+def test_the_red_black_walk_is_the_generic_one_with_find_written_out() -> None:
+    """Over the red-black map the unchecked walk searches the tuple tree itself
+    (``neighbours_unchecked_in_tree``): every answer that of the generic walk with the map's ``find``, on
+    every directed edge of the icosahedron, its reversals, edges to a vertex with no list and from one, and
+    for an old version after newer ones are made from it."""
+    from persistri.impl.complex.neighbours import neighbours_unchecked_in, neighbours_unchecked_in_tree
+    from persistri.impl.maps.red_black_tree import find
+
+    n, tris = icosahedron()
+    vs = fresh(n + 2)
+    C = two_complex("red_black")
+    c = build(C, vs[:n], tris)
+    rep = c[1]
+    probes = [(vs[t[i]], vs[t[(i + 1) % 3]]) for t in tris for i in range(3)]
+    probes += [(w, u) for u, w in probes] + [(vs[0], vs[n]), (vs[n], vs[0]), (vs[n + 1], vs[n])]
+    expected = [neighbours_unchecked_in(rep, find)(e) for e in probes]
+    assert sum(x is not None for x in expected) == 6 * len(tris)  # a closed surface: both directions
+    assert expected[-3:] == [None, None, None]
+    walk = C.neighbours_unchecked(c)
+    tree_walk = neighbours_unchecked_in_tree(rep[1])
+    newer = C.rem(c, (vs[tris[0][0]], vs[tris[0][1]], vs[tris[0][2]]))
+    assert C.neighbours_unchecked(newer)(probes[0]) is None
+    assert [walk(e) for e in probes] == [tree_walk(e) for e in probes] == expected
+    assert [first_of_findi(C, c, e) for e in probes] == expected
+
+
 def test_neighbours_unchecked_checks_the_version_once() -> None:
     n, tris = icosahedron()
     vs = fresh(n)
