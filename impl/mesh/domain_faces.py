@@ -25,6 +25,7 @@ from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.mesh.errors import DomainError
 from persistri.impl.mesh.faces import UNBOUNDED, PlanarFaces, planar_faces
 from persistri.impl.mesh.naming import InputNames
+from persistri.impl.mesh import segments
 from persistri.impl.mesh.segments import convex_hull, point_text
 
 if TYPE_CHECKING:
@@ -137,16 +138,41 @@ def domain_of(pslg: PSLG, *, scale: IntegerScale | None = None, pred: Predicates
             f"{'–'.join(map(str, ring[:6]))}{'…' if len(ring) > 6 else ''}, {only} (is every boundary closed?)"
         )
 
+    keep = kept.tolist()
+    inside = _inside_few(faces, keep, n) if seg.shape[0] <= segments.FEW_SEGMENTS else _inside_many(faces, kept, n)
+    area2 = sum(a for a, k in zip(faces.face_area2, keep) if k)
+    area = Fraction(area2, 2) * Fraction(2) ** (2 * faces.scale.exponent)
+    return Domain(pslg, faces, kept, hole_face, region_face, inside, area)
+
+
+def _inside_few(faces: PlanarFaces, keep: list[bool], n: int) -> NDArray[np.bool_]:
+    """:func:`_inside_many` with Python loops over lists (few segments: numpy's passes cost more there). O(n + m)."""
+    in_kept = [f != UNBOUNDED and keep[f] for f in faces.face_of_walk.tolist()]  # per walk
+    inside = [False] * n
+    for u, w in zip(faces.half_edges[:, 0].tolist(), faces.walk_of.tolist()):
+        if in_kept[w]:
+            inside[u] = True
+    on_segment = set(faces.segments.reshape(-1).tolist())
+    pts = faces.vertices.tolist()
+    for v in range(n):
+        if v not in on_segment:
+            f = faces.locate(pts[v][0], pts[v][1], on_graph=False).face
+            inside[v] = f != UNBOUNDED and keep[f]
+    return np.array(inside, dtype=bool)
+
+
+def _inside_many(faces: PlanarFaces, kept: NDArray[np.bool_], n: int) -> NDArray[np.bool_]:
+    """Per vertex, whether it is in the closed domain: a half-edge leaving it has a kept face on its left, or, on no
+    segment, it lies in a kept face (:attr:`Domain.vertex_inside`).  Vectorised over the half-edges. O(n + m)."""
     inside = np.zeros(n, dtype=bool)
     left = faces.face_of_walk[faces.walk_of]  # the face on the left of each half-edge
     bounded = left != UNBOUNDED
     bounded[bounded] = kept[left[bounded]]
     inside[faces.half_edges[bounded, 0]] = True
     lonely = np.ones(n, dtype=bool)
-    lonely[seg.reshape(-1)] = False
+    lonely[faces.segments.reshape(-1)] = False
+    verts = faces.vertices
     for v in np.flatnonzero(lonely).tolist():
         f = faces.locate(float(verts[v, 0]), float(verts[v, 1]), on_graph=False).face
         inside[v] = f != UNBOUNDED and bool(kept[f])
-    area2 = sum(a for a, k in zip(faces.face_area2, kept.tolist()) if k)
-    area = Fraction(area2, 2) * Fraction(2) ** (2 * faces.scale.exponent)
-    return Domain(pslg, faces, kept, hole_face, region_face, inside, area)
+    return inside

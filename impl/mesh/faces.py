@@ -46,6 +46,7 @@ domains; it is not in the paper itself.
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -147,8 +148,13 @@ class PlanarFaces:
         vertex, say) and only its face is sought.  Cost: a vectorised pass over
         the half-edges and exact tests on those near the point.
         """
-        fx, fy = Fraction(x), Fraction(y)
         e = self.scale.exponent
+        if type(x) is float and type(y) is float:  # the usual case, without Fraction objects (the same integers)
+            nx, dx = _dyadic(x, e)
+            ny, dy = _dyadic(y, e)
+            d = dx * dy // math.gcd(dx, dy)
+            return self.locate_scaled(nx * (d // dx), ny * (d // dy), d, x, y, on_graph=on_graph)
+        fx, fy = Fraction(x), Fraction(y)
         sx, sy = fx / Fraction(2) ** e, fy / Fraction(2) ** e
         den = sx.denominator * sy.denominator // _gcd(sx.denominator, sy.denominator)
         return self.locate_scaled(int(sx * den), int(sy * den), den, float(fx), float(fy), on_graph=on_graph)
@@ -227,6 +233,17 @@ class PlanarFaces:
             if wn != 0 and a > 0 and (best == UNBOUNDED or a < best_area):
                 best, best_area = w, a
         return UNBOUNDED if best == UNBOUNDED else int(self.face_of_walk[best])
+
+
+def _dyadic(x: float, e: int) -> tuple[int, int]:
+    """``x / 2^e`` in lowest terms, as (numerator, denominator > 0): ``Fraction(x) / Fraction(2) ** e``'s. O(1)."""
+    n, d = x.as_integer_ratio()
+    if e >= 0:
+        d <<= e
+    else:
+        n <<= -e
+    g = math.gcd(n, d)
+    return n // g, d // g
 
 
 def _gcd(a: int, b: int) -> int:
