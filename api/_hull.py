@@ -15,7 +15,6 @@ the hull's vertices alone.
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
@@ -29,7 +28,7 @@ from persistri._scipy_options import check_qhull_options, closed_error
 from persistri.impl.complex.adjacency import triangle_neighbors
 from persistri.impl.geometry.points import as_points
 from persistri.impl.hull.api import Hull, HullHistory, convex_hull
-from persistri.impl.hull.measures import enclosed_volume, equations_of, facet_normals
+from persistri.impl.hull.measures import enclosed_volume, equations_of, facet_normals, half_sum
 from persistri.impl.stats import Stats
 
 if TYPE_CHECKING:
@@ -282,8 +281,13 @@ class ConvexHull:
         kept).  Either way the ``points`` are this hull's rows followed by the new
         ones (row numbers keep their meaning), and ``history`` continues this one's
         when this one kept it.  ``restart=True`` (scipy's option) computes the hull
-        of all the rows again from scratch instead (the same hull; a history of its
-        own).  ``check`` defaults to this hull's.  Errors as for the constructor,
+        of all the rows again from scratch instead (a history of its own).  Both are
+        the hull of all the rows — the same volume, area and extreme points, and the
+        same simplices in general position — but on degenerate input (a point on a hull
+        edge or on a flat facet) they may differ in which such points are vertices:
+        resuming keeps this run's labels and gives the new points later ones, a fresh
+        run labels all the points anew, and Simulation of Simplicity breaks the ties in
+        the order of the labels.  ``check`` defaults to this hull's.  Errors as for the constructor,
         about ``points``; :class:`RuntimeError` after :meth:`close` in incremental mode.
 
         A hull computed chunk by chunk resumes its final merge instead
@@ -381,7 +385,7 @@ class ConvexHull:
         """The surface area of the hull. O(m), once."""
         if self._area is None:
             _, lengths = self._normals()
-            self._area = math.fsum(lengths.tolist()) / 2
+            self._area = half_sum(lengths)
         return self._area
 
     @property

@@ -293,3 +293,12 @@ def test_add_points_errors_name_the_new_rows() -> None:
         old.add_points([[0.0, 0.0, 0.0], [np.inf, 0.0, 0.0]])
     with pytest.raises(ValueError, match=r"\(n, 3\)"):
         old.add_points(np.zeros((2, 2)))
+
+
+def test_area_beyond_the_largest_double_is_inf_not_an_overflow_error() -> None:
+    pts = np.random.default_rng(3).random((20, 3)) * 1e154
+    hull = persistri.ConvexHull(pts)
+    assert hull.area == float("inf") and hull.volume == float("inf")
+    # Near the edge: the area (2.37 a²) fits in a double, the sum of the lengths (twice it) does not.
+    big = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float) * 7.5e153
+    assert np.isfinite(persistri.ConvexHull(big).area)

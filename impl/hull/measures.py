@@ -45,7 +45,7 @@ from numpy.typing import ArrayLike, NDArray
 from persistri.impl.geometry.exact import IntegerScale, grain_span
 from persistri.impl.geometry.points import as_points
 
-__all__ = ["facet_normals", "facet_equations", "equations_of", "surface_area", "enclosed_volume"]
+__all__ = ["facet_normals", "facet_equations", "equations_of", "surface_area", "half_sum", "enclosed_volume"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.intp]
@@ -161,7 +161,23 @@ def equations_of(points: FloatArray, simplices: IntArray, normals: FloatArray) -
 def surface_area(points: ArrayLike, simplices: ArrayLike) -> float:
     """The total area of the triangles: half their cross products' lengths, summed exactly rounded. O(m)."""
     _, lengths = facet_normals(points, simplices)
-    return math.fsum(lengths.tolist()) / 2
+    return half_sum(lengths)
+
+
+def half_sum(lengths: FloatArray) -> float:
+    """Half the sum of ``lengths`` (non-negative), exactly rounded: ``inf`` when it exceeds the largest double.
+
+    :func:`math.fsum` raises ``OverflowError`` when a partial sum of finite terms
+    overflows (a hull of coordinates near 1e154); the halves are summed then, and
+    a total beyond the largest double is ``inf``, as :func:`enclosed_volume`'s. O(m).
+    """
+    try:
+        return math.fsum(lengths.tolist()) / 2
+    except OverflowError:
+        try:
+            return math.fsum((lengths / 2).tolist())
+        except OverflowError:
+            return math.inf
 
 
 def enclosed_volume(points: ArrayLike, simplices: ArrayLike) -> float:
