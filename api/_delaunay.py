@@ -60,8 +60,9 @@ class Delaunay:
     * ``transform`` — ``(m, 3, 2)`` float64: each triangle's barycentric transform
       (within 2⁻⁴⁰ relative of the exact one, never NaN), and the lifting to the
       paraboloid: ``paraboloid_scale``, ``paraboloid_shift``, ``lift_points(x)``,
-      ``equations`` (``(m, 4)``), ``plane_distance(xi)`` — float64 measurements like
-      scipy's (:mod:`persistri.impl.geometry.barycentric`); the exact decisions are
+      ``equations`` (``(m, 4)``), ``plane_distance(xi)`` — float64 measurements,
+      scipy's numbers up to rounding under scipy's default options
+      (:mod:`persistri.impl.geometry.barycentric`); the exact decisions are
       ``find_simplex``'s;
     * ``min_bound``, ``max_bound``, ``furthest_site`` (False), ``good`` (all ones, as
       scipy's without ``QG``), ``close()`` (ends incremental mode, else nothing to
@@ -189,7 +190,7 @@ class Delaunay:
         chk = self._check if check is None else check
         old = self._tri
         if restart:
-            rows = np.concatenate([old.points, as_points(points, 2, what="points")])
+            rows = np.concatenate([old.points, as_points(points, 2, what="new points")])
             new = delaunay(rows, backend=old.backend, seed=old.seed, check=chk, history=old.history is not None)
         else:
             from persistri.impl.terrain.extend_delaunay import extend_delaunay
@@ -301,7 +302,8 @@ class Delaunay:
 
     @property
     def paraboloid_scale(self) -> float:
-        """The scale of the lifting ``scale·|x|² + shift``: the squared norms of ``points`` span ``[0, their widest axis]``."""
+        """The scale of the lifting ``scale·|x|² + shift``, scipy's (Qhull's ``Qbb`` under ``Qz``:
+        :func:`~persistri.impl.geometry.barycentric.paraboloid_scaling`)."""
         return self._lifting()[0]
 
     @property

@@ -213,3 +213,12 @@ def test_adjacency_helpers_reject_what_is_not_a_surface() -> None:
     with pytest.raises(ValueError, match="only 3 points"):
         vertex_neighbor_vertices([[0, 1, 3]], 3)
     assert triangle_neighbors(np.zeros((0, 3), dtype=int)).shape == (0, 3)
+
+
+@pytest.mark.parametrize("restart", [False, True])
+def test_add_points_errors_name_the_new_points(restart: bool) -> None:
+    tri = persistri.Delaunay(np.random.default_rng(0).random((20, 2)))
+    with pytest.raises(ValueError, match=r"^new points must be an \(n, 2\) array, got shape \(1, 3\)"):
+        tri.add_points([[1.0, 2.0, 3.0]], restart=restart)
+    with pytest.raises(ValueError, match=r"^new points: row 0 is not finite"):
+        tri.add_points([[np.inf, 0.0]], restart=restart)

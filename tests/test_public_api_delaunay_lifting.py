@@ -133,3 +133,19 @@ def test_barycentric_transforms_of_a_unit_triangle() -> None:
     pts = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
     out = barycentric_transforms(pts, np.array([[1, 2, 0]]))
     assert out[0].tolist() == [[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]
+
+
+@pytest.mark.parametrize("shape", ["unit", "offset", "centred", "tall"])
+def test_lifting_and_planes_are_scipys(shape: str) -> None:
+    rng = np.random.default_rng(0)
+    pts = {"unit": rng.random((60, 2)), "offset": rng.random((60, 2)) * [3, 1] + [5, -2],
+           "centred": rng.random((60, 2)) - 0.5, "tall": rng.random((50, 2)) * [1, 10] - [20, 0]}[shape]
+    tri, ref = persistri.Delaunay(pts), QhullDelaunay(pts)
+    assert tri.paraboloid_scale == pytest.approx(ref.paraboloid_scale, rel=1e-15)
+    assert tri.paraboloid_shift == pytest.approx(ref.paraboloid_shift, rel=1e-15)
+    q = rng.random((7, 2))
+    assert np.allclose(tri.lift_points(q), ref.lift_points(q), rtol=1e-14, atol=0)
+    index = {tuple(sorted(t)): i for i, t in enumerate(ref.simplices.tolist())}
+    order = [index[tuple(sorted(t))] for t in tri.simplices.tolist()]
+    assert np.allclose(tri.equations, ref.equations[order], rtol=1e-9, atol=1e-12)
+    assert np.allclose(tri.plane_distance(q), ref.plane_distance(q)[:, order], rtol=1e-9, atol=1e-12)

@@ -15,10 +15,11 @@ They exist so that code written against :class:`scipy.spatial.Delaunay`
   where it does not: a thin triangle gets its true transform, never the NaN that
   scipy documents for nearly degenerate simplices.
 * :func:`paraboloid_lift` / :func:`lifted_equations` — the lift
-  ``x ↦ (x, scale·|x|² + shift)``, the squared norms of the input spread over
-  ``[0, w]`` with ``w`` the input's greatest width along an axis (the idea of
-  Qhull's ``Qbb``: the lifted coordinate on the scale of the others; Qhull's own
-  constants differ, and scipy does not promise them), and each
+  ``x ↦ (x, scale·|x|² + shift)`` with scipy's constants (Qhull's ``Qbb`` under
+  ``Qz``, scipy's default options: the squared norms spread over ``[0, M]``, ``M``
+  the largest absolute coordinate, with room for Qhull's point at infinity at
+  ``1.1·max|x|²``), so that ``lift_points``, ``equations`` and ``plane_distance``
+  are scipy's numbers up to rounding, and each
   triangle's plane through its lifted vertices as a unit normal pointing down
   (out of the lower hull) and an offset.  Plain float64, like scipy's: a point lifted
   below a triangle's plane (inside its circumcircle) has a positive distance, up to
@@ -108,18 +109,23 @@ def barycentric_transforms(points: FloatArray, triangles: IndexArray) -> FloatAr
 
 
 def paraboloid_scaling(points: FloatArray) -> tuple[float, float]:
-    """``(scale, shift)`` of the lifting: over the rows of ``points``, ``scale·|x|² + shift`` spans ``[0, w]``.
+    """``(scale, shift)`` of the lifting, as scipy's ``paraboloid_scale`` and ``paraboloid_shift``.
 
-    ``w`` is the greatest width of ``points`` along an axis; ``(1.0, 0.0)`` when
-    every row has the same norm, or the norms overflow. O(n).
+    Qhull's ``Qbb`` with ``Qz`` (scipy's default options for 2D points): with
+    ``lo``/``hi`` the least/greatest ``|x|²`` over the rows of ``points`` and ``M`` their
+    largest absolute coordinate, ``scale = M / (1.1·hi − lo)`` (1.1·hi is the height of
+    Qhull's point at infinity) and ``shift = −lo·scale``, so ``scale·|x|² + shift``
+    spans ``[0, M·(hi − lo)/(1.1·hi − lo)]`` over the points.  ``(1.0, 0.0)`` when the
+    norms overflow or every row is the origin. O(n).
     """
     with np.errstate(over="ignore", invalid="ignore"):
         sq = (points * points).sum(axis=1)
         low, high = float(sq.min()), float(sq.max())
-        width = float((points.max(axis=0) - points.min(axis=0)).max())
-        if not (np.isfinite(high - low) and np.isfinite(width)) or high == low or width == 0.0:
+        reach = float(np.abs(points).max())
+        room = 1.1 * high - low
+        if not (np.isfinite(room) and np.isfinite(reach)) or room <= 0.0 or reach == 0.0:
             return 1.0, 0.0
-        scale = width / (high - low)
+        scale = reach / room
         return scale, -low * scale
 
 

@@ -90,7 +90,7 @@ def extend_delaunay(tri: DelaunayTriangulation, points: ArrayLike, *, check: boo
     """
     if not isinstance(tri, DelaunayTriangulation):
         raise TypeError(f"extend_delaunay: tri must be a DelaunayTriangulation made by delaunay, not {type(tri).__name__}")
-    new = as_points(points, 2, what="points")
+    new = as_points(points, 2, what="new points")
     n_old = tri.points.shape[0]
     arr = np.concatenate([tri.points, new])
     arr.setflags(write=False)
