@@ -20,7 +20,7 @@ runs unchanged:
 >>> check_qhull_options("QG4", "ConvexHull")
 Traceback (most recent call last):
 ...
-ValueError: ConvexHull: qhull_options 'QG4' would change the result, and persistri runs no Qhull (accepted, since exact arithmetic makes them moot: Pp, Q12, QJ, Qbb, Qc, Qt, Qx, Qz)
+ValueError: ConvexHull: qhull_options 'QG4' would change the result, and persistri runs no Qhull (accepted, since exact arithmetic makes them moot: Pp, Q12, QJ, QbB, Qbb, Qc, Qs, Qt, Qx, Qz, Tv)
 """
 
 from __future__ import annotations
@@ -38,6 +38,9 @@ MOOT_QHULL_OPTIONS: Final[dict[str, str]] = {
     "Qt": "triangulated output (persistri's output is always triangulated)",
     "QJ": "joggle the input to avoid precision problems (persistri decides degeneracies exactly, by Simulation of Simplicity)",
     "Pp": "do not report precision problems",
+    "QbB": "scale the input to the unit cube, for round-off (the input itself is unchanged)",
+    "Qs": "search all points for the initial simplex (where the run starts changes no exact result)",
+    "Tv": "verify the result (persistri's check=True verifies it exactly)",
 }
 """Qhull options that only tune floating-point robustness or ask for triangulated output: moot under exact
 arithmetic (option → what it asks of Qhull).  scipy's defaults are among them."""

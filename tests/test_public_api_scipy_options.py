@@ -179,3 +179,13 @@ def test_the_hint_names_an_exact_hull_of_2d_points() -> None:
     pts = np.random.default_rng(3).random((200, 2))
     edges = persistri.Delaunay(pts).convex_hull
     assert sorted(set(edges.ravel().tolist())) == sorted(scipy_spatial.ConvexHull(pts).vertices.tolist())
+
+
+def test_qhull_options_that_only_tune_round_off_are_accepted() -> None:
+    pts = np.random.default_rng(0).random((30, 3))
+    plain = persistri.ConvexHull(pts)
+    for options in ("QbB", "Qs", "Tv", "QbB Qs Tv Qt"):
+        hull = persistri.ConvexHull(pts, qhull_options=options)
+        assert hull.simplices.tolist() == plain.simplices.tolist()
+        ref = scipy_spatial.ConvexHull(pts, qhull_options=options)  # scipy's hull is unchanged by them too
+        assert sorted(map(sorted, ref.simplices.tolist())) == sorted(map(sorted, plain.simplices.tolist()))
