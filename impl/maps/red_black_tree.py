@@ -16,7 +16,7 @@ or ``None``.  Here a node is typed as a tuple of *any* length,
 it again on the way out, so a node passing through a compiled function would
 come back as a new, equal tuple — no longer the node older versions share.
 Typed this way it stays one object, and persistence, which lives on that
-sharing, survives compilation (``tests/test_red_black.py`` counts the new nodes
+sharing, survives compilation (``tests/test_red_black_path_copying.py`` counts the new nodes
 of every operation by identity).  The functions trust their arguments: valid
 trees, and keys that Python can order among the tree's (the structure checks).
 """
