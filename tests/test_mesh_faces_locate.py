@@ -40,3 +40,47 @@ def test_dyadic_is_fraction_arithmetic() -> None:
         for e in (-1080, -3, 0, 2, 1000):
             f = Fraction(x) / Fraction(2) ** e
             assert _dyadic(x, e) == (f.numerator, f.denominator)
+
+
+def _nested_squares(rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """Squares at random places and sizes, none touching another: side by side, nested, or both."""
+    V: list[list[float]] = []
+    S: list[list[int]] = []
+    placed: list[tuple[int, int, int]] = []
+    for _ in range(int(rng.integers(2, 9))):
+        size = int(rng.integers(1, 6))
+        x, y = (int(v) for v in rng.integers(0, 24, size=2))
+        box = (x, y, size)
+
+        def apart(a: tuple[int, int, int], b: tuple[int, int, int]) -> bool:
+            (ax, ay, asz), (bx, by, bsz) = a, b
+            outside = ax + asz < bx or bx + bsz < ax or ay + asz < by or by + bsz < ay
+            a_in_b = bx < ax and ax + asz < bx + bsz and by < ay and ay + asz < by + bsz
+            b_in_a = ax < bx and bx + bsz < ax + asz and ay < by and by + bsz < ay + asz
+            return outside or a_in_b or b_in_a
+
+        if all(apart(box, other) for other in placed):
+            placed.append(box)
+            k = len(V)
+            V += [[x, y], [x + size, y], [x + size, y + size], [x, y + size]]
+            S += [[k, k + 1], [k + 1, k + 2], [k + 2, k + 3], [k + 3, k]]
+    return np.array(V, dtype=float), np.array(S)
+
+
+def test_nesting_with_few_and_many_faces_alike(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The components' nesting found with the loop over boxes and with numpy's passes: the same faces."""
+    from persistri.impl.mesh import faces as faces_module
+
+    rng = np.random.default_rng(6)
+    graphs = [_nested_squares(rng) for _ in range(120)]
+
+    def fields(V: np.ndarray, S: np.ndarray) -> tuple[object, ...]:
+        f = planar_faces(V, S)
+        return (f.walks, f.walk_area2, f.face_of_walk.tolist(), f.face_walk.tolist(), f.face_area2,
+                f.component_of_segment.tolist(), f.component_parent.tolist())
+
+    few = [fields(V, S) for V, S in graphs]
+    monkeypatch.setattr(faces_module, "FEW_FACES", -1)
+    many = [fields(V, S) for V, S in graphs]
+    assert few == many
+    assert any(max(f[6]) >= 0 for f in few)  # some component nested in a face

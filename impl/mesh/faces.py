@@ -60,6 +60,10 @@ __all__ = ["PlanarFaces", "Location", "planar_faces", "common_scale", "UNBOUNDED
 UNBOUNDED = -1
 """The face index of the unbounded face."""
 
+FEW_FACES = 64
+"""Up to this many bounded faces, the nesting of components tests each one's bounding boxes with a Python loop
+instead of numpy's (the same faces in the same order; tests/test_mesh_faces_locate.py compares the two)."""
+
 
 def common_scale(*arrays: NDArray[np.float64]) -> IntegerScale:
     """The :class:`IntegerScale` making every entry of every array an exact integer. O(size)."""
@@ -365,23 +369,25 @@ def planar_faces(
     if faces_ccw and n_comp > 1:
         walk_comp = [component_list[cycle[0] >> 1] for cycle in walks]
         px_all, py_all = pts[:, 0].tolist(), pts[:, 1].tolist()
-        boxes = np.array(
+        box_list = [
             [
-                [
-                    min(px_all[tails[h]] for h in walks[w]),
-                    max(px_all[tails[h]] for h in walks[w]),
-                    min(py_all[tails[h]] for h in walks[w]),
-                    max(py_all[tails[h]] for h in walks[w]),
-                ]
-                for w in faces_ccw
+                min(px_all[tails[h]] for h in walks[w]),
+                max(px_all[tails[h]] for h in walks[w]),
+                min(py_all[tails[h]] for h in walks[w]),
+                max(py_all[tails[h]] for h in walks[w]),
             ]
-        )
+            for w in faces_ccw
+        ]
+        boxes = np.array(box_list) if len(faces_ccw) > FEW_FACES else None
         for c in range(n_comp):
             p = tails[walks[outer[c]][0]]
             px, py = px_all[p], py_all[p]
-            inside = np.flatnonzero(
-                (boxes[:, 0] <= px) & (boxes[:, 1] >= px) & (boxes[:, 2] <= py) & (boxes[:, 3] >= py)
-            ).tolist()
+            if boxes is None:  # few faces: one loop over the boxes, in order (numpy's passes cost more)
+                inside = [k for k, (x0, x1, y0, y1) in enumerate(box_list) if x0 <= px <= x1 and y0 <= py <= y1]
+            else:
+                inside = np.flatnonzero(
+                    (boxes[:, 0] <= px) & (boxes[:, 1] >= px) & (boxes[:, 2] <= py) & (boxes[:, 3] >= py)
+                ).tolist()
             best, best_area = UNBOUNDED, 0
             for k in inside:
                 w = faces_ccw[k]
