@@ -159,10 +159,17 @@ class HullMemory:
 
 TWIN_MODULES: Final = (
     "persistri.impl.geometry.kernel",
+    "persistri.impl.geometry.kernel_split",
     "persistri.impl.hull.bulldozer",
+    "persistri.impl.hull.insertion",
+    "persistri.impl.hull.conflicts",
     "persistri.impl.maps.red_black_tree",
     "persistri.impl.maps.red_black_adjust",
+    "persistri.impl.maps.red_black_adjust_insert",
     "persistri.impl.complex.vertex_lists",
+    "persistri.impl.complex.vertex_changes",
+    "persistri.impl.complex.replace",
+    "persistri.impl.complex.neighbours",
 )
 """The modules ``tools/compiled_twin.py`` compiles that the hull runs through (its ``MODULES``, by import name)."""
 
