@@ -4,11 +4,14 @@ from __future__ import annotations
 
 import json
 import os
+import re
+from pathlib import Path
 from typing import Any
 
 import pytest
 from click.testing import CliRunner
 
+from persistri.impl.bench.hull import TWIN_MODULES
 from persistri.impl.cli.main import main
 
 
@@ -88,7 +91,18 @@ def test_the_report_names_the_build_it_measured() -> None:
     assert result.exit_code == 0, result.output
     build = json.loads(result.output)["build"]
     if os.environ.get("PERSISTRI_TWIN"):
-        assert build == "compiled twin (kernel, bulldozer, red_black_tree, red_black_adjust, vertex_lists by mypyc)"
+        names = ", ".join(m.rsplit(".", 1)[1] for m in TWIN_MODULES)
+        assert build == f"compiled twin ({names} by mypyc)"  # every one of them imported compiled
     else:
         assert build == "interpreted"
     assert f"persistri {build}" in " ".join(invoke("--sizes", "60", "--dists", "InBall").output.split())
+
+
+def test_the_build_label_names_only_modules_the_twin_compiles() -> None:
+    """The hull bench's :data:`TWIN_MODULES` is a subset of ``tools/compiled_twin.py``'s ``MODULES``, the hull's
+    own modules among them, so the label cannot name a module the twin leaves interpreted."""
+    source = (Path(__file__).resolve().parents[1] / "tools" / "compiled_twin.py").read_text(encoding="utf-8")
+    compiled = set(re.findall(r'"persistri/([\w/]+)\.py"', source))
+    named = {m.removeprefix("persistri.").replace(".", "/") for m in TWIN_MODULES}
+    assert named <= compiled, named - compiled
+    assert {"impl/hull/bulldozer", "impl/hull/insertion", "impl/geometry/kernel"} <= named
