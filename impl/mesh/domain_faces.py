@@ -25,8 +25,7 @@ from persistri.impl.geometry.predicates import Predicates2
 from persistri.impl.mesh.errors import DomainError
 from persistri.impl.mesh.faces import UNBOUNDED, PlanarFaces, planar_faces
 from persistri.impl.mesh.naming import InputNames
-from persistri.impl.mesh import segments
-from persistri.impl.mesh.segments import convex_hull, point_text
+from persistri.impl.mesh.segments import FEW_SEGMENTS, convex_hull, point_text
 
 if TYPE_CHECKING:
     from persistri.impl.mesh.domain import PSLG
@@ -139,7 +138,7 @@ def domain_of(pslg: PSLG, *, scale: IntegerScale | None = None, pred: Predicates
         )
 
     keep = kept.tolist()
-    inside = _inside_few(faces, keep, n) if seg.shape[0] <= segments.FEW_SEGMENTS else _inside_many(faces, kept, n)
+    inside = _inside_few(faces, keep, n) if seg.shape[0] <= FEW_SEGMENTS else _inside_many(faces, kept, n)
     area2 = sum(a for a, k in zip(faces.face_area2, keep) if k)
     area = Fraction(area2, 2) * Fraction(2) ** (2 * faces.scale.exponent)
     return Domain(pslg, faces, kept, hole_face, region_face, inside, area)

@@ -156,11 +156,11 @@ class PlanarFaces:
         if type(x) is float and type(y) is float:  # the usual case, without Fraction objects (the same integers)
             nx, dx = _dyadic(x, e)
             ny, dy = _dyadic(y, e)
-            d = dx * dy // math.gcd(dx, dy)
+            d = math.lcm(dx, dy)
             return self.locate_scaled(nx * (d // dx), ny * (d // dy), d, x, y, on_graph=on_graph)
         fx, fy = Fraction(x), Fraction(y)
         sx, sy = fx / Fraction(2) ** e, fy / Fraction(2) ** e
-        den = sx.denominator * sy.denominator // _gcd(sx.denominator, sy.denominator)
+        den = math.lcm(sx.denominator, sy.denominator)
         return self.locate_scaled(int(sx * den), int(sy * den), den, float(fx), float(fy), on_graph=on_graph)
 
     def locate_scaled(
@@ -248,12 +248,6 @@ def _dyadic(x: float, e: int) -> tuple[int, int]:
         n <<= -e
     g = math.gcd(n, d)
     return n // g, d // g
-
-
-def _gcd(a: int, b: int) -> int:
-    while b:
-        a, b = b, a % b
-    return a
 
 
 def _orient_scaled(ux: int, uy: int, vx: int, vy: int, nx: int, ny: int, d: int) -> int:
