@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["read_only", "refuse_other_dimension"]
+__all__ = ["read_only", "refuse_other_dimension", "coplanar_report"]
 
 
 def read_only(a: NDArray[Any], dtype: type[np.generic] | None = None) -> NDArray[Any]:
@@ -41,3 +42,13 @@ def refuse_other_dimension(points: object, cls: str) -> None:
         hint = _OTHER_DIMENSION.get((cls, int(shape[1])))
         if hint is not None:
             raise ValueError(f"points must be an (n, {5 - int(shape[1])}) array, got shape {tuple(shape)}: {hint}")
+
+
+def coplanar_report(duplicates: Sequence[tuple[int, int]], simplices: NDArray[Any], n: int) -> NDArray[np.intc]:
+    """scipy's ``coplanar`` of a hull, ``(k, 3)`` read-only: ``[row, a triangle at its twin, the twin]`` for each
+    merged duplicate ``(row, twin)`` of a vertex (``simplices`` holds rows of ``n`` points).  O(n + m + k)."""
+    dup = np.array(duplicates, dtype=np.intp).reshape(-1, 2)
+    at = np.full(n, -1, dtype=np.intp)
+    at[simplices.ravel()] = np.repeat(np.arange(simplices.shape[0], dtype=np.intp), 3)
+    dup = dup[at[dup[:, 1]] >= 0]
+    return read_only(np.stack([dup[:, 0], at[dup[:, 1]], dup[:, 1]], axis=1).astype(np.intc))

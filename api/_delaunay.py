@@ -8,7 +8,7 @@ with the attributes of :class:`scipy.spatial.Delaunay` and an exact
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any, Generic, Literal, cast, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -23,6 +23,15 @@ from persistri.impl.terrain.delaunay_history import DelaunayHistory
 from persistri.impl.terrain.locate import locate_points
 from persistri.impl.terrain.scattered import DelaunayTriangulation, delaunay
 
+if TYPE_CHECKING:
+    from typing_extensions import TypeVar
+
+    H = TypeVar("H", bound=DelaunayHistory | None, default=DelaunayHistory | None)
+else:
+    from typing import TypeVar
+
+    H = TypeVar("H")  # its bound and default (PEP 696) matter to type checkers only
+
 __all__ = ["Delaunay"]
 
 IntcArray = NDArray[np.intc]
@@ -30,7 +39,7 @@ FloatArray = NDArray[np.float64]
 
 
 
-class Delaunay:
+class Delaunay(Generic[H]):
     """The exact Delaunay triangulation of 2D points (paper §5), in the shape of :class:`scipy.spatial.Delaunay`.
 
     ``Delaunay(points, furthest_site=False, incremental=False, qhull_options=None, *,
@@ -109,6 +118,27 @@ class Delaunay:
     _equations: FloatArray | None
     _scaling: tuple[float, float] | None
 
+    @overload
+    def __init__(
+        self: Delaunay[DelaunayHistory], points: ArrayLike, furthest_site: bool = ..., incremental: bool = ...,
+        qhull_options: str | None = ..., *, backend: str = ..., seed: int = ..., check: bool = ...,
+        stats: Stats | None = ..., history: Literal[True],
+    ) -> None: ...
+
+    @overload
+    def __init__(
+        self: Delaunay[None], points: ArrayLike, furthest_site: bool = ..., incremental: bool = ...,
+        qhull_options: str | None = ..., *, backend: str = ..., seed: int = ..., check: bool = ...,
+        stats: Stats | None = ..., history: Literal[False] = ...,
+    ) -> None: ...
+
+    @overload
+    def __init__(
+        self: Delaunay[DelaunayHistory | None], points: ArrayLike, furthest_site: bool = ..., incremental: bool = ...,
+        qhull_options: str | None = ..., *, backend: str = ..., seed: int = ..., check: bool = ...,
+        stats: Stats | None = ..., history: bool,
+    ) -> None: ...
+
     def __init__(
         self,
         points: ArrayLike,
@@ -150,13 +180,13 @@ class Delaunay:
         self._scaling = None
 
     @classmethod
-    def from_triangulation(cls, tri: DelaunayTriangulation) -> Delaunay:
+    def from_triangulation(cls, tri: DelaunayTriangulation) -> Delaunay[DelaunayHistory | None]:
         """The public view of a :class:`~persistri.impl.terrain.scattered.DelaunayTriangulation` already computed."""
         if not isinstance(tri, DelaunayTriangulation):
             raise TypeError(f"Delaunay.from_triangulation needs a persistri DelaunayTriangulation, not {type(tri).__name__}")
         return cls._from(tri, False)
 
-    def add_points(self, points: ArrayLike, restart: bool = False, *, check: bool | None = None) -> Delaunay:
+    def add_points(self, points: ArrayLike, restart: bool = False, *, check: bool | None = None) -> Delaunay[H]:
         """The triangulation of these points and ``points`` (``(k, 2)``): a NEW one, or, in incremental mode, this one.
 
         Made without ``incremental=True``, this triangulation is left exactly as it
@@ -199,25 +229,27 @@ class Delaunay:
         if self._incremental:
             self._adopt(new, chk)
             return self
-        return Delaunay._from(new, chk)
+        return cast("Delaunay[H]", Delaunay._from(new, chk))  # the history is kept iff this one's is
 
     @classmethod
-    def _from(cls, tri: DelaunayTriangulation, check: bool) -> Delaunay:
-        self = cls.__new__(cls)
+    def _from(cls, tri: DelaunayTriangulation, check: bool) -> Delaunay[DelaunayHistory | None]:
+        self = cast("Delaunay[DelaunayHistory | None]", cls.__new__(cls))
         self._incremental = False
         self._closed = False
         self._adopt(tri, check)
         return self
 
     @property
-    def history(self) -> DelaunayHistory | None:
+    def history(self) -> H:
         """Every intermediate triangulation, oldest first, sharing structure (``history=True``), else None (time travel).
 
         ``history.simplices(k)`` is the triangulation after ``k`` insertions past the
         first triangle, as input rows; ``history.inserted`` names the rows in the
         order they were inserted (:class:`~persistri.impl.terrain.delaunay_history.DelaunayHistory`).
+        Typed ``DelaunayHistory`` for a triangulation made with ``history=True`` (and those
+        :meth:`add_points` makes from it), None for one made without.
         """
-        return self._tri.history
+        return cast(H, self._tri.history)  # the constructor's overloads tie H to its `history` argument
 
     def find_simplex(self, xi: ArrayLike, bruteforce: bool = False, tol: float | None = None) -> IntcArray:
         """For each point of ``xi`` (shape ``(..., 2)``), a triangle containing it, or -1 outside the hull.

@@ -17,13 +17,13 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Generic, Literal, cast, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from persistri._arrays import read_only, refuse_other_dimension
-from persistri._hull_chunked import chunked_hull, read_all, too_big_to_load
+from persistri._arrays import coplanar_report, read_only, refuse_other_dimension
+from persistri._hull_chunked import chunked_hull, read_all, too_big_to_load, whole_input_history
 from persistri._scipy_options import check_qhull_options, closed_error
 from persistri.impl.complex.adjacency import triangle_neighbors
 from persistri.impl.geometry.points import as_points
@@ -33,8 +33,15 @@ from persistri.impl.stats import Stats
 
 if TYPE_CHECKING:
     from distributed import Client
+    from typing_extensions import TypeVar
 
     from persistri.impl.scale.hull import ParallelHull
+
+    H = TypeVar("H", bound=HullHistory | None, default=HullHistory | None)
+else:
+    from typing import TypeVar
+
+    H = TypeVar("H")  # its bound and default (PEP 696) matter to type checkers only
 
 __all__ = ["ConvexHull"]
 
@@ -43,7 +50,7 @@ FloatArray = NDArray[np.float64]
 
 
 
-class ConvexHull:
+class ConvexHull(Generic[H]):
     """The exact convex hull of 3D points (paper §3), in the shape of :class:`scipy.spatial.ConvexHull`.
 
     ``ConvexHull(points, incremental=False, qhull_options=None, *, backend="red_black",
@@ -84,7 +91,9 @@ class ConvexHull:
       the merged duplicates of vertices (nothing is left out for round-off); ``good`` —
       None, as scipy's without ``QG``;
     * ``history`` — every intermediate hull (:class:`~persistri.impl.hull.api.HullHistory`)
-      with ``history=True``, else None;
+      with ``history=True``, else None; the type says which (``ConvexHull[HullHistory]``
+      for ``history=True``, ``ConvexHull[None]`` without it), so a type checker takes
+      ``len(hull.history)`` as written;
     * ``min_bound``, ``max_bound`` — the input's bounding box (read from the
       vertices: the extremes of a point set are hull vertices), ``close()``
       (nothing to release);
@@ -171,6 +180,30 @@ class ConvexHull:
     _incremental: bool
     _closed: bool
 
+    @overload
+    def __init__(
+        self: ConvexHull[HullHistory], points: ArrayLike | os.PathLike[str], incremental: bool = ...,
+        qhull_options: str | None = ..., *, backend: str = ..., history: Literal[True], seed: int = ...,
+        check: bool = ..., stats: Stats | None = ..., progress: bool | Callable[[int], Any] = ...,
+        client: Client | None = ..., workers: int | None = ..., scheduler: str | None = ..., chunk_rows: int | None = ...,
+    ) -> None: ...
+
+    @overload
+    def __init__(
+        self: ConvexHull[None], points: ArrayLike | os.PathLike[str], incremental: bool = ...,
+        qhull_options: str | None = ..., *, backend: str = ..., history: Literal[False] = ..., seed: int = ...,
+        check: bool = ..., stats: Stats | None = ..., progress: bool | Callable[[int], Any] = ...,
+        client: Client | None = ..., workers: int | None = ..., scheduler: str | None = ..., chunk_rows: int | None = ...,
+    ) -> None: ...
+
+    @overload
+    def __init__(
+        self: ConvexHull[HullHistory | None], points: ArrayLike | os.PathLike[str], incremental: bool = ...,
+        qhull_options: str | None = ..., *, backend: str = ..., history: bool, seed: int = ...,
+        check: bool = ..., stats: Stats | None = ..., progress: bool | Callable[[int], Any] = ...,
+        client: Client | None = ..., workers: int | None = ..., scheduler: str | None = ..., chunk_rows: int | None = ...,
+    ) -> None: ...
+
     def __init__(
         self,
         points: ArrayLike | os.PathLike[str],
@@ -241,21 +274,17 @@ class ConvexHull:
         self._vertices = read_only(result.vertices, np.intc)
         self._mpoints = read_only(result.vertex_points)
         self._msimplices = np.searchsorted(result.vertices, result.simplices).astype(np.intp)
-        h = result.hull.history
-        # The final merge's versions, its labels renamed to rows of the whole input (the versions are shared).
-        self._history = None if h is None else HullHistory(
-            h.structure, result.rows[h.rows].astype(np.intp), h.versions, tuple(int(result.rows[i]) for i in h.inserted)
-        )
+        self._history = whole_input_history(result)
 
     @classmethod
-    def from_hull(cls, hull: Hull, *, check: bool = False) -> ConvexHull:
+    def from_hull(cls, hull: Hull, *, check: bool = False) -> ConvexHull[HullHistory | None]:
         """The public view of a :class:`~persistri.impl.hull.api.Hull` already computed (no work is redone).
 
         ``check`` is what :meth:`add_points` does by default.  O(m) (the index arrays' conversion).
         """
         if not isinstance(hull, Hull):
             raise TypeError(f"ConvexHull.from_hull needs a persistri Hull, not {type(hull).__name__}")
-        self = cls.__new__(cls)
+        self = cast("ConvexHull[HullHistory | None]", cls.__new__(cls))  # H is the history's kind: either here
         self._incremental = self._closed = False
         self._adopt(hull, check)
         return self
@@ -269,7 +298,7 @@ class ConvexHull:
         *,
         check: bool | None = None,
         progress: bool | Callable[[int], Any] = False,
-    ) -> ConvexHull:
+    ) -> ConvexHull[H]:
         """The hull of these points and ``points`` (``(k, 3)``): a NEW hull, or, in incremental mode, this one.
 
         Made without ``incremental=True``, this hull is left exactly as it was and a
@@ -304,7 +333,7 @@ class ConvexHull:
         if self._incremental:
             out = self
         else:
-            out = ConvexHull.__new__(ConvexHull)
+            out = type(self).__new__(type(self))
             out._incremental = out._closed = False
         if self._chunked is not None:
             if restart:
@@ -409,12 +438,7 @@ class ConvexHull:
         (every extreme point is a vertex), so this holds only the merged duplicates
         of vertices (:attr:`duplicates`).  O(m) once per call.
         """
-        dup = np.array(self._hull.duplicates if self._chunked is None else self._chunked.duplicates, dtype=np.intp)
-        dup = dup.reshape(-1, 2)
-        at = np.full(self._n, -1, dtype=np.intp)
-        at[self._simplices.ravel()] = np.repeat(np.arange(self._simplices.shape[0], dtype=np.intp), 3)
-        dup = dup[at[dup[:, 1]] >= 0]
-        return read_only(np.stack([dup[:, 0], at[dup[:, 1]], dup[:, 1]], axis=1).astype(np.intc))
+        return coplanar_report(self._hull.duplicates if self._chunked is None else self._chunked.duplicates, self._simplices, self._n)
 
     @property
     def good(self) -> None:
@@ -455,13 +479,15 @@ class ConvexHull:
     # -- what persistri adds ---------------------------------------------------------
 
     @property
-    def history(self) -> HullHistory | None:
+    def history(self) -> H:
         """Every intermediate hull, oldest first, sharing structure (``history=True``), else None (time travel).
 
         For chunked input, the versions of the final merge (the hulls of growing sets of candidates,
         the last one this hull), with ``history.simplices(k)`` and ``inserted`` as rows of the whole input.
+        Typed :class:`~persistri.impl.hull.api.HullHistory` for a hull made with ``history=True``
+        (and the hulls :meth:`add_points` makes from it), None for one made without.
         """
-        return self._history
+        return cast(H, self._history)  # the constructor's overloads tie H to its `history` argument
 
     @property
     def backend(self) -> str:

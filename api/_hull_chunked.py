@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from persistri._arrays import read_only
+from persistri.impl.hull.api import HullHistory
 
 if TYPE_CHECKING:
     from distributed import Client
@@ -23,7 +24,7 @@ if TYPE_CHECKING:
     from persistri.impl.scale.hull import ParallelHull
     from persistri.impl.scale.sources import PointSource
 
-__all__ = ["too_big_to_load", "chunked_hull", "read_all"]
+__all__ = ["too_big_to_load", "chunked_hull", "read_all", "whole_input_history"]
 
 FloatArray = NDArray[np.float64]
 
@@ -92,3 +93,12 @@ def read_all(source: PointSource) -> FloatArray:
         data = b.data.compute(scheduler="synchronous") if type(b.data).__module__.startswith("dask") else b.data
         parts.append(read_block(data, b.start, source.what))
     return read_only(np.concatenate(parts) if parts else np.zeros((0, 3)))
+
+
+def whole_input_history(result: ParallelHull) -> HullHistory | None:
+    """The final merge's versions (if kept), its labels renamed to rows of the whole input; the versions are
+    shared, not copied.  O(candidates + insertions)."""
+    h = result.hull.history
+    if h is None:
+        return None
+    return HullHistory(h.structure, result.rows[h.rows].astype(np.intp), h.versions, tuple(int(result.rows[i]) for i in h.inserted))
