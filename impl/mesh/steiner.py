@@ -123,11 +123,25 @@ def steiner_point(
         if lhs < rhs:
             ox = sx * kd - 2 * kn * dy
             oy = sy * kd + 2 * kn * dx
-            x, y = _to_double(ox, 2 * kd, ex), _to_double(oy, 2 * kd, ex)
-            _check_rounding(ox, oy, 2 * kd, ex, x, y, d2, (p, q, r))
+            kd2 = 2 * kd
+            # _to_double(ox, kd2, ex), _to_double(oy, kd2, ex), inlined.
+            if ex >= 0:
+                x, y = ox * (1 << ex) / kd2, oy * (1 << ex) / kd2
+            else:
+                x, y = ox / (kd2 << -ex), oy / (kd2 << -ex)
+            # _check_rounding's first test, inlined: it clears nearly every point.
+            u = max(math.frexp(math.ulp(x))[1], math.frexp(math.ulp(y))[1]) - 1
+            if not 2 * (u - ex) + 5 < d2.bit_length() - 1:
+                _check_rounding(ox, oy, kd2, ex, x, y, d2, (p, q, r))
             return x, y, True
-    x, y = _to_double(cx, den, ex), _to_double(cy, den, ex)
-    _check_rounding(cx, cy, den, ex, x, y, d2, (p, q, r))
+    # _to_double(cx, den, ex), _to_double(cy, den, ex), inlined.
+    if ex >= 0:
+        x, y = cx * (1 << ex) / den, cy * (1 << ex) / den
+    else:
+        x, y = cx / (den << -ex), cy / (den << -ex)
+    u = max(math.frexp(math.ulp(x))[1], math.frexp(math.ulp(y))[1]) - 1  # _check_rounding's first test, inlined
+    if not 2 * (u - ex) + 5 < d2.bit_length() - 1:
+        _check_rounding(cx, cy, den, ex, x, y, d2, (p, q, r))
     return x, y, False
 
 

@@ -98,6 +98,10 @@ __all__ = [
 ]
 
 
+_new_tuple = tuple.__new__
+"""``tuple.__new__``: a named tuple of :mod:`~persistri.impl.mesh.datum` made from its fields in one C call (its own
+``__new__`` is a Python function: a frame per step)."""
+
 
 class MeshTriangulation:
     """The operations on versions of a constrained triangulation over the points of a :class:`GrowingPredicates2`.
@@ -113,7 +117,11 @@ class MeshTriangulation:
         self.check = check
         self.lineage: Lineage = VertexState.initial().lineage
         self._verts: dict[int, Vertex] = {}
-        self.infinite: Vertex = self.vertex(INFINITE)
+        self.infinite: Vertex = Vertex(INFINITE, None, self.lineage)
+        self._verts[INFINITE] = self.infinite
+        # The class every vertex of this lineage without a point has (Vertex.__new__'s "none" kind): a new vertex is
+        # int.__new__ of it, the object Vertex(i, None, lineage) makes, without the call's frame.
+        self._vclass: type[Vertex] = type(self.infinite)
         self._next_id = 0
         # The structure has the compiled entry for two lists (a TwoComplex's own, uncounted replace).
         self._trusted = getattr(structure, "_batched", None) is not None
@@ -122,8 +130,7 @@ class MeshTriangulation:
         """The vertex of point ``i`` (``-1``: the symbolic infinite vertex). O(1)."""
         v = self._verts.get(i)
         if v is None:
-            v = Vertex(i, None, self.lineage)
-            self._verts[i] = v
+            v = self._verts[i] = int.__new__(self._vclass, i)
         return v
 
     def with_structure(self, structure: Any) -> MeshTriangulation:
@@ -137,6 +144,7 @@ class MeshTriangulation:
         other.lineage = self.lineage
         other._verts = self._verts
         other.infinite = self.infinite
+        other._vclass = self._vclass
         other._next_id = self._next_id
         other._trusted = getattr(structure, "_batched", None) is not None
         return other
@@ -255,8 +263,9 @@ class MeshTriangulation:
         stack = [(a, b, sdat), (b, cc, sdat), (cc, a, sdat)]
         # The incircle filter inlined (the predicates' own filter, the same operations), exact when it cannot tell;
         # counted runs go through the predicates.
-        rows = pred.filter_rows if pred.stats is None else None
-        px, py = pred.filter_rows[p]
+        rows_all = pred.filter_rows
+        rows = rows_all if pred.stats is None else None
+        px, py = rows_all[p]
         while stack:
             u, w, dat = stack.pop()
             cons = dat[2]
@@ -344,7 +353,7 @@ class MeshTriangulation:
                     continue
                 rejected.add(nid)
             boundary.append((u, w, dat[1], -1))
-        return Cavity(c, p, cavity, boundary, beyond, split)
+        return _new_tuple(Cavity, (c, p, cavity, boundary, beyond, split))  # Cavity(...) without its frame
 
     def build(self, cav: Cavity, before: Pending | None = None) -> Insertion:
         """The new version for a :class:`Cavity`: its triangles replaced by the fan from its point (one ``replace``).
@@ -354,8 +363,11 @@ class MeshTriangulation:
         ``replace`` that does them and this insertion together — the same triangles and data as a version for them
         and then one for the insertion.  The :class:`Insertion` names the insertion's own triangles either way.
         O(k) complex operations; ``cav.version`` and ``before.base`` are unchanged."""
-        c, p, split, boundary, beyond = cav.version, cav.point, cav.split, cav.boundary, cav.beyond
-        vp = self.vertex(p)
+        c, p, cavity, boundary, beyond, split = cav
+        verts = self._verts
+        vp = verts.get(p)  # self.vertex(p), inlined: a new point's vertex
+        if vp is None:
+            vp = verts[p] = int.__new__(self._vclass, p)
         inf = self.infinite
         pred = self.pred
         succ: dict[Vertex, tuple[Vertex, int, int]] = {}
@@ -403,7 +415,7 @@ class MeshTriangulation:
                 if sseg >= 0 and (x == s0 or x == s1):
                     cons2 = ((x, vp, sseg) if x < vp else (vp, x, sseg),)
                 created.append((g, self.new_datum(EXTERIOR, cons2)))
-        removed = tuple(cav.triangles.values())
+        removed = tuple(cavity.values())
         if beyond is not None:
             # Its edge is no longer a subsegment: the triangle beyond is replaced by itself without the constraint.
             assert split is not None, "only a rounded split point leaves a triangle beyond"
@@ -419,7 +431,7 @@ class MeshTriangulation:
         else:
             gone, made = before.then(removed, tuple(created))
             version = self._replace(before.base, gone, made)
-        return Insertion(version, removed, tuple(created))
+        return _new_tuple(Insertion, (version, removed, tuple(created)))  # Insertion(...) without its frame
 
     def _replace(
         self, c: Complex[MeshDatum], removed: list[Tri], added: list[tuple[Tri, MeshDatum]], cone: bool = False
