@@ -34,14 +34,15 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 from fractions import Fraction
-
-from typing import Final
+from typing import Final, TypeVar
 
 from persistri.impl.geometry.filter import ERRBOUND_ORIENT2D
 from persistri.impl.geometry.growing import ERRBOUND_DOT, GrowingPredicates2
 from persistri.impl.mesh.angles import EXACT_COS2, angle_at_least, cos2_bounds
+from persistri.impl.mesh.datum import EXTERIOR, MeshDatum
 
 __all__ = [
     "AngleBound",
@@ -255,6 +256,8 @@ _WIDE: Final[float] = 1.0 + 2.0**-40
 BadShape = tuple[int, int, int, float, bool]
 """``(p, q, r, edge2, good_angle)`` as in :class:`Shape`: the triangle rotated to its shortest edge ``pq``."""
 
+_T = TypeVar("_T", bound=tuple[int, int, int])
+
 
 class QualityTests:
     """The quality and encroachment tests of one refinement, float stage first, exact when it cannot tell.
@@ -348,84 +351,116 @@ class QualityTests:
     def assess(self, a: int, b: int, c: int, region: int) -> BadShape | None:
         """None if the counterclockwise triangle ``(a, b, c)`` of ``region`` meets the angle and area bounds, else its
         shape ``(p, q, r, edge2, good_angle)`` (:class:`Shape`'s fields).  Exact. O(1)."""
+        found = self.assess_all((((a, b, c), (0, region, ())),), exterior=True)
+        return found[0][2] if found else None
+
+    def assess_all(
+        self, items: Iterable[tuple[_T, MeshDatum]], exterior: bool = False
+    ) -> list[tuple[_T, MeshDatum, BadShape]]:
+        """:meth:`assess` of every triangle ``(t, datum)`` of ``items`` (of the region ``datum[1]``; exterior ones
+        skipped unless ``exterior``): ``(t, datum, shape)`` for each that does not meet the bounds, in their order.
+
+        One call for a step's new triangles (:meth:`~persistri.impl.mesh.refine_state.RefinerState._adopt`) instead
+        of a call each: the same tests, operation for operation.  Exact. O(1) per triangle."""
+        out: list[tuple[_T, MeshDatum, BadShape]] = []
         rows = self.rows
-        ax, ay = rows[a]
-        bx, by = rows[b]
-        cx, cy = rows[c]
-        abx, aby = ax - bx, ay - by
-        bcx, bcy = bx - cx, by - cy
-        cax, cay = cx - ax, cy - ay
-        lab = abx * abx + aby * aby
-        lbc = bcx * bcx + bcy * bcy
-        lca = cax * cax + cay * cay
-        # An edge is a candidate for the shortest unless another is certainly shorter (NaN: a candidate).
-        sab, sbc, sca = lab * _SEPARATE, lbc * _SEPARATE, lca * _SEPARATE
-        on_ab = not (sab > lbc or sab > lca)
-        on_bc = not (sbc > lab or sbc > lca)
-        on_ca = not (sca > lab or sca > lbc)
-        unique = on_ab + on_bc + on_ca == 1
-        good = True
-        if self.theta != 0.0:
-            lo, hi = self._lo, self._hi
-            # The angle opposite each candidate edge (at c for ab, at a for bc, at b for ca); each is below about 60°:
-            # clearly above the bound (ratio < lo), clearly below it (ratio > hi, the shortest edge known), or exact.
-            # Unrolled (the same operations for each edge), and computed for the candidates only.
-            if on_ab:
-                dot = -(cax * bcx + cay * bcy)
-                den = lca * lbc
-                ratio = dot * dot / den if dot > 0.0 and den > 0.0 else math.nan
-                if not ratio < lo:
-                    if ratio > hi and unique:
-                        good = False
-                    else:
-                        return self._assess_exact(a, b, c, region)
-            if on_bc:
-                dot = -(abx * cax + aby * cay)
-                den = lab * lca
-                ratio = dot * dot / den if dot > 0.0 and den > 0.0 else math.nan
-                if not ratio < lo:
-                    if ratio > hi and unique:
-                        good = False
-                    else:
-                        return self._assess_exact(a, b, c, region)
-            if on_ca:
-                dot = -(bcx * abx + bcy * aby)
-                den = lbc * lab
-                ratio = dot * dot / den if dot > 0.0 and den > 0.0 else math.nan
-                if not ratio < lo:
-                    if ratio > hi and unique:
-                        good = False
-                    else:
-                        return self._assess_exact(a, b, c, region)
-        if good:
-            areas = self._area
-            if not areas:
-                return None
-            limit = areas.get(region) or areas.get(-2)
-            if limit is None:
-                return None
-            twice = limit[1]
-            # orient2d_terms(ax, ay, bx, by, cx, cy), operation for operation (its proved bound holds).
-            acx = ax - cx
-            bcx = bx - cx
-            acy = ay - cy
-            bcy = by - cy
-            detleft = acx * bcy
-            detright = acy * bcx
-            det = detleft - detright
-            thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
-            if det < (twice - thr) * (1.0 - _SLACK):
-                return None
-            if not det > (twice + thr) * (1.0 + _SLACK) and not area_exceeds(self.P, a, b, c, limit[0]):
-                return None
-        # Bad: the shape, with the shortest edge known exactly.
-        if not unique:
-            return self._assess_exact(a, b, c, region)
-        if on_ab:
-            return a, b, c, math.ldexp(lab, -2 * self.shift), good
-        if on_bc:
-            return b, c, a, math.ldexp(lbc, -2 * self.shift), good
-        return c, a, b, math.ldexp(lca, -2 * self.shift), good
+        theta = self.theta
+        lo, hi = self._lo, self._hi
+        areas = self._area
+        scale = -2 * self.shift
+        for t, d in items:
+            region = d[1]
+            if region == EXTERIOR and not exterior:
+                continue
+            a, b, c = t
+            ax, ay = rows[a]
+            bx, by = rows[b]
+            cx, cy = rows[c]
+            abx, aby = ax - bx, ay - by
+            bcx, bcy = bx - cx, by - cy
+            cax, cay = cx - ax, cy - ay
+            lab = abx * abx + aby * aby
+            lbc = bcx * bcx + bcy * bcy
+            lca = cax * cax + cay * cay
+            # An edge is a candidate for the shortest unless another is certainly shorter (NaN: a candidate).
+            sab, sbc, sca = lab * _SEPARATE, lbc * _SEPARATE, lca * _SEPARATE
+            on_ab = not (sab > lbc or sab > lca)
+            on_bc = not (sbc > lab or sbc > lca)
+            on_ca = not (sca > lab or sca > lbc)
+            unique = on_ab + on_bc + on_ca == 1
+            good = True
+            if theta != 0.0:
+                # The angle opposite each candidate edge (at c for ab, at a for bc, at b for ca); each is below about
+                # 60°: clearly above the bound (ratio < lo), clearly below it (ratio > hi, the shortest edge known), or
+                # exact.  Unrolled (the same operations for each edge), and computed for the candidates only.
+                if on_ab:
+                    dot = -(cax * bcx + cay * bcy)
+                    den = lca * lbc
+                    ratio = dot * dot / den if dot > 0.0 and den > 0.0 else math.nan
+                    if not ratio < lo:
+                        if ratio > hi and unique:
+                            good = False
+                        else:
+                            found = self._assess_exact(a, b, c, region)
+                            if found is not None:
+                                out.append((t, d, found))
+                            continue
+                if on_bc:
+                    dot = -(abx * cax + aby * cay)
+                    den = lab * lca
+                    ratio = dot * dot / den if dot > 0.0 and den > 0.0 else math.nan
+                    if not ratio < lo:
+                        if ratio > hi and unique:
+                            good = False
+                        else:
+                            found = self._assess_exact(a, b, c, region)
+                            if found is not None:
+                                out.append((t, d, found))
+                            continue
+                if on_ca:
+                    dot = -(bcx * abx + bcy * aby)
+                    den = lbc * lab
+                    ratio = dot * dot / den if dot > 0.0 and den > 0.0 else math.nan
+                    if not ratio < lo:
+                        if ratio > hi and unique:
+                            good = False
+                        else:
+                            found = self._assess_exact(a, b, c, region)
+                            if found is not None:
+                                out.append((t, d, found))
+                            continue
+            if good:
+                if not areas:
+                    continue
+                limit = areas.get(region) or areas.get(-2)
+                if limit is None:
+                    continue
+                twice = limit[1]
+                # orient2d_terms(ax, ay, bx, by, cx, cy), operation for operation (its proved bound holds).
+                acx = ax - cx
+                bcx = bx - cx
+                acy = ay - cy
+                bcy = by - cy
+                detleft = acx * bcy
+                detright = acy * bcx
+                det = detleft - detright
+                thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
+                if det < (twice - thr) * (1.0 - _SLACK):
+                    continue
+                if not det > (twice + thr) * (1.0 + _SLACK) and not area_exceeds(self.P, a, b, c, limit[0]):
+                    continue
+            # Bad: the shape, with the shortest edge known exactly.
+            if not unique:
+                found = self._assess_exact(a, b, c, region)
+                if found is not None:
+                    out.append((t, d, found))
+            elif on_ab:
+                out.append((t, d, (a, b, c, math.ldexp(lab, scale), good)))
+            elif on_bc:
+                out.append((t, d, (b, c, a, math.ldexp(lbc, scale), good)))
+            else:
+                out.append((t, d, (c, a, b, math.ldexp(lca, scale), good)))
+        return out
 
     def _assess_exact(self, a: int, b: int, c: int, region: int) -> BadShape | None:
         sh = shape(self.P, a, b, c, self.bound)

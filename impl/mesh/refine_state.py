@@ -116,10 +116,10 @@ class RefinerState:
 
     def _adopt(self, step: Insertion, apexes: bool = True) -> None:
         """The run takes ``step``: its removed triangles are gone for good, the edge index follows, and its new
-        triangles are examined — the bad ones queued, the exempt ones recorded, and, unless ``apexes`` is False, the
+        triangles are examined — the bad ones queued, the exempt ones recorded (:meth:`~persistri.impl.mesh.quality.QualityTests.assess_all`), and, unless ``apexes`` is False, the
         subsegments their apexes encroach queued (False for a bad triangle's split: its new subsegment edges all have
         the new point as apex, already found to encroach none of them).  ``step.version`` is not read (Chew's
-        deletions make none of their own).  One pass over the new triangles. O(k)."""
+        deletions make none of their own). O(k)."""
         dead = self._dead
         edges = self._edges
         for (a, b, c), d in step.removed:
@@ -127,22 +127,26 @@ class RefinerState:
             del edges[(a, b)]
             del edges[(b, c)]
             del edges[(c, a)]
-        encroaches = self.tests.encroaches
-        assess = self.tests.assess
-        exempt_edge = self.angles.exempt_edge
-        queues = self._queues
-        for t, d in step.created:
-            a, b, c = t
+        created = step.created
+        for (a, b, c), d in created:
             edges[(a, b)] = (c, d)
             edges[(b, c)] = (a, d)
             edges[(c, a)] = (b, d)
-            if d[1] == EXTERIOR:
-                continue
-            found = assess(a, b, c, d[1])  # self._judge(t, d), inlined
-            if found is not None:
+        # self._judge(t, d) for each new domain triangle: one call for all of them; the bad ones, in their order.
+        bad = self.tests.assess_all(created)
+        if bad:
+            exempt_edge = self.angles.exempt_edge
+            on_segment = self.geo.on_segment  # exempt_edge is False unless both ends are split points: asked first
+            queues = self._queues
+            for t, d, (p, q, r, edge2, good) in bad:
                 # self._judge_bad(t, d, found) and self._push_bad, inlined.
-                p, q, r, edge2, good = found
-                if not good and exempt_edge(p, q) and not self.tests.area_bad(a, b, c, d[1]):
+                if (
+                    not good
+                    and p in on_segment
+                    and q in on_segment
+                    and exempt_edge(p, q)
+                    and not self.tests.area_bad(t[0], t[1], t[2], d[1])
+                ):
                     self._exempt.add(d[0])
                 else:
                     bucket = math.frexp(edge2)[1] if 0.0 < edge2 < math.inf else 0
@@ -152,11 +156,16 @@ class RefinerState:
                         queue = queues[bucket] = deque()
                         heapq.heappush(self._buckets, bucket)
                     queue.append((bucket, self._seq, t, d, p, q, r))
-            if apexes and d[2]:
-                for lo, hi, s in d[2]:
-                    k = a if a != lo and a != hi else b if b != lo and b != hi else c
-                    if encroaches(lo, hi, k):
-                        self._segs.append((lo, hi, s))
+        if apexes:
+            # The queue of bad triangles and that of subsegments are apart: judging all new triangles first and then
+            # their apexes queues the same entries in the same order as one pass would.
+            encroaches = self.tests.encroaches
+            for (a, b, c), d in created:
+                if d[2] and d[1] != EXTERIOR:
+                    for lo, hi, s in d[2]:
+                        k = a if a != lo and a != hi else b if b != lo and b != hi else c
+                        if encroaches(lo, hi, k):
+                            self._segs.append((lo, hi, s))
 
     def _beside(self, u: Vertex, w: Vertex) -> tuple[Tri, MeshDatum] | None:
         """The triangle ``(u, w, x)`` of the current version holding the directed edge ``(u, w)``, or None. O(1)."""

@@ -85,32 +85,29 @@ def walk_to(
     """
     pred = T.pred
     rows = pred.filter_rows
-    counted = pred.stats is not None
-
-    def P(a: int, b: int, c: int) -> int:
-        # orient2d's filter inlined (the predicates' own, the same operations); exact or SoS when it cannot tell.
-        ax, ay = rows[a]
-        bx, by = rows[b]
-        cx, cy = rows[c]
-        acx = ax - cx
-        bcx = bx - cx
-        acy = ay - cy
-        bcy = by - cy
-        detleft = acx * bcy
-        detright = acy * bcx
-        det = detleft - detright
-        thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
-        if det > thr and not counted:
-            return 1
-        if det < -thr and not counted:
-            return -1
-        return pred.orient2d(a, b, c)
-
+    # orient2d's filter inlined at each test below (the predicates' own, the same operations: ``det`` and ``thr`` of
+    # orient2d(a, b, c) from ``a − c`` and ``b − c``), exact or SoS through ``pred.orient2d`` when it cannot tell;
+    # counted runs go through the predicates.  Three of the four tests have ``c = p``.
+    exact = pred.stats is not None
+    px, py = rows[p]
     tri, dat = start
     a, b, cc = tri
     # The first edge of start that p lies beyond (the tests are pure: the later ones are not needed).
     for r, l, v in ((a, b, cc), (b, cc, a), (cc, a, b)):
-        if P(r, l, p) < 0:
+        rx, ry = rows[r]
+        lx, ly = rows[l]
+        acx = rx - px
+        bcx = lx - px
+        acy = ry - py
+        bcy = ly - py
+        detleft = acx * bcy
+        detright = acy * bcx
+        det = detleft - detright
+        thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
+        if exact or not (det > thr or det < -thr):
+            if pred.orient2d(r, l, p) < 0:  # P(r, l, p) < 0
+                break
+        elif det < 0.0:
             break
     else:
         return "found", start
@@ -128,9 +125,52 @@ def walk_to(
             tri = (l, r, z)
         if z == inf:
             return "blocked", (*edge_key(r, l), -1)
-        if P(r, z, p) > 0 and P(z, l, p) > 0:
-            return "found", (tri, dat)
-        if P(v, p, z) > 0:
-            l = z  # the line leaves through (r, z)
+        zx, zy = rows[z]
+        bcx = zx - px
+        bcy = zy - py
+        # P(r, z, p) > 0
+        rx, ry = rows[r]
+        acx = rx - px
+        acy = ry - py
+        detleft = acx * bcy
+        detright = acy * bcx
+        det = detleft - detright
+        thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
+        if exact or not (det > thr or det < -thr):
+            right = pred.orient2d(r, z, p) > 0
         else:
-            r = z  # through (z, l)
+            right = det > 0.0
+        if right:
+            # and P(z, l, p) > 0
+            lx, ly = rows[l]
+            acx = zx - px
+            acy = zy - py
+            bcx = lx - px
+            bcy = ly - py
+            detleft = acx * bcy
+            detright = acy * bcx
+            det = detleft - detright
+            thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
+            if exact or not (det > thr or det < -thr):
+                if pred.orient2d(z, l, p) > 0:
+                    return "found", (tri, dat)
+            elif det > 0.0:
+                return "found", (tri, dat)
+        # P(v, p, z) > 0: the line leaves through (r, z), else through (z, l)
+        vx, vy = rows[v]
+        acx = vx - zx
+        bcx = px - zx
+        acy = vy - zy
+        bcy = py - zy
+        detleft = acx * bcy
+        detright = acy * bcx
+        det = detleft - detright
+        thr = ERRBOUND_ORIENT2D * (abs(detleft) + abs(detright))
+        if exact or not (det > thr or det < -thr):
+            left = pred.orient2d(v, p, z) > 0
+        else:
+            left = det > 0.0
+        if left:
+            l = z
+        else:
+            r = z
