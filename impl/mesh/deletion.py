@@ -21,7 +21,7 @@ from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.vertex import Vertex
 from persistri.impl.geometry.filter import ERRBOUND_INCIRCLE, ERRBOUND_ORIENT2D
 from persistri.impl.geometry.growing import GrowingPredicates2
-from persistri.impl.mesh.datum import Insertion, MeshDatum, MeshError, Tri, edge_key
+from persistri.impl.mesh.datum import Insertion, MeshDatum, MeshError, Tri
 from persistri.impl.mesh.edges import EdgeIndex, EdgeReader, edge_reader
 
 if TYPE_CHECKING:
@@ -93,22 +93,22 @@ def star_replacement(
             break
     new: list[Tri] = []
     link_polygon(T.pred, link[0], link[1], link[:1:-1], new)
-    created = tuple(
-        (
-            tri2,
-            T.new_datum(
-                region,
-                tuple(
-                    (*edge_key(x, y), constraints[edge_key(x, y)])
-                    for x, y in ((tri2[0], tri2[1]), (tri2[1], tri2[2]), (tri2[2], tri2[0]))
-                    if edge_key(x, y) in constraints
-                )
-                if constraints  # most stars have no constrained link edge
-                else (),
-            ),
-        )
-        for tri2 in new
-    )
+    # Each new triangle's constrained edges: its link edges on a segment, as (lo, hi, segment) in its edge order.
+    # A loop, not nested generators (a frame each); most stars have no constrained link edge.
+    made: list[tuple[Tri, MeshDatum]] = []
+    for tri2 in new:
+        if constraints:
+            cons: list[tuple[int, int, int]] = []
+            x0, x1, x2 = tri2
+            for x, y in ((x0, x1), (x1, x2), (x2, x0)):
+                key = (x, y) if x < y else (y, x)  # edge_key(x, y), inlined
+                seg = constraints.get(key)
+                if seg is not None:
+                    cons.append((key[0], key[1], seg))
+            made.append((tri2, T.new_datum(region, tuple(cons))))
+        else:
+            made.append((tri2, T.new_datum(region, ())))
+    created = tuple(made)
     return tuple(star), created
 
 
