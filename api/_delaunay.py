@@ -14,9 +14,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from persistri._arrays import read_only, refuse_other_dimension
-from persistri._scipy_options import check_qhull_options, closed_error
+from persistri._scipy_options import check_qhull_options, closed_error, delaunay_lifting, lifting_constants
 from persistri.impl.complex.adjacency import triangle_neighbors, vertex_neighbor_vertices, vertex_to_simplex
-from persistri.impl.geometry.barycentric import barycentric_transforms, lifted_equations, paraboloid_lift, paraboloid_scaling
+from persistri.impl.geometry.barycentric import barycentric_transforms, lifted_equations, paraboloid_lift
 from persistri.impl.geometry.points import as_points
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.delaunay_history import DelaunayHistory
@@ -70,8 +70,9 @@ class Delaunay(Generic[H]):
       (within 2⁻⁴⁰ relative of the exact one, never NaN), and the lifting to the
       paraboloid: ``paraboloid_scale``, ``paraboloid_shift``, ``lift_points(x)``,
       ``equations`` (``(m, 4)``), ``plane_distance(xi)`` — float64 measurements,
-      scipy's numbers up to rounding under scipy's default options
-      (:mod:`persistri.impl.geometry.barycentric`); the exact decisions are
+      scipy's numbers up to rounding under the same ``qhull_options``, whose ``Qbb``
+      and ``Qz`` set the lifting as they set scipy's (given options replace scipy's
+      defaults: :mod:`persistri._scipy_options`); the exact decisions are
       ``find_simplex``'s;
     * ``min_bound``, ``max_bound``, ``furthest_site`` (False), ``good`` (all ones, as
       scipy's without ``QG``), ``close()`` (ends incremental mode, else nothing to
@@ -85,8 +86,8 @@ class Delaunay(Generic[H]):
     are taken in scipy's positions (:mod:`persistri._scipy_options`):
     ``incremental=True`` makes ``add_points`` change this object, as scipy's
     does, until ``close()``; ``qhull_options`` that only tune Qhull's round-off
-    (scipy's defaults among them) are accepted, since nothing here rounds, and
-    others are a :class:`ValueError`; ``furthest_site=True`` is a
+    are accepted, since nothing here rounds, ``Qbb`` and ``Qz`` set the lifting as
+    in scipy, and others are a :class:`ValueError`; ``furthest_site=True`` is a
     :class:`NotImplementedError`.
 
     Errors, one line each: :class:`TypeError` / :class:`ValueError` for input that
@@ -102,7 +103,7 @@ class Delaunay(Generic[H]):
     [0, 0, 2, -1]
     """
 
-    __slots__ = ("_tri", "_check", "_incremental", "_closed", "_points", "_simplices", "_neighbors", "_hull_edges", "_vnv", "_v2s", "_transform", "_equations", "_scaling")
+    __slots__ = ("_tri", "_check", "_incremental", "_closed", "_points", "_simplices", "_neighbors", "_hull_edges", "_vnv", "_v2s", "_transform", "_equations", "_scaling", "_lift")
 
     _tri: DelaunayTriangulation
     _check: bool
@@ -117,6 +118,7 @@ class Delaunay(Generic[H]):
     _transform: FloatArray | None
     _equations: FloatArray | None
     _scaling: tuple[float, float] | None
+    _lift: tuple[bool, bool]  # (Qbb, Qz) of the qhull_options: scipy's lifting constants follow them
 
     @overload
     def __init__(
@@ -158,6 +160,7 @@ class Delaunay(Generic[H]):
                 "triangulation, the lower hull of the lifted points)"
             )
         check_qhull_options(qhull_options, "Delaunay")
+        self._lift = delaunay_lifting(qhull_options)
         self._incremental = bool(incremental)
         self._closed = False
         refuse_other_dimension(points, "Delaunay")
@@ -184,7 +187,7 @@ class Delaunay(Generic[H]):
         """The public view of a :class:`~persistri.impl.terrain.scattered.DelaunayTriangulation` already computed."""
         if not isinstance(tri, DelaunayTriangulation):
             raise TypeError(f"Delaunay.from_triangulation needs a persistri DelaunayTriangulation, not {type(tri).__name__}")
-        return cls._from(tri, False)
+        return cls._from(tri, False, (True, True))
 
     def add_points(self, points: ArrayLike, restart: bool = False, *, check: bool | None = None) -> Delaunay[H]:
         """The triangulation of these points and ``points`` (``(k, 2)``): a NEW one, or, in incremental mode, this one.
@@ -229,11 +232,12 @@ class Delaunay(Generic[H]):
         if self._incremental:
             self._adopt(new, chk)
             return self
-        return cast("Delaunay[H]", Delaunay._from(new, chk))  # the history is kept iff this one's is
+        return cast("Delaunay[H]", Delaunay._from(new, chk, self._lift))  # the history is kept iff this one's is
 
     @classmethod
-    def _from(cls, tri: DelaunayTriangulation, check: bool) -> Delaunay[DelaunayHistory | None]:
+    def _from(cls, tri: DelaunayTriangulation, check: bool, lift: tuple[bool, bool]) -> Delaunay[DelaunayHistory | None]:
         self = cast("Delaunay[DelaunayHistory | None]", cls.__new__(cls))
+        self._lift = lift
         self._incremental = False
         self._closed = False
         self._adopt(tri, check)
@@ -334,8 +338,8 @@ class Delaunay(Generic[H]):
 
     @property
     def paraboloid_scale(self) -> float:
-        """The scale of the lifting ``scale·|x|² + shift``, scipy's (Qhull's ``Qbb`` under ``Qz``:
-        :func:`~persistri.impl.geometry.barycentric.paraboloid_scaling`)."""
+        """The scale of the lifting ``scale·|x|² + shift``, scipy's under the same ``qhull_options``
+        (:func:`~persistri._scipy_options.lifting_constants`: 1.0 without ``Qbb``)."""
         return self._lifting()[0]
 
     @property
@@ -395,9 +399,9 @@ class Delaunay(Generic[H]):
             self._closed = True
 
     def _lifting(self) -> tuple[float, float]:
-        """``(paraboloid_scale, paraboloid_shift)``, over the input points. O(n) once."""
+        """``(paraboloid_scale, paraboloid_shift)``, over the input points, as scipy's under these options. O(n) once."""
         if self._scaling is None:
-            self._scaling = paraboloid_scaling(self._points)
+            self._scaling = lifting_constants(self._points, *self._lift)
         return self._scaling
 
     def _query(self, x: ArrayLike, name: str) -> tuple[FloatArray, tuple[int, ...]]:
