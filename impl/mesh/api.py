@@ -104,8 +104,7 @@ def _refine_run(
         result.area_reached,
         exact_segments,
         result.deleted,
-        result.undone,
-        result.blocked,
+        log=result.log,
     )
     if check:
         _check(mesh)

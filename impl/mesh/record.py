@@ -15,11 +15,13 @@ them out as ``history.undone`` and ``history.blocked``.
 Point and vertex numbers are indices in the run's append-only point set (the
 labels of the complex's vertices; :attr:`~persistri.impl.mesh.api.MeshArrays.points`
 maps a version's output rows to them); version numbers index the history.
-Building the record costs O(1) per dropped point and per split.
+Building the record costs O(1) per dropped point and per split during the run; the records themselves
+(:meth:`DropLog.records`) are made when they are first read, O(records).
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 from persistri.impl.complex.structure import Complex
@@ -111,25 +113,34 @@ class Blocked:
 
 
 class DropLog:
-    """The record being built during a run: dropped points now, the versions that split their subsegments later."""
+    """The record being built during a run: dropped points now, the versions that split their subsegments later.
+
+    A run hands in what it has at hand (its vertices, its cavity); :meth:`records` turns it into the records, as
+    point indices, once, when they are first read (``history.undone``): a run whose records nobody reads never
+    builds them."""
 
     def __init__(self) -> None:
-        self._undone: list[tuple[int, int, tuple[float, float], Triangle3, bool, tuple[Constraint, ...], tuple[Triangle3, ...]]] = []
+        self._undone: list[
+            tuple[int, int, tuple[float, float], Sequence[int], bool, Sequence[Constraint], Iterable[tuple[Sequence[int], MeshDatum]]]
+        ] = []
         self._blocked: list[tuple[int, int, tuple[float, float], Triangle3, bool, Constraint]] = []
         self._waiting: dict[tuple[int, int], list[tuple[bool, int]]] = {}
         self._split: dict[tuple[int, int], tuple[int, tuple[int, ...]]] = {}
+        self._records: tuple[tuple[Undone, ...], tuple[Blocked, ...]] | None = None
 
     def undone(
         self,
         version: int,
         point: int,
         xy: tuple[float, float],
-        triangle: Triangle3,
+        triangle: Sequence[int],
         offcenter: bool,
-        encroached: tuple[Constraint, ...],
-        cavity: tuple[Triangle3, ...],
+        encroached: Sequence[Constraint],
+        cavity: Iterable[tuple[Sequence[int], MeshDatum]],
     ) -> None:
-        """Record an undone insertion. O(len(encroached))."""
+        """Record an undone insertion: ``triangle`` its bad triangle, ``encroached`` the subsegments it encroached
+        (``(lo, hi, segment)``), ``cavity`` its cavity's triangles with their data (ghosts among them), each kept as
+        given (not changed afterwards) and read as point indices by :meth:`records`. O(len(encroached))."""
         k = len(self._undone)
         self._undone.append((version, point, xy, triangle, offcenter, encroached, cavity))
         for lo, hi, _ in encroached:
@@ -149,19 +160,25 @@ class DropLog:
             self._split[(lo, hi)] = (version, deleted)
 
     def records(self) -> tuple[tuple[Undone, ...], tuple[Blocked, ...]]:
-        """The finished records. O(records)."""
+        """The finished records (made on the first call, once the run has ended). O(records)."""
+        if self._records is not None:
+            return self._records
         undone = []
-        for version, point, xy, triangle, off, encroached, cavity in self._undone:
+        for version, point, xy, triangle, off, raw, cavity in self._undone:
+            encroached = tuple((int(lo), int(hi), s) for lo, hi, s in raw)
             at = [self._split.get((lo, hi)) for lo, hi, _ in encroached]
             deleted = tuple(dict.fromkeys(v for found in at if found is not None for v in found[1]))
+            finite = tuple((int(a), int(b), int(e)) for (a, b, e), _ in cavity if min(a, b, e) >= 0)
+            tri = (int(triangle[0]), int(triangle[1]), int(triangle[2]))
             undone.append(
-                Undone(version, point, xy, triangle, off, encroached, cavity, tuple(f[0] if f else None for f in at), deleted)
+                Undone(version, point, xy, tri, off, encroached, finite, tuple(f[0] if f else None for f in at), deleted)
             )
         blocked = []
-        for version, point, xy, triangle, off, segment in self._blocked:
+        for version, point, xy, triangle3, off, segment in self._blocked:
             found = self._split.get((segment[0], segment[1]))
-            blocked.append(Blocked(version, point, xy, triangle, off, segment, found[0] if found else None))
-        return tuple(undone), tuple(blocked)
+            blocked.append(Blocked(version, point, xy, triangle3, off, segment, found[0] if found else None))
+        self._records = (tuple(undone), tuple(blocked))
+        return self._records
 
 
 @dataclass
@@ -180,5 +197,15 @@ class Refinement:
     exempt: set[int] = field(default_factory=set)
     """Ids of the last version's exempt triangles."""
     deleted: list[tuple[int, ...]] = field(default_factory=list)
-    undone: tuple[Undone, ...] = ()
-    blocked: tuple[Blocked, ...] = ()
+    log: DropLog = field(default_factory=DropLog)
+    """The run's record of the points it dropped (:attr:`undone`, :attr:`blocked`)."""
+
+    @property
+    def undone(self) -> tuple[Undone, ...]:
+        """The insertions undone (:meth:`DropLog.records`)."""
+        return self.log.records()[0]
+
+    @property
+    def blocked(self) -> tuple[Blocked, ...]:
+        """The points blocked by a segment (:meth:`DropLog.records`)."""
+        return self.log.records()[1]

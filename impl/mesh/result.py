@@ -13,6 +13,7 @@ outcome; :func:`smallest_angle` is the floating-point angle report.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,7 +23,7 @@ from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.versions import Versions
 from persistri.impl.mesh.domain import PSLG
 from persistri.impl.mesh.readout import IntArray, MeshArrays, Run, mesh_arrays
-from persistri.impl.mesh.record import Blocked, Counts, Undone
+from persistri.impl.mesh.record import Blocked, Counts, DropLog, Undone
 from persistri.impl.mesh.triangulation import MeshDatum
 
 __all__ = ["MeshHistory", "QualityMesh", "finish", "smallest_angle"]
@@ -44,8 +45,12 @@ class MeshHistory(Versions[MeshDatum]):
     that version, the point, the subsegments it encroached and the versions that
     split them instead), one per :attr:`QualityMesh.undos`; ``blocked`` — each
     point a segment kept from its triangle (:class:`~persistri.impl.mesh.record.Blocked`).
-    Points are indices in the run's point set, read with :meth:`point`.
+    Points are indices in the run's point set, read with :meth:`point`.  Both are made from the run's log when
+    first read (a run whose records nobody reads never builds them).
     """
+
+    undone: tuple[Undone, ...]
+    blocked: tuple[Blocked, ...]
 
     def __init__(
         self,
@@ -55,13 +60,28 @@ class MeshHistory(Versions[MeshDatum]):
         deleted: list[tuple[int, ...]] | None = None,
         undone: tuple[Undone, ...] = (),
         blocked: tuple[Blocked, ...] = (),
+        log: DropLog | None = None,
     ) -> None:
         self._run = run
         self.versions: tuple[Complex[MeshDatum], ...] = tuple(versions)
         self.inserted: tuple[int, ...] = tuple(inserted)
         self.deleted: tuple[tuple[int, ...], ...] = tuple(deleted) if deleted is not None else ((),) * len(inserted)
-        self.undone: tuple[Undone, ...] = undone
-        self.blocked: tuple[Blocked, ...] = blocked
+        if log is None:
+            self.undone = undone
+            self.blocked = blocked
+        else:
+            self._log = log  # undone and blocked are read from it when first asked for (__getattr__)
+
+    def __getattr__(self, name: str) -> Any:
+        # Only for attributes not set: undone and blocked of a history made with a log, made on the first read (each
+        # set alone stays as set).
+        log = self.__dict__.get("_log")
+        if log is None or name not in ("undone", "blocked"):
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        undone, blocked = log.records()
+        self.__dict__.setdefault("undone", undone)
+        self.__dict__.setdefault("blocked", blocked)
+        return self.__dict__[name]
 
     @property
     def structure(self) -> TwoComplex[MeshDatum]:
@@ -182,12 +202,13 @@ def finish(
     deleted: list[tuple[int, ...]] | None = None,
     undone: tuple[Undone, ...] = (),
     blocked: tuple[Blocked, ...] = (),
+    log: DropLog | None = None,
 ) -> QualityMesh:
     """The :class:`QualityMesh` of a run's versions and counts: the last version read back, the history, the notes.
 
     O(size of the last version) for the read-out (:func:`~persistri.impl.mesh.readout.mesh_arrays`).
     """
-    history = MeshHistory(run, versions, inserted, deleted, undone, blocked)
+    history = MeshHistory(run, versions, inserted, deleted, undone, blocked, log)
     arr = mesh_arrays(run, versions[-1])
     notes: list[str] = []
     if counts.rounded_splits:

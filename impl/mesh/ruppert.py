@@ -301,11 +301,8 @@ class Refiner(RefinerState):
         if encroached:
             # The paper's undo: go on from c, which persistence kept unchanged (the new version is not even built).
             self.counts.undos += 1
-            tri = (int(t[0]), int(t[1]), int(t[2]))
-            cavity = tuple((int(a), int(b), int(e)) for (a, b, e), _ in cav.triangles.values() if min(a, b, e) >= 0)
-            self.log.undone(
-                self._version, p, (x, y), tri, off, tuple((int(lo), int(hi), s) for lo, hi, s in encroached), cavity
-            )
+            # Recorded as they are (the log reads them as point indices when the records are first read).
+            self.log.undone(self._version, p, (x, y), t, off, encroached, cav.triangles.values())
             self._segs.extend(encroached)
             self._requeue(bad)
             return None
@@ -368,10 +365,13 @@ class Refiner(RefinerState):
         subsegments: dict[tuple[int, int], list[Any]] = {}
         items = self.S.items(c)
         self._edges = index_of(items)
+        # self._judge(t, d) for each domain triangle, in one call (the queue of bad triangles and that of subsegments
+        # are apart: judging first, then the subsegments, queues the same entries in the same order as one pass).
+        for t, d, found in self.tests.assess_all(items):
+            self._judge_bad(t, d, found)
         for t, d in items:
             if d[1] == EXTERIOR:
                 continue
-            self._judge(t, d)
             if d[2]:
                 a, b, cc = t
                 for lo, hi, s in d[2]:
@@ -442,8 +442,7 @@ class Refiner(RefinerState):
         else:
             angle_ok, area_ok = self._final(c)
         counts.exempt = len(self._exempt)
-        undone, blocked = self.log.records()
-        return Refinement(versions, inserted, counts, angle_ok, area_ok, set(self._exempt), deleted, undone, blocked)
+        return Refinement(versions, inserted, counts, angle_ok, area_ok, set(self._exempt), deleted, self.log)
 
     def _final(self, c: Complex[MeshDatum]) -> tuple[bool, bool]:
         """Whether every domain triangle of ``c`` meets the angle bound (exempt ones excepted) and the area bounds,
