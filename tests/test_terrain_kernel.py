@@ -14,7 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.typing import NDArray
 from test_predicates_2d import CIRCLE, planar_sets
-from test_predicates_kernel import _contains_in_order, _dumps, _filter_body
+from filter_source_helpers import _contains_in_order, _dumps, _filter_body
 
 from persistri.impl.geometry import filter as fp
 from persistri.impl.geometry.growing import dot_terms

@@ -193,7 +193,7 @@ assert_type(persistri.__version__, str)
 
 cube = np.array([[x, y, z] for x in (0, 2) for y in (0, 2) for z in (0, 2)], dtype=np.float64)
 hull = persistri.ConvexHull(cube, history=True, backend="red_black", seed=1)
-assert_type(hull, persistri.ConvexHull)
+assert_type(hull, "persistri.ConvexHull[persistri.HullHistory]")  # history=True: the history is there
 assert_type(hull.points, FloatArray)
 assert_type(hull.simplices, IntcArray)
 assert_type(hull.vertices, IntcArray)
@@ -203,15 +203,20 @@ assert_type(hull.duplicates, IntcArray)
 assert_type(hull.volume, float)
 assert_type(hull.area, float)
 assert_type(hull.nsimplex, int)
-assert_type(hull.history, "persistri.HullHistory | None")
+assert_type(hull.history, persistri.HullHistory)
 assert_type(hull.result, persistri.Hull)
 assert hull.volume == 8.0 and hull.area == 24.0 and hull.vertices.tolist() == list(range(8))
-assert hull.history is not None and len(hull.history) >= 1
+assert len(hull.history) == hull.result.insertions + 1  # the README's line, as written: no narrowing needed
+assert_type(persistri.ConvexHull(cube).history, None)  # without history=True
+keep = bool(len(cube))
+maybe = persistri.ConvexHull(cube, history=keep)  # a bool the checker cannot read: narrow it yourself
+assert_type(maybe.history, "persistri.HullHistory | None")
+assert maybe.history is not None and len(maybe.history) >= 1
 assert_type(hull.history.simplices(0), "NDArray[np.intp]")
 
 # Persistence: a new hull, the old one unchanged.
 taller = hull.add_points([[1.0, 1.0, 5.0]])
-assert_type(taller, persistri.ConvexHull)
+assert_type(taller, "persistri.ConvexHull[persistri.HullHistory]")  # the history continues
 assert taller.volume == 12.0 and hull.volume == 8.0
 
 # Points too many to load: a path (or a Dask/Zarr array), hulled chunk by chunk — here in this process.
@@ -224,7 +229,7 @@ with tempfile.TemporaryDirectory() as where:
 
 # The functions under the classes, and their result types.
 deep: persistri.Hull = persistri.convex_hull(cube)
-assert_type(persistri.ConvexHull.from_hull(deep), persistri.ConvexHull)
+assert_type(persistri.ConvexHull.from_hull(deep), persistri.ConvexHull)  # its history: either
 report = persistri.verify_hull(cube, hull.simplices)
 assert_type(report, persistri.HullReport)
 assert_type(report.ok, bool)
@@ -232,7 +237,9 @@ assert report.ok
 
 xy = np.array([[0, 0], [2, 0], [0, 2], [2, 2], [3, 1]], dtype=np.float64)
 tri = persistri.Delaunay(xy)
-assert_type(tri, persistri.Delaunay)
+assert_type(tri, "persistri.Delaunay[None]")  # no history kept
+assert_type(persistri.Delaunay(xy, history=True).history, persistri.DelaunayHistory)
+assert_type(tri.add_points([[1.0, 1.0]]).history, None)
 assert_type(tri.simplices, IntcArray)
 assert_type(tri.neighbors, IntcArray)
 assert_type(tri.convex_hull, IntcArray)
