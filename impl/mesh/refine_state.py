@@ -29,6 +29,7 @@ from collections import deque
 from fractions import Fraction
 
 from persistri.impl.complex.vertex import Vertex
+from persistri.impl.geometry.growing import ERRBOUND_DOT
 from persistri.impl.mesh.cdt import SegmentGeometry
 from persistri.impl.mesh.edges import EdgeIndex
 from persistri.impl.mesh.input_angles import InputAngles
@@ -160,10 +161,20 @@ class RefinerState:
             # The queue of bad triangles and that of subsegments are apart: judging all new triangles first and then
             # their apexes queues the same entries in the same order as one pass would.
             encroaches = self.tests.encroaches
+            rows = self.tests.rows
             for (a, b, c), d in created:
                 if d[2] and d[1] != EXTERIOR:
                     for lo, hi, s in d[2]:
                         k = a if a != lo and a != hi else b if b != lo and b != hi else c
+                        # encroaches(lo, hi, k)'s first test, inlined (its operations: dot_terms): k clearly outside
+                        # the diametral circle encroaches neither it nor the lens; anything else is asked of encroaches.
+                        ux, uy = rows[lo]
+                        wx, wy = rows[hi]
+                        kx, ky = rows[k]
+                        left = (ux - kx) * (wx - kx)
+                        right = (uy - ky) * (wy - ky)
+                        if left + right > ERRBOUND_DOT * (abs(left) + abs(right)):
+                            continue
                         if encroaches(lo, hi, k):
                             self._segs.append((lo, hi, s))
 

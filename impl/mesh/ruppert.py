@@ -106,6 +106,7 @@ from collections.abc import Callable
 from typing import Any
 
 from persistri.impl.complex.structure import Complex
+from persistri.impl.geometry.growing import ERRBOUND_DOT
 from persistri.impl.mesh.cdt import param_on_segment
 from persistri.impl.mesh.datum import Pending
 from persistri.impl.mesh.deletion import star_replacement
@@ -322,12 +323,23 @@ class Refiner(RefinerState):
         (around the boundary from its first edge, as :meth:`~persistri.impl.mesh.triangulation.MeshTriangulation.build`
         walks it). O(k)."""
         boundary = cav.boundary
-        encroaches = self.tests.encroaches
+        tests = self.tests
+        encroaches = tests.encroaches
+        rows = tests.rows
+        px, py = rows[p]
         # The tests are pure: made in boundary order, they are put in the fan's order only when two or more succeed.
         hits: list[Constraint] = []
         for u, w, _, seg in boundary:
             if seg >= 0:
                 lo, hi = (u, w) if u < w else (w, u)  # edge_key(u, w), inlined
+                # encroaches(lo, hi, p)'s first test, inlined (its operations: dot_terms): p clearly outside the
+                # diametral circle encroaches neither it nor the lens; anything else is asked of encroaches.
+                ux, uy = rows[lo]
+                wx, wy = rows[hi]
+                left = (ux - px) * (wx - px)
+                right = (uy - py) * (wy - py)
+                if left + right > ERRBOUND_DOT * (abs(left) + abs(right)):
+                    continue
                 if encroaches(lo, hi, p):
                     hits.append((lo, hi, seg))
         if len(hits) <= 1:
