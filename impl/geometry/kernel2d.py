@@ -194,7 +194,7 @@ class Delaunay2Kernel:
         """:meth:`incircle` for a caller that knows nothing is counted — the predicates' ``stats`` is None and stays
         so for its whole run (the triangulator decides it once: ``Triangulator.counted``): the same sign, without
         reading ``stats`` (compiled, a generic attribute read of the interpreted predicates, a sixth of a test). O(1)."""
-        pred = self._pred
+        # (The predicates are read only off the fast path: the filter decides nearly every test.)
         rows = self._rows
         try:
             ax, ay = rows[a]
@@ -202,7 +202,7 @@ class Delaunay2Kernel:
             cx, cy = rows[c]
             dx, dy = rows[d]
         except ValueError:
-            row = pred._row
+            row = self._pred._row
             (ax, ay), (bx, by), (cx, cy), (dx, dy) = row(a), row(b), row(c), row(d)
         # filter.incircle_terms:
         adx = ax - dx
@@ -228,6 +228,7 @@ class Delaunay2Kernel:
             return -1
         if self.exact_floats:
             return self._incircle_zero(a, b, c, d)  # the exact determinant is 0
+        pred = self._pred
         if self._checked:
             if self.strict:
                 return 1 if pred.incircle_sign(a, b, c, d) > 0 else -1
@@ -259,14 +260,13 @@ class Delaunay2Kernel:
 
     def orient2d_uncounted(self, a: Any, b: Any, c: Any) -> int:
         """:meth:`orient2d` for a caller that knows nothing is counted (as :meth:`incircle_uncounted`). O(1)."""
-        pred = self._pred
         rows = self._rows
         try:
             ax, ay = rows[a]
             bx, by = rows[b]
             cx, cy = rows[c]
         except ValueError:
-            row = pred._row
+            row = self._pred._row
             (ax, ay), (bx, by), (cx, cy) = row(a), row(b), row(c)
         # filter.orient2d_terms (the permanent is computed below when needed):
         acx = ax - cx
@@ -282,6 +282,7 @@ class Delaunay2Kernel:
             return 1
         if det < -o2_static:
             return -1
+        pred = self._pred
         if self.exact_orient2d:
             return pred._sos2(a, b, c)  # the exact determinant is 0
         if self._checked:

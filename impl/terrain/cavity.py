@@ -42,6 +42,7 @@ compiled by the twin with the triangulator.
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING, Any
 
 from persistri.impl.complex.replace import replace_cone, same_replace
@@ -51,7 +52,7 @@ from persistri.impl.terrain.insertion import EMPTY, NO_SECTOR, Insertion, IntArr
 if TYPE_CHECKING:
     from persistri.impl.terrain.delaunay import Triangulator
 
-__all__ = ["insert"]
+__all__ = ["insert", "insert_linked"]
 
 
 def insert(T: Triangulator, p: int, start: int) -> Insertion:
@@ -64,7 +65,7 @@ def insert(T: Triangulator, p: int, start: int) -> Insertion:
     # with the locate before it).
     adj = T.adj
     if adj is not None:
-        return _insert_linked(T, adj, p, start)
+        return insert_linked(T, adj, p, start)
     neighbour = T.neighbours()
     vp = T._verts.get(p)
     if vp is None:
@@ -180,7 +181,7 @@ def insert(T: Triangulator, p: int, start: int) -> Insertion:
     return Insertion(p, cx, removed, created, samples, counts, not closed, ring, sector, own)
 
 
-def _insert_linked(T: Triangulator, adj: list[Any], p: int, start: int) -> Insertion:
+def insert_linked(T: Triangulator, adj: list[Any], p: int, start: int) -> Insertion:
     """:func:`insert` through the triangulator's neighbour records (``T.adj``, ``edge_index=True``): the same
     cavity, searched in the same order, the same fan and the same new version, with the neighbour across each
     edge read from the records (two list reads) instead of the complex, and the records updated for the fan.
@@ -190,7 +191,7 @@ def _insert_linked(T: Triangulator, adj: list[Any], p: int, start: int) -> Inser
     found in the cavity or found outside it (two objects made for the search: an identity test each, where
     the search kept two sets of ids).  O(k) for a cavity of ``k`` triangles.
     """
-    cx = T.complex
+    cplx = T.complex
     pp: Any = p  # p as an object, for the vertex table and the kernel's tests (compiled: boxed once)
     vp = T._verts.get(pp)
     if vp is None:
@@ -223,6 +224,11 @@ def _insert_linked(T: Triangulator, adj: list[Any], p: int, start: int) -> Inser
     inf = T.infinite
     kern = T.kernel
     uncounted = not T.counted
+    # incircle's filter, written out below (kernel2d's statements, in its order: the same determinant): its
+    # rows and its static threshold, +inf when the run is counted (every test then goes to the kernel's
+    # method, which counts it).  A determinant within the threshold, or a row not made yet, goes to the method.
+    rows = kern._rows
+    ic_static: float = kern._ic_static if uncounted else math.inf
     # Each entry: an edge (u, w) of a cavity triangle and the id of the triangle across it, whose side is still
     # to be decided; a triangle entered across (w, u) is (w, u, x) in some rotation: only its other two edges
     # are queued, (u, x) then (x, w) (the same order as insert's).
@@ -259,7 +265,36 @@ def _insert_linked(T: Triangulator, adj: list[Any], p: int, start: int) -> Inser
             elif u is inf:
                 hit = T.ghost_conflict(x, w, p)
             else:
-                hit = (kern.incircle_uncounted(w, u, x, pp) if uncounted else kern.incircle(w, u, x, pp)) > 0
+                # kern.incircle(w, u, x, p) > 0, its filter inlined (a call a test fewer):
+                try:
+                    ax, ay = rows[w]
+                    bx, by = rows[u]
+                    cx, cy = rows[x]
+                    dx, dy = rows[pp]
+                    adx = ax - dx
+                    bdx = bx - dx
+                    cdx = cx - dx
+                    ady = ay - dy
+                    bdy = by - dy
+                    cdy = cy - dy
+                    bdxcdy = bdx * cdy
+                    cdxbdy = cdx * bdy
+                    alift = adx * adx + ady * ady
+                    cdxady = cdx * ady
+                    adxcdy = adx * cdy
+                    blift = bdx * bdx + bdy * bdy
+                    adxbdy = adx * bdy
+                    bdxady = bdx * ady
+                    clift = cdx * cdx + cdy * cdy
+                    det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady)
+                except ValueError:  # a row not made yet (the kernel's method makes it)
+                    det = 0.0
+                if det > ic_static:
+                    hit = True
+                elif det < -ic_static:
+                    hit = False
+                else:
+                    hit = (kern.incircle_uncounted(w, u, x, pp) if uncounted else kern.incircle(w, u, x, pp)) > 0
             if hit:
                 Rn[5] = mark_in
                 removed.append(nid)
@@ -288,7 +323,13 @@ def _insert_linked(T: Triangulator, adj: list[Any], p: int, start: int) -> Inser
         if check:
             ends.append(w)
 
-    ring, closed = _ring(p, bound, ends, j, check)
+    ring: list[Any]
+    if j < 0 and not check:  # (_ring's closed ring, inlined: b0, b(k-1), …, b1, b0)
+        ring = bound[::-1]
+        ring.insert(0, bound[0])
+        closed = True
+    else:
+        ring, closed = _ring(p, bound, ends, j, check)
     nfan = len(ring) - 1
     own: list[Samples]
     samples: Samples | None
@@ -297,7 +338,10 @@ def _insert_linked(T: Triangulator, adj: list[Any], p: int, start: int) -> Inser
     if lists:
         own, samples, counts, sector = _fan_lists(T, p, lists, ring, closed, nfan, check)
     else:  # (_fan_lists, inlined: the scattered points have no samples)
-        own, samples, counts, sector = [EMPTY] * nfan, EMPTY, [0] * nfan, NO_SECTOR
+        own = [EMPTY] * nfan
+        samples = EMPTY
+        counts = [0] * nfan
+        sector = NO_SECTOR
 
     # The records of the cavity's triangles die; the fan's are made, linked to one another around p and to
     # the records beyond the boundary (whose edge (w, u) now faces a fan triangle).
@@ -315,18 +359,19 @@ def _insert_linked(T: Triangulator, adj: list[Any], p: int, start: int) -> Inser
     tid = T._next_id
     ids: list[Any] = list(range(tid, tid + m))  # the fan's ids, each boxed once (in C)
     prev: Any = ids[m - 1]
+    ids.append(ids[0])  # the next triangle of the last is the first
+    # The cycle's vertices: the ring, then ∞ and the ring's first vertex when the fan is open.
+    cycle = ring if closed else ring + [inf, ring[0]]
     u = ring[0]
     for t in range(m):
-        w = ring[t + 1] if t < nfan else (inf if t == nfan else ring[0])
+        w = cycle[t + 1]
         tri: Any = (u, w, vp)
         if check and t < nfan and T.pred.orient2d_sign(u, w, p) <= 0:
             raise TriangulationCheckError(f"insert: point {p} makes the flat or inverted triangle {tri}")
         tid_obj: Any = ids[t]
-        e = s - t
-        if e < 0:
-            e += m
+        e = 2 * ((s - t) % m)
         # The record beyond the boundary edge (u, w): its edge (w, u), at w's position, now faces this triangle.
-        Ro: list[Any] = outer[2 * e]
+        Ro: list[Any] = outer[e]
         to: tuple[Any, ...] = Ro[0]
         Ro[2 if to[0] is w else (3 if to[1] is w else 4)] = tid_obj
         if t < nfan:
@@ -336,17 +381,17 @@ def _insert_linked(T: Triangulator, adj: list[Any], p: int, start: int) -> Inser
             d = (tid_obj, EMPTY)
         fan.append((tri, d))
         # Edge 0 (u, w) faces the record beyond; edge 1 (w, p) the next fan triangle; edge 2 (p, u) the one before.
-        adj.append([tri, d, outer[2 * e + 1], ids[t + 1] if t < m - 1 else ids[0], prev, None])
+        adj.append([tri, d, outer[e + 1], ids[t + 1], prev, None])
         prev = tid_obj
         u = w
     T._next_id = tid + m
     T.live += m - len(removed)
     if T.stepwise or check:
-        cx = _new_version(T, p, cx, removed_tris, fan)
+        cplx = _new_version(T, p, cplx, removed_tris, fan)
     else:  # (_new_version's replace_cone, inlined)
-        cx = replace_cone(T.S, cx, removed_tris, fan)
-        T.complex = cx
-    return Insertion(p, cx, removed, created, samples, counts, not closed, ring, sector, own)
+        cplx = replace_cone(T.S, cplx, removed_tris, fan)
+        T.complex = cplx
+    return Insertion(p, cplx, removed, created, samples, counts, not closed, ring, sector, own)
 
 
 def _ring(p: int, bound: list[Any], ends: list[Any], j: int, check: bool) -> tuple[list[Any], bool]:

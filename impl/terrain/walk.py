@@ -13,6 +13,7 @@ triangulator.
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING, Any
 
 from persistri.impl.terrain.errors import TriangulationCheckError
@@ -41,14 +42,65 @@ def walk_from_fan(T: Triangulator, p: int, last: Insertion) -> int:
     # forward to the first -1 if r_0 has +1, else backward to the first +1 (about a quarter of the fan).
     nfan = len(created)
     i = -1
-    if (kern.orient2d_uncounted(q, rays[0], pp) if uncounted else kern.orient2d(q, rays[0], pp)) > 0:
+    # The scan's tests orient2d(q, r_j, p) with orient2d's filter written out (kernel2d's statements, a = q,
+    # b = r_j, c = p: the same determinant), q's and p's parts read once; a determinant within the static
+    # threshold (+inf when counted: the method counts each test), or a row not made yet, goes to the method.
+    rows = kern._rows
+    st: float = kern._o2_static if uncounted else math.inf
+    try:
+        ax, ay = rows[q]
+        cx, cy = rows[pp]
+    except ValueError:  # not made yet: made now with their blocks (the predicates' _row, as the kernel does)
+        row = kern._pred._row
+        (ax, ay), (cx, cy) = row(q), row(pp)
+    acx = ax - cx
+    acy = ay - cy
+    r: Any = rays[0]
+    det: float
+    try:
+        bx, by = rows[r]
+        bcx = bx - cx
+        bcy = by - cy
+        detleft = acx * bcy
+        detright = acy * bcx
+        det = detleft - detright
+    except ValueError:
+        det = 0.0
+    first = det > st or (
+        not det < -st and (kern.orient2d_uncounted(q, r, pp) if uncounted else kern.orient2d(q, r, pp)) > 0
+    )
+    if first:
         for j in range(1, nfan):
-            if (kern.orient2d_uncounted(q, rays[j], pp) if uncounted else kern.orient2d(q, rays[j], pp)) < 0:
+            r = rays[j]
+            try:
+                bx, by = rows[r]
+                bcx = bx - cx
+                bcy = by - cy
+                detleft = acx * bcy
+                detright = acy * bcx
+                det = detleft - detright
+            except ValueError:
+                det = 0.0
+            if det > st:
+                continue
+            if det < -st or (kern.orient2d_uncounted(q, r, pp) if uncounted else kern.orient2d(q, r, pp)) < 0:
                 i = j - 1
                 break
     else:
         for j in range(nfan - 1, 0, -1):
-            if (kern.orient2d_uncounted(q, rays[j], pp) if uncounted else kern.orient2d(q, rays[j], pp)) > 0:
+            r = rays[j]
+            try:
+                bx, by = rows[r]
+                bcx = bx - cx
+                bcy = by - cy
+                detleft = acx * bcy
+                detright = acy * bcx
+                det = detleft - detright
+            except ValueError:
+                det = 0.0
+            if det < -st:
+                continue
+            if det > st or (kern.orient2d_uncounted(q, r, pp) if uncounted else kern.orient2d(q, r, pp)) > 0:
                 i = j
                 break
     if i >= 0:
@@ -86,6 +138,16 @@ def walk(T: Triangulator, p: int, tid: int, tri: tuple[Any, ...], entered: bool,
     inf = T.infinite
     pp: Any = p  # an object for the kernel (as in walk_from_fan)
     limit = 4 * (len(adj) if adj is not None else len(T.tri_of)) + 16  # a bound on the live triangles, times 4
+    # Each step's tests orient2d(u, w, p) with orient2d's filter written out (kernel2d's statements, c = p: the
+    # same determinant), as in walk_from_fan; p's row read once.
+    rows = kern._rows
+    st: float = kern._o2_static if uncounted else math.inf
+    try:
+        cx, cy = rows[pp]
+    except ValueError:  # not made yet (or a counted run, or a checked kernel): every test goes to the method
+        cx = cy = 0.0
+        st = math.inf
+    det: float
     for _ in range(limit):
         a, b, c = tri
         if a is inf or b is inf or c is inf:  # vertices are made once each (Triangulator.vertex): identity is equality
@@ -103,9 +165,24 @@ def walk(T: Triangulator, p: int, tid: int, tri: tuple[Any, ...], entered: bool,
                 u, w = b, c
             else:
                 u, w = c, a
-            if (k or not entered) and (kern.orient2d_uncounted(u, w, pp) if uncounted else kern.orient2d(u, w, pp)) < 0:
-                moved = True
-                break
+            if k or not entered:
+                try:
+                    ax, ay = rows[u]
+                    bx, by = rows[w]
+                    acx = ax - cx
+                    bcx = bx - cx
+                    acy = ay - cy
+                    bcy = by - cy
+                    detleft = acx * bcy
+                    detright = acy * bcx
+                    det = detleft - detright
+                except ValueError:
+                    det = 0.0
+                if det < -st or (
+                    not det > st and (kern.orient2d_uncounted(u, w, pp) if uncounted else kern.orient2d(u, w, pp)) < 0
+                ):
+                    moved = True
+                    break
             k = k + 1 if k < 2 else 0
         if not moved:
             return tid
