@@ -202,7 +202,7 @@ def experiments(
     with connect(workers if distributed and swept else 1, scheduler if swept else None) as client, _bars(err) as bars:
         if client is not None:
             count = len(client.scheduler_info(n_workers=-1)["workers"])
-            err.print(f"dask: {count} workers, dashboard {client.dashboard_link}", soft_wrap=True, highlight=False, markup=False)
+            err.print(f"dask: {count} worker{'' if count == 1 else 's'}, dashboard {client.dashboard_link}", soft_wrap=True, highlight=False, markup=False)
 
         def progress_for(name: str) -> ProgressCallback:
             task = bars.add_task(name, total=None)

@@ -249,7 +249,8 @@ def _on_cluster(
     with about(input_path):
         with connect(workers, scheduler, tasks=None if kind != "sequential" else 1, dashboard=not quiet) as client:
             if client is not None and not quiet:
-                where = f"{len(client.scheduler_info(n_workers=-1)['workers'])} workers"
+                n = len(client.scheduler_info(n_workers=-1)["workers"])
+                where = f"{n} worker{'' if n == 1 else 's'}"
                 err.print(f"dask: {where}, dashboard {client.dashboard_link}", soft_wrap=True, highlight=False)
             result = parallel_hull(
                 source, client=client, chunk_rows=chunk_rows, seed=seed, backend=backend, check=check, progress=not quiet
