@@ -149,3 +149,25 @@ def test_a_stopped_run_leaves_the_later_splits_unrecorded() -> None:
     stopped = triangulate(gallery_domain("star").pslg, min_angle=30, max_area=0.01, max_steiner=first)
     again = next(r for r in stopped.history.undone if r.point == d.point)
     assert again.version == d.version and again.encroached == d.encroached and again.split_at == (first, None)
+
+
+def test_records_are_made_when_first_read_and_pickle_either_way() -> None:
+    # The run hands its log to the history, which makes the records on the first read of undone or blocked: a history
+    # pickled before that read (its log: vertices, cavities) and one pickled after it give the same records, and a
+    # record set by hand stays as set when the other is read.
+    import copy
+    import pickle
+
+    fresh = triangulate(gallery_domain("square-hole").pslg, min_angle=33)
+    read = triangulate(gallery_domain("square-hole").pslg, min_angle=33)
+    expected = (tuple(map(repr, read.history.undone)), tuple(map(repr, read.history.blocked)))
+    assert len(expected[0]) == read.undos > 0 and len(expected[1]) == read.blocked > 0
+    assert "undone" not in vars(fresh.history)
+    for history in (pickle.loads(pickle.dumps(fresh.history)), pickle.loads(pickle.dumps(read.history)), fresh.history):
+        assert (tuple(map(repr, history.undone)), tuple(map(repr, history.blocked))) == expected
+    again = triangulate(gallery_domain("square-hole").pslg, min_angle=33)
+    twin = copy.copy(again.history)
+    twin.undone = ()
+    assert twin.undone == () and tuple(map(repr, twin.blocked)) == expected[1]
+    with pytest.raises(AttributeError):
+        _ = again.history.no_such_record

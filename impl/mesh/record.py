@@ -21,7 +21,7 @@ Building the record costs O(1) per dropped point and per split during the run; t
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 from persistri.impl.complex.structure import Complex
@@ -121,7 +121,7 @@ class DropLog:
 
     def __init__(self) -> None:
         self._undone: list[
-            tuple[int, int, tuple[float, float], Sequence[int], bool, Sequence[Constraint], Iterable[tuple[Sequence[int], MeshDatum]]]
+            tuple[int, int, tuple[float, float], Sequence[int], bool, Sequence[Constraint], Mapping[int, tuple[Sequence[int], MeshDatum]]]
         ] = []
         self._blocked: list[tuple[int, int, tuple[float, float], Triangle3, bool, Constraint]] = []
         self._waiting: dict[tuple[int, int], list[tuple[bool, int]]] = {}
@@ -136,11 +136,11 @@ class DropLog:
         triangle: Sequence[int],
         offcenter: bool,
         encroached: Sequence[Constraint],
-        cavity: Iterable[tuple[Sequence[int], MeshDatum]],
+        cavity: Mapping[int, tuple[Sequence[int], MeshDatum]],
     ) -> None:
         """Record an undone insertion: ``triangle`` its bad triangle, ``encroached`` the subsegments it encroached
-        (``(lo, hi, segment)``), ``cavity`` its cavity's triangles with their data (ghosts among them), each kept as
-        given (not changed afterwards) and read as point indices by :meth:`records`. O(len(encroached))."""
+        (``(lo, hi, segment)``), ``cavity`` its cavity's triangles with their data by id (ghosts among them), each
+        kept as given (not changed afterwards) and read as point indices by :meth:`records`. O(len(encroached))."""
         k = len(self._undone)
         self._undone.append((version, point, xy, triangle, offcenter, encroached, cavity))
         for lo, hi, _ in encroached:
@@ -168,7 +168,7 @@ class DropLog:
             encroached = tuple((int(lo), int(hi), s) for lo, hi, s in raw)
             at = [self._split.get((lo, hi)) for lo, hi, _ in encroached]
             deleted = tuple(dict.fromkeys(v for found in at if found is not None for v in found[1]))
-            finite = tuple((int(a), int(b), int(e)) for (a, b, e), _ in cavity if min(a, b, e) >= 0)
+            finite = tuple((int(a), int(b), int(e)) for (a, b, e), _ in cavity.values() if min(a, b, e) >= 0)
             tri = (int(triangle[0]), int(triangle[1]), int(triangle[2]))
             undone.append(
                 Undone(version, point, xy, tri, off, encroached, finite, tuple(f[0] if f else None for f in at), deleted)

@@ -303,7 +303,7 @@ class Refiner(RefinerState):
             # The paper's undo: go on from c, which persistence kept unchanged (the new version is not even built).
             self.counts.undos += 1
             # Recorded as they are (the log reads them as point indices when the records are first read).
-            self.log.undone(self._version, p, (x, y), t, off, encroached, cav.triangles.values())
+            self.log.undone(self._version, p, (x, y), t, off, encroached, cav.triangles)
             self._segs.extend(encroached)
             self._requeue(bad)
             return None

@@ -119,9 +119,6 @@ class MeshTriangulation:
         self._verts: dict[int, Vertex] = {}
         self.infinite: Vertex = Vertex(INFINITE, None, self.lineage)
         self._verts[INFINITE] = self.infinite
-        # The class every vertex of this lineage without a point has (Vertex.__new__'s "none" kind): a new vertex is
-        # int.__new__ of it, the object Vertex(i, None, lineage) makes, without the call's frame.
-        self._vclass: type[Vertex] = type(self.infinite)
         self._next_id = 0
         # The structure has the compiled entry for two lists (a TwoComplex's own, uncounted replace).
         self._trusted = getattr(structure, "_batched", None) is not None
@@ -130,7 +127,9 @@ class MeshTriangulation:
         """The vertex of point ``i`` (``-1``: the symbolic infinite vertex). O(1)."""
         v = self._verts.get(i)
         if v is None:
-            v = self._verts[i] = int.__new__(self._vclass, i)
+            # The object Vertex(i, None, self.lineage) makes, without its frame: every vertex of the lineage without
+            # a point has the class of ∞ (Vertex.__new__'s "none" kind; read here, not kept: classes do not pickle).
+            v = self._verts[i] = int.__new__(type(self.infinite), i)
         return v
 
     def with_structure(self, structure: Any) -> MeshTriangulation:
@@ -144,7 +143,6 @@ class MeshTriangulation:
         other.lineage = self.lineage
         other._verts = self._verts
         other.infinite = self.infinite
-        other._vclass = self._vclass
         other._next_id = self._next_id
         other._trusted = getattr(structure, "_batched", None) is not None
         return other
@@ -367,7 +365,7 @@ class MeshTriangulation:
         verts = self._verts
         vp = verts.get(p)  # self.vertex(p), inlined: a new point's vertex
         if vp is None:
-            vp = verts[p] = int.__new__(self._vclass, p)
+            vp = verts[p] = int.__new__(type(self.infinite), p)
         inf = self.infinite
         pred = self.pred
         succ: dict[Vertex, tuple[Vertex, int, int]] = {}
