@@ -12,7 +12,9 @@ compiled twin (``make compiled``, docs/performance.md) compiles it with mypyc.
 from __future__ import annotations
 
 import math
+import struct
 import types
+from array import array
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any, Final
 
@@ -27,11 +29,10 @@ from persistri.impl.geometry.filter import (
     FLOPS_PLANE_SIDE,
     orient3d_box_threshold,
     plane_side_box_threshold,
-    plane_side_det_into,
     plane_side_terms_into,
     plane_terms,
 )
-from persistri.impl.geometry.kernel_split import composed_split, make_split
+from persistri.impl.geometry.kernel_split import SiftFunction, composed_split, make_split
 from persistri.impl.stats import Stats
 
 if TYPE_CHECKING:
@@ -132,9 +133,10 @@ class Orient3dKernel:
       decides (the determinant, :func:`~persistri.impl.geometry.filter.plane_side_det`).
       Below :data:`SCALAR_BELOW` points it loops over the points and returns
       lists (an empty ``qs`` gives two empty tuples); from there on the same
-      expression runs vectorised over numpy (the plane's terms enter as 0-d
-      arrays; about twenty numpy calls whatever the length, each side gathered
-      by its boolean mask below :data:`MASK_BELOW` points, through an index
+      expression runs vectorised over numpy, negated
+      (:func:`negated_plane_side_dets`: the plane's terms written into one buffer
+      that 0-d arrays view; about fifteen numpy calls whatever the length, each side
+      gathered by its boolean mask below :data:`MASK_BELOW` points, through an index
       list from there on) and it returns int arrays.  Entries the filter leaves
       undecided are settled one by one, exactly (then by SoS).  Counted as
       ``len(qs)`` plane-side tests and ``FLOPS_PLANE + len(qs) ·
@@ -148,6 +150,11 @@ class Orient3dKernel:
       one call instead of three: the bulldozer's routing of a face's points to its out-edges
       and their tents, paper Appendix A.1.2).  From :data:`SCALAR_BELOW` points on it is those
       three calls.  O(len(qs)).
+    * :attr:`sift` ``(f, own, incoming, a, b, c, lo, hi) -> (gone, mm, mp, pm, pp)`` — the partition of the
+      ``incoming`` lists by the plane ``f`` (``gone`` the points that do not see it), then :attr:`split` of ``own``
+      and the points that see it, in one pass below :data:`SCALAR_BELOW` points in all, for uncounted runs only
+      (:data:`~persistri.impl.geometry.kernel_split.SiftFunction`); None when the point set needs the checked
+      methods.  O(len(own) + len(incoming)).
     * :attr:`signs` ``(a, b, c, qs) -> int8 array`` — ``orient3d(a, b, c, q)``
       for each ``q`` of an int array, vectorised through the prepared plane at
       any size (for whole point sets, e.g. the bulldozer's first cones), counted
@@ -157,11 +164,12 @@ class Orient3dKernel:
     False: an extreme dynamic range) both fall back to the checked methods.
     """
 
-    __slots__ = ("orient3d", "partition", "split", "signs")
+    __slots__ = ("orient3d", "partition", "split", "sift", "signs")
 
     orient3d: Callable[[int, int, int, int], int]
     partition: Callable[[int, int, int, Indices], tuple[Indices, Indices]]
     split: Callable[[int, int, int, Indices, Plane | None, Plane | None], tuple[Indices, Indices, Indices, Indices]]
+    sift: SiftFunction | None
     signs: Callable[[int, int, int, IntArray], SignArray]
 
     def __init__(self, pred: Predicates3) -> None:
@@ -169,6 +177,7 @@ class Orient3dKernel:
             self.orient3d = pred.orient3d
             self.partition = _checked_partition(pred)
             self.split = composed_split(self.partition)
+            self.sift = None
             self.signs = pred.orient3d_batch
             return
         rows = pred._rows
@@ -178,7 +187,6 @@ class Orient3dKernel:
         flops = FLOPS_ORIENT3D
         exact = pred._orient3d_exact
         side = plane_side_terms_into
-        side_det = plane_side_det_into
         nan = math.nan
         # The semi-static stage: thresholds for the box of every point with a float copy (the exact
         # centroid's is NaN, and tests with it go on to exact arithmetic), each at least any test's own.
@@ -196,6 +204,12 @@ class Orient3dKernel:
         # Python float operand anew at each call; the vectorised stage compares with these).
         side_static_arr = asarray(side_static)
         side_static_neg = asarray(-side_static)
+        # The plane of a vectorised call, (ax, ay, az, nx, ny, nz), written into one buffer (one call, against six
+        # asarray) that six fixed 0-d float64 views read: the same values as operands.  Scratch of one call at a time
+        # (a call writes it and reads it back before it returns; no kernel call runs in between).
+        plane_buf = array("d", bytes(48))
+        put_plane = struct.Struct("6d").pack_into
+        ax_0d, ay_0d, az_0d, nx_0d, ny_0d, nz_0d = (np.frombuffer(plane_buf)[k, ...] for k in range(6))
         # The scalar paths below run the filter expressions of :mod:`.filter` written out in place
         # (orient3d_terms; plane_terms, then plane_side_terms per point): a call per test costs as much
         # as a third of its arithmetic.  They are the same statements in the same order, so they round
@@ -290,12 +304,22 @@ class Orient3dKernel:
                     # The semi-static stage on the gathered columns, each side gathered by its boolean mask:
                     # two numpy calls fewer than nonzero and take (where) make.
                     q_idx = q_arr if q_arr.dtype == intp else q_arr.astype(intp)
-                    dets = side_det(
-                        asarray(nx), asarray(ny), asarray(nz), asarray(ax), asarray(ay), asarray(az),
-                        xs.take(q_idx), ys.take(q_idx), zs.take(q_idx),
-                    )
-                    minus_arr = q_arr[dets < side_static_neg]
-                    plus_arr = q_arr[dets > side_static_arr]
+                    put_plane(plane_buf, 0, ax, ay, az, nx, ny, nz)
+                    gx = xs.take(q_idx)
+                    gy = ys.take(q_idx)
+                    gz = zs.take(q_idx)
+                    # negated_plane_side_dets (minus filter.plane_side_det_into's determinants, bitwise):
+                    gx -= ax_0d
+                    gx *= nx_0d
+                    gy -= ay_0d
+                    gy *= ny_0d
+                    gx += gy
+                    gz -= az_0d
+                    gz *= nz_0d
+                    gx += gz
+                    # end of negated_plane_side_dets
+                    minus_arr = q_arr[gx > side_static_arr]
+                    plus_arr = q_arr[gx < side_static_neg]
                     if minus_arr.size + plus_arr.size == m:
                         return minus_arr, plus_arr
                     # Some point undecided (rare: near the plane): where settles it, exactly.
@@ -360,7 +384,7 @@ class Orient3dKernel:
             """The positions in ``q_arr`` where orient3d(a, b, c, q) = -1 and where it is +1, increasing.
 
             Vectorised through the prepared plane.  With a ``static`` threshold (not NaN):
-            :func:`~persistri.impl.geometry.filter.plane_side_det_into` on the gathered columns and
+            :func:`negated_plane_side_dets` on the gathered columns and
             one comparison per side (a dozen numpy calls whatever the length), the few undecided
             entries then by the scalar kernel (their own filter, then exact).  Without (counted
             runs): :func:`~persistri.impl.geometry.filter.plane_side_terms_into`, each entry
@@ -385,14 +409,12 @@ class Orient3dKernel:
                 pos_mask = det > thr
             else:
                 # The plane's numbers enter as 0-d float64 arrays, the same values: numpy converts a Python
-                # float operand anew at each of the ten calls, a 0-d array not (measured on 2026-11-28: a call
-                # of 64 to 256 points 6.3-7.6 -> 5.6-6.8 µs).
-                det = side_det(
-                    asarray(nx), asarray(ny), asarray(nz), asarray(ax), asarray(ay), asarray(az),
-                    xs.take(q_arr), qy, zs.take(q_arr),
-                )
-                neg_mask = det < side_static_neg  # static is side_static here (uncounted)
-                pos_mask = det > side_static_arr
+                # float operand anew at each call, a 0-d array not (measured on 2026-11-28: a call of 64 to 256
+                # points 6.3-7.6 -> 5.6-6.8 µs); they view one buffer, written by one call.
+                put_plane(plane_buf, 0, ax, ay, az, nx, ny, nz)
+                neg_det = negated_plane_side_dets(xs.take(q_arr), qy, zs.take(q_arr), ax_0d, ay_0d, az_0d, nx_0d, ny_0d, nz_0d)
+                neg_mask = neg_det > side_static_arr  # static is side_static here (uncounted)
+                pos_mask = neg_det < side_static_neg
             neg: IntArray = neg_mask.nonzero()[0]
             pos: IntArray = pos_mask.nonzero()[0]
             m = q_arr.size
@@ -430,8 +452,34 @@ class Orient3dKernel:
 
         self.orient3d = orient3d
         self.partition = partition
-        self.split = make_split(pred, partition, exact, side_static, small)
+        self.split, self.sift = make_split(pred, partition, exact, side_static, small)
         self.signs = signs
+
+
+def negated_plane_side_dets(
+    qx: NDArray[np.float64], qy: NDArray[np.float64], qz: NDArray[np.float64],
+    ax: float | NDArray[np.float64], ay: float | NDArray[np.float64], az: float | NDArray[np.float64],
+    nx: float | NDArray[np.float64], ny: float | NDArray[np.float64], nz: float | NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """Minus :func:`~persistri.impl.geometry.filter.plane_side_det_into`'s determinants, computed in ``qx``, ``qy``,
+    ``qz`` (overwritten; ``qx`` returned) by numpy's in-place operators (its ``np.subtract(ax, qx, out=qx)``
+    takes a keyword: about a tenth more a call).
+
+    Bitwise the negated determinant, up to the sign of a zero: round-to-nearest is symmetric, so
+    ``fl(q - a) = -fl(a - q)``, ``fl(-u · n) = -fl(u · n)`` and ``fl(-s + -t) = -fl(s + t)``, each step
+    the proved one's negation (``tests/test_hull_kernel_dets.py`` compares them); a comparison with a
+    threshold ``t >= 0`` reads either zero alike, so ``-det > t`` is ``det < -t``.  The vectorised
+    :attr:`Orient3dKernel.partition` runs these statements in place.  O(len(qx)).
+    """
+    qx -= ax
+    qx *= nx
+    qy -= ay
+    qy *= ny
+    qx += qy
+    qz -= az
+    qz *= nz
+    qx += qz
+    return qx
 
 
 def _finite_range(col: NDArray[np.float64]) -> tuple[float, float]:

@@ -147,6 +147,7 @@ class Bulldozer:
         self._o3 = kernel.orient3d
         self._partition = kernel.partition
         self._split = kernel.split
+        self._sift = None if check else kernel.sift  # the checks read each partition's lists: not fused there
         self._signs = kernel.signs
         self.S = structure
         self.C: int = centre

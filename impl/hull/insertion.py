@@ -71,7 +71,7 @@ from persistri.impl.complex.replace import replace_trusted
 from persistri.impl.complex.structure import Complex
 from persistri.impl.complex.two_complex import TwoComplex
 from persistri.impl.complex.vertex import Vertex
-from persistri.impl.geometry.kernel import Indices
+from persistri.impl.geometry.kernel import SCALAR_BELOW, Indices
 from persistri.impl.hull.bulldozer_checks import check_bulldozed, check_sectors, check_walk
 from persistri.impl.hull.conflicts import (
     INTERIOR,
@@ -126,6 +126,7 @@ def insert(bd: Bulldozer, p: int) -> Complex[FaceDatum]:
         raise ValueError(f"point {p} is not outside the current hull")
     S, check = bd.S, bd.check
     o3, partition, split = bd._o3, bd._partition, bd._split
+    sift = bd._sift if bd.pred.stats is None else None  # counted runs count each partition as it is called
     # The centre and p as the objects every kernel call takes (compiled, an int variable is boxed anew
     # at each call of a kernel closure: a new int object for an index above 256).
     C: Any = bd.C
@@ -245,19 +246,29 @@ def insert(bd: Bulldozer, p: int) -> Complex[FaceDatum]:
         if check:
             routed.append(pts)
             routed.extend(incoming)
+        # The points bulldozed in are tested against the face with the routing (sift: one pass, each point's
+        # row read once) when the face has two out-edges and every list is short, where partition and split
+        # would loop over the points (the same tests and lists); else by partition here.
+        fused = False
         if incoming:
-            # The points bulldozed in across all in-arcs, tested together: those that cannot see
-            # the face are inside the new hull (Theorem 7).
-            sees, gone = partition(a, b, d, incoming[0] if len(incoming) == 1 else _join(incoming))
-            if len(gone):
-                discarded.append(gone)
-            if len(sees):
-                pts = _join([pts, sees]) if len(pts) else sees
+            if sift is not None and len(outs) == 2:
+                total = len(pts)
+                for part in incoming:
+                    total += len(part)
+                fused = total < SCALAR_BELOW
+            if not fused:
+                # The points bulldozed in across all in-arcs, tested together: those that cannot see
+                # the face are inside the new hull (Theorem 7).
+                sees, gone = partition(a, b, d, incoming[0] if len(incoming) == 1 else _join(incoming))
+                if len(gone):
+                    discarded.append(gone)
+                if len(sees):
+                    pts = _join([pts, sees]) if len(pts) else sees
         groups: Sequence[Indices]
         tented = False  # whether the groups of horizon out-edges were tested against their tents already
         if len(outs) == 1:
             groups = (pts,)
-        elif not len(pts):
+        elif not fused and not len(pts):
             groups = ((), (), ())
         elif len(outs) == 2:
             (u1, w1, g1, _, _), (u2, w2, g2, _, _) = outs
@@ -271,7 +282,19 @@ def insert(bd: Bulldozer, p: int) -> Complex[FaceDatum]:
             # routed there that see the tent stay (its list), the others are interior.
             tent1 = (u1, w1, p_obj) if g1 == _HORIZON else None
             tent2 = (u2, w2, p_obj) if g2 == _HORIZON else None
-            if first_sign > 0:
+            kept1: Indices
+            kept2: Indices
+            gone1: Indices
+            gone2: Indices
+            if fused:
+                assert sift is not None
+                if first_sign > 0:
+                    gone, kept2, gone2, kept1, gone1 = sift(tri, pts, incoming, C, p_obj, v, tent2, tent1)
+                else:
+                    gone, kept1, gone1, kept2, gone2 = sift(tri, pts, incoming, C, p_obj, v, tent1, tent2)
+                if gone:
+                    discarded.append(gone)
+            elif first_sign > 0:
                 kept2, gone2, kept1, gone1 = split(C, p_obj, v, pts, tent2, tent1)
             else:
                 kept1, gone1, kept2, gone2 = split(C, p_obj, v, pts, tent1, tent2)
