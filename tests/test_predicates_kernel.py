@@ -13,8 +13,6 @@ from hypothesis import strategies as st
 from numpy.typing import NDArray
 from test_predicates import point_sets
 
-from filter_source_helpers import _contains_in_order, _dumps, _filter_body  # noqa: F401  (test_terrain_kernel.py's)
-
 from persistri.impl.geometry.filter import FLOPS_ORIENT3D, FLOPS_PLANE, FLOPS_PLANE_SIDE
 from persistri.impl.geometry.points import unique_rows
 from persistri.impl.geometry.kernel import KERNEL_BATCH, MASK_BELOW, SCALAR_BELOW
