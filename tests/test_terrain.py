@@ -428,9 +428,10 @@ def test_small_fan_errors_queue_what_numpy_queues(seed: int) -> None:
     _queue push, insertion after insertion (ties included: a grid of few distinct heights)."""
     from persistri.impl.complex.two_complex import TwoComplex
     from persistri.impl.maps import backend as map_backend
-    from persistri.impl.terrain.greedy_run import GreedyRun
+    from persistri.impl.terrain.greedy_run import _GATHER_HEIGHTS, GreedyRun
     from persistri.impl.terrain.plane_errors import fan_plane_errors
 
+    sizes = []
     rng = np.random.default_rng(seed)
     heights = np.round(rng.normal(size=(31, 37)).cumsum(axis=0) * 3.0) / 4.0
     z = np.ascontiguousarray(heights).ravel()
@@ -466,5 +467,8 @@ def test_small_fan_errors_queue_what_numpy_queues(seed: int) -> None:
         run._queue(tids, ins.counts, samples, err)
         assert sorted(small) == sorted(run.heap)
         compared += len(small)
+        sizes.append(samples.size)
         run.heap = saved
     assert compared > 100
+    # Both ways of reading the heights were compared: gathered (large fans) and one at a time.
+    assert min(sizes) < _GATHER_HEIGHTS <= max(sizes)

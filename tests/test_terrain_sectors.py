@@ -241,6 +241,37 @@ def test_few_samples_on_lists_equal_the_general_path(closed: bool, step: int, fe
         assert insertion._small_fan(grid, p, [more], ring, closed, nfan) is None
 
 
+@pytest.mark.parametrize("closed", [True, False])
+@pytest.mark.parametrize("m", [15, 16, 17, 19])
+def test_few_samples_on_lists_make_the_fan_index_either_way(closed: bool, m: int) -> None:
+    """_small_fan's fan index from a list (up to _INDEX_FROM_LIST samples) and by repeat (above it), with the
+    bound raised so that both builds take both: the same lists, pool, counts and fan index as the general path."""
+    from persistri.impl.geometry.grid_predicates import GridPredicates2
+    from persistri.impl.terrain import insertion
+
+    assert insertion._INDEX_FROM_LIST == 16
+    cols, p, rays, samples = _grid_fan(2, closed, 1)
+    taken = samples[:m]
+    assert taken.size == m
+    lists = [taken[: m // 2], np.concatenate([np.array([p], np.int32), taken[m // 2 :]])]
+    ring = rays.tolist()
+    nfan = len(ring) - 1
+    grid = GridPredicates2((9, cols))
+    got = insertion._small_fan(grid, p, lists, ring, closed, nfan, 64)
+    assert got is not None
+    ref = insertion.fan_samples(Predicates2(grid.points), p, lists, ring, closed, nfan, exact_floats=True, check=True)
+    own, pooled, counts, sector = got
+    r_own, r_pooled, r_counts, r_sector = ref
+    assert counts == r_counts and sum(counts) == m and sum(1 for c in counts if c) > 1
+    assert pooled.dtype == r_pooled.dtype and pooled.tolist() == r_pooled.tolist()
+    assert sector.dtype == r_sector.dtype == np.intp and sector.tolist() == r_sector.tolist()
+    assert [a.dtype for a in own if a.size] == [a.dtype for a in r_own if a.size]
+    assert [a.tolist() for a in own] == [a.tolist() for a in r_own]
+    assert not pooled.flags.writeable and not sector.flags.writeable and not any(a.flags.writeable for a in own)
+    # Every list owns exactly its samples (a copy, not a view of the pool), unless it is the whole pool.
+    assert all(a.base is None and a.flags.owndata for a in own if a.size)
+
+
 def test_few_samples_on_lists_reject_a_ring_that_is_not_a_fan() -> None:
     from persistri.impl.geometry.grid_predicates import GridPredicates2
     from persistri.impl.terrain.errors import TriangulationCheckError

@@ -67,6 +67,11 @@ insertions (median fan 14 samples) numpy's path costs 11–17 µs a fan whatever
 5 µs plus 0.2 µs a sample interpreted, and about 5 µs up to 256 samples compiled (most of it the queue's
 keys): hence a bound for each build."""
 
+_GATHER_HEIGHTS: Final[int] = 32
+"""From this many samples :meth:`GreedyRun._queue_small` gathers a fan's heights with one numpy call and a
+``tolist`` (about 7 K instructions, then a list read a sample) instead of reading each through the heights'
+buffer (about 200–300 instructions a sample, compiled; cachegrind, 2026-11-28).  The same floats."""
+
 _TOP: Final = (1 << 63) - 1
 """The largest bit pattern of a non-negative float64 read as an integer (the sign bit clear)."""
 ID_BITS: Final = 64
@@ -282,7 +287,11 @@ class GreedyRun:
         of 9 on the Jacksboro DEM) one loop costs less than the dozen numpy calls on arrays of that size.
         O(len(samples)).
         """
-        ss: list[int] = samples.tolist()
+        ss: list[Any] = samples.tolist()
+        # The heights: one gather for a fan of many samples, else read one at a time through the buffer
+        # (each read there costs a few hundred instructions; the gather and its list a few thousand in all).
+        hs: list[float] = self.z[samples].tolist() if len(ss) >= _GATHER_HEIGHTS else []
+        gather = bool(hs)
         zv = self.heights
         cols = self.cols
         heap = self.heap
@@ -297,9 +306,16 @@ class GreedyRun:
             best = 0.0
             at = -1
             while j < stop:
-                q = ss[j]
+                # The sample as the list's object (a height read through the buffer takes it as it is; compiled,
+                # an unboxed int would be boxed anew), its value unboxed once for the arithmetic.
+                qo = ss[j]
+                q: int = qo
                 y = q // cols
-                z: float = zv[q]
+                z: float
+                if gather:
+                    z = hs[j]
+                else:
+                    z = zv[qo]
                 e = abs(z - ((gx * ((q - y * cols) - xp) + zp) + gy * (y - yp)))
                 if e > best:  # strictly: an equal error later is not the first
                     best = e

@@ -166,6 +166,15 @@ _INTP: Final = np.dtype(np.intp)
 """The dtype of fan indices, made once (numpy converts a type such as ``np.intp`` to its dtype at every call)."""
 
 
+_INDEX_FROM_LIST: Final[int] = 16
+"""Up to this many samples :func:`_small_fan` makes the fan index from a Python list; above it by ``repeat``
+of the fan's positions (a larger fixed cost, numpy's per-element conversion avoided; break-even about 17
+samples, cachegrind, 2026-11-28)."""
+
+_FAN_POSITIONS: Final[IntArray] = np.arange(1 << 12, dtype=np.intp)
+"""``0, 1, 2, …``: the positions of a fan's triangles, sliced by :func:`_small_fan` (more than any grid fan has)."""
+_FAN_POSITIONS.setflags(write=False)
+
 _SET_FLAGS: Any = np.ndarray.setflags
 """``ndarray.setflags``, called with ``write`` by position (:func:`_frozen`)."""
 
@@ -260,10 +269,12 @@ def fan_samples(
 
 
 def _small_fan(
-    pred: GridPredicates2, p: int, sized: list[Samples], ring: list[Vertex], closed: bool, nfan: int
+    pred: GridPredicates2, p: int, sized: list[Samples], ring: list[Vertex], closed: bool, nfan: int,
+    bound: int = PYTHON_SECTORS,
 ) -> tuple[list[Samples], Samples, list[int], IntArray] | None:
-    """:func:`fan_samples` for a few samples on a grid, or None when they are none or more than
-    :data:`~persistri.impl.terrain.sectors.PYTHON_SECTORS` once ``p`` is left out (the general path then).
+    """:func:`fan_samples` for a few samples on a grid, or None when they are none or more than ``bound``
+    (:data:`~persistri.impl.terrain.sectors.PYTHON_SECTORS`; tests pass others) once ``p`` is left out (the
+    general path then).
 
     The cavity's lists (``sized``, none empty, all of one dtype: the triangulator's :func:`sample_dtype`) read
     once into one Python list, ``p`` left out, sorted into the fan's triangles by
@@ -271,15 +282,23 @@ def _small_fan(
     loop) and made into arrays once: the same lists, pool, counts, fan index, dtypes, counted tests and
     :class:`TriangulationCheckError` as the general path, whose ``fan_sectors`` would run that loop too but
     with the ring, the pool and the answer each turned from list to array and back (measured:
-    docs/performance.md, "The fan's samples without round trips").  O(m · len(ring)) for ``m`` samples.
+    docs/performance.md, "The fan's samples without round trips").  The arrays: the pool converted once from
+    the Python list, each triangle's list a copy of its slice, the fan index from a list up to
+    :data:`_INDEX_FROM_LIST` samples and by ``repeat`` above.  O(m · len(ring)) for ``m`` samples.
     """
-    qs: list[int] = []
+    qs: list[Any] = []
     for s in sized:
         qs += s.tolist()
     if p in qs:
-        qs = [q for q in qs if q != p]
+        # p leaves; compared unboxed (compiled: a comparison of two objects costs a call each), kept as objects.
+        kept: list[Any] = []
+        for qo in qs:
+            q: int = qo
+            if q != p:
+                kept.append(qo)
+        qs = kept
     m = len(qs)
-    if not m or m > PYTHON_SECTORS:
+    if not m or m > bound:
         return None
     stats = pred.stats
     if stats is not None:
@@ -292,21 +311,32 @@ def _small_fan(
         raise TriangulationCheckError(f"inserting point {p}: {exc}") from None
     dtype = sized[0].dtype
     counts: list[int] = []
-    pooled: list[int] = []
+    pooled: list[Any] = []
     index: list[int] = []
+    by_list = m <= _INDEX_FROM_LIST or nfan > _FAN_POSITIONS.size
     for i in range(nfan):
         b = buckets[i]
         c = len(b)
         counts.append(c)
         if c:
             pooled += b
-            index += [i] * c
-    samples = _frozen(np.array(pooled, dtype))
+            if by_list:
+                index += [i] * c
+    # Python integers enter an array at about 200–280 instructions each (numpy converts them one by one): the pool
+    # is converted once, and each triangle's list is a copy of its slice of it (a memory copy).
+    samples = _frozen(np.fromiter(pooled, dtype, m))
     own: list[Samples] = []
-    for b in buckets:
-        c = len(b)
-        own.append(EMPTY if not c else (samples if c == m else _frozen(np.array(b, dtype))))
-    return own, samples, counts, _frozen(np.array(index, _INTP))
+    start = 0
+    for c in counts:
+        if not c:
+            own.append(EMPTY)
+        elif c == m:
+            own.append(samples)
+        else:
+            own.append(_frozen(samples[start : start + c].copy()))
+        start += c
+    fan_index = np.array(index, _INTP) if by_list else _FAN_POSITIONS[:nfan].repeat(counts)
+    return own, samples, counts, _frozen(fan_index)
 
 
 def _into_sectors(

@@ -362,7 +362,7 @@ def fan_small(cols: int, p: int, rays: IntArray, samples: Samples, closed: bool)
     return np.array(order, dtype=np.intp), np.array(sector, dtype=np.intp)
 
 
-def small_buckets(cols: int, p: int, ring: Sequence[int], qs: list[int], closed: bool, positions: bool) -> list[list[int]]:
+def small_buckets(cols: int, p: int, ring: Sequence[int], qs: list[Any], closed: bool, positions: bool) -> list[list[Any]]:
     """The samples ``qs`` of each fan triangle, as one list per triangle, over the points of a grid with ``cols``
     columns: :func:`fan_small`'s loop on Python lists.
 
@@ -386,9 +386,12 @@ def small_buckets(cols: int, p: int, ring: Sequence[int], qs: list[int], closed:
     # ray 0 are 1 … k closed, 1 … k − 1 open (and ray k is − there).
     rx0, ry0 = rays_xy[0]
     tested = rays_xy[1:] if closed else rays_xy[1:k]
-    buckets: list[list[int]] = [[] for _ in range(k)]
+    buckets: list[list[Any]] = [[] for _ in range(k)]
     j = 0
-    for q in qs:
+    for qo in qs:
+        # The sample as the list's own object (appended as it is: compiled, an int read from a typed list and
+        # appended would be boxed anew), its value unboxed once for the arithmetic.
+        q: int = qo
         y = q // cols
         qx = float(q - y * cols - px)
         qy = float(y - py)
@@ -408,7 +411,7 @@ def small_buckets(cols: int, p: int, ring: Sequence[int], qs: list[int], closed:
             at = i
         if changes != 1:
             raise ValueError(f"sample row {j} changes side from + to - {changes} times around the fan")
-        buckets[at].append(j if positions else q)
+        buckets[at].append(j if positions else qo)
         j += 1
     return buckets
 
