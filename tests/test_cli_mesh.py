@@ -221,6 +221,15 @@ def test_the_summary_says_what_the_undo_did() -> None:
     assert quiet.stderr == ""
 
 
+def test_the_summary_counts_one_triangle_in_the_singular(tmp_path: Path) -> None:
+    poly = tmp_path / "tri.poly"
+    poly.write_text("3 2 0 0\n1 0 0\n2 1 0\n3 0 1\n3 0\n1 1 2\n2 2 3\n3 3 1\n0\n")
+    result, caught = invoke(["mesh", str(poly), "-q", "0"])
+    assert result.exit_code == 0 and not caught
+    (line,) = [ln for ln in result.stderr.splitlines() if ln.strip()]
+    assert line.startswith(f"mesh of {poly}: 1 triangle, 3 vertices"), line
+
+
 def test_an_output_never_overwrites_the_input(tmp_path: Path) -> None:
     poly = tmp_path / "frame.poly"
     poly.write_text(FRAME_POLY)

@@ -53,7 +53,7 @@ def test_two_workers_give_the_same_file_and_name_the_cluster(dem: Path, tmp_path
     code, text = invoke("terrain", str(dem), "--max-error", "3", "--tile", "30", "--workers", "2", "-o", str(two),
                         "--tile-output", str(tmp_path / "tiles"))
     assert code == 0, text
-    assert "Dask cluster: 2 workers" in text
+    assert "dask: 2 workers" in text
     a, b = np.load(one), np.load(two)
     assert sorted(a.files) == sorted(b.files)
     for key in a.files:

@@ -79,3 +79,9 @@ def text_console(file: TextIO, width: int | None = None) -> Console:
         force_jupyter=False,
         force_interactive=False,
     )
+
+
+def count_noun(n: int, noun: str) -> str:
+    """``n`` and ``noun``, plural unless n is 1 (``1 triangle``, ``2 vertices``), for the lines people read."""
+    plural = "vertices" if noun == "vertex" else noun + "s"
+    return f"{n:,} {noun if n == 1 else plural}"

@@ -8,7 +8,7 @@ import click
 import numpy as np
 
 from persistri.impl.cli.checks import FILE_PATH, PLOT_FORMATS, Outputs, check_backend, check_column_count, check_input, parse_columns
-from persistri.impl.cli.console import stderr_console, stdout_console
+from persistri.impl.cli.console import count_noun, stderr_console, stdout_console
 from persistri.impl.cli.errors import about, one_line
 from persistri.impl.cli.hull import stats_table
 from persistri.impl.files import MESH_FORMATS, POINT_FORMATS, read_points, write_mesh
@@ -97,7 +97,7 @@ def delaunay_command(
         what = "row" if len(dup) == 1 else "rows"
         err.print(
             one_line(
-                f"delaunay of {input_path}: {_count(len(result.triangles), 'triangle')}, {_count(raw.shape[0] - len(dup), 'vertex')}, "
+                f"delaunay of {input_path}: {count_noun(len(result.triangles), 'triangle')}, {count_noun(raw.shape[0] - len(dup), 'vertex')}, "
                 f"{len(result.hull):,} on the hull{verified}"
                 + (f"; {len(dup):,} duplicate {what} merged ({shown})" if dup else "")
             )
@@ -106,9 +106,3 @@ def delaunay_command(
         stdout_console().print(stats_table(result.stats, f"operation counts ({backend})"))
     if output is None and plot is None and quiet:
         click.echo(f"{len(result.triangles)} triangles")
-
-
-def _count(n: int, noun: str) -> str:
-    """``n`` and ``noun``, plural unless n is 1 (``1 triangle``, ``2 vertices``)."""
-    plural = "vertices" if noun == "vertex" else noun + "s"
-    return f"{n:,} {noun if n == 1 else plural}"

@@ -27,7 +27,7 @@ import numpy as np
 from rich.table import Table
 
 from persistri.impl.cli.checks import FILE_OR_NAME, FILE_PATH, PLOT_FORMATS, Outputs, check_backend, check_input
-from persistri.impl.cli.console import stderr_console, stdout_console
+from persistri.impl.cli.console import count_noun, stderr_console, stdout_console
 from persistri.impl.cli.errors import about, error_line, fail, one_line
 from persistri.impl.maps import BACKENDS
 from persistri.impl.mesh.gallery import GALLERY
@@ -214,7 +214,7 @@ def _protect_input(source: str, targets: list[Path]) -> None:
 
 def _summary(source: str, mesh: QualityMesh, smallest: float, report: MeshReport | None, max_steiner: int | None) -> str:
     bound = mesh.min_angle
-    what = f"mesh of {source}: {len(mesh.triangles):,} triangles, {len(mesh.vertices):,} vertices"
+    what = f"mesh of {source}: {count_noun(len(mesh.triangles), 'triangle')}, {count_noun(len(mesh.vertices), 'vertex')}"
     exempt = f"{mesh.exempt} exempt triangle{'s' if mesh.exempt != 1 else ''} at small input angles"
     if report is not None and report.min_angle_unexempt is not None:
         angle = f"min angle {report.min_angle_unexempt:.2f}°" + (f" outside {exempt}" if mesh.exempt else "")

@@ -9,7 +9,7 @@ import click
 import numpy as np
 
 from persistri.impl.cli.checks import FILE_OR_NAME, FILE_PATH, PLOT_FORMATS, Outputs, check_backend, check_input, check_output_dir
-from persistri.impl.cli.console import stderr_console, stdout_console
+from persistri.impl.cli.console import count_noun, stderr_console, stdout_console
 from persistri.impl.cli.errors import about, error_line, fail, one_line
 from persistri.impl.cli.hull import stats_table
 from persistri.impl.maps import BACKENDS
@@ -279,7 +279,7 @@ def _tiled(
             if client is not None and not quiet:
                 link = getattr(client, "dashboard_link", None)
                 n = len(client.scheduler_info().get("workers", {}))
-                err.print(f"Dask cluster: {n} worker{'s' if n != 1 else ''}" + (f", dashboard {link}" if link else ""))
+                err.print(f"dask: {count_noun(n, 'worker')}" + (f", dashboard {link}" if link else ""))
             with about(source):
                 try:
                     tin = tiled_terrain(dem, max_error=max_error, tile=size, client=client, nodata=nodata,
