@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-__all__ = ["InputFileError", "foreign_format", "quote", "widths", "os_error"]
+__all__ = ["InputFileError", "foreign_format", "quote", "shown", "widths", "os_error"]
 
 _SHOWN = 40  # characters of a bad line or field quoted in a message
 
@@ -32,6 +32,15 @@ def quote(text: str) -> str:
     """``text`` stripped, in double quotes, cut to 40 characters with an ellipsis."""
     text = text.strip()
     return '"' + (text if len(text) <= _SHOWN else text[: _SHOWN - 1] + "…") + '"'
+
+
+def shown(text: str) -> str:
+    """``repr(text)``, its text cut to 40 characters with an ellipsis: a bad token as a message may echo it.
+
+    A field of a file can be megabytes long (a line without its newlines); a message
+    quotes at most its first 39 characters and "…", so it stays one readable line.
+    """
+    return repr(text if len(text) <= _SHOWN else text[: _SHOWN - 1] + "…")
 
 
 def widths(columns: Sequence[int]) -> str:

@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from persistri.impl.file_errors import InputFileError, foreign_format, os_error, quote, widths
+from persistri.impl.file_errors import InputFileError, foreign_format, os_error, quote, shown, widths
 from persistri.impl.geometry.points import as_points
 from persistri.impl.text_tables import Fields, read_text, read_text_table, text_of
 
@@ -178,7 +178,7 @@ def _ply_vertex_header(path: Path) -> tuple[int, list[str]]:
                 elements += 1
                 if element == "vertex":
                     if len(words) != 3 or not words[2].isdecimal():
-                        raise InputFileError(path, f"a damaged PLY header (line {raw.decode('latin-1').strip()!r})")
+                        raise InputFileError(path, f"a damaged PLY header (line {shown(raw.decode('latin-1').strip())})")
                     count = int(words[2])
                     first = elements == 1
             elif words[:1] == ["property"] and element == "vertex":
@@ -197,9 +197,9 @@ def _ply_vertex_header(path: Path) -> tuple[int, list[str]]:
         if held < count * record:  # a binary file cut short: numpy's reader would say only "buffer size must be …"
             raise InputFileError(path, f"truncated: the PLY header announces {count:,} vertices of {record} bytes, the file holds {held:,} bytes of data")
     if (names[:3] != ["x", "y", "z"]) if ascii_ else not {"x", "y", "z"} <= set(names):
-        shown = ", ".join(names) or "none"
+        listed = ", ".join(n if len(n) <= 40 else n[:39] + "…" for n in names[:8]) + (", …" if len(names) > 8 else "")
         where = " as the first three (in ASCII PLY)" if ascii_ else ""
-        raise InputFileError(path, f"PLY vertices with the properties {shown}: persistri reads x, y, z{where}")
+        raise InputFileError(path, f"PLY vertices with the properties {listed or 'none'}: persistri reads x, y, z{where}")
     return count, names
 
 

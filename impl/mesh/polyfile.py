@@ -44,6 +44,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
+from persistri.impl.file_errors import shown
 from persistri.impl.mesh.domain import PSLG, DomainError, as_pslg
 
 __all__ = [
@@ -143,7 +144,7 @@ class _Records:
             try:
                 values.append(int(fields[k]))
             except ValueError:
-                raise self.error(number, f"the {what} line: {name} must be an integer, found {fields[k]!r}") from None
+                raise self.error(number, f"the {what} line: {name} must be an integer, found {shown(fields[k])}") from None
             if values[-1] < 0:
                 raise self.error(number, f"the {what} line: {name} must not be negative, found {values[-1]}")
         return number, values
@@ -194,25 +195,25 @@ class _Records:
                     np.loadtxt([record], dtype=np.float64, ndmin=2, comments=None)
                 except ValueError:
                     token = next((f for f in record.split() if not _is_number(f)), record)
-                    raise self.error(number, f"{token!r} is not a number (in a {what} line)") from None
+                    raise self.error(number, f"{shown(token)} is not a number (in a {what} line)") from None
             raise  # pragma: no cover - loadtxt failed on the whole but on no single line
         finite = np.isfinite(data)
         if not finite.all():
             k = int(np.argmax(~finite.all(axis=1)))
-            raise self.error(lines[k], f"a {what} line has a value that is not finite: {text[k]!r}")
+            raise self.error(lines[k], f"a {what} line has a value that is not finite: {shown(text[k])}")
         for col in integer:
             column = data[:, col]
             wrong = np.flatnonzero((column != np.round(column)) | (np.abs(column) > 2**31))
             if wrong.size:
                 k = int(wrong[0])
                 field = names[col]
-                raise self.error(lines[k], f"{field} {text[k].split()[col]!r} is not an integer (in a {what} line)")
+                raise self.error(lines[k], f"{field} {shown(text[k].split()[col])} is not an integer (in a {what} line)")
         return data, lines
 
     def finish(self, what: str) -> None:
         if self.more():
             number, body = self.lines[self.pos]
-            raise self.error(number, f"unexpected content after the {what}: {body!r}")
+            raise self.error(number, f"unexpected content after the {what}: {shown(body)}")
 
 
 def _is_number(text: str) -> bool:

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+from persistri.impl.file_errors import shown
 from persistri.impl.terrain.crs import prj_beside, read_prj
 from persistri.impl.terrain.grids import GridTransform, HeightGrid
 
@@ -36,9 +37,9 @@ def read_asc(path: Path) -> HeightGrid:
             try:
                 header[parts[0].lower()] = float(parts[1])
             except ValueError:
-                raise ValueError(f"{path}: line {i + 1}: the header value of {parts[0]} is not a number: {parts[1]}") from None
+                raise ValueError(f"{path}: line {i + 1}: the header value of {parts[0]} is not a number: {shown(parts[1])}") from None
             if not np.isfinite(header[parts[0].lower()]):
-                raise ValueError(f"{path}: line {i + 1}: the header value of {parts[0]} is not finite: {parts[1]}")
+                raise ValueError(f"{path}: line {i + 1}: the header value of {parts[0]} is not finite: {shown(parts[1])}")
             body_start = i + 1
         else:
             break
@@ -95,7 +96,7 @@ def _first_non_number(lines: list[str], start: int) -> str:
                 float(field)
             except ValueError:
                 comma = " (fields are separated by blanks in an ESRI grid, and decimals written with a point)" if "," in field else ""
-                return f"line {i + 1}: {field[:40]!r} is not a number{comma}"
+                return f"line {i + 1}: {shown(field)} is not a number{comma}"
     return "the grid holds something that is not a number"
 
 

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from persistri.impl.file_errors import shown
 from persistri.impl.terrain.crs import crs_from_geokeys
 from persistri.impl.terrain.grids import GridTransform, HeightGrid, _float_heights
 
@@ -68,7 +69,7 @@ def read_geotiff(path: Path) -> HeightGrid:
         try:
             value = float(str(nodata).strip().strip("\x00"))
         except ValueError:
-            raise ValueError(f"{path}: GDAL_NODATA tag is not a number: {nodata!r}") from None
+            raise ValueError(f"{path}: GDAL_NODATA tag is not a number: {shown(str(nodata))}") from None
         heights[nodata_cells(data, value)] = np.nan
     return HeightGrid(heights, _tiff_transform(path, geokeys), str(path))
 
