@@ -3,7 +3,11 @@
 The format: a header of ``keyword value`` lines — ``ncols``, ``nrows``, the
 lower-left corner or centre (``xllcorner``/``yllcorner`` or ``xllcenter``/``yllcenter``),
 ``cellsize`` (or ``dx`` and ``dy``), optionally ``NODATA_value`` — then the heights,
-blank-separated, the northernmost row first.  A ``.prj`` file of the same name beside
+blank-separated, the northernmost row first.  Cells holding the no-data value become
+NaN (no-data, refused by the terrain unless a ``nodata`` rule says how to treat them);
+without a ``NODATA_value`` line the value is -9999, the format's default (ESRI's
+definition of the format: "NODATA_value ... Optional. Default is -9999"), so a file
+that leaves the line out does not have its holes meshed as pits 9,999 units deep.  A ``.prj`` file of the same name beside
 it gives the coordinate system (:mod:`persistri.impl.terrain.crs`).  Read by
 :func:`~persistri.impl.terrain.grids.read_grid` for a ``.asc`` path.
 """
@@ -19,7 +23,10 @@ from persistri.impl.file_errors import shown
 from persistri.impl.terrain.crs import prj_beside, read_prj
 from persistri.impl.terrain.grids import GridTransform, HeightGrid
 
-__all__ = ["read_asc", "write_asc"]
+__all__ = ["ESRI_DEFAULT_NODATA", "read_asc", "write_asc"]
+
+ESRI_DEFAULT_NODATA = -9999.0
+"""The no-data value of a grid whose header has no ``NODATA_value`` line (the format's default)."""
 
 
 def read_asc(path: Path) -> HeightGrid:
@@ -59,8 +66,7 @@ def read_asc(path: Path) -> HeightGrid:
     if values.size != ncols * nrows:
         raise ValueError(f"{path}: the header says {nrows} rows × {ncols} columns but the file holds {values.size} values")
     heights = values.reshape(nrows, ncols)
-    if "nodata_value" in header:
-        heights = np.where(heights == header["nodata_value"], np.nan, heights)
+    heights = np.where(heights == header.get("nodata_value", ESRI_DEFAULT_NODATA), np.nan, heights)
     if "cellsize" in header:
         dx = dy = header["cellsize"]
     elif "dx" in header and "dy" in header:
