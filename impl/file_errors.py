@@ -6,6 +6,7 @@ Shared by the point readers (:mod:`persistri.impl.files`), the text tables
 
 from __future__ import annotations
 
+import zipfile
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -78,11 +79,33 @@ _FOREIGN: dict[str, str] = {
 }
 
 
-def foreign_format(path: str | Path) -> str:
+def foreign_format(path: str | Path, reads: Sequence[str] = (".npy",)) -> str:
     """What to do with ``path`` whose extension persistri does not read, when it is a well-known format; else "".
 
     Appended to the "unknown format" messages of the readers and of the command line: ``"; a LAS point
-    cloud: convert it, ..."``.  O(1).
+    cloud: convert it, ..."``.  ``reads``: the extensions the reader takes; a ``.npz`` is advised to be saved
+    as a ``.npy`` only where ``.npy`` is among them.  O(1) (a ``.npz``: O(its arrays), their names read).
     """
+    if Path(path).suffix.lower() == ".npz" and ".npy" in reads:
+        return f"; {_npz_advice(Path(path))}"
     advice = _FOREIGN.get(Path(path).suffix.lower())
     return f"; {advice}" if advice else ""
+
+
+def _npz_advice(path: Path) -> str:
+    """What to do with a NumPy archive where one array is read: save that array alone, named by the archive's first.
+
+    Reads the zip's directory only (never an array); a file that is no zip gets the advice without names.
+    """
+    try:
+        with zipfile.ZipFile(path) as archive:
+            names = [n.removesuffix(".npy") for n in archive.namelist()]
+    except (OSError, zipfile.BadZipFile):
+        names = []
+    if not names:
+        return "a NumPy archive: save the array to read alone with np.save (a .npy)"
+    listed = ", ".join(n if len(n) <= 40 else n[:39] + "…" for n in names[:6]) + (", …" if len(names) > 6 else "")
+    first = names[0] if len(names[0]) <= 40 else "NAME"
+    noun = "array" if len(names) == 1 else "arrays"
+    return (f"a NumPy archive (its {noun} {listed}): save the array to read alone, "
+            f"e.g. np.save({first + '.npy'!r}, np.load({path.name!r})[{first!r}])")

@@ -113,7 +113,7 @@ def check_input(path: Path, formats: Sequence[str], *, kind: str, words: Sequenc
         also = f" or {', '.join(words)}" if words else ""
         from persistri.impl.file_errors import foreign_format
 
-        fail(f"{path}: unknown {kind} format {_extension(path)}; use one of {_formats(formats)}{also}{foreign_format(path)}")
+        fail(f"{path}: unknown {kind} format {_extension(path)}; use one of {_formats(formats)}{also}{foreign_format(path, formats)}")
     try:
         with path.open("rb"):
             pass
