@@ -484,6 +484,11 @@ def negated_plane_side_dets(
 
 def _finite_range(col: NDArray[np.float64]) -> tuple[float, float]:
     """The least and greatest non-NaN entries of ``col``, or NaN twice when there are none. O(len(col))."""
+    if col.size == 0:
+        return math.nan, math.nan
+    lo, hi = float(col.min()), float(col.max())
+    if lo == lo and hi == hi:
+        return lo, hi  # no NaN: numpy's min and max return NaN when there is one
     missing = np.isnan(col)
     finite = col[~missing] if missing.any() else col
     if finite.size == 0:

@@ -39,11 +39,14 @@ _SPREAD = (
 
 
 def _spread(q: NDArray[np.uint64]) -> NDArray[np.uint64]:
-    """Each value's 21 low bits moved to bit positions 0, 3, 6, …, 60. O(len(q))."""
-    x = q & np.uint64((1 << BITS) - 1)
+    """Each value's 21 bits moved to bit positions 0, 3, 6, …, 60, in place: ``q`` (returned) must be below
+    ``2^21``. O(len(q))."""
+    shifted = np.empty_like(q)
     for shift, mask in _SPREAD:
-        x = (x | (x << np.uint64(shift))) & np.uint64(mask)
-    return x
+        np.left_shift(q, np.uint64(shift), out=shifted)
+        q |= shifted
+        q &= np.uint64(mask)
+    return q
 
 
 def morton_codes(
@@ -76,8 +79,11 @@ def morton_codes(
     if n == 0:
         return code
     top = float((1 << BITS) - 1)
+    # The axes as contiguous rows: one copy, then each axis's passes (least, greatest, the quantisation)
+    # read contiguous memory (about 15% fewer instructions in all at 256K points than reading strided columns).
+    axes = np.ascontiguousarray(pts.T)
     for j in range(d):
-        col = pts[:, j]
+        col = axes[j]
         # Halved before subtracting so that a range like [-1e308, 1e308] cannot overflow.
         if box is None:
             lo, hi = float(col.min()) / 2, float(col.max()) / 2
@@ -85,11 +91,25 @@ def morton_codes(
             lo, hi = float(box[0][j]) / 2, float(box[1][j]) / 2
         width = hi - lo
         if width > 0:
-            t = (col / 2 - lo) / width
-            q = np.clip(np.floor(t * top), 0.0, top).astype(np.uint64)
+            t = col / 2
+            t -= lo
+            t /= width
+            t *= top
+            if box is None:
+                # Over the points' own box every t lies in [0, 1] (rounding is monotone: lo <= col/2 <= hi
+                # gives 0 <= col/2 - lo <= width), so t * top in [0, top], and the conversion truncates
+                # as floor does: the clip and the floor change nothing (two passes fewer an axis).  Converted
+                # to int64 and viewed as uint64 (the same bits below 2^63): a signed conversion costs less.
+                q = t.astype(np.int64).view(np.uint64)
+            else:
+                q = np.clip(np.floor(t, out=t), 0.0, top, out=t).astype(np.int64).view(np.uint64)
         else:
             q = np.zeros(n, dtype=np.uint64)
-        code |= _spread(q) << np.uint64(j)
+        # q < 2^21 (t * top <= top, or clipped to it)
+        spread = _spread(q)
+        if j:
+            spread <<= np.uint64(j)
+        code |= spread
     return code
 
 

@@ -31,7 +31,6 @@ from persistri.impl.hull.conflicts import (
     Triangle,
     _assign,
     _freeze,
-    _join,
     all_but,
 )
 from persistri.impl.hull.errors import BulldozerCheckError, DegenerateInputError
@@ -57,20 +56,27 @@ def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
     if n >= 4:
         with np.errstate(all="ignore"):
             # Scaled so that squares cannot overflow; a float heuristic, verified exactly below.  Dot
-            # products by einsum, not BLAS: a threaded BLAS call leaves its worker threads spinning,
-            # which costs CPU time long after the call (measured: 0.1 s at 256K points).
+            # products column by column (no BLAS: a threaded BLAS call leaves its worker threads spinning,
+            # which costs CPU time long after the call, 0.1 s at 256K points; no einsum: about 65
+            # instructions a row here against about 15), summed as (x + z) + y: the values that this
+            # machine's numpy einsum gives (it sums three products in two SSE lanes), so the same
+            # tetrahedron as before, now on any numpy build.
             scale = max(float(pts.max()), -float(pts.min())) or 1.0
             i0 = int(np.argmin(pts[:, 0]))
             dq = pts / scale  # scaled before subtracting: 1e308 - (-1e308) would overflow
             dq -= dq[i0].copy()
-            d0 = np.einsum("ij,ij->i", dq, dq)  # squared distances to point i0
+            x, y, z = dq[:, 0], dq[:, 1], dq[:, 2]
+            d0 = _dots(x, y, z, x, y, z)  # squared distances to point i0
             i1 = int(np.argmax(d0))
-            u = dq[i1]
-            along = np.einsum("ij,j->i", dq, u)
+            ux, uy, uz = (float(v) for v in dq[i1])
+            along = _dots(x, y, z, ux, uy, uz)
             # Squared distances to the line (i0, i1), by Pythagoras: |dq|² - (dq·u)²/|u|².
-            i2 = int(np.argmax(d0 - along * along / float(np.einsum("i,i->", u, u))))
-            nrm = np.cross(u, dq[i2])
-            i3 = int(np.argmax(np.abs(np.einsum("ij,j->i", dq, nrm))))
+            along *= along
+            along /= (ux * ux + uz * uz) + uy * uy
+            d0 -= along
+            i2 = int(np.argmax(d0))
+            nx, ny, nz = (float(v) for v in np.cross(dq[i1], dq[i2]))
+            i3 = int(np.argmax(np.abs(_dots(x, y, z, nx, ny, nz))))
         cand = (i0, i1, i2, i3)
         if len(set(cand)) == 4 and pred.orient3d_sign(*cand) != 0:
             return cand
@@ -86,6 +92,17 @@ def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
         )
     a, b, c, d = basis
     return (a, b, c, d)
+
+
+def _dots(
+    x: NDArray[np.float64], y: NDArray[np.float64], z: NDArray[np.float64],
+    u: float | NDArray[np.float64], v: float | NDArray[np.float64], w: float | NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """``(x·u + z·w) + y·v`` entry by entry, in a new array: :func:`initial_tetrahedron`'s dot products. O(len(x))."""
+    out = x * u
+    out += z * w
+    out += y * v
+    return out
 
 
 def cones_by_planes(bd: Bulldozer, faces: list[Triangle], others: IntArray) -> dict[frozenset[int], IntArray]:
@@ -138,7 +155,8 @@ def cones_by_tree(bd: Bulldozer, tetra: tuple[int, int, int, int], others: IntAr
     the associated face (two tests of planes through the axis).  Likewise on
     ``d``'s side around the apex ``d``.  The same cones as the definition (a perturbed point set is
     in general position, where both are exact), each list in increasing
-    order as there; ``tests/test_hull.py`` compares the two.  O(n) tests.
+    order as there (``others`` must be increasing, as :func:`all_but` makes it: each partition keeps
+    its order); ``tests/test_hull.py`` compares the two.  O(n) tests.
     """
     C, partition, o3 = bd.C, bd._partition, bd._o3
 
@@ -156,7 +174,22 @@ def cones_by_tree(bd: Bulldozer, tetra: tuple[int, int, int, int], others: IntAr
         in_zx, in_zy = split(apex, z, x, z_side)
         for corners, pts in (((apex, x, y), in_xy), ((apex, y, z), in_yz), ((apex, y, z), in_zy), ((apex, z, x), in_zx)):
             found.setdefault(frozenset(corners), []).append(pts)
-    return {key: np.sort(np.asarray(_join(parts), dtype=np.intp)) for key, parts in found.items()}
+    return {key: _union(parts, bd.n) for key, parts in found.items()}
+
+
+def _union(parts: list[Indices], n: int) -> IntArray:
+    """The points of ``parts`` — disjoint lists of points below ``n``, each increasing — in increasing order.
+
+    One part is its own order (a partition keeps the order of the points it splits); several are
+    merged through a mask of the ``n`` points, not sorted (at 256K points a sort of 64K costs about
+    70 instructions a point, the mask about 10).  O(n) for several parts, O(len) for one.
+    """
+    if len(parts) == 1:
+        return np.asarray(parts[0], dtype=np.intp)
+    mark = np.zeros(n, dtype=bool)
+    for part in parts:
+        mark[np.asarray(part, dtype=np.intp)] = True
+    return np.flatnonzero(mark)
 
 
 def new_face(bd: Bulldozer, tri: Triangle, kept: Indices) -> Entry:
