@@ -247,11 +247,14 @@ def insert(bd: Bulldozer, p: int) -> Complex[FaceDatum]:
             routed.append(pts)
             routed.extend(incoming)
         # The points bulldozed in are tested against the face with the routing (sift: one pass, each point's
-        # row read once) when the face has two out-edges and every list is short, where partition and split
-        # would loop over the points (the same tests and lists); else by partition here.
+        # row read once) when the face has two out-edges, or one on the horizon (then with its tent's test), and
+        # every list is short, where partition and split would loop over the points (the same tests and lists);
+        # else by partition here.
         fused = False
         if incoming:
-            if sift is not None and len(outs) == 2:
+            # Two out-edges, or one on the horizon (the face's points then go to its tent: the sift's
+            # plane is the tent's, with no second level).
+            if sift is not None and (len(outs) == 2 or (len(outs) == 1 and outs[0][2] == _HORIZON)):
                 total = len(pts)
                 for part in incoming:
                     total += len(part)
@@ -267,7 +270,20 @@ def insert(bd: Bulldozer, p: int) -> Complex[FaceDatum]:
         groups: Sequence[Indices]
         tented = False  # whether the groups of horizon out-edges were tested against their tents already
         if len(outs) == 1:
-            groups = (pts,)
+            if fused:
+                # The one out-edge (u, w) is on the horizon: the points that see the face and its tent
+                # (u, w, p) are the tent's list, the others interior (partition by the face, then by the tent).
+                assert sift is not None
+                u1, w1, _, _, _ = outs[0]
+                gone, tent_kept, _, tent_gone, _ = sift(tri, pts, incoming, u1, w1, p_obj, None, None)
+                if gone:
+                    discarded.append(gone)
+                if tent_gone:
+                    discarded.append(tent_gone)
+                groups = (tent_kept,)
+                tented = True
+            else:
+                groups = (pts,)
         elif not fused and not len(pts):
             groups = ((), (), ())
         elif len(outs) == 2:
