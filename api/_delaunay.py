@@ -50,6 +50,17 @@ class Delaunay(Generic[H]):
     Every distinct input point is a vertex — at coordinates where Qhull drops
     points (UTM eastings, centimetre spacing) too.
 
+    Compared with scipy on the same points (code ported from it): in general
+    position the triangles, ``neighbors``, ``vertex_neighbor_vertices`` and
+    ``convex_hull`` are scipy's as sets (the order of triangles, and of the
+    vertices within one, may differ), and ``find_simplex`` names the same
+    triangle for a point inside one. Where four or more points are cocircular (a
+    grid) more than one triangulation is Delaunay: persistri's ties and Qhull's
+    are broken differently, so the diagonals, and the triangle ``find_simplex``
+    names, may differ. Of exactly equal rows persistri keeps the
+    first; Qhull keeps any one. A NaN or infinite query is a :class:`ValueError`
+    (scipy answers -1).
+
     Attributes (arrays are read-only; index arrays are ``np.intc`` like scipy's):
 
     * ``points`` — ``(n, 2)`` float64, the input as validated;

@@ -71,7 +71,8 @@ class ConvexHull(Generic[H]):
       the right-hand rule (scipy's are unoriented), rotated to start at its
       smallest row, rows sorted;
     * ``vertices`` — the input rows that are hull vertices, sorted (scipy's order
-      in 3D); every extreme point is one, and of exactly equal rows only the first.
+      in 3D); every extreme point is one, and of exactly equal rows only the first
+      (Qhull keeps any one of them, so ported code that compares rows may see another).
       Unlike scipy's, they may also include points lying *on* a flat facet or edge
       of the real hull: the symbolic perturbation moves such a point infinitesimally
       in or out, and those moved out become vertices, the flat facet triangulated
