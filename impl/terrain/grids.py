@@ -201,7 +201,7 @@ def as_heights(
     try:
         raw = np.asarray(heights)
     except (ValueError, TypeError) as exc:
-        raise ValueError(f"{what}: not a rectangular 2D array (ragged rows?): {exc}") from None
+        raise ValueError(f"{what}: not a rectangular 2D array{_ragged_row(heights) or f' (ragged rows?): {exc}'}") from None
     if raw.dtype == object:
         raise ValueError(f"{what}: not a rectangular 2D array of real numbers (ragged rows or non-numeric entries)")
     if raw.dtype.kind not in "biuf":
@@ -267,6 +267,21 @@ def as_heights(
 
 
 # -- reading -------------------------------------------------------------------------------
+
+
+def _ragged_row(heights: object) -> str:
+    """``": row 1 has 1 entry, not 2"`` for the first row of a list of rows whose length differs from row 0's; else "".
+
+    Only on the error path of :func:`as_heights`; O(rows).
+    """
+    try:
+        lengths = [len(row) for row in heights]  # type: ignore[attr-defined]
+    except TypeError:
+        return ""
+    for k, n in enumerate(lengths):
+        if n != lengths[0]:
+            return f": row {k} has {n} {'entry' if n == 1 else 'entries'}, not {lengths[0]}"
+    return ""
 
 
 def jacksboro() -> HeightGrid:
