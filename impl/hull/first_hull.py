@@ -20,7 +20,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from persistri.impl.complex.structure import Complex
-from persistri.impl.geometry.kernel import Indices
+from persistri.impl.geometry.filter import plane_side_box_threshold, plane_terms
+from persistri.impl.geometry.kernel import Indices, _finite_range
 from persistri.impl.geometry.predicates import Predicates3
 from persistri.impl.hull.conflicts import (
     ON_HULL,
@@ -39,7 +40,7 @@ from persistri.impl.hull.packed import pack_face
 if TYPE_CHECKING:
     from persistri.impl.hull.bulldozer import Bulldozer
 
-__all__ = ["initial_tetrahedron", "cones_by_planes", "cones_by_tree", "first_hull"]
+__all__ = ["initial_tetrahedron", "cones_by_planes", "cones_by_tree", "seen_in_cones", "first_hull"]
 
 
 def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
@@ -63,19 +64,21 @@ def initial_tetrahedron(pred: Predicates3, n: int) -> tuple[int, int, int, int]:
             # tetrahedron as before, now on any numpy build.
             scale = max(float(pts.max()), -float(pts.min())) or 1.0
             i0 = int(np.argmin(pts[:, 0]))
-            dq = pts / scale  # scaled before subtracting: 1e308 - (-1e308) would overflow
-            dq -= dq[i0].copy()
-            x, y, z = dq[:, 0], dq[:, 1], dq[:, 2]
+            # The points less point i0, scaled before subtracting (1e308 - (-1e308) would overflow), one contiguous
+            # array per axis (the passes below read contiguous memory).
+            x, y, z = (pts[:, j] / scale for j in range(3))
+            for col in (x, y, z):
+                col -= col[i0]
             d0 = _dots(x, y, z, x, y, z)  # squared distances to point i0
             i1 = int(np.argmax(d0))
-            ux, uy, uz = (float(v) for v in dq[i1])
+            ux, uy, uz = float(x[i1]), float(y[i1]), float(z[i1])
             along = _dots(x, y, z, ux, uy, uz)
             # Squared distances to the line (i0, i1), by Pythagoras: |dq|² - (dq·u)²/|u|².
             along *= along
             along /= (ux * ux + uz * uz) + uy * uy
             d0 -= along
             i2 = int(np.argmax(d0))
-            nx, ny, nz = (float(v) for v in np.cross(dq[i1], dq[i2]))
+            nx, ny, nz = (float(v) for v in np.cross(np.array([ux, uy, uz]), np.array([x[i2], y[i2], z[i2]])))
             i3 = int(np.argmax(np.abs(_dots(x, y, z, nx, ny, nz))))
         cand = (i0, i1, i2, i3)
         if len(set(cand)) == 4 and pred.orient3d_sign(*cand) != 0:
@@ -192,6 +195,84 @@ def _union(parts: list[Indices], n: int) -> IntArray:
     return np.flatnonzero(mark)
 
 
+def seen_in_cones(bd: Bulldozer, tetra: tuple[int, int, int, int], faces: list[Triangle]) -> list[IntArray] | None:
+    """For each face of ``faces`` (the first tetrahedron's, outward), the other points in its cone that see it, increasing:
+    what :func:`cones_by_tree` and a partition of each cone by its face give, over whole columns.
+
+    Each of the decision tree's six planes through the centre and the four faces is tested on every point at
+    once by the kernel's semi-static stage (its threshold, from the same box; the determinant as the vectorised
+    partition computes it, in three buffers), with no gathering of the points a plane is asked about (at 256K
+    points a gathered partition costs about 75 instructions a point, most of them numpy's ``take``; a plane
+    over every point about 15).  The few tests it leaves undecided are settled by the kernel's ``orient3d``
+    (exactly, then by SoS) where the tree asks them.  The same signs, so the same lists.  None when the point
+    set has no semi-static stage (an extreme dynamic range: the kernel tests through the checked methods).  O(n).
+    """
+    pred = bd.pred
+    if not pred._uniform:
+        return None
+    n, C, o3 = bd.n, bd.C, bd._o3
+    (xlo, xhi), (ylo, yhi), (zlo, zhi) = (_finite_range(col) for col in pred._cols)
+    static = plane_side_box_threshold(xhi - xlo, yhi - ylo, zhi - zlo)  # the kernel's threshold
+    xs, ys, zs = (col[:n] for col in pred._cols)
+    buffers = np.empty((3, n))
+
+    def signs(a: int, b: int, c: int, need: NDArray[np.bool_]) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+        """The points with orient3d(a, b, c, q) = -1 and those with +1, each as a mask, exact where ``need``."""
+        ax, ay, az = pred._row(a)
+        nx, ny, nz, _, _, _ = plane_terms(ax, ay, az, *pred._row(b), *pred._row(c))
+        # kernel.negated_plane_side_dets into the buffers: minus filter.plane_side_det_into's determinants
+        gx, gy, gz = buffers
+        np.subtract(xs, ax, out=gx)
+        gx *= nx
+        np.subtract(ys, ay, out=gy)
+        gy *= ny
+        gx += gy
+        np.subtract(zs, az, out=gz)
+        gz *= nz
+        gx += gz
+        neg = gx > static
+        pos = gx < -static
+        open_ = neg | pos
+        np.logical_not(open_, out=open_)
+        open_ &= need
+        if open_.any():
+            for q in np.flatnonzero(open_).tolist():
+                if o3(a, b, c, q) < 0:
+                    neg[q] = True
+                else:
+                    pos[q] = True
+        return neg, pos
+
+    def split(x: int, y: int, ref: int, pts: NDArray[np.bool_]) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+        """:func:`cones_by_tree`'s split, as masks: ``pts`` on ``ref``'s side of the plane ``(c, x, y)``, and on the other."""
+        minus, plus = signs(C, x, y, pts)
+        minus &= pts
+        plus &= pts
+        return (plus, minus) if o3(C, x, y, ref) > 0 else (minus, plus)
+
+    a, b, c, d = tetra
+    others = np.ones(n, dtype=bool)
+    others[list(tetra)] = False
+    cones: dict[frozenset[int], NDArray[np.bool_]] = {}
+    for apex, half, (x, y, z) in zip((c, d), split(a, b, c, others), ((a, b, d), (a, b, c))):
+        y_side, z_side = split(apex, x, y, half)
+        in_xy, in_yz = split(apex, y, x, y_side)
+        in_zx, in_zy = split(apex, z, x, z_side)
+        for corners, pts in (((apex, x, y), in_xy), ((apex, y, z), in_yz), ((apex, y, z), in_zy), ((apex, z, x), in_zx)):
+            key = frozenset(corners)
+            if key in cones:
+                cones[key] |= pts
+            else:
+                cones[key] = pts
+    seen: list[IntArray] = []
+    for tri in faces:
+        cone = cones[frozenset(tri)]
+        sees, _ = signs(tri[0], tri[1], tri[2], cone)
+        sees &= cone
+        seen.append(np.flatnonzero(sees))
+    return seen
+
+
 def new_face(bd: Bulldozer, tri: Triangle, kept: Indices) -> Entry:
     """A new face ``tri`` of ``bd`` with the conflict list ``kept``: its id, its table entry, its points' association.
 
@@ -214,7 +295,8 @@ def first_hull(bd: Bulldozer, tetra: tuple[int, int, int, int]) -> Complex[FaceD
 
     Every other point is associated with the face whose cone holds it
     (:func:`cones_by_planes` in counted and checked runs, whose counts are the
-    paper's; :func:`cones_by_tree` otherwise) and joins its list if it sees the
+    paper's; :func:`seen_in_cones` otherwise, or :func:`cones_by_tree` for a point
+    set without the kernel's semi-static stage) and joins its list if it sees the
     face; the four corners are on the hull, the points that see no face are
     interior.  O(n) plane-side tests, vectorised; four ``add`` of the complex.
     """
@@ -226,17 +308,23 @@ def first_hull(bd: Bulldozer, tetra: tuple[int, int, int, int]) -> Complex[FaceD
         # Outward: the opposite vertex (inside) is below the face (+1).
         tri = (V[i], V[j], V[k]) if P.orient3d(i, j, k, opp) > 0 else (V[i], V[k], V[j])
         faces.append(tri)
-    others = all_but(bd.n, tetra)
     bd.status[list(tetra)] = ON_HULL
     # Each other point goes to the face its ray from the centre leaves through: the face's cone.
-    if bd.check or P.stats is not None:
-        cones = cones_by_planes(bd, faces, others)  # by definition: checked, and the counts of the paper
-    else:
-        cones = cones_by_tree(bd, tetra, others)
+    counted = bd.check or P.stats is not None
+    found = None if counted else seen_in_cones(bd, tetra, faces)
+    seen: list[Indices] = [] if found is None else list(found)
+    if found is None:
+        others = all_but(bd.n, tetra)
+        if counted:
+            cones = cones_by_planes(bd, faces, others)  # by definition: checked, and the counts of the paper
+        else:
+            cones = cones_by_tree(bd, tetra, others)
+        for tri in faces:
+            x, y, z = tri
+            out, _ = bd._partition(x, y, z, cones[frozenset(tri)])
+            seen.append(out)
     cx = bd.S.new(2)
-    for tri in faces:
-        x, y, z = tri
-        out, _ = bd._partition(x, y, z, cones[frozenset(tri)])
+    for tri, out in zip(faces, seen):
         _assign(bd._status, bd.status, out, PENDING)
         cx = bd.S.add(cx, *new_face(bd, tri, out))
     return cx
