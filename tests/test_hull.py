@@ -295,3 +295,47 @@ def test_the_first_cones_agree_on_small_integer_clouds(raw: np.ndarray) -> None:
         return
     by_planes, by_tree = _first_cones(pts)
     assert by_planes == by_tree
+
+
+def _first_lists(pts: np.ndarray) -> tuple[list[list[int]], list[list[int]], list[list[int]]]:
+    """Each first face's list three ways: its cone by definition partitioned by the face, ``seen_in_cones``
+    (whole columns), and the list an uncounted run stored."""
+    from persistri.impl.complex.simpcomp import two_complex
+    from persistri.impl.geometry.predicates import Predicates3
+    from persistri.impl.hull.bulldozer import Bulldozer, all_but, initial_tetrahedron
+    from persistri.impl.hull.first_hull import cones_by_planes, seen_in_cones
+
+    pred = Predicates3(pts)
+    tetra = initial_tetrahedron(pred, len(pts))
+    bd = Bulldozer(pred.with_centroid(*tetra), two_complex("red_black", None), tetra)
+    entries = sorted(bd.faces.values(), key=lambda e: e[1][0])
+    faces = [tri for tri, _ in entries]
+    cones = cones_by_planes(bd, faces, all_but(len(pts), tetra))
+    by_definition = [[int(q) for q in bd._partition(*tri, cones[frozenset(tri)])[0]] for tri in faces]
+    fast = seen_in_cones(bd, tetra, faces)
+    assert fast is not None  # these point sets have the semi-static stage
+    stored = [[int(q) for q in datum[1]] for _, datum in entries]
+    return by_definition, [lst.tolist() for lst in fast], stored
+
+
+@pytest.mark.parametrize("dist", sorted(DISTRIBUTIONS))
+def test_the_first_lists_over_whole_columns_are_the_cones_seen_by_definition(dist: str) -> None:
+    """Uncounted runs give each first face the points of its cone that see it by testing every point against
+    the decision tree's planes at once (undecided tests settled exactly where the tree asks them): the same
+    lists as the cones by definition partitioned by their faces — on random points, on an integer grid (exact
+    zeros on planes through the centre: the undecided path) and on a few points."""
+    grid = np.stack(np.meshgrid(*[np.arange(7.0)] * 3), axis=-1).reshape(-1, 3)
+    for pts in (generate(dist, 3000, seed=2), generate(dist, 40, seed=3), grid):
+        by_definition, fast, stored = _first_lists(pts)
+        assert fast == by_definition == stored
+        assert sum(map(len, fast)) > 0
+
+
+@settings(max_examples=40)
+@given(arrays(np.int8, st.tuples(st.integers(5, 80), st.just(3)), elements=st.integers(-3, 3)))
+def test_the_first_lists_agree_on_small_integer_clouds(raw: np.ndarray) -> None:
+    pts = np.unique(raw.astype(float), axis=0)
+    if len(pts) < 5 or affine_dimension(pts) < 3:
+        return
+    by_definition, fast, stored = _first_lists(pts)
+    assert fast == by_definition == stored
