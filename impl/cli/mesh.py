@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 import os
 import re
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -91,6 +92,25 @@ def _in_command_words(message: str, source: str) -> str:
     if re.search(r"\b(input vertex|segment) \d", message) and _first_number(source) == 1:
         message += " (rows counted from 0; the file numbers from 1)"
     return message
+
+
+_NOTES_SHOWN = 5
+"""Repairs of the domain printed one per line; more are counted on one further line."""
+
+
+def _repairs(source: str, notes: Sequence[str]) -> list[str]:
+    """The lines that report what reading the domain repaired (merged duplicate vertices or segments, split
+    segments, vertices outside the domain): ``persistri: note: SOURCE: …``, rows said to count from 0 where
+    the file numbers from 1.  O(notes)."""
+    counted = " (rows counted from 0; the file numbers from 1)" if _first_number(source) == 1 else ""
+    lines = []
+    for note in notes[:_NOTES_SHOWN]:
+        rows = counted if re.search(r"\b(vertex|vertices|segment|segments|hole|region) \d", note) else ""
+        lines.append(f"persistri: note: {source}: {note}{rows}")
+    if len(notes) > _NOTES_SHOWN:
+        more = len(notes) - _NOTES_SHOWN
+        lines.append(f"persistri: note: {source}: … and {more:,} more repair{'s' if more != 1 else ''} (read_poly(...).notes lists them)")
+    return lines
 
 
 def _first_number(source: str) -> int:
@@ -390,6 +410,9 @@ def mesh(
         if "is every boundary closed?" not in exc.message or convex:
             raise
         fail(f"{exc.message}; --convex meshes the convex hull, as Triangle's -c")
+    if not quiet:
+        for line in _repairs(source, domain.notes):
+            err.print(one_line(line), soft_wrap=True, markup=False, highlight=False)
     options: dict[str, Any] = {} if exact_segments is None else {"exact_segments": exact_segments}
     with about(source):
         try:
