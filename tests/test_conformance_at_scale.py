@@ -192,11 +192,17 @@ def test_flaky_is_reported_as_determinism_by_the_base_class() -> None:
 # -- the correct structures pass the new tests --------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("structure", ["red_black_map", "assoc_list_class", "red_black_2complex"])
+@pytest.mark.parametrize("structure", ["red_black_map", "assoc_list_class", "red_black_2complex", "int_trie_map", "int_trie_2complex"])
 def test_correct_structures_pass_the_tests_at_scale(structure: str) -> None:
     tests = ["growth", "determinism", "isolation"]
     if structure == "red_black_map":
         report = run_conformance(red_black, tests=tests, workload_size=5_000)
+    elif structure == "int_trie_map":
+        from persistri.impl.maps.int_trie import int_trie
+
+        report = run_conformance(int_trie, tests=tests, workload_size=5_000, hashing=False)
+    elif structure == "int_trie_2complex":
+        report = run_simpcomp_conformance(complex_structure(2, "int_trie"), state=VertexState.initial, tests=tests, dims=(2,))
     elif structure == "assoc_list_class":  # a class: its second instances are new ones, not copies
         from persistri.impl.maps.assoc_list import AssocListMap
 

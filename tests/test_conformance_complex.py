@@ -90,7 +90,7 @@ class TestSimpCompEveryDimension(SimpCompConformance):
 
 def test_every_configuration_is_collected() -> None:
     names = {n for n in globals() if n.startswith("Test")}
-    assert len(names) == 3 * len(BACKEND_NAMES) + 1 and len(BACKEND_NAMES) == 6
+    assert len(names) == 3 * len(BACKEND_NAMES) + 1 and len(BACKEND_NAMES) == 7
 
 
 def test_base_class_has_one_method_per_suite_test() -> None:

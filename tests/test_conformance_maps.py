@@ -63,8 +63,14 @@ class TestPyrsistent(OrdMapConformance):
     structure = _load("pyrsistent")
 
 
+@_needs("int_trie")
+class TestIntTrie(OrdMapConformance):
+    structure = _load("int_trie")
+    hashing = False  # integer keys only: the colliding keys of the hashing kind are not integers
+
+
 def test_every_backend_has_a_conformance_class() -> None:
-    covered = {"assoc_list", "red_black", "hamt", "red_black_arena", "immutables", "pyrsistent"}
+    covered = {"assoc_list", "red_black", "hamt", "red_black_arena", "immutables", "pyrsistent", "int_trie"}
     assert covered == set(BACKENDS)
 
 

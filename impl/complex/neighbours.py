@@ -7,7 +7,8 @@ reading every vertex's list from the map at most once; :func:`neighbours_uncheck
 does the same for callers that pass only edges of triangles they hold, without
 checking each edge, and :func:`neighbours_unchecked_in_tree` the same again over
 the red-black backend's tree with its search written out in the function (the
-hull's walk: a vertex met first costs a descent and no Python call).  The
+hull's walk: a vertex met first costs a descent and no Python call), as
+:func:`neighbours_unchecked_in_trie` does over the integer trie's.  The
 compiled twin compiles this module (docs/performance.md).
 Vertices are ``Any`` here: the structure has validated the version.
 """
@@ -18,9 +19,11 @@ from collections.abc import Callable
 from typing import Any
 
 from persistri.impl.complex.vertex_lists import VertexList
+from persistri.impl.maps.int_trie_absent import ABSENT
+from persistri.impl.maps.int_trie_nodes import find as _trie_find
 from persistri.impl.maps.red_black_tree import Tree
 
-__all__ = ["neighbours_in", "neighbours_unchecked_in", "neighbours_unchecked_in_tree"]
+__all__ = ["neighbours_in", "neighbours_unchecked_in", "neighbours_unchecked_in_tree", "neighbours_unchecked_in_trie"]
 
 
 def neighbours_in(
@@ -117,6 +120,45 @@ def neighbours_unchecked_in_tree(tree: Tree) -> Callable[[Any], Any]:
             if cand is None or cand[2] < u:
                 return None
             lst = lists[u] = cand[3]
+        for e in lst:
+            if e[0] == w:
+                return (u, w, e[1]), e[2]
+        return None
+
+    return neighbour_in_c
+
+
+def neighbours_unchecked_in_trie(rep: Any) -> Callable[[Any], Any]:
+    """:func:`neighbours_unchecked_in` of an integer trie map ``(size, s, root, ns, nroot)``
+    (:mod:`persistri.impl.maps.int_trie`), its search written out here for the vertices ``≥ 0``: the same
+    answers.  A vertex met first costs a shift, a mask and an index a level (3 levels below 32,768
+    vertices) and no Python call; O(lg V + δ) for a vertex met first, O(δ) after.
+    """
+    lists: dict[Any, VertexList] = {}
+    height: int = rep[1]
+    root: Any = rep[2]
+    top = height + 5
+
+    def neighbour_in_c(s: Any) -> Any:
+        u, w = s
+        lst = lists.get(u)
+        if lst is None:
+            if u < 0:
+                x = _trie_find(rep[4], rep[3], ~u)
+            elif root is None or u >> top:
+                return None
+            else:
+                t = root
+                h = height
+                while h:
+                    t = t[(u >> h) & 31]
+                    if t is None:
+                        return None
+                    h -= 5
+                x = t[(u & 31) + 1]
+            if x is ABSENT:
+                return None
+            lst = lists[u] = x
         for e in lst:
             if e[0] == w:
                 return (u, w, e[1]), e[2]

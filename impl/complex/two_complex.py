@@ -68,7 +68,13 @@ from persistri.impl.complex.vertex_lists import (
     put,
     replace_batched,
 )
-from persistri.impl.complex.neighbours import neighbours_in, neighbours_unchecked_in, neighbours_unchecked_in_tree
+from persistri.impl.complex.neighbours import (
+    neighbours_in,
+    neighbours_unchecked_in,
+    neighbours_unchecked_in_tree,
+    neighbours_unchecked_in_trie,
+)
+from persistri.impl.maps.int_trie import find_unchecked as _int_trie_find
 from persistri.impl.maps.red_black_tree import find as _red_black_find
 from persistri.impl.stats import Stats
 from persistri.spec.option import Option
@@ -305,6 +311,8 @@ class TwoComplex(TwoComplexRep[D]):
         find = getattr(self._m, "find_unchecked", None) or self._m.find
         if find is _red_black_find:  # the red-black map (size, tree): its search written out in the walk
             return neighbours_unchecked_in_tree(rep[1])
+        if find is _int_trie_find:  # the integer trie (size, s, root, ns, nroot): its search written out
+            return neighbours_unchecked_in_trie(rep)
         return neighbours_unchecked_in(rep, find)
 
     def add(self, c: Complex[D], s: Simplex, x: D, /) -> Complex[D]:

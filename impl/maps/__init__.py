@@ -10,6 +10,8 @@ name                   structure                                       module
                        (compact histories; old nodes never freed)
 ``immutables``         adapter for ``immutables.Map`` (C HAMT)         :mod:`.immutables_adapter`
 ``pyrsistent``         adapter for ``pyrsistent.pmap``                 :mod:`.pyrsistent_adapter`
+``int_trie``           persistent radix trie over integer keys         :mod:`.int_trie`
+                       (no key comparisons; integer keys only)
 =====================  ==============================================  ============================
 
 :func:`backend` resolves a name to its structure (importing the module on first use,
@@ -30,6 +32,7 @@ BACKENDS: dict[str, str] = {
     "red_black_arena": "persistri.impl.maps.red_black_arena:red_black_arena",
     "immutables": "persistri.impl.maps.immutables_adapter:immutables_map",
     "pyrsistent": "persistri.impl.maps.pyrsistent_adapter:pyrsistent_map",
+    "int_trie": "persistri.impl.maps.int_trie:int_trie",
 }
 """Backend name → ``module:attribute`` of its structure."""
 
