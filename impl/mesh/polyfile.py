@@ -35,9 +35,9 @@ Cost: O(size of the file), in numpy for the numbers.
 
 from __future__ import annotations
 
-import re
-
+import codecs
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -110,9 +110,15 @@ class _Records:
     def __init__(self, path: PathLike) -> None:
         self.path = os.fspath(path)
         try:
-            text = Path(path).read_text(encoding="utf-8", errors="replace")
+            data = Path(path).read_bytes()
         except OSError as exc:
             raise PolyFileError(f"{self.path}: cannot read: {exc.strerror or exc}") from None
+        if data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):  # saved as "Unicode" by a Windows editor
+            text = data.decode("utf-16", errors="replace")
+        elif b"\x00" in data[:8192]:  # Triangle's files are text: a NUL byte is an archive, an image, a .npy ...
+            raise PolyFileError(f"{self.path}: not a Triangle file: binary data (a NUL byte at offset {data.index(0)})")
+        else:
+            text = data.decode("utf-8-sig", errors="replace")  # a byte order mark is not part of the first number
         self.lines: list[tuple[int, str]] = []
         for number, line in enumerate(text.splitlines(), start=1):
             body = line.split("#", 1)[0].strip()
