@@ -14,6 +14,7 @@ it gives the coordinate system (:mod:`persistri.impl.terrain.crs`).  Read by
 
 from __future__ import annotations
 
+import codecs
 from pathlib import Path
 
 import numpy as np
@@ -35,8 +36,12 @@ def read_asc(path: Path) -> HeightGrid:
     Every failure is a :class:`ValueError` naming the file (and the line, for a bad field). O(size).
     """
     header: dict[str, float] = {}
-    with path.open("r", encoding="ascii", errors="replace") as fh:
-        lines = fh.read().splitlines()
+    data = path.read_bytes()
+    if data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):  # saved as "Unicode" by a Windows editor
+        text = data.decode("utf-16", errors="replace")
+    else:  # ASCII by the format; a UTF-8 byte order mark is not part of "ncols"
+        text = data.decode("utf-8-sig", errors="replace")
+    lines = text.splitlines()
     body_start = 0
     for i, line in enumerate(lines):
         parts = line.split()
