@@ -9,7 +9,7 @@ BIN     := $(VENV)/bin
 PROFILE ?= $(if $(CI),ci,dev)
 export HYPOTHESIS_PROFILE := $(PROFILE)
 
-.PHONY: demo test install install-dev links typecheck pytest compiled pytest-twin proofs docs clean
+.PHONY: demo test install install-dev links typecheck pytest compiled twin-build pytest-twin proofs docs clean
 
 $(BIN)/python:
 	@$(PY) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else "persistri needs Python 3.11 or newer; set PY=python3.11")'
@@ -40,7 +40,12 @@ links: | $(BIN)/python
 		>$(VENV)/links.log 2>&1 || (cat $(VENV)/links.log; exit 1)
 
 install: $(VENV)/.installed links
+# `make test` installs once, then runs its checks in sub-makes with SKIP_INSTALL set.
+ifdef SKIP_INSTALL
+install-dev: ;
+else
 install-dev: $(VENV)/.installed-dev links
+endif
 
 demo: install
 	$(BIN)/persistri demo --out out
@@ -63,11 +68,19 @@ TWIN := build/compiled
 compiled: install-dev
 	$(BIN)/python tools/compiled_twin.py $(TWIN)
 
-pytest-twin: install-dev
+# Build the twin if this machine can (exit 2 from the builder: no C compiler or headers, so no twin).
+twin-build: install-dev
 	@$(BIN)/python tools/compiled_twin.py $(TWIN); status=$$?; \
-	if [ $$status -eq 2 ]; then echo "pytest-twin: skipped, the compiled twin needs a C compiler and Python headers"; exit 0; fi; \
+	if [ $$status -eq 2 ]; then echo "twin-build: skipped, the compiled twin needs a C compiler and Python headers"; exit 0; fi; \
+	exit $$status
+
+# The whole suite on the twin, at the quick hypothesis profile: the thorough search of examples runs on the
+# interpreted build (`pytest`); the twin is the same source compiled, and its run checks every test on it.
+pytest-twin: twin-build
+	@$(BIN)/python tools/compiled_twin.py $(TWIN) >/dev/null; status=$$?; \
+	if [ $$status -eq 2 ]; then echo "pytest-twin: skipped, no compiled twin on this machine"; exit 0; fi; \
 	if [ $$status -ne 0 ]; then exit $$status; fi; \
-	PYTHONPATH=$(TWIN) PERSISTRI_TWIN=1 $(BIN)/python -m pytest -n 2 -p no:cacheprovider -q
+	PYTHONPATH=$(TWIN) PERSISTRI_TWIN=1 HYPOTHESIS_PROFILE=dev $(BIN)/python -m pytest -n 2 -p no:cacheprovider -q
 
 proofs: install-dev
 	$(BIN)/python -m proofs
@@ -79,7 +92,11 @@ docs: install-dev
 	$(BIN)/python docs/figures.py
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 
-test: typecheck pytest pytest-twin proofs docs
+# The single-threaded checks (mypy, the proofs' sympy part, the twin's compilation, the docs) run two at a
+# time, each one's output printed whole when it ends; then the two pytest runs, each on both cores.
+test: install-dev
+	@$(MAKE) --no-print-directory SKIP_INSTALL=1 -j2 --output-sync=target typecheck proofs twin-build docs
+	@$(MAKE) --no-print-directory SKIP_INSTALL=1 pytest pytest-twin
 	@echo "make test: all checks passed"
 
 clean:

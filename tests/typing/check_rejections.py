@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
 import sys
 import tempfile
 import tomllib
@@ -308,12 +309,28 @@ def _python_version() -> str:
     return version
 
 
+def _seed_cache() -> None:
+    """Start a pytest-xdist worker's empty cache as a copy of the one ``make typecheck`` leaves (``main``).
+
+    The snippets import persistri, so a cold cache type-checks the whole package again (about a CPU minute);
+    mypy revalidates every entry it reads, so a copy is never trusted beyond what it checks itself.
+    """
+    main = CACHE_DIR.parent / "main"
+    if CACHE_DIR.exists() or CACHE_DIR == main or not main.is_dir():
+        return
+    try:
+        shutil.copytree(main, CACHE_DIR)
+    except OSError:  # a copy half made is removed: mypy then starts cold, as without one
+        shutil.rmtree(CACHE_DIR, ignore_errors=True)
+
+
 def run_checks(snippets: tuple[Snippet, ...] | None = None) -> list[str]:
     """Type-check every snippet in one mypy run; the violated expectations (empty: all good)."""
     from mypy import api  # imported here so that importing this module stays cheap
 
     if snippets is None:
         snippets = SNIPPETS
+    _seed_cache()
     CACHE_DIR.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="persistri-rejections-") as tmp:
         paths: dict[str, Snippet] = {}
