@@ -270,7 +270,7 @@ CASES: dict[str, Case] = {
         Case("wrong columns", _wrong_columns, r"line 1: expected 3 numbers, got 4|at least 2 rows and 2 columns"),
         Case("nan", _nan, r"line 3: a coordinate is not finite|every cell is no-data|nan\.node:4: a vertex line has a value that is not finite"),
         Case("inf", _inf, r"not finite|infinite"),
-        Case("binary garbage", _garbage_binary, r"not a \.npy file|not a \.npz archive|garbage\.node:1: the vertex count line: .* must be an integer"),
+        Case("binary garbage", _garbage_binary, r"not a \.npy file|not a \.npz archive|garbage\.node: not a Triangle file: binary data \(a NUL byte at offset \d+\)"),
         Case("text garbage", _garbage_text, r"binary|not UTF-8|not an ESRI|not a readable|garbage\.poly:1: the vertex count line: .* must be an integer"),
         Case("not utf-8", _not_utf8, r"not UTF-8|not an ESRI|not a readable"),
         Case("unreadable", _unreadable_file, r"permission denied"),
