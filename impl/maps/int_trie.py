@@ -149,11 +149,23 @@ def _items(m: TrieMap) -> list[tuple[Any, Any]]:
 
 def find_unchecked(m: TrieMap, k: Any) -> Option[Any]:
     """``find`` for a key known to be an ``int``: persistri's addition, for the 2-complex's walks (the
-    vertices are validated before).  O(b)."""
+    vertices are validated before).  The descent of :func:`~persistri.impl.maps.int_trie_nodes.find`
+    written out here (on the interpreter a call costs about as much as two levels).  O(b)."""
     if k >= 0:
-        v = _t.find(m[2], m[1], k)
+        t: Any = m[2]
+        s = m[1]
     else:
-        v = _t.find(m[4], m[3], ~k)
+        t = m[4]
+        s = m[3]
+        k = ~k
+    if t is None or k >> (s + 5):
+        return None
+    while s:
+        t = t[(k >> s) & 31]
+        if t is None:
+            return None
+        s -= 5
+    v = t[(k & 31) + 1]
     return None if v is ABSENT else (v,)
 
 
@@ -287,8 +299,27 @@ class IntTrieMap(Generic[K, V]):
     """``find`` for a key known to be an ``int`` (the 2-complex's walks).  O(b)."""
 
     def find(self, m: TrieMap, k: K, /) -> Option[V]:
-        """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``. O(b)."""
-        return find_unchecked(m, _key(k))
+        """``(v,)`` if ``k ↦ v`` is in ``m``, else ``None``: :func:`find_unchecked` after the key's type
+        test, written out (the 2-complex's look-ups).  O(b)."""
+        i: Any = k
+        if not isinstance(i, int):
+            _key(i)
+        if i >= 0:
+            t: Any = m[2]
+            s = m[1]
+        else:
+            t = m[4]
+            s = m[3]
+            i = ~i
+        if t is None or i >> (s + 5):
+            return None
+        while s:
+            t = t[(i >> s) & 31]
+            if t is None:
+                return None
+            s -= 5
+        v = t[(i & 31) + 1]
+        return None if v is ABSENT else (v,)
 
     def lookup(self, m: TrieMap, k: K, /) -> V:
         """The value of ``k``; raises :class:`NotFound` if absent. O(b)."""
