@@ -244,7 +244,9 @@ class SimpCompConformance:
         """Run the suite's test ``name`` under the active hypothesis profile (a skip becomes a pytest skip)."""
         test = _TESTS_BY_NAME[name]
         cfg = self.conformance_config()
-        hs = settings(deadline=None) if self.max_examples is None else settings(deadline=None, max_examples=self.max_examples)
+        hs = settings(deadline=None, report_multiple_bugs=False)
+        if self.max_examples is not None:
+            hs = settings(hs, max_examples=self.max_examples)
         try:
             run_body(test, cfg, hs, LawViolation, second_config)
         except ConformanceSkip as skip:

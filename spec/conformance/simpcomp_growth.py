@@ -152,7 +152,10 @@ class _Run:
     # -- checks ----------------------------------------------------------------------------------
 
     def data(self, v: int, t: tuple[int, ...], want: tuple[Any] | None, had: bool = True) -> str | None:
-        got = self.C.data(self.versions[v], self.simplex(t))
+        try:
+            got = self.C.data(self.versions[v], self.simplex(t))
+        except Exception as exc:
+            return f"data(version {v}, {self._shown(t)}) raised {type(exc).__name__}: {exc}"
         if _same(want, got):
             return None
         return f"data(version {v}, {self._shown(t)}) = {_show(got)}, but {'it was' if had else 'want'} {_show(want)}"
@@ -253,7 +256,11 @@ class _Run:
         if op.kind == "add" and self.plan.n >= 1:
             S = self.C.Simplex
             f = face(op.simplex)
-            found = [oriented_key(S, u) for u in self.C.find(self.versions[op.result], self.simplex(f))]
+            try:
+                found = [oriented_key(S, u) for u in self.C.find(self.versions[op.result], self.simplex(f))]
+            except Exception as exc:
+                detail = f"find(version {op.result}, {self._shown(f)}) raised {type(exc).__name__}: {exc}"
+                return GrowthFailure(law, i, "find", detail)
             if oriented_key(S, self.simplex(op.simplex)) not in found:
                 detail = f"find(version {op.result}, {self._shown(f)}) does not report the added {self._shown(op.simplex)}"
                 return GrowthFailure(law, i, "find", detail)
