@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from persistri.spec.conformance.simpcomp_config import SimpCompSuiteConfig, pool_size, vertex_pool
 from persistri.spec.conformance.simpcomp_history import check_version, held, simplex_of
-from persistri.spec.simpcomp_laws import LawViolation, OrientedKey, oriented_key, representative
+from persistri.spec.simpcomp_laws import LawViolation, OrientedKey, law_agrees, oriented_key, representative
 
 __all__ = ["VALUES", "ComplexCase", "case_test", "complex_cases"]
 
@@ -62,6 +62,8 @@ class ComplexCase:
                 raise LawViolation("rem", f"while building the case's complex: rem(c, {s!r}) of a held simplex raised {exc!r}") from exc
             del model[key]
             check_version(cfg, c, "while building the case's complex")
+            # A wrong rem is named here, not later as "persistence" of the version a law is given.
+            law_agrees(C, c, n, model, f"after rem(c, {s!r}) while building the case's complex")
         return pool, c, model
 
 
