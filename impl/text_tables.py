@@ -244,6 +244,32 @@ def _select(
     return usecols, at
 
 
+def _named_rows(lines: list[str], content: list[int]) -> str:
+    """Why a file whose every line starts with text holds no points, when its rows are names then numbers
+    (``name,lon,lat,elev`` / ``p1,5.1,40.2,12``): the header names the columns to choose; else "". O(1) lines."""
+    if len(content) < 2:
+        return ""
+    row = lines[content[1]].replace('"', "")
+    delimiter = _delimiter(row)
+    named = _names(lines[content[0]], delimiter)
+    fields = [f.strip() for f in row.split(delimiter)]
+    numeric = 0
+    for f in fields[1:]:
+        try:
+            float(f)
+            numeric += 1
+        except ValueError:
+            pass
+    if re.fullmatch(r"[+-]?\d{1,3}(,\d{3})+(\.\d*)?", fields[0]):
+        return f"{quote(fields[0])} is not a number (a thousands separator? persistri reads {fields[0].replace(',', '')})"
+    if len(named) < 2 or numeric < 2:
+        return ""
+    return (
+        f"{quote(fields[0])} is not a number, nor is the first field of any line; choose the columns by the "
+        f"header's names ({quote(', '.join(named))[1:-1]}): --columns, or fields= in Python"
+    )
+
+
 def read_text(
     path: Path, columns: Sequence[int] | None, what: str = "points", fields: Fields | None = None
 ) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
@@ -271,6 +297,9 @@ def read_text(
             raise InputFileError(path, f"no {what}: column {usecols[0]} holds no number on any line")
         shown = "a header line" if headers == 1 else f"{headers} lines of text"
         opening = lines[content[0]].strip()
+        named_rows = _named_rows(lines, content)
+        if named_rows:
+            raise InputFileError(path, named_rows, line=content[1] + 1)
         raise InputFileError(
             path,
             f"no {what}: {shown} and no row of numbers separated by commas, semicolons, tabs or spaces "
