@@ -63,7 +63,18 @@ _Simplex = Simplex  # inside SimpComp, ``Simplex`` is the signature's sub-struct
 
 
 def _resolve(backend: Any) -> Any:
-    return backend_named(backend) if isinstance(backend, str) else backend
+    """The ``ORD_MAP`` structure ``backend`` names, or ``backend`` itself when it is one; a :class:`TypeError`
+    naming what it lacks otherwise (``backend=3`` used to fail deep inside, as "'int' object has no attribute
+    'insert'")."""
+    if isinstance(backend, str):
+        return backend_named(backend)
+    lacking = [op for op in ("empty", "insert", "find", "remove") if not callable(getattr(backend, op, None))]
+    if lacking:
+        raise TypeError(
+            f"backend must be a map backend's name or an ORD_MAP structure, not {type(backend).__name__} "
+            f"(it has no {', '.join(lacking)})"
+        )
+    return backend
 
 
 def complex_structure(
