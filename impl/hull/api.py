@@ -237,6 +237,10 @@ def convex_hull(
     """
     check, history, stepwise = flag("check", check), flag("history", history), flag("stepwise", stepwise)
     arr = as_points(points, 3)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+        raise TypeError(f"seed must be an integer, not {type(seed).__name__}")
+    if seed < 0:
+        raise ValueError(f"seed must be a non-negative integer, got {seed}")
     if labels not in ("spatial", "input"):
         raise ValueError(f"convex_hull: labels must be 'spatial' or 'input', got {labels!r}")
     if structure is None:

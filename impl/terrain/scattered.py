@@ -343,6 +343,8 @@ def delaunay(
     arr = as_points(points_xy, 2, what="points_xy")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
         raise TypeError(f"seed must be an integer, not {type(seed).__name__}")
+    if seed < 0:
+        raise ValueError(f"seed must be a non-negative integer, got {seed}")
     uniq = unique_rows(arr)
     rows = uniq.first
     n_rows = arr.shape[0]
