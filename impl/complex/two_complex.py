@@ -74,7 +74,7 @@ from persistri.impl.complex.neighbours import (
     neighbours_unchecked_in_tree,
     neighbours_unchecked_in_trie,
 )
-from persistri.impl.maps.int_trie import find_unchecked as _int_trie_find
+from persistri.impl.maps.int_trie_nodes import find_unchecked as _int_trie_find
 from persistri.impl.maps.red_black_tree import find as _red_black_find
 from persistri.impl.stats import Stats
 from persistri.spec.option import Option

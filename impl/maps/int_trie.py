@@ -61,7 +61,9 @@ from typing import Any, Final, Generic, TypeAlias, TypeVar
 
 from persistri.impl.maps import int_trie_nodes as _t
 from persistri.impl.maps.int_trie_absent import ABSENT
-from persistri.impl.maps.int_trie_nodes import BITS, EMPTY_INNER, EMPTY_KEYS, MASK, FailedWith, Node
+from persistri.impl.maps.int_trie_nodes import BITS, EMPTY_INNER, EMPTY_KEYS, MASK, Node
+from persistri.impl.maps.int_trie_nodes import adjust_insert_map, adjust_sorted_map, find_unchecked
+from persistri.impl.maps.int_trie_nodes import put_map
 from persistri.spec.option import Option
 from persistri.spec.ord_map import NotFound
 from persistri.spec.order import NATURAL_ORDER, NaturalOrder
@@ -78,6 +80,9 @@ TrieMap: TypeAlias = tuple[int, int, "Node | None", int, "Node | None"]
 _NAME: Final = "int_trie"
 _EMPTY: Final[TrieMap] = (0, 0, None, 0, None)
 
+_put: Callable[[TrieMap, int, Any, Callable[[Any, Any], Any] | None], TrieMap] = put_map
+"""``m`` with ``k ↦ v`` (or ``f(old, v)`` when present and ``f`` given): the nodes' ``put_map``.  O(b)."""
+
 
 class NotAnIntKey(TypeError):
     """A key that is not a Python integer, given to the integer trie."""
@@ -88,27 +93,6 @@ def _key(k: Any) -> int:
     if isinstance(k, int):
         return k
     raise NotAnIntKey(f"{_NAME}: key {k!r} of type {type(k).__name__} is not an int (this backend's keys are integers)")
-
-
-def _put(m: TrieMap, k: int, v: Any, f: Callable[[Any, Any], Any] | None) -> TrieMap:
-    """``m`` with ``k ↦ v`` (or ``f(old, v)`` when present and ``f`` is given).  O(b)."""
-    n, s, root, ns, nroot = m
-    i = k if k >= 0 else ~k
-    h = s if k >= 0 else ns
-    t = root if k >= 0 else nroot
-    if t is None:
-        h = _t.height_for(i)
-    elif i >> (h + BITS):
-        to = _t.height_for(i)
-        t = _t.grow(t, h, to)
-        h = to
-    added: list[int] = []
-    try:
-        new = _t.put(t, h, i, k, v, f, added)
-    except FailedWith as failed:
-        raise failed.exc from None
-    n += len(added)
-    return (n, h, new, ns, nroot) if k >= 0 else (n, s, root, h, new)
 
 
 def _shrink(t: Node | None, s: int) -> tuple[Node | None, int]:
@@ -145,100 +129,6 @@ def _items(m: TrieMap) -> list[tuple[Any, Any]]:
     _walk(m[4], m[3], True, out)
     _walk(m[2], m[1], False, out)
     return out
-
-
-def find_unchecked(m: TrieMap, k: Any) -> Option[Any]:
-    """``find`` for a key known to be an ``int``: persistri's addition, for the 2-complex's walks (the
-    vertices are validated before).  The descent of :func:`~persistri.impl.maps.int_trie_nodes.find`
-    written out here (on the interpreter a call costs about as much as two levels).  O(b)."""
-    if k >= 0:
-        t: Any = m[2]
-        s = m[1]
-    else:
-        t = m[4]
-        s = m[3]
-        k = ~k
-    if t is None or k >> (s + 5):
-        return None
-    while s:
-        t = t[(k >> s) & 31]
-        if t is None:
-            return None
-        s -= 5
-    v = t[(k & 31) + 1]
-    return None if v is ABSENT else (v,)
-
-
-def adjust_insert_map(
-    f: Callable[[Any, Any], Any], m: TrieMap, keys: list[Any], vals: list[Any], j: int, v: Any
-) -> tuple[TrieMap, list[int], list[int], bool]:
-    """``(m', absent, emptied, inserted)``: ``m`` with ``x ↦ f(x, vals[i])`` at each present ``keys[i]``
-    (strictly increasing ints; nothing checked), and, when ``0 ≤ j < len(keys)`` and ``keys[j]`` is absent,
-    ``keys[j] ↦ v`` inserted in the same descent (``inserted``).  ``absent``: the indices of the other keys
-    not in ``m``; ``emptied``: those whose new value is falsy.  Exceptions of ``f`` propagate unchanged.
-    O(k + new nodes).  ``j = -1``: :meth:`IntTrieMap.adjust_sorted`.
-    """
-    n, s, root, ns, nroot = m
-    absent: list[int] = []
-    emptied: list[int] = []
-    hi = len(keys)
-    if hi and keys[0] < 0:  # negative keys (never a complex's vertices): one key at a time
-        return _adjust_slowly(f, m, keys, vals, j, v)
-    if 0 <= j < hi and (root is None or keys[j] >> (s + BITS)):  # the new key needs a taller trie
-        to = _t.height_for(keys[j])
-        root = _t.grow(root, s, to) if root is not None else None
-        s = to
-    while hi and keys[hi - 1] >> (s + BITS):  # beyond the trie: absent
-        hi -= 1
-        absent.append(hi)
-    absent.reverse()
-    added: list[int] = []
-    if root is None:
-        if 0 <= j < hi:
-            root = _t.path(s, keys[j], keys[j], v)
-            added.append(j)
-        absent = [i for i in range(hi) if i != j] + absent
-        return (n + len(added), s, root, ns, nroot), absent, emptied, bool(added)
-    beyond = absent
-    absent = []
-    try:
-        new = _t.adjust(root, s, keys, vals, 0, hi, f, absent, emptied, j, v, added) if hi else root
-    except FailedWith as failed:
-        raise failed.exc from None
-    if beyond:
-        absent.extend(beyond)
-    return (n + len(added), s, new, ns, nroot), absent, emptied, bool(added)
-
-
-def _adjust_slowly(
-    f: Callable[[Any, Any], Any], m: TrieMap, keys: list[Any], vals: list[Any], j: int, v: Any
-) -> tuple[TrieMap, list[int], list[int], bool]:
-    """:func:`adjust_insert_map` one key at a time (for negative keys).  O(k·b)."""
-    absent: list[int] = []
-    emptied: list[int] = []
-    inserted = False
-    for i, k in enumerate(keys):
-        if find_unchecked(m, k) is None:
-            if i == j:
-                m = _put(m, k, v, None)
-                inserted = True
-            else:
-                absent.append(i)
-            continue
-        m = _put(m, k, vals[i], f)
-        found = find_unchecked(m, k)
-        assert found is not None
-        if not found[0]:
-            emptied.append(i)
-    return m, absent, emptied, inserted
-
-
-def adjust_sorted_map(
-    f: Callable[[Any, Any], Any], m: TrieMap, keys: list[Any], vals: list[Any]
-) -> tuple[TrieMap, list[int], list[int]]:
-    """``(m', absent, emptied)``: :func:`adjust_insert_map` with no key to insert.  O(k + new nodes)."""
-    out, absent, emptied, _ = adjust_insert_map(f, m, keys, vals, -1, None)
-    return out, absent, emptied
 
 
 # -- the structure ------------------------------------------------------------------
