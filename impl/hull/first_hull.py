@@ -6,9 +6,10 @@ other point is associated with the face through which the ray ``c → q``
 leaves the tetrahedron (Appendix A.1): the face's **cone**.
 :func:`cones_by_planes` computes the cones by their definition (the counted
 and checked runs), :func:`cones_by_tree` by a decision tree of three tests per
-point; :func:`first_hull` — the first version of a run of
-:class:`~persistri.impl.hull.bulldozer.Bulldozer` — uses one or the other.
-Each is O(n) plane-side tests, vectorised.  Once per run, so interpreted, beside
+point, and :func:`seen_in_cones` the points of each cone that see its face by
+that tree's planes over whole columns (uncounted runs); :func:`first_hull` — the
+first version of a run of :class:`~persistri.impl.hull.bulldozer.Bulldozer` —
+uses one of them.  Each is O(n) plane-side tests, vectorised.  Once per run, so interpreted, beside
 the compiled insertion loop.
 """
 
@@ -205,7 +206,8 @@ def seen_in_cones(bd: Bulldozer, tetra: tuple[int, int, int, int], faces: list[T
     points a gathered partition costs about 75 instructions a point, most of them numpy's ``take``; a plane
     over every point about 15).  The few tests it leaves undecided are settled by the kernel's ``orient3d``
     (exactly, then by SoS) where the tree asks them.  The same signs, so the same lists.  None when the point
-    set has no semi-static stage (an extreme dynamic range: the kernel tests through the checked methods).  O(n).
+    set has no semi-static stage (an extreme dynamic range: the kernel tests through the checked methods).
+    Appendix A.1 (the association of points to faces).  O(n).
     """
     pred = bd.pred
     if not pred._uniform:
