@@ -171,17 +171,18 @@ def test_every_version_of_thousands_of_updates_is_kept(span: int) -> None:
 
 def test_the_batched_update_is_the_red_black_maps() -> None:
     """``adjust_insert`` and ``adjust_sorted`` give the red-black map's items and reports (the 2-complex's
-    replace relies on them), on the same random batches."""
+    replace relies on them), on the same random batches, some with negative keys (the Delaunay's ghost vertex
+    is -1)."""
     rnd = random.Random(3)
     t, r = S.empty(), red_black.empty()
-    for k in rnd.sample(range(3000), 1500):
+    for k in rnd.sample(range(-40, 3000), 1500):
         t, r = S.insert(t, k, (k,)), red_black.insert(r, k, (k,))
 
     def f(old: Any, v: Any) -> Any:
         return old[1:] + v
 
     for _ in range(500):
-        ks = sorted(rnd.sample(range(3000), rnd.randint(1, 9)))
+        ks = sorted(rnd.sample(range(-40, 3000) if rnd.random() < 0.3 else range(3000), rnd.randint(1, 9)))
         vals = [(i,) for i in range(len(ks))]
         t2, ta, te = S.adjust_sorted(f, t, ks, vals)
         r2, ra, re_ = red_black.adjust_sorted(f, r, ks, vals)

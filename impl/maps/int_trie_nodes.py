@@ -366,8 +366,17 @@ def adjust_insert_map(
     absent: list[int] = []
     emptied: list[int] = []
     hi = len(keys)
-    if hi and keys[0] < 0:  # negative keys (never a complex's vertices): one key at a time
-        return _adjust_slowly(f, m, keys, vals, j, v)
+    if hi and keys[0] < 0:  # negative keys (the Delaunay's ghost vertex, -1): those one at a time, then the rest
+        neg = 1
+        while neg < hi and keys[neg] < 0:
+            neg += 1
+        m, absent, emptied, inserted = _adjust_slowly(f, m, keys[:neg], vals[:neg], j if j < neg else -1, v)
+        if neg == hi:
+            return m, absent, emptied, inserted
+        m, a2, e2, i2 = adjust_insert_map(f, m, keys[neg:], vals[neg:], j - neg if j >= neg else -1, v)
+        absent.extend([i + neg for i in a2])
+        emptied.extend([i + neg for i in e2])
+        return m, absent, emptied, inserted or i2
     if 0 <= j < hi and (root is None or keys[j] >> (s + BITS)):  # the new key needs a taller trie
         to = height_for(keys[j])
         root = grow(root, s, to) if root is not None else None
