@@ -17,6 +17,7 @@ paths evaluate the same formula.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Final, Protocol, Self, TypeVar
 
@@ -88,15 +89,23 @@ def grain_span(values: NDArray[np.float64]) -> tuple[int, int] | None:
     the vectorised passes of :func:`binary_exponents`.
     """
     flat = np.asarray(values, dtype=np.float64).ravel()
-    frac, exp = np.frexp(flat)
-    nonzero = frac != 0
-    if not nonzero.any():
+    # The frexp exponent grows with the magnitude, so the least and greatest exponents of the nonzero entries
+    # are those of the least nonzero and the greatest magnitude: three cheap passes, not frexp's (about 30
+    # instructions an entry) and its masked reductions.
+    mags = np.abs(flat)
+    if not mags.size:
         return None
-    e = int(exp.min(where=nonzero, initial=ZERO_LOW))
-    h = int(exp.max(where=nonzero, initial=-ZERO_LOW))
+    greatest = float(mags.max())
+    if greatest == 0:
+        return None
+    least = float(mags.min())
+    if least == 0:
+        least = float(mags.min(where=mags != 0, initial=math.inf))
+    e = math.frexp(least)[1]
+    h = math.frexp(greatest)[1]
     shift = 53 - e
     if h + shift > 1024:  # a quotient could reach 2^1024: decide entry by entry
-        low, high = binary_exponents(flat[nonzero])
+        low, high = binary_exponents(flat[flat != 0])
         return int(low.min()), int(high.max())
     # Each product is an integer below 2^1024, so multiplying by 2^shift is exact, and it costs a fraction
     # of ldexp's per-entry work (about 48 instructions an entry); 2^shift must itself be a normal double.
