@@ -41,6 +41,7 @@ MODULES = (
     "persistri/impl/maps/red_black_arena_tree.py",
     "persistri/impl/maps/red_black_arena_delete.py",
     "persistri/impl/maps/red_black_arena_adjust.py",
+    "persistri/impl/maps/int_trie_nodes.py",
     "persistri/impl/complex/vertex_lists.py",
     "persistri/impl/complex/vertex_changes.py",
     "persistri/impl/complex/replace.py",
