@@ -43,7 +43,7 @@ class Delaunay(Generic[H]):
     """The exact Delaunay triangulation of 2D points (paper §5), in the shape of :class:`scipy.spatial.Delaunay`.
 
     ``Delaunay(points, furthest_site=False, incremental=False, qhull_options=None, *,
-    backend="red_black", seed=0, check=False, stats=None, history=False)``
+    backend="int_trie", seed=0, check=False, stats=None, history=False)``
     triangulates ``points`` (``(n, 2)`` reals), every decision exact, ties among
     cocircular points broken by Simulation of Simplicity
     (:func:`persistri.impl.terrain.scattered.delaunay` documents the arguments).
@@ -159,7 +159,7 @@ class Delaunay(Generic[H]):
         incremental: bool = False,
         qhull_options: str | None = None,
         *,
-        backend: str = "red_black",
+        backend: str = "int_trie",
         seed: int = 0,
         check: bool = False,
         stats: Stats | None = None,

@@ -224,7 +224,7 @@ def test_vertices_numbered_along_the_curve_share_the_maps_paths() -> None:
     at 2,000 uniform points, where labels by input row took about 45 (an operation count, not a time)."""
     from tests.tree_helpers import nodes
 
-    t = delaunay(np.random.default_rng(8).random((2000, 2)), history=True)
+    t = delaunay(np.random.default_rng(8).random((2000, 2)), history=True, backend="red_black")  # counts tree nodes
     assert t.history is not None
     assert sorted(t.labels[:-1].tolist()) == list(range(2000)) and t.labels[-1] == -1
     versions = t.history.versions

@@ -106,7 +106,7 @@ def run_delaunay_bench(
     sizes: Sequence[int] = DEFAULT_DELAUNAY_SIZES,
     *,
     seed: int = 0,
-    backend: str = "red_black",
+    backend: str = "int_trie",
     repeat: int = 1,
     on_progress: ProgressCallback | None = None,
 ) -> DelaunayBench:

@@ -131,7 +131,7 @@ def terrain(
 )
 @click.option("--repeat", type=click.IntRange(min=1), default=1, show_default=True, help="Timed runs per figure; the best is kept.")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of the points and of the insertion order.")
-@click.option("--backend", default="red_black", show_default=True, help="ORD_MAP backend of the complex.")
+@click.option("--backend", default="int_trie", show_default=True, help="ORD_MAP backend of the complex.")
 @click.option("--json", "as_json", is_flag=True, help="Print the records as JSON instead of a table.")
 def delaunay_(sizes: tuple[int, ...], repeat: int, seed: int, backend: str, as_json: bool) -> None:
     """Exact 2D Delaunay of uniform random points against scipy.spatial.Delaunay (Qhull), in the same run.

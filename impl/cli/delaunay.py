@@ -22,7 +22,7 @@ __all__ = ["delaunay_command"]
 @click.argument("input_path", metavar="INPUT", type=FILE_PATH)
 @click.option("-o", "--output", type=FILE_PATH, help=f"Output ({', '.join(MESH_FORMATS)}).")
 @click.option("--plot", type=FILE_PATH, help=f"Draw the triangulation to this image ({', '.join(PLOT_FORMATS)}).")
-@click.option("--backend", default="red_black", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
+@click.option("--backend", default="int_trie", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
 @click.option("--columns", metavar="A,B[,C]", callback=parse_columns, help="The columns to read as x,y[,z]: numbers from 0 or header names (text files; x, y, z for .ply; numbers for .npy).  [default: the header's x,y,z, else every column]")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed of the insertion order.")
 @click.option("--check", is_flag=True, help="Assert the insertion invariants and verify the triangulation exactly.")

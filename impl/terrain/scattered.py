@@ -313,7 +313,7 @@ def verify_result(result: DelaunayTriangulation) -> None:
 def delaunay(
     points_xy: ArrayLike,
     *,
-    backend: str = "red_black",
+    backend: str = "int_trie",
     check: bool = False,
     stats: Stats | None = None,
     seed: int = 0,
