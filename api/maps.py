@@ -16,6 +16,8 @@ structure         its class, values    what
 ``red_black_      ``ArenaRedBlack      the same red-black tree, its nodes in an append-only arena of
 arena``           Map``, ``ArenaMap``  integer indices: a third of the memory for a kept history, but
                                        nodes of dropped versions are never freed (for histories)
+``int_trie``      ``IntTrieMap``,      a radix trie on the bits of integer keys (vertex ids): no key
+                  ``TrieMap``          comparisons; the scattered Delaunay's default
 ================  ===================  ===============================================================
 
 ``backend(name)`` resolves any name of :data:`BACKENDS` (the adapters for
@@ -34,6 +36,7 @@ from persistri.impl.maps import BACKENDS, UnknownBackendError, backend
 from persistri.impl.maps.assoc_list import ALMap, AssocListMap, assoc_list
 from persistri.impl.maps.counted import counted
 from persistri.impl.maps.hamt import HamtMap, HMap, hamt
+from persistri.impl.maps.int_trie import IntTrieMap, TrieMap, int_trie
 from persistri.impl.maps.red_black import RBMap, RedBlackMap, red_black
 from persistri.impl.maps.red_black_arena import ArenaMap, ArenaRedBlackMap, red_black_arena
 
@@ -42,6 +45,7 @@ __all__ = [
     "red_black",
     "hamt",
     "red_black_arena",
+    "int_trie",
     "AssocListMap",
     "ALMap",
     "RedBlackMap",
@@ -50,6 +54,8 @@ __all__ = [
     "HMap",
     "ArenaRedBlackMap",
     "ArenaMap",
+    "IntTrieMap",
+    "TrieMap",
     "counted",
     "backend",
     "BACKENDS",
