@@ -30,7 +30,7 @@ class _Failures:
 
 def test_a_forgetful_rem_fails_under_its_law_not_as_an_exception_group(tmp_path: Path) -> None:
     (tmp_path / "pytest.ini").write_text("[pytest]\n")
-    (tmp_path / "test_outsider.py").write_text(
+    (tmp_path / "test_outsider_complex_report.py").write_text(
         textwrap.dedent(
             """
             import outside_star_complex as star
@@ -46,7 +46,7 @@ def test_a_forgetful_rem_fails_under_its_law_not_as_an_exception_group(tmp_path:
     )
     failures = _Failures()
     code = pytest.main(
-        [str(tmp_path / "test_outsider.py"), "-c", str(tmp_path / "pytest.ini"), "--rootdir", str(tmp_path),
+        [str(tmp_path / "test_outsider_complex_report.py"), "-c", str(tmp_path / "pytest.ini"), "--rootdir", str(tmp_path),
          "-p", "no:cacheprovider", "--hypothesis-profile=conformance-user-default", "--import-mode=importlib",
          "-q", "-k", "test_rem or test_update"],
         plugins=[failures],
