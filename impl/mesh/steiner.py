@@ -110,17 +110,16 @@ def steiner_point(
     if den <= 0:
         raise ValueError(f"triangle {(p, q, r)} is not counterclockwise: no circumcentre to insert")
     d2, g2 = dx * dx + dy * dy, gx * gx + gy * gy
-    # The circumcentre c = (cx, cy) / den, in units 2^ex.
-    cx = pp[0] * den + gy * d2 - dy * g2
-    cy = pp[1] * den + dx * g2 - gx * d2
     if offconstant > 0.0:
         kn, kd = offconstant.as_integer_ratio()
-        # Twice the midpoint m, in units 2^ex; the off-centre o = m + k (−dy, dx) as (ox, oy) / (2 kd).
-        sx, sy = pp[0] + pq[0], pp[1] + pq[1]
-        # |o − m|² = k² |pq|² against |c − m|² = |2c − 2m|² / 4, everything over (2 den kd)².
-        lhs = 4 * kn * kn * d2 * den * den
-        rhs = kd * kd * ((2 * cx - sx * den) ** 2 + (2 * cy - sy * den) ** 2)
-        if lhs < rhs:
+        # The off-centre o = m + k (−dy, dx) is nearer to pq than c when |o − m| < |c − m|: k |pq| < |pq| |cot R| / 2
+        # (c − m is perpendicular to pq; R is the angle at r), i.e. 2 k (d × g) < |(p − r) · (q − r)| with
+        # d × g = den / 2 and (p − r) · (q − r) = g2 − d · g: kn den < kd |g2 − d · g|, exactly, on integers
+        # a few times shorter than those of the squared distances (tested against them: test_mesh_steiner.py).
+        dot_r = g2 - dx * gx - dy * gy
+        if kn * den < kd * (dot_r if dot_r >= 0 else -dot_r):
+            # Twice the midpoint m, in units 2^ex; o as (ox, oy) / (2 kd).
+            sx, sy = pp[0] + pq[0], pp[1] + pq[1]
             ox = sx * kd - 2 * kn * dy
             oy = sy * kd + 2 * kn * dx
             kd2 = 2 * kd
@@ -134,6 +133,9 @@ def steiner_point(
             if not 2 * (u - ex) + 5 < d2.bit_length() - 1:
                 _check_rounding(ox, oy, kd2, ex, x, y, d2, (p, q, r))
             return x, y, True
+    # The circumcentre c = (cx, cy) / den, in units 2^ex.
+    cx = pp[0] * den + gy * d2 - dy * g2
+    cy = pp[1] * den + dx * g2 - gx * d2
     # _to_double(cx, den, ex), _to_double(cy, den, ex), inlined.
     if ex >= 0:
         x, y = cx * (1 << ex) / den, cy * (1 << ex) / den
