@@ -2,7 +2,8 @@
 
 A thin, immutable view of :func:`persistri.impl.hull.api.convex_hull` (the
 bulldozer, paper §3 and Appendix A) with the attributes of
-:class:`scipy.spatial.ConvexHull`, plus what persistence adds: ``history`` (every
+:class:`scipy.spatial.ConvexHull` (read by :class:`persistri._hull_view.HullView`,
+its base), plus what persistence adds: ``history`` (every
 intermediate hull, sharing structure) and :meth:`ConvexHull.add_points`, which
 returns a *new* hull and leaves this one as it was.
 
@@ -17,40 +18,26 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, Generic, Literal, cast, overload
+from typing import TYPE_CHECKING, Any, Literal, cast, overload
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from persistri._arrays import coplanar_report, read_only, refuse_other_dimension
-from persistri._hull_chunked import chunked_hull, read_all, too_big_to_load, whole_input_history
+from persistri._arrays import refuse_other_dimension
+from persistri._hull_chunked import chunked_hull, too_big_to_load
+from persistri._hull_view import H, HullView
 from persistri._scipy_options import check_qhull_options, closed_error
-from persistri.impl.complex.adjacency import triangle_neighbors
 from persistri.impl.geometry.points import as_points
 from persistri.impl.hull.api import Hull, HullHistory, convex_hull
-from persistri.impl.hull.measures import enclosed_volume, equations_of, facet_normals, half_sum
 from persistri.impl.stats import Stats
 
 if TYPE_CHECKING:
     from distributed import Client
-    from typing_extensions import TypeVar
-
-    from persistri.impl.scale.hull import ParallelHull
-
-    H = TypeVar("H", bound=HullHistory | None, default=HullHistory | None)
-else:
-    from typing import TypeVar
-
-    H = TypeVar("H")  # its bound and default (PEP 696) matter to type checkers only
 
 __all__ = ["ConvexHull"]
 
-IntcArray = NDArray[np.intc]
-FloatArray = NDArray[np.float64]
 
-
-
-class ConvexHull(Generic[H]):
+class ConvexHull(HullView[H]):
     """The exact convex hull of 3D points (paper §3), in the shape of :class:`scipy.spatial.ConvexHull`.
 
     ``ConvexHull(points, incremental=False, qhull_options=None, *, backend="red_black",
@@ -158,28 +145,7 @@ class ConvexHull(Generic[H]):
     (True, 8.0, 3)
     """
 
-    __slots__ = (
-        "_hull", "_check", "_n", "_points", "_simplices", "_vertices", "_neighbors", "_facets", "_equations", "_area",
-        "_volume", "_chunked", "_mpoints", "_msimplices", "_history", "_incremental", "_closed",
-    )
-
-    _hull: Hull
-    _check: bool
-    _n: int
-    _points: FloatArray | None
-    _simplices: IntcArray
-    _vertices: IntcArray
-    _neighbors: IntcArray | None
-    _facets: tuple[FloatArray, FloatArray] | None
-    _equations: FloatArray | None
-    _area: float | None
-    _volume: float | None
-    _chunked: ParallelHull | None
-    _mpoints: FloatArray  # the coordinates the measures read: all points, or only the vertices (chunked)
-    _msimplices: NDArray[np.intp]  # the triangles as rows of _mpoints, in the order of `simplices`
-    _history: HullHistory | None
-    _incremental: bool
-    _closed: bool
+    __slots__ = ()
 
     @overload
     def __init__(
@@ -245,37 +211,6 @@ class ConvexHull(Generic[H]):
             return
         hull = convex_hull(points, backend=backend, history=history, seed=seed, check=check, stats=stats, progress=progress)
         self._adopt(hull, check)
-
-    def _reset(self, hull: Hull, check: bool) -> None:
-        self._hull = hull
-        self._check = check
-        self._neighbors = None
-        self._facets = None
-        self._equations = None
-        self._area = None
-        self._volume = None
-
-    def _adopt(self, hull: Hull, check: bool) -> None:
-        self._reset(hull, check)
-        self._chunked = None
-        self._points = read_only(hull.points)
-        self._n = int(hull.points.shape[0])
-        self._simplices = read_only(hull.simplices, np.intc)
-        self._vertices = read_only(hull.vertices, np.intc)
-        self._mpoints = hull.points
-        self._msimplices = hull.simplices
-        self._history = hull.history
-
-    def _adopt_chunked(self, result: ParallelHull, check: bool) -> None:
-        self._reset(result.hull, check)
-        self._chunked = result
-        self._points = None  # read on first access: the input may not fit in memory
-        self._n = result.n
-        self._simplices = read_only(result.simplices, np.intc)
-        self._vertices = read_only(result.vertices, np.intc)
-        self._mpoints = read_only(result.vertex_points)
-        self._msimplices = np.searchsorted(result.vertices, result.simplices).astype(np.intp)
-        self._history = whole_input_history(result)
 
     @classmethod
     def from_hull(cls, hull: Hull, *, check: bool = False) -> ConvexHull[HullHistory | None]:
@@ -355,171 +290,8 @@ class ConvexHull(Generic[H]):
         out._adopt(hull, chk)
         return out
 
-    # -- scipy.spatial.ConvexHull's attributes ---------------------------------------
-
-    @property
-    def points(self) -> FloatArray:
-        """``(n, 3)`` float64: the input points as validated (read-only).
-
-        For chunked input, read on first access: a float64 ``.npy`` file memory-mapped (nothing
-        loaded), any other input loaded whole (O(n) memory: :attr:`vertex_points` may be all you need).
-        """
-        if self._points is None:
-            assert self._chunked is not None
-            self._points = read_all(self._chunked.source)
-        return self._points
-
-    @property
-    def vertex_points(self) -> FloatArray:
-        """``(len(vertices), 3)`` float64: the coordinates of :attr:`vertices`, in their order (read-only).
-
-        ``points[vertices]``, without reading the other points (for chunked input: only these are in memory).
-        """
-        if self._chunked is not None:
-            return self._mpoints
-        return read_only(self._hull.points[self._hull.vertices])
-
-    @property
-    def simplices(self) -> IntcArray:
-        """``(m, 3)``: each triangle as input rows, outward by the right-hand rule (read-only)."""
-        return self._simplices
-
-    @property
-    def vertices(self) -> IntcArray:
-        """The input rows that are hull vertices, sorted (read-only)."""
-        return self._vertices
-
-    @property
-    def neighbors(self) -> IntcArray:
-        """``(m, 3)``: ``neighbors[i, j]`` is the triangle across the edge opposite ``simplices[i, j]``. O(m log m), once."""
-        if self._neighbors is None:
-            self._neighbors = read_only(triangle_neighbors(self._msimplices), np.intc)
-        return self._neighbors
-
-    @property
-    def equations(self) -> FloatArray:
-        """``(m, 4)``: outward unit normal and offset per triangle; ``normal·x + offset <= 0`` inside. O(m), once."""
-        if self._equations is None:
-            normals, _ = self._normals()
-            self._equations = read_only(equations_of(self._mpoints, self._msimplices, normals))
-        return self._equations
-
-    def _normals(self) -> tuple[FloatArray, FloatArray]:
-        """The facets' unit normals and cross-product lengths (:func:`~persistri.impl.hull.measures.facet_normals`), once."""
-        if self._facets is None:
-            self._facets = facet_normals(self._mpoints, self._msimplices)
-        return self._facets
-
-    @property
-    def area(self) -> float:
-        """The surface area of the hull. O(m), once."""
-        if self._area is None:
-            _, lengths = self._normals()
-            self._area = half_sum(lengths)
-        return self._area
-
-    @property
-    def volume(self) -> float:
-        """The volume of the hull, computed exactly and rounded once to a double. O(m) big-integer work, once."""
-        if self._volume is None:
-            self._volume = enclosed_volume(self._mpoints, self._msimplices)
-        return self._volume
-
-    @property
-    def duplicates(self) -> IntcArray:
-        """``(k, 2)``: ``[row, earlier equal row]`` for each input row merged into an exactly equal earlier one."""
-        pairs = self._hull.duplicates if self._chunked is None else self._chunked.duplicates
-        return read_only(np.array(pairs, dtype=np.intc).reshape(-1, 2))
-
-    @property
-    def coplanar(self) -> IntcArray:
-        """``(k, 3)``: scipy's report of input points that are not vertices, ``[row, a triangle at its twin, the twin]``.
-
-        Qhull lists the points it left out for round-off; nothing is left out here
-        (every extreme point is a vertex), so this holds only the merged duplicates
-        of vertices (:attr:`duplicates`).  O(m) once per call.
-        """
-        return coplanar_report(self._hull.duplicates if self._chunked is None else self._chunked.duplicates, self._simplices, self._n)
-
-    @property
-    def good(self) -> None:
-        """None, as scipy's without a ``QG`` option (persistri computes no good facets: ``QGn`` is refused)."""
-        return None
-
-    @property
-    def min_bound(self) -> FloatArray:
-        """``(3,)`` float64: the least coordinates of the input, attained at hull vertices. O(h)."""
-        return read_only(self.vertex_points.min(axis=0))
-
-    @property
-    def max_bound(self) -> FloatArray:
-        """``(3,)`` float64: the greatest coordinates of the input, attained at hull vertices. O(h)."""
-        return read_only(self.vertex_points.max(axis=0))
-
     def close(self) -> None:
         """End incremental mode (``incremental=True``: :meth:`add_points` then raises, as scipy's); otherwise nothing
         to do (a hull holds no resources, and :meth:`add_points` goes on returning new hulls). O(1)."""
         if self._incremental:
             self._closed = True
-
-    @property
-    def npoints(self) -> int:
-        """The number of input rows (duplicates included)."""
-        return self._n
-
-    @property
-    def ndim(self) -> int:
-        """3."""
-        return 3
-
-    @property
-    def nsimplex(self) -> int:
-        """The number of triangles."""
-        return int(self._simplices.shape[0])
-
-    # -- what persistri adds ---------------------------------------------------------
-
-    @property
-    def history(self) -> H:
-        """Every intermediate hull, oldest first, sharing structure (``history=True``), else None (time travel).
-
-        For chunked input, the versions of the final merge (the hulls of growing sets of candidates,
-        the last one this hull), with ``history.simplices(k)`` and ``inserted`` as rows of the whole input.
-        Typed :class:`~persistri.impl.hull.api.HullHistory` for a hull made with ``history=True``
-        (and the hulls :meth:`add_points` makes from it), None for one made without.
-        """
-        return cast(H, self._history)  # the constructor's overloads tie H to its `history` argument
-
-    @property
-    def backend(self) -> str:
-        """The ``ORD_MAP`` backend of the hull's persistent complex."""
-        return self._hull.backend
-
-    @property
-    def seed(self) -> int:
-        """The seed of the random insertion order."""
-        return self._hull.seed
-
-    @property
-    def result(self) -> Hull:
-        """The full result of :func:`persistri.convex_hull`: the persistent complex, its structure, counts.
-
-        For chunked input, the final merge's (its ``points`` are the candidates, input rows ``chunked.rows``).
-        """
-        return self._hull
-
-    @property
-    def chunked(self) -> ParallelHull | None:
-        """How a chunked input was hulled (:class:`~persistri.impl.scale.hull.ParallelHull`: chunks, merges,
-        workers, candidates), else None."""
-        return self._chunked
-
-    def __repr__(self) -> str:
-        kept = "" if self._history is None else f", history of {len(self._history)} versions"
-        if self._chunked is not None:
-            k = len(self._chunked.chunks)
-            kept += f", {k} chunk{'' if k == 1 else 's'} of {self._chunked.source.name}"
-        return (
-            f"persistri.ConvexHull({self.npoints} points, {self.nsimplex} triangles, "
-            f"{self._vertices.size} vertices, backend={self.backend!r}{kept})"
-        )
