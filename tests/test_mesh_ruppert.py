@@ -318,7 +318,8 @@ def test_quality_tests_float_stage_equals_the_exact_tests(
     pts: list[tuple[float, float]], theta: float, area: float | None, lens: bool
 ) -> None:
     # QualityTests decides in floats when clear of the bound by its proved error, else exactly: always the exact answer.
-    from persistri.impl.mesh.quality import AngleBound, QualityTests, area_exceeds, inside_lens, shape
+    from persistri.impl.mesh.quality import AngleBound, area_exceeds, inside_lens, shape
+    from persistri.impl.mesh.quality_filter import QualityTests
 
     P = GrowingPredicates2(np.array(pts))
     a, b, c = (0, 1, 2) if P.orient2d_sign(0, 1, 2) > 0 else (0, 2, 1)
@@ -344,7 +345,8 @@ def test_quality_tests_float_stage_equals_the_exact_tests(
 
 def test_quality_tests_at_ties() -> None:
     # Two equal shortest edges (isosceles), an area exactly at the bound, a point on a diametral circle.
-    from persistri.impl.mesh.quality import AngleBound, QualityTests
+    from persistri.impl.mesh.quality import AngleBound
+    from persistri.impl.mesh.quality_filter import QualityTests
 
     P = GrowingPredicates2(np.array([[0.0, 0.0], [4.0, 0.0], [2.0, 7.0], [2.0, 2.0], [2.0, -2.0]]))
     tests = QualityTests(P, AngleBound.of(30.0), Fraction(14), {}, lens=False)

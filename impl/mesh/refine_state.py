@@ -8,7 +8,7 @@
   the squared shortest edge's binary exponent, and a heap of the buckets that
   have one (shortest edges first; docs/meshing.md, "The order of the work");
 * **judging** — each new domain triangle is assessed once, when it is made
-  (:class:`~persistri.impl.mesh.quality.QualityTests`): queued if bad, recorded if
+  (:class:`~persistri.impl.mesh.quality_filter.QualityTests`): queued if bad, recorded if
   exempt at a small input angle (:class:`~persistri.impl.mesh.input_angles.InputAngles`),
   and the subsegments its apex encroaches queued;
 * **position** — the history index of the version it stands at, the ids of the
@@ -33,7 +33,8 @@ from persistri.impl.geometry.growing import ERRBOUND_DOT
 from persistri.impl.mesh.cdt import SegmentGeometry
 from persistri.impl.mesh.edges import EdgeIndex
 from persistri.impl.mesh.input_angles import InputAngles
-from persistri.impl.mesh.quality import AngleBound, BadShape, QualityTests
+from persistri.impl.mesh.quality import AngleBound
+from persistri.impl.mesh.quality_filter import BadShape, QualityTests
 from persistri.impl.mesh.record import Counts, DropLog
 from persistri.impl.mesh.triangulation import EXTERIOR, Constraint, Insertion, MeshDatum, MeshTriangulation, Tri
 
@@ -117,7 +118,7 @@ class RefinerState:
 
     def _adopt(self, step: Insertion, apexes: bool = True) -> None:
         """The run takes ``step``: its removed triangles are gone for good, the edge index follows, and its new
-        triangles are examined — the bad ones queued, the exempt ones recorded (:meth:`~persistri.impl.mesh.quality.QualityTests.assess_all`), and, unless ``apexes`` is False, the
+        triangles are examined — the bad ones queued, the exempt ones recorded (:meth:`~persistri.impl.mesh.quality_filter.QualityTests.assess_all`), and, unless ``apexes`` is False, the
         subsegments their apexes encroach queued (False for a bad triangle's split: its new subsegment edges all have
         the new point as apex, already found to encroach none of them).  ``step.version`` is not read (Chew's
         deletions make none of their own). O(k)."""

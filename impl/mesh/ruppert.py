@@ -91,7 +91,7 @@ when it adopts a step (:mod:`~persistri.impl.mesh.edges`): O(1) per look-up.
 Costs per accepted insertion: the new version's ``replace`` (O(k) vertex lists,
 O(lg n) each) and the cavity's exact tests, plus O(1) quality and encroachment tests per new
 triangle (float stage first, exact when it cannot tell:
-:class:`~persistri.impl.mesh.quality.QualityTests`); an undone one costs its
+:class:`~persistri.impl.mesh.quality_filter.QualityTests`); an undone one costs its
 conflict search and O(k) encroachment tests, no complex operation, and leaves
 nothing behind but its point's index (the point set is append-only) and its record.
 Whether a queued triangle is still there is a set lookup: triangle ids are never
