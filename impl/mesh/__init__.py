@@ -25,6 +25,7 @@ The mesher:
 * :mod:`~persistri.impl.mesh.cdt` — the constrained Delaunay triangulation of a PSLG;
 * :mod:`~persistri.impl.mesh.steiner` — Steiner points as doubles: split points, circumcentres;
 * :mod:`~persistri.impl.mesh.quality` — triangle quality against the bounds, exactly;
+* :mod:`~persistri.impl.mesh.quality_filter` — the refinement's quality tests, float stage first;
 * :mod:`~persistri.impl.mesh.ruppert` — Ruppert's refinement with undo by persistence;
 * :mod:`~persistri.impl.mesh.api` — :func:`triangulate` and :func:`refine`, every step a version;
 * :mod:`~persistri.impl.mesh.result` — what they return: :class:`QualityMesh`, :class:`MeshHistory`;
