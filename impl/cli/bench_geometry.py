@@ -245,6 +245,12 @@ def _distribution(name: str, option: str) -> str:
     raise click.BadParameter(f"unknown distribution {name!r}; known: {', '.join(DISTRIBUTIONS)}", param_hint=f"'{option}'")
 
 
+TRIANGLE_MAX_ANGLE = 34.0
+"""The largest ``--angles`` bound of ``bench mesh``: Triangle's documentation says it often succeeds up to
+34° and may never finish above (on the square with a hole it runs for ever at 40°), and a benchmark whose
+peer never returns measures nothing.  ``persistri mesh --min-angle`` takes bounds up to 60°."""
+
+
 def _angles_option(ctx: click.Context, param: click.Parameter, value: str) -> tuple[float, ...]:
     angles: list[float] = []
     for item in value.split(","):
@@ -254,6 +260,11 @@ def _angles_option(ctx: click.Context, param: click.Parameter, value: str) -> tu
             raise click.BadParameter(f"{item.strip()!r} is not a number of degrees (give numbers separated by commas)") from None
         if not 0.0 <= angle < 60.0:
             raise click.BadParameter(f"{item.strip()} is not an angle bound in [0, 60) degrees")
+        if angle > TRIANGLE_MAX_ANGLE:
+            raise click.BadParameter(
+                f"{item.strip()}° is above {TRIANGLE_MAX_ANGLE:g}°, where Shewchuk's Triangle (the peer) may never finish "
+                f"(its documentation: it often succeeds up to {TRIANGLE_MAX_ANGLE:g}°); persistri mesh --min-angle takes bounds up to 60°"
+            )
         angles.append(angle)
     return tuple(angles)
 
@@ -265,7 +276,10 @@ def _angles_option(ctx: click.Context, param: click.Parameter, value: str) -> tu
     metavar="NAMES",
     help="Gallery domains, separated by commas (default: all: square-hole, l-shape, star, circle, crack, utm-tile, comb, needle, fan).",
 )
-@click.option("--angles", default="20,30,33", show_default=True, callback=_angles_option, help="Minimum-angle bounds in degrees, separated by commas.")
+@click.option(
+    "--angles", default="20,30,33", show_default=True, callback=_angles_option,
+    help="Minimum-angle bounds in degrees, separated by commas (at most 34: Triangle may never finish above).",
+)
 @click.option("--max-area", type=click.FloatRange(min=0, min_open=True), default=None, help="Also bound every triangle's area by this, on every domain.")
 @click.option(
     "--size",
