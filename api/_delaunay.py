@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from persistri._arrays import read_only, refuse_other_dimension
-from persistri._scipy_options import check_qhull_options, closed_error, delaunay_lifting, lifting_constants
+from persistri._scipy_options import check_qhull_options, closed_error, delaunay_lifting, keeps_coplanar, lifting_constants
 from persistri.impl.complex.adjacency import triangle_neighbors, vertex_neighbor_vertices, vertex_to_simplex
 from persistri.impl.geometry.barycentric import barycentric_transforms, lifted_equations, paraboloid_lift
 from persistri.impl.geometry.points import as_points
@@ -76,7 +76,8 @@ class Delaunay(Generic[H]):
       merged into an earlier, exactly equal one;
     * ``coplanar`` — ``(k, 3)``: scipy's report of input points that are not
       vertices, ``[row, a triangle at its twin, the twin]``: here only the
-      merged duplicates;
+      merged duplicates, and none when ``qhull_options`` are given without ``Qc``
+      (as scipy's);
     * ``transform`` — ``(m, 3, 2)`` float64: each triangle's barycentric transform
       (within 2⁻⁴⁰ relative of the exact one, never NaN), and the lifting to the
       paraboloid: ``paraboloid_scale``, ``paraboloid_shift``, ``lift_points(x)``,
@@ -114,7 +115,7 @@ class Delaunay(Generic[H]):
     [0, 0, 2, -1]
     """
 
-    __slots__ = ("_tri", "_check", "_incremental", "_closed", "_points", "_simplices", "_neighbors", "_hull_edges", "_vnv", "_v2s", "_transform", "_equations", "_scaling", "_lift")
+    __slots__ = ("_tri", "_check", "_incremental", "_closed", "_points", "_simplices", "_neighbors", "_hull_edges", "_vnv", "_v2s", "_transform", "_equations", "_scaling", "_lift", "_qc")
 
     _tri: DelaunayTriangulation
     _check: bool
@@ -130,6 +131,7 @@ class Delaunay(Generic[H]):
     _equations: FloatArray | None
     _scaling: tuple[float, float] | None
     _lift: tuple[bool, bool]  # (Qbb, Qz) of the qhull_options: scipy's lifting constants follow them
+    _qc: bool  # Qc among the qhull_options (scipy's defaults): scipy's coplanar lists the merged rows only then
 
     @overload
     def __init__(
@@ -172,6 +174,7 @@ class Delaunay(Generic[H]):
             )
         check_qhull_options(qhull_options, "Delaunay")
         self._lift = delaunay_lifting(qhull_options)
+        self._qc = keeps_coplanar(qhull_options, "Delaunay")
         self._incremental = bool(incremental)
         self._closed = False
         refuse_other_dimension(points, "Delaunay")
@@ -198,7 +201,7 @@ class Delaunay(Generic[H]):
         """The public view of a :class:`~persistri.impl.terrain.scattered.DelaunayTriangulation` already computed."""
         if not isinstance(tri, DelaunayTriangulation):
             raise TypeError(f"Delaunay.from_triangulation needs a persistri DelaunayTriangulation, not {type(tri).__name__}")
-        return cls._from(tri, False, (True, True))
+        return cls._from(tri, False, (True, True), True)
 
     def add_points(self, points: ArrayLike, restart: bool = False, *, check: bool | None = None) -> Delaunay[H]:
         """The triangulation of these points and ``points`` (``(k, 2)``): a NEW one, or, in incremental mode, this one.
@@ -243,12 +246,15 @@ class Delaunay(Generic[H]):
         if self._incremental:
             self._adopt(new, chk)
             return self
-        return cast("Delaunay[H]", Delaunay._from(new, chk, self._lift))  # the history is kept iff this one's is
+        return cast("Delaunay[H]", Delaunay._from(new, chk, self._lift, self._qc))  # the history is kept iff this one's is
 
     @classmethod
-    def _from(cls, tri: DelaunayTriangulation, check: bool, lift: tuple[bool, bool]) -> Delaunay[DelaunayHistory | None]:
+    def _from(
+        cls, tri: DelaunayTriangulation, check: bool, lift: tuple[bool, bool], qc: bool,
+    ) -> Delaunay[DelaunayHistory | None]:
         self = cast("Delaunay[DelaunayHistory | None]", cls.__new__(cls))
         self._lift = lift
+        self._qc = qc
         self._incremental = False
         self._closed = False
         self._adopt(tri, check)
@@ -329,7 +335,13 @@ class Delaunay(Generic[H]):
 
     @property
     def coplanar(self) -> IntcArray:
-        """``(k, 3)``: ``[row, triangle, vertex]`` for each input row that is not a vertex (merged duplicates only)."""
+        """``(k, 3)``: ``[row, triangle, vertex]`` for each input row that is not a vertex (merged duplicates only).
+
+        As scipy's, empty when ``qhull_options`` are given without ``Qc`` (scipy's defaults hold it: Qhull
+        keeps the points it leaves out only then).  O(k) once per call (after ``vertex_to_simplex``).
+        """
+        if not self._qc:
+            return read_only(np.zeros((0, 3), dtype=np.intc))
         dup = np.array(self._tri.duplicates, dtype=np.intc).reshape(-1, 2)
         out = np.stack([dup[:, 0], self.vertex_to_simplex[dup[:, 1]], dup[:, 1]], axis=1).astype(np.intc)
         return read_only(out)

@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike
 from persistri._arrays import refuse_other_dimension
 from persistri._hull_chunked import chunked_hull, too_big_to_load
 from persistri._hull_view import H, HullView
-from persistri._scipy_options import check_qhull_options, closed_error
+from persistri._scipy_options import check_qhull_options, closed_error, keeps_coplanar
 from persistri.impl.geometry.points import as_points
 from persistri.impl.hull.api import Hull, HullHistory, convex_hull
 from persistri.impl.stats import Stats
@@ -75,9 +75,9 @@ class ConvexHull(HullView[H]):
       exactly and rounded once;
     * ``duplicates`` — ``(k, 2)``: ``[row, earlier equal row]`` for every input row
       merged into an earlier, exactly equal one; ``coplanar`` — ``(k, 3)``, scipy's
-      report of points left out, ``[row, a triangle at its twin, the twin]``: here only
-      the merged duplicates of vertices (nothing is left out for round-off); ``good`` —
-      None, as scipy's without ``QG``;
+      report of points left out, ``[row, a triangle at its twin, the twin]``: empty, as
+      scipy's, unless ``qhull_options`` holds ``Qc``, and then the merged duplicates of
+      vertices (nothing is left out for round-off); ``good`` — None, as scipy's without ``QG``;
     * ``history`` — every intermediate hull (:class:`~persistri.impl.hull.api.HullHistory`)
       with ``history=True``, else None; the type says which (``ConvexHull[HullHistory]``
       for ``history=True``, ``ConvexHull[None]`` without it), so a type checker takes
@@ -190,6 +190,7 @@ class ConvexHull(HullView[H]):
     ) -> None:
         check_qhull_options(qhull_options, "ConvexHull")
         refuse_other_dimension(points, "ConvexHull")
+        self._qc = keeps_coplanar(qhull_options, "ConvexHull")
         self._incremental = bool(incremental)
         self._closed = False
         where = (client, workers, scheduler, chunk_rows)
@@ -222,6 +223,7 @@ class ConvexHull(HullView[H]):
             raise TypeError(f"ConvexHull.from_hull needs a persistri Hull, not {type(hull).__name__}")
         self = cast("ConvexHull[HullHistory | None]", cls.__new__(cls))  # H is the history's kind: either here
         self._incremental = self._closed = False
+        self._qc = False  # scipy's default options
         self._adopt(hull, check)
         return self
 
@@ -271,6 +273,7 @@ class ConvexHull(HullView[H]):
         else:
             out = type(self).__new__(type(self))
             out._incremental = out._closed = False
+            out._qc = self._qc
         if self._chunked is not None:
             if restart:
                 raise ValueError(

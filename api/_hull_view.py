@@ -49,7 +49,7 @@ class HullView(Generic[H]):
 
     __slots__ = (
         "_hull", "_check", "_n", "_points", "_simplices", "_vertices", "_neighbors", "_facets", "_equations", "_area",
-        "_volume", "_chunked", "_mpoints", "_msimplices", "_history", "_incremental", "_closed",
+        "_volume", "_chunked", "_mpoints", "_msimplices", "_history", "_incremental", "_closed", "_qc",
     )
 
     _hull: Hull
@@ -69,6 +69,7 @@ class HullView(Generic[H]):
     _history: HullHistory | None
     _incremental: bool
     _closed: bool
+    _qc: bool  # Qc among the qhull_options (scipy's coplanar lists the merged duplicates only then)
     def _reset(self, hull: Hull, check: bool) -> None:
         self._hull = hull
         self._check = check
@@ -179,10 +180,14 @@ class HullView(Generic[H]):
     def coplanar(self) -> IntcArray:
         """``(k, 3)``: scipy's report of input points that are not vertices, ``[row, a triangle at its twin, the twin]``.
 
-        Qhull lists the points it left out for round-off; nothing is left out here
-        (every extreme point is a vertex), so this holds only the merged duplicates
-        of vertices (:attr:`duplicates`).  O(m) once per call.
+        As scipy's, empty unless ``qhull_options`` holds ``Qc`` (Qhull keeps the points it leaves out
+        only then; scipy's ``ConvexHull`` defaults lack it).  With ``Qc``, the merged duplicates of
+        vertices (:attr:`duplicates`), where scipy lists those too; Qhull also lists the points lying
+        on a flat facet that it did not take as vertices, which persistri does not (such points are
+        decided by the perturbation: those moved out are vertices, docs/exactness.md).  O(n + m) once per call.
         """
+        if not self._qc:
+            return read_only(np.zeros((0, 3), dtype=np.intc))
         return coplanar_report(self._hull.duplicates if self._chunked is None else self._chunked.duplicates, self._simplices, self._n)
 
     @property

@@ -41,7 +41,10 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["MOOT_QHULL_OPTIONS", "LIFTING_OPTIONS", "check_qhull_options", "delaunay_lifting", "lifting_constants", "closed_error"]
+__all__ = [
+    "MOOT_QHULL_OPTIONS", "LIFTING_OPTIONS", "check_qhull_options", "delaunay_lifting", "keeps_coplanar", "lifting_constants",
+    "closed_error",
+]
 
 MOOT_QHULL_OPTIONS: Final[dict[str, str]] = {
     "Qc": "keep coplanar points with their nearest facet (here every distinct point is a vertex)",
@@ -117,6 +120,22 @@ def delaunay_lifting(options: str | bytes | None) -> tuple[bool, bool]:
     if "QJ" in given:
         return True, False
     return "Qbb" in given, "Qz" in given
+
+
+def keeps_coplanar(options: str | bytes | None, what: str) -> bool:
+    """Whether scipy's ``coplanar`` lists anything under these ``qhull_options`` (already checked): Qhull keeps
+    the points it leaves out only with ``Qc``, among scipy's defaults for ``Delaunay`` but not for ``ConvexHull``.
+
+    None is scipy's defaults; given options replace them.  O(len(options)).
+
+    >>> keeps_coplanar(None, "ConvexHull"), keeps_coplanar("Qc", "ConvexHull"), keeps_coplanar(None, "Delaunay")
+    (False, True, True)
+    >>> keeps_coplanar("Qt", "Delaunay"), keeps_coplanar("Qbb Qc Qz Q12", "Delaunay")
+    (False, True)
+    """
+    if options is None:
+        return what == "Delaunay"
+    return "Qc" in _options(options, what)
 
 
 def lifting_constants(points: NDArray[Any], qbb: bool, qz: bool) -> tuple[float, float]:
