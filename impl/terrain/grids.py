@@ -46,7 +46,10 @@ No-data cells (the file's no-data value, NaN) become NaN in :attr:`HeightGrid.he
 
 from __future__ import annotations
 
+import decimal
 import logging
+import math
+import numbers
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -194,7 +197,8 @@ def as_heights(
     * a number — each no-data cell takes that height.
 
     A grid with no valid cell at all is an error whatever ``nodata`` says.
-    Integer heights must be exactly representable as float64 (|h| ≤ 2^53).
+    Heights must be exactly representable as float64: integers beyond 2^53 that are not doubles,
+    Fractions like 1/3, integers of a list numpy reads as float64 are refused, never rounded.
     """
     if isinstance(heights, (str, bytes)):
         raise TypeError(f"{what}: expected a 2D array of real numbers, not {type(heights).__name__}")
@@ -203,7 +207,9 @@ def as_heights(
     except (ValueError, TypeError) as exc:
         raise ValueError(f"{what}: not a rectangular 2D array{_ragged_row(heights) or f' (ragged rows?): {exc}'}") from None
     if raw.dtype == object:
-        raise ValueError(f"{what}: not a rectangular 2D array of real numbers (ragged rows or non-numeric entries)")
+        raw = _exact_objects(raw, what)
+    elif raw.dtype.kind == "f" and raw.ndim == 2 and not isinstance(heights, np.ndarray):
+        _refuse_rounded(heights, raw, what)
     if raw.dtype.kind not in "biuf":
         raise TypeError(f"{what}: expected real numbers, not {raw.dtype}")
     if raw.ndim != 2:
@@ -267,6 +273,45 @@ def as_heights(
 
 
 # -- reading -------------------------------------------------------------------------------
+
+
+def _exact_objects(raw: NDArray[Any], what: str) -> NDArray[np.float64]:
+    """A 2D object array of Python numbers (integers beyond 2^64, Fractions, Decimals) as the float64 heights they
+    are exactly; :class:`ValueError` naming the first cell a double cannot hold, or for anything else (ragged rows,
+    entries that are not real numbers).  O(rows · cols)."""
+    if raw.ndim != 2:
+        raise ValueError(f"{what}: not a rectangular 2D array of real numbers (ragged rows or non-numeric entries)")
+    out = np.empty(raw.shape, dtype=np.float64)
+    for r, row in enumerate(raw.tolist()):
+        for c, x in enumerate(row):
+            if not isinstance(x, (numbers.Real, decimal.Decimal)):
+                hint = " (a no-data cell is NaN)" if x is None else ""
+                raise ValueError(f"{what}: cell (row {r}, col {c}) holds {type(x).__name__} {x!r:.40}, not a real number{hint}")
+            try:
+                f = float(x)
+            except (OverflowError, ValueError):  # beyond the doubles; a signalling NaN
+                f = math.inf
+            if f == f and f != x:
+                raise ValueError(f"{what}: cell (row {r}, col {c}) is {x!r:.60}, not exactly representable as float64")
+            out[r, c] = f
+    return out
+
+
+def _refuse_rounded(heights: object, raw: NDArray[Any], what: str) -> None:
+    """:class:`ValueError` naming the first cell of the nested lists ``heights`` that numpy rounded reading them as
+    the floats ``raw`` (a list mixing integers with floats is float64 to numpy: 2^53 + 1 becomes 2^53); each cell is
+    compared with the number it came from (Python compares an int with a float exactly).  O(rows · cols)."""
+    objs = np.asarray(heights, dtype=object)
+    if objs.shape != raw.shape:
+        return
+    with np.errstate(all="ignore"):
+        inexact = np.not_equal(objs, raw).astype(bool) & (raw == raw)
+    if inexact.any():
+        r, c = np.argwhere(inexact)[0]
+        raise ValueError(
+            f"{what}: cell (row {r}, col {c}) is {objs[r, c]!r:.60}, not exactly representable as float64 (numpy reads "
+            f"this list as float64, which rounds it; persistri never rounds its input)"
+        )
 
 
 def _ragged_row(heights: object) -> str:
