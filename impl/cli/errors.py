@@ -10,7 +10,9 @@ One mechanism serves every command: :class:`PersistriGroup`, the class of the
 ``persistri`` group, turns any exception escaping a sub-command into a
 :class:`CliError`, and :func:`about` names the input file in errors raised while
 computing on it.  A bug in persistri itself is also one line (``internal
-error: …``); ``PERSISTRI_DEBUG=1`` lets its traceback through.
+error: …``); ``PERSISTRI_DEBUG=1`` lets its traceback through.  A package that
+cannot be imported (an incomplete installation) is named, with the ``pip install``
+that brings it, not called a bug.
 
 When the reader of the output goes away (``persistri … | head``) the command
 stops quietly with status 1 (click's handling of a closed pipe), not with an
@@ -101,9 +103,25 @@ def _data_errors() -> tuple[type[BaseException], ...]:
     )
 
 
+def _missing_package(exc: Exception) -> str | None:
+    """The top-level name of the package ``exc`` found missing, when it is not persistri's own (a module of
+    persistri that cannot be imported is a bug; a package that cannot is an incomplete installation)."""
+    if isinstance(exc, ModuleNotFoundError) and exc.name:
+        top = exc.name.split(".")[0]
+        if top != "persistri":
+            return top
+    return None
+
+
 def _as_cli_error(exc: Exception) -> CliError:
     if isinstance(exc, _data_errors()):
         return CliError(error_line(exc))
+    package = _missing_package(exc)
+    if package is not None:
+        return CliError(
+            f"{package} is not installed, and this command needs it ({error_line(exc)}): pip install {package} "
+            f"(pip install 'persistri[dev]' installs every peer)"
+        )
     return CliError(
         f"internal error: {type(exc).__name__}: {error_line(exc)} "
         f"(a bug in persistri; {_DEBUG_VARIABLE}=1 shows the traceback)"
@@ -127,7 +145,7 @@ def about(name: str | Path | None) -> Iterator[None]:
         if os.environ.get(_DEBUG_VARIABLE):
             raise
         message = _as_cli_error(exc).message
-        if name is not None and str(name) not in message and not message.startswith("internal error"):
+        if name is not None and str(name) not in message and not message.startswith("internal error") and _missing_package(exc) is None:
             message = f"{name}: {message}"
         raise CliError(message) from None
 
