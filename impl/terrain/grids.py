@@ -300,7 +300,8 @@ def _exact_objects(raw: NDArray[Any], what: str) -> NDArray[np.float64]:
 def _refuse_rounded(heights: object, raw: NDArray[Any], what: str) -> None:
     """:class:`ValueError` naming the first cell of the nested lists ``heights`` that numpy rounded reading them as
     the floats ``raw`` (a list mixing integers with floats is float64 to numpy: 2^53 + 1 becomes 2^53); each cell is
-    compared with the number it came from (Python compares an int with a float exactly) where it is 2^53 or more.  O(rows · cols), vectorised but for such cells.
+    compared with the number it came from (Python compares an int with a float exactly) where it is 2^53 or
+    more.  O(rows · cols), vectorised but for such cells."""
     with np.errstate(invalid="ignore"):
         big = np.abs(raw) >= 2.0**53  # an integer below 2^53 converts exactly: only these cells can be rounded
     if not big.any():
