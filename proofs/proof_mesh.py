@@ -26,7 +26,7 @@ these sympy identities (exact, polynomial) and exhaustive checks justify them:
   sees ``pq`` under the angle ``2 atan(1 / (2k))``: ``θ`` for ``k = cot(θ/2) / 2``,
   a little more for Triangle's ``0.475 cot(θ/2)``;
 * **the float stage of the quality tests** — the constants of
-  :class:`~persistri.impl.mesh.quality.QualityTests`' error argument, in exact
+  :class:`~persistri.impl.mesh.quality_filter.QualityTests`' error argument, in exact
   rationals: squared lengths within ``4.01u``; ``1 − 2^-40`` separates them; an angle
   opposite a near-shortest edge has cosine at least ``0.49``; the squared-cosine
   ratio within ``31u`` — far inside the ``1e-9`` margin; the area slack ``2^-40``

@@ -36,12 +36,12 @@ def _function(tree: ast.AST, name: str) -> ast.FunctionDef:
 
 def test_the_vectorised_partition_runs_the_negated_determinants_statements() -> None:
     """The partition's mask path writes ``negated_plane_side_dets`` out in place: the same statements, in one run."""
-    tree = ast.parse(Path(fp.__file__).with_name("kernel.py").read_text(encoding="utf-8"))
+    tree = ast.parse(Path(fp.__file__).with_name("kernel_vector.py").read_text(encoding="utf-8"))
     body = _function(tree, "negated_plane_side_dets").body[1:]  # after the docstring
     assert isinstance(body[-1], ast.Return)
     want = _dumps(body[:-1])
     assert len(want) == 8
-    partition = _function(_function(tree, "__init__"), "partition")
+    partition = _function(_function(tree, "make_vectorised"), "wide")  # the partition of long lists
     runs = 0
     for node in ast.walk(partition):
         block = getattr(node, "body", None)

@@ -31,6 +31,7 @@ ROOT = Path(__file__).resolve().parent.parent
 MODULES = (
     "persistri/impl/geometry/kernel.py",
     "persistri/impl/geometry/kernel_split.py",
+    "persistri/impl/geometry/kernel_vector.py",
     "persistri/impl/hull/bulldozer.py",
     "persistri/impl/hull/insertion.py",
     "persistri/impl/hull/conflicts.py",
@@ -57,7 +58,7 @@ MODULES = (
 )
 """The modules compiled: the bulldozer's insertion loop and its conflict-list helpers (and the packed face
 data of a run that keeps its history), the predicate
-kernel it calls (and its split), and the inner functions of the persistent structures it changes — the red-black
+kernel it calls (and its split and vectorised paths), and the inner functions of the persistent structures it changes — the red-black
 tree's node algorithms, its batched update (with the fused insertion of ``replace``'s new vertex), the
 same two for the arena red-black tree (the backend for keeping histories, ``red_black_arena``), the
 2-complex's list functions and ``replace``'s grouping by vertex, its walks' edge lookups and ``replace``'s
