@@ -140,13 +140,14 @@ def test_every_public_attribute_of_scipys_objects_exists() -> None:
 def test_hull_coplanar_reports_the_merged_duplicates_of_vertices() -> None:
     cube = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=float)
     pts = np.vstack([cube, [[0.5, 0.5, 0.5]], cube[[3]], [[0.5, 0.5, 0.5]]])  # rows 9, 10 repeat rows 3 and 8
-    hull = persistri.ConvexHull(pts)
+    assert persistri.ConvexHull(pts).coplanar.shape == (0, 3)  # scipy's: Qhull keeps them only with Qc
+    hull = persistri.ConvexHull(pts, qhull_options="Qc")
     assert hull.duplicates.tolist() == [[9, 3], [10, 8]]
     cop = hull.coplanar
     assert cop.dtype == np.intc and cop.shape == (1, 3)
     row, facet, twin = cop[0].tolist()
     assert (row, twin) == (9, 3) and 3 in hull.simplices[facet].tolist()  # the interior centre's repeat is not listed
-    assert persistri.ConvexHull(cube).coplanar.shape == (0, 3)
+    assert persistri.ConvexHull(cube, qhull_options="Qc").coplanar.shape == (0, 3)
 
 
 def test_find_simplex_takes_scipys_arguments() -> None:
