@@ -279,6 +279,7 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None, fields: 
     try:
         if suffix in TEXT_FORMATS:
             arr, lines = read_text(p, columns, fields=fields)
+            _refuse_rounded_integers(p, arr, lines)
             bad = ~np.isfinite(arr).all(axis=1)
             if bad.any():
                 row = int(np.argmax(bad))
@@ -298,6 +299,36 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None, fields: 
         return as_points(raw, raw.shape[1], what=str(p))
     except (TypeError, ValueError) as exc:  # a non-finite or inexact row, named by as_points (from 0)
         raise InputFileError(p, str(exc).splitlines()[0].removeprefix(f"{p}: ")) from None
+
+
+_INTEGER_TOKEN = re.compile(r"(?<![\w.])[-+]?\d{16,}(?![\w.])")
+"""An integer of 16 digits or more standing alone in a line of text (not part of a decimal or an exponent)."""
+
+
+def _refuse_rounded_integers(path: Path, arr: NDArray[np.float64], lines: NDArray[Any]) -> None:
+    """Raise :class:`InputFileError` for the first integer of a text file that its double rounded
+    (``9007199254740993`` read as 2^53): a coordinate of 2^53 or more is looked up on its line, and an
+    integer written there that a double cannot hold and whose rounding is that coordinate is named.
+    Decimals (``0.1``) are read as the nearest double, as every reader of decimal text does; an integer
+    is a number the writer meant exactly.  O(n) vectorised, and O(line) for each row with such a coordinate.
+    """
+    with np.errstate(invalid="ignore"):
+        big = (np.abs(arr) >= 2.0**53).any(axis=1)
+    if not big.any():
+        return
+    text = text_of(path).replace("\r\n", "\n").replace("\r", "\n").split("\n")
+    for row in np.flatnonzero(big).tolist():
+        line = int(lines[row])
+        values = set(arr[row].tolist())
+        for token in _INTEGER_TOKEN.findall(text[line - 1]):
+            exact = int(token)
+            if float(exact) != exact and float(exact) in values:
+                raise InputFileError(
+                    path,
+                    f"{token} is not exactly representable as float64 (an integer beyond 2^53 that is not a double; "
+                    f"reading it would round it to {float(exact):.17g}, and persistri never rounds its input)",
+                    line=line,
+                )
 
 
 def _check_columns(columns: object) -> None:
