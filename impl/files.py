@@ -35,6 +35,8 @@ from persistri.impl.geometry.points import as_points
 from persistri.impl.text_tables import Fields, read_text, read_text_table, text_of
 
 __all__ = [
+    "rounded_integer",
+    "rounded_note",
     "POINT_FORMATS",
     "TEXT_FORMATS",
     "MESH_FORMATS",
@@ -305,6 +307,32 @@ _INTEGER_TOKEN = re.compile(r"(?<![\w.])[-+]?\d{16,}(?![\w.])")
 """An integer of 16 digits or more standing alone in a line of text (not part of a decimal or an exponent)."""
 
 
+def rounded_integer(text: str, values: NDArray[np.float64]) -> str | None:
+    """The first integer written in ``text`` (16 digits or more, standing alone) that a double cannot hold
+    and whose double is among ``values`` (the numbers read from ``text``): the token its reading rounded,
+    or None.  Only the values of 2^53 or more are looked up, so a file without one costs one vectorised
+    comparison. O(len(values)), and O(len(text)) when some value is that large.
+    """
+    with np.errstate(invalid="ignore"):
+        big = values[np.abs(values) >= 2.0**53]
+    if big.size == 0:
+        return None
+    read = set(big.tolist())
+    for token in _INTEGER_TOKEN.findall(text):
+        exact = int(token)
+        if float(exact) != exact and float(exact) in read:
+            return str(token)
+    return None
+
+
+def rounded_note(token: str) -> str:
+    """The end of the error for an integer a double would round: what it is, and what reading it would do."""
+    return (
+        f"{token} is not exactly representable as float64 (an integer beyond 2^53 that is not a double; "
+        f"reading it would round it to {float(int(token)):.17g}, and persistri never rounds its input)"
+    )
+
+
 def _refuse_rounded_integers(path: Path, arr: NDArray[np.float64], lines: NDArray[Any]) -> None:
     """Raise :class:`InputFileError` for the first integer of a text file that its double rounded
     (``9007199254740993`` read as 2^53): a coordinate of 2^53 or more is looked up on its line, and an
@@ -319,16 +347,9 @@ def _refuse_rounded_integers(path: Path, arr: NDArray[np.float64], lines: NDArra
     text = text_of(path).replace("\r\n", "\n").replace("\r", "\n").split("\n")
     for row in np.flatnonzero(big).tolist():
         line = int(lines[row])
-        values = set(arr[row].tolist())
-        for token in _INTEGER_TOKEN.findall(text[line - 1]):
-            exact = int(token)
-            if float(exact) != exact and float(exact) in values:
-                raise InputFileError(
-                    path,
-                    f"{token} is not exactly representable as float64 (an integer beyond 2^53 that is not a double; "
-                    f"reading it would round it to {float(exact):.17g}, and persistri never rounds its input)",
-                    line=line,
-                )
+        token = rounded_integer(text[line - 1], arr[row])
+        if token is not None:
+            raise InputFileError(path, rounded_note(token), line=line)
 
 
 def _check_columns(columns: object) -> None:

@@ -45,6 +45,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from persistri.impl.file_errors import shown
+from persistri.impl.files import rounded_integer, rounded_note
 from persistri.impl.mesh.domain import PSLG, DomainError, as_pslg
 
 __all__ = [
@@ -254,6 +255,13 @@ def _read_vertices(rec: _Records, *, allow_zero: bool) -> NodeData | None:
         k = int(wrong[0])
         raise rec.error(lines[k], f"vertices must be numbered consecutively: vertex {int(numbers[k])} where {first + k} was expected")
     vertices = np.ascontiguousarray(data[:, 1:3])
+    with np.errstate(invalid="ignore"):
+        big = np.flatnonzero((np.abs(vertices) >= 2.0**53).any(axis=1))
+    for k in big.tolist():  # a coordinate its double may have rounded (9007199254740993 read as 2^53)
+        body = dict(rec.lines).get(int(lines[k]), "")
+        token = rounded_integer(body, vertices[k])
+        if token is not None:
+            raise rec.error(int(lines[k]), f"vertex {int(numbers[k])}: {rounded_note(token)}")
     attributes = np.ascontiguousarray(data[:, 3 : 3 + nattr]) if nattr else None
     markers = data[:, 3 + nattr].astype(np.intp) if nmark else None
     return NodeData(vertices, attributes, markers, first)

@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from persistri.impl.file_errors import shown
+from persistri.impl.files import rounded_integer, rounded_note
 from persistri.impl.terrain.crs import prj_beside, read_prj
 from persistri.impl.terrain.grids import GridTransform, HeightGrid
 
@@ -70,6 +71,9 @@ def read_asc(path: Path) -> HeightGrid:
         raise ValueError(f"{path}: {_first_non_number(lines, body_start)}") from None
     if values.size != ncols * nrows:
         raise ValueError(f"{path}: the header says {nrows} rows × {ncols} columns but the file holds {values.size} values")
+    token = rounded_integer(" ".join(lines[body_start:]), values)
+    if token is not None:
+        raise ValueError(f"{path}: the height {rounded_note(token)}")
     heights = values.reshape(nrows, ncols)
     heights = np.where(heights == header.get("nodata_value", ESRI_DEFAULT_NODATA), np.nan, heights)
     if "cellsize" in header:

@@ -448,9 +448,14 @@ def _read_png(path: Path) -> HeightGrid:
 
 def _read_text_grid(path: Path) -> HeightGrid:
     """The grid of a text table of heights (module docstring); no transform."""
-    from persistri.impl.files import read_text_table
+    from persistri.impl.files import read_text_table, rounded_integer, rounded_note
+    from persistri.impl.text_tables import text_of
 
     heights = read_text_table(path, "heights")
+    if (np.abs(heights) >= 2.0**53).any():  # a height of a list of integers read as its double: rounded?
+        token = rounded_integer(text_of(path), heights.ravel())
+        if token is not None:
+            raise ValueError(f"{path}: the height {rounded_note(token)}")
     if heights.shape[1] == 3 and heights.shape[0] > 3:
         raise ValueError(
             f"{path}: {heights.shape[0]} rows of 3 numbers look like x y z points, not a grid of heights: "
