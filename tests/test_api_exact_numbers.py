@@ -45,3 +45,17 @@ def test_a_mixed_list_that_fits_is_unchanged() -> None:
     a = persistri.greedy_insertion(mixed, max_error=0.0)
     b = persistri.greedy_insertion(np.array(mixed, dtype=np.float64), max_error=0.0)
     assert a.n_points == b.n_points and a.max_error == b.max_error
+
+
+def test_a_long_double_height_with_more_precision_is_refused() -> None:
+    heights = np.zeros((3, 3), dtype=np.longdouble)
+    heights[1, 1] = np.longdouble(1) + np.longdouble(2) ** -60
+    if heights[1, 1] == 1:  # a platform whose long double is a double: nothing to refuse
+        pytest.skip("long double is float64 here")
+    with pytest.raises(ValueError, match=r"heights: a float\d+ height is not exactly representable as float64: cell \(row 1, col 1\)"):
+        persistri.greedy_insertion(heights, max_error=0.0)
+    exact = np.zeros((3, 3), dtype=np.longdouble)
+    exact[1, 1] = 0.5
+    assert persistri.greedy_insertion(exact, max_error=0.0).n_points == 5
+    with pytest.raises(ValueError, match=r"an integer height is not exactly representable as float64: cell \(row 0, col 1\)"):
+        persistri.greedy_insertion(np.array([[0, B + 1], [0, 0]], dtype=np.int64), max_error=0.0)

@@ -218,8 +218,15 @@ def as_heights(
     if rows < 2 or cols < 2:
         raise ValueError(f"{what}: a terrain needs at least 2 rows and 2 columns, got shape {raw.shape}")
     arr = np.ascontiguousarray(raw, dtype=np.float64)
-    if raw.dtype.kind in "iu" and bool(np.any(arr.astype(raw.dtype) != raw)):
-        raise ValueError(f"{what}: an integer height is not exactly representable as float64")
+    if raw.dtype.kind in "iuf" and raw.itemsize >= 8 and raw.dtype != np.float64:  # int64, uint64, long double
+        with np.errstate(all="ignore"):
+            inexact = (arr.astype(raw.dtype) != raw) & (raw == raw)  # NaN is a no-data cell
+        if inexact.any():
+            r, c = np.argwhere(inexact)[0]
+            kind = "an integer height" if raw.dtype.kind in "iu" else f"a {raw.dtype} height"
+            raise ValueError(
+                f"{what}: {kind} is not exactly representable as float64: cell (row {r}, col {c}) is {raw[r, c]!r}"
+            )
     # The extremes first: two reductions, no temporary of the grid's size (they are NaN if a cell is).
     lo, hi = float(arr.min()), float(arr.max())
     if lo != lo or hi != hi:
