@@ -59,3 +59,8 @@ def test_a_long_double_height_with_more_precision_is_refused() -> None:
     assert persistri.greedy_insertion(exact, max_error=0.0).n_points == 5
     with pytest.raises(ValueError, match=r"an integer height is not exactly representable as float64: cell \(row 0, col 1\)"):
         persistri.greedy_insertion(np.array([[0, B + 1], [0, 0]], dtype=np.int64), max_error=0.0)
+
+
+def test_numpy_integer_scalars_in_a_list_are_compared_exactly() -> None:
+    with pytest.raises(ValueError, match=r"cell \(row 0, col 0\) is np.int64\(9007199254740993\), not exactly representable"):
+        persistri.greedy_insertion([[np.int64(B + 1), 0.5], [0, 0]], max_error=0.0)

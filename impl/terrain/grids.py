@@ -317,7 +317,9 @@ def _refuse_rounded(heights: object, raw: NDArray[Any], what: str) -> None:
     if objs.shape != raw.shape:
         return
     inexact = np.zeros(raw.shape, dtype=bool)
-    inexact[big] = np.not_equal(objs[big], raw[big]).astype(bool)
+    # numpy's integer scalars compare with a float through float64: compared as Python ints instead
+    exact = np.array([int(x) if isinstance(x, np.integer) else x for x in objs[big].tolist()], dtype=object)
+    inexact[big] = np.not_equal(exact, raw[big]).astype(bool)
     if inexact.any():
         r, c = np.argwhere(inexact)[0]
         raise ValueError(
