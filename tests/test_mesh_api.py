@@ -66,19 +66,22 @@ def test_refine_continues_a_refined_mesh() -> None:
     check_quality(m33.vertices, m33.triangles, 33, 0.2, exempt=m33.exempt)
 
 
-def test_versions_share_structure() -> None:
-    m = triangulate(l_shape(), min_angle=30, max_area=0.01)
+@pytest.mark.parametrize("backend", ["int_trie", "red_black"])  # the default, and the paper's tree
+def test_versions_share_structure(backend: str) -> None:
+    m = triangulate(l_shape(), min_angle=30, max_area=0.01, backend=backend)
 
-    def tree_nodes(tree):  # type: ignore[no-untyped-def]
-        stack = [tree]
+    def nodes(root):  # type: ignore[no-untyped-def]
+        """Every tuple reachable from a version: its map's nodes and the vertices' entry lists."""
+        stack = [root]
         while stack:
             node = stack.pop()
-            if node is not None:
+            if isinstance(node, tuple):
                 yield node
-                stack += [node[1], node[4]]
+                stack += node
 
-    per_version = [list(tree_nodes(v.rep[1])) for v in m.history]
-    distinct = {id(node) for nodes in per_version for node in nodes}
+    per_version = [list(nodes(v.rep)) for v in m.history]
+    assert min(map(len, per_version[1:])) > 100
+    distinct = {id(node) for found in per_version for node in found}
     assert len(distinct) < sum(map(len, per_version)) / 5
 
 

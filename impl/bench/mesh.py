@@ -350,7 +350,7 @@ def run_mesh_bench(
     # time an import (Triangle's import is not timed either).
     from persistri.impl.maps import backend as map_backend
 
-    map_backend("red_black")
+    map_backend("int_trie")
     steps = len(names) * len(bounds)
     done = 0
     for name in names:

@@ -340,7 +340,7 @@ def _stats_table(source: str, mesh: QualityMesh, smallest: float, report: MeshRe
     "the nearest doubles, as Triangle does (default: the refiner's).",
 )
 @click.option("--convex", is_flag=True, help="Mesh the convex hull of the domain, keeping its segments (Triangle's -c).")
-@click.option("--backend", default="red_black", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
+@click.option("--backend", default="int_trie", show_default=True, help=f"ORD_MAP backend of the complex ({', '.join(BACKENDS)}).")
 @click.option("--quiet", is_flag=True, help="No progress bar and no summary.")
 def mesh(
     source: str,

@@ -134,7 +134,7 @@ def triangulate(
     min_angle: float = 0.0,
     max_area: float | None = None,
     region_areas: bool = False,
-    backend: str = "red_black",
+    backend: str = "int_trie",
     check: bool = False,
     progress: bool | Callable[[int], Any] = False,
     offcenters: bool = True,
@@ -151,7 +151,8 @@ def triangulate(
       (``domain.regions[:, 3] > 0``), each inside its region: Triangle's ``-a``
       without a number.  Off by default, as in Triangle, so that a ``.poly`` with
       regional bounds meshed at ``min_angle=0`` is its constrained Delaunay triangulation;
-    * ``backend`` — the ``ORD_MAP`` backend of the complex;
+    * ``backend`` — the ``ORD_MAP`` backend of the complex (the mesh's vertex ids are dense from 0:
+      the integer trie, ``persistri.impl.maps.int_trie``, by default);
     * ``check`` — run the independent exact checker on the result (:mod:`~persistri.impl.mesh.verify`);
     * ``progress`` — a progress bar (or a callable taking step counts);
     * ``offcenters`` — Üngör's off-centres (fewer triangles) or circumcentres only;
