@@ -9,6 +9,7 @@ the rationals they denote are, so this never merges distinct points.
 
 from __future__ import annotations
 
+import decimal
 import numbers
 import os
 import reprlib
@@ -29,7 +30,9 @@ def as_points(points: ArrayLike, dim: int, *, what: str = "points") -> NDArray[n
     row, or the shape found, is named), for a NaN or infinite coordinate (the
     first such row is named), or for a number that float64 cannot hold exactly
     (integers beyond 2^53 that are not doubles, long doubles with more
-    precision, Fractions like 1/3): persistri never rounds its input.  Python
+    precision, Fractions like 1/3, integers of a list that numpy would read as
+    float64 because floats or negative numbers beyond 2^63 are mixed in):
+    persistri never rounds its input.  Python
     numbers a float64 holds exactly (big ints such as 2^70, Fractions,
     Decimals) are taken as those doubles.  Booleans and integers are accepted as reals.  ``-0.0`` becomes
     ``0.0`` (the same number).  O(n).
@@ -44,6 +47,8 @@ def as_points(points: ArrayLike, dim: int, *, what: str = "points") -> NDArray[n
         raise ValueError(f"{what} must be a rectangular (n, {dim}) array of reals: {_ragged(points, dim) or exc}") from None
     if raw.dtype == object:
         raw = _from_objects(raw, dim, what)
+    elif raw.dtype.kind == "f" and raw.ndim == 2 and not isinstance(points, np.ndarray):
+        _refuse_rounded_numbers(points, raw, what)
     if raw.dtype.kind not in "biuf":
         raise TypeError(f"{what} must be real numbers, not {raw.dtype}")
     if raw.ndim != 2 or raw.shape[1] != dim:
@@ -61,6 +66,33 @@ def as_points(points: ArrayLike, dim: int, *, what: str = "points") -> NDArray[n
         raise ValueError(f"{what}: row {row} is not finite: {arr[row].tolist()}")
     out: NDArray[np.float64] = arr + 0.0  # -0.0 + 0.0 == +0.0
     return out
+
+
+def _refuse_rounded_numbers(points: object, raw: NDArray[Any], what: str) -> None:
+    """Raise :class:`ValueError` naming the first row of the nested sequence ``points`` whose Python numbers numpy
+    rounded when it read them as ``raw`` (floats): it reads a list mixing integers with floats, or integers of
+    both signs beyond 2^63, as float64, and rounds the integers a double cannot hold (2^53 + 1 becomes 2^53, and
+    four points off a plane may land on it).  Each entry is compared with the number it came from (Python
+    compares an int with a float exactly).  O(n).
+    """
+    with np.errstate(invalid="ignore"):
+        big = np.abs(raw) >= 2.0**53  # an integer below 2^53 converts exactly: only these cells can be rounded
+    if not big.any():
+        return
+    objs = np.asarray(points, dtype=object)
+    if objs.shape != raw.shape:
+        return
+    inexact = np.zeros(raw.shape, dtype=bool)
+    # numpy's integer scalars compare with a float through float64: compared as Python ints instead
+    exact = np.array([int(x) if isinstance(x, np.integer) else x for x in objs[big].tolist()], dtype=object)
+    inexact[big] = np.not_equal(exact, raw[big]).astype(bool)
+    if inexact.any():
+        row = int(np.argmax(inexact.any(axis=1)))
+        raise ValueError(
+            f"{what}: row {row} is not exactly representable as float64: {reprlib.repr(objs[row].tolist())} "
+            f"(numpy reads this list as float64, which rounds such integers; persistri never "
+            f"rounds its input: give integers beyond 2^53 as exact doubles or as an integer array)"
+        )
 
 
 def _ragged(points: object, dim: int) -> str | None:
@@ -90,11 +122,11 @@ def _from_objects(raw: NDArray[Any], dim: int, what: str) -> NDArray[Any]:
     out = np.empty(raw.shape, dtype=np.float64)
     for i, row in enumerate(raw.tolist()):
         for j, x in enumerate(row):
-            if not isinstance(x, numbers.Real):
+            if not isinstance(x, (numbers.Real, decimal.Decimal)):  # Decimal is not registered as a Real
                 raise TypeError(f"{what}: row {i} holds {type(x).__name__} {x!r:.40}, not a real number")
             try:
                 f = float(x)
-            except OverflowError:
+            except (OverflowError, ValueError):  # beyond the doubles; a signalling NaN Decimal
                 f = np.inf
             if f == f and f != x:
                 raise ValueError(f"{what}: row {i} is not exactly representable as float64: {reprlib.repr(row)}")
