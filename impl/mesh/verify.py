@@ -312,6 +312,8 @@ class _Mesh:
         found = segment_chains(self.pts, self.xl, self.yl, self.nbr, self.nbr_ptr, seg, self.mesh_of, self.rounding_ulps)
         self.chain, self.on_segments = found.paths, found.on_segments
         for s, cur, edges in found.stuck:
+            if not (self.dom.left_kept(2 * s) or self.dom.left_kept(2 * s + 1)):
+                continue  # outside the domain on both sides (a hole against the boundary): no triangle needs its edges
             self.check.problem(
                 "segment",
                 f"{self._segment(s)} is not a union of mesh edges: "
