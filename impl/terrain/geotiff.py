@@ -11,7 +11,9 @@ PackBits, LZMA… with horizontal or floating-point predictors, in strips or til
   refused;
 * the CRS: from the GeoKeys (:func:`~persistri.impl.terrain.crs.crs_from_geokeys`),
   carried by the transform;
-* no-data: the ``GDAL_NODATA`` tag's value becomes NaN.
+* no-data: the cells holding the ``GDAL_NODATA`` tag's value (compared in the band's type; an integer
+  band's tag read as the exact integer it spells, as GDAL reads Int64 bands' tags) become NaN;
+* integer heights a double would round (int64 or uint64 beyond 2^53) are refused, naming the cell.
 
 A codec nothing decodes, a missing ``imagecodecs`` and a multi-band raster are
 each one error line naming the file.  Not in the paper: the inputs of §5's meshes.
@@ -19,6 +21,7 @@ each one error line naming the file.  Not in the paper: the inputs of §5's mesh
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any
 
@@ -64,17 +67,27 @@ def read_geotiff(path: Path) -> HeightGrid:
         raise ValueError(
             f"{path}: expected one band of heights, got {page.samplesperpixel} samples per pixel (shape {data.shape})"
         )
-    heights = _float_heights(data, str(path)).copy()
+    missing: NDArray[np.bool_] | None = None
     if nodata is not None:
+        text = str(nodata).strip().strip("\x00")
         try:
-            value = float(str(nodata).strip().strip("\x00"))
+            # An integer band's tag is read as the integer it spells (GDAL 3.5+ for Int64/UInt64 bands): as a double,
+            # 18446744073709551615 (UInt64 max, a usual no-data) would round to 2^64 and match no cell.
+            value: float | int = int(text) if data.dtype.kind in "iu" and _INTEGER.fullmatch(text) else float(text)
         except ValueError:
             raise ValueError(f"{path}: GDAL_NODATA tag is not a number: {shown(str(nodata))}") from None
-        heights[nodata_cells(data, value)] = np.nan
+        missing = nodata_cells(data, value)
+    heights = _float_heights(data, str(path), missing).copy()  # no-data cells need not be exact heights
+    if missing is not None:
+        heights[missing] = np.nan
     return HeightGrid(heights, _tiff_transform(path, geokeys), str(path))
 
 
-def nodata_cells(data: NDArray[Any], value: float) -> NDArray[np.bool_]:
+_INTEGER = re.compile(r"[-+]?\d+")
+"""A GDAL_NODATA tag spelling an integer."""
+
+
+def nodata_cells(data: NDArray[Any], value: float | int) -> NDArray[np.bool_]:
     """The cells of the band ``data`` that hold the no-data ``value`` (the GDAL_NODATA tag, as a double). O(size).
 
     As GDAL reads the tag: the value is first converted to the band's own type, and the
@@ -82,7 +95,9 @@ def nodata_cells(data: NDArray[Any], value: float) -> NDArray[np.bool_]:
     ``-3.4028235e+38`` (float32's lowest value, printed as a float32) or ``-9999.9``
     holds float32 cells that equal no double of that spelling: compared as doubles,
     no cell would match and the no-data cells would become heights.  An integer band
-    matches only an integral value within its range (``-9999.5`` matches no cell).
+    matches only an integral value within its range (``-9999.5`` matches no cell); an integer
+    ``value`` (a tag spelling one, read exactly) is compared as that integer, so a 64-bit band's
+    ``18446744073709551615`` or ``9007199254740993`` matches those cells, not their roundings.
     """
     if data.dtype.kind == "f":
         with np.errstate(over="ignore"):
@@ -91,6 +106,12 @@ def nodata_cells(data: NDArray[Any], value: float) -> NDArray[np.bool_]:
             return np.zeros(data.shape, dtype=np.bool_)
         cells: NDArray[np.bool_] = data == cast
         return cells
+    if isinstance(value, int) and not isinstance(value, bool) and data.dtype.kind in "iu":  # exactly, as GDAL's Int64 tag
+        info = np.iinfo(data.dtype)
+        if info.min <= value <= info.max:
+            exact: NDArray[np.bool_] = data == data.dtype.type(value)
+            return exact
+        return np.zeros(data.shape, dtype=np.bool_)
     if data.dtype.kind in "iu" and np.isfinite(value) and value == int(value):
         info = np.iinfo(data.dtype)
         if info.min <= int(value) <= info.max:

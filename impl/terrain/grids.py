@@ -376,12 +376,28 @@ def _from_npz(data: Any, source: str) -> HeightGrid:
     return HeightGrid(heights, transform, source)
 
 
-def _float_heights(a: NDArray[Any], source: str) -> NDArray[np.float64]:
+def _float_heights(a: NDArray[Any], source: str, nodata: NDArray[np.bool_] | None = None) -> NDArray[np.float64]:
+    """The heights of the band ``a`` as float64, read from ``source``; a :class:`ValueError` naming the first cell
+    (not among the ``nodata`` cells, which the caller makes NaN) holding an integer a double would round
+    (int64 or uint64 beyond 2^53: ``9007199254740993``, ``2**63 - 1``).  O(size), vectorised.
+    """
     if a.dtype.kind not in "biuf":
         raise ValueError(f"{source}: the heights are not numbers (dtype {a.dtype})")
     out: NDArray[np.float64] = np.asarray(a, dtype=np.float64)
-    if a.dtype.kind in "iu" and bool(np.any(out.astype(a.dtype) != a)):
-        raise ValueError(f"{source}: an integer height is not exactly representable as float64 (beyond 2^53)")
+    if a.dtype.kind in "iu" and a.itemsize >= 8:
+        # Cast back and compare in the band's type; a double at or beyond 2^63 (2^64 unsigned) has no integer there
+        # to cast to (numpy would warn "invalid value") and is inexact: int64 max rounds up to 2^63.
+        with np.errstate(invalid="ignore"):
+            inexact = (out >= 2.0 ** (8 * a.itemsize - (a.dtype.kind == "i"))) | (out.astype(a.dtype) != a)
+        if nodata is not None:
+            inexact &= ~nodata
+        if inexact.any():
+            r, c = (int(v) for v in np.argwhere(inexact)[0]) if a.ndim == 2 else (0, int(np.argmax(inexact)))
+            raise ValueError(
+                f"{source}: an integer height is not exactly representable as float64: cell (row {r}, col {c}) is "
+                f"{int(a[r, c] if a.ndim == 2 else a.flat[c])} (beyond 2^53, a double would round it; persistri "
+                "never rounds its input)"
+            )
     return out
 
 
