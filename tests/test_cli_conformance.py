@@ -9,6 +9,10 @@ from click.testing import CliRunner, Result
 
 from persistri.impl.cli.main import main
 
+# What these tests check is the conformance engine (persistri.spec), which the compiled twin does not
+# compile: they run once, on the interpreted build (tests/conftest.py, ``build_independent``).
+pytestmark = pytest.mark.build_independent
+
 QUICK = ["--max-examples", "10", "--workload-size", "200"]
 
 

@@ -72,6 +72,7 @@ def test_every_entry_of_the_galleries_has_its_headline() -> None:
 # -- run_conformance / run_simpcomp_conformance, at the default settings ------------------------------------
 
 
+@pytest.mark.build_independent
 @pytest.mark.parametrize("which", GALLERY)
 def test_the_runner_names_the_law_at_default_settings(which: str) -> None:
     suite, target, structure, law, test = _entry(which)
@@ -92,6 +93,7 @@ def test_the_runner_names_the_law_at_default_settings(which: str) -> None:
 # -- the pytest base classes, at their default knobs -------------------------------------------------------
 
 
+@pytest.mark.build_independent
 @pytest.mark.parametrize("which", GALLERY)
 def test_the_base_class_raises_the_law_at_its_default_knobs(which: str) -> None:
     suite, _, structure, law, test = _entry(which)
@@ -112,6 +114,7 @@ def test_the_base_class_raises_the_law_at_its_default_knobs(which: str) -> None:
 # -- persistri conformance, at the default options -----------------------------------------------------------
 
 
+@pytest.mark.build_independent
 @pytest.mark.parametrize("which", GALLERY)
 def test_the_command_names_the_law_at_default_options(which: str) -> None:
     suite, target, _, law, test = _entry(which)
@@ -126,6 +129,7 @@ def test_the_command_names_the_law_at_default_options(which: str) -> None:
     assert "\n  " + HEADLINES[which] in r.stdout
 
 
+@pytest.mark.build_independent
 @pytest.mark.parametrize(
     ("suite", "target", "law"),
     [
@@ -173,6 +177,7 @@ class ColdFindMap(broken_maps.RedBlackDelegate):
         return red_black.find(m, k)
 
 
+@pytest.mark.build_independent
 def test_flaky_is_reported_as_determinism_by_the_runner() -> None:
     report = run_conformance(ColdFindMap(), tests=["find_insert"], name="cold")
     (failure,) = report.failures
@@ -182,6 +187,7 @@ def test_flaky_is_reported_as_determinism_by_the_runner() -> None:
     assert "Failing test case: find_insert(" in failure.example
 
 
+@pytest.mark.build_independent
 def test_flaky_is_reported_as_determinism_by_the_base_class() -> None:
     cls = type("TestCold", (OrdMapConformance,), {"structure": ColdFindMap()})
     with pytest.raises(MapViolation) as info:
@@ -266,6 +272,7 @@ def _pinned(structure: Any, **kw: Any) -> str:
     return failure.detail
 
 
+@pytest.mark.build_independent
 def test_a_change_to_an_older_version_is_pinned_to_the_insert_that_made_it() -> None:
     detail = _pinned(broken_maps.ancestor_mutating, workload_size=3_000)
     lines = detail.splitlines()
@@ -274,6 +281,7 @@ def test_a_change_to_an_older_version_is_pinned_to_the_insert_that_made_it() -> 
     assert any(line.startswith("pinned to the operation by ") for line in lines)
 
 
+@pytest.mark.build_independent
 def test_a_threshold_above_the_workload_is_not_reached() -> None:
     """Below its threshold the late map is persistent: a workload that stays under 2,000 items passes."""
     report = run_conformance(broken_maps.grows_mutating_late, tests=["growth"], workload_size=1_990)
@@ -291,6 +299,7 @@ class _Reports:
             self.reports[report.nodeid.split("::", 1)[1]] = report
 
 
+@pytest.mark.build_independent
 def test_pytest_shows_the_law_and_the_operation_in_the_assertion_message(tmp_path: Any) -> None:
     """As an outsider runs it: pytest collects the base classes, and the failure it prints names the law,
     the version and the operation."""

@@ -8,8 +8,13 @@ add, afterwards" — sending its author after a mutation that never happened.
 from __future__ import annotations
 
 import outside_star_complex as star
+import pytest
 
 from persistri.spec.conformance import run_simpcomp_conformance
+
+# What this checks is the conformance engine (persistri.spec), which the compiled twin does not compile:
+# it runs once, on the interpreted build (tests/conftest.py, ``build_independent``).
+pytestmark = pytest.mark.build_independent
 
 
 def test_a_stale_rem_in_the_build_is_not_called_persistence() -> None:

@@ -118,6 +118,7 @@ BROKEN: dict[str, tuple[Any, str, set[str]]] = {
 }
 
 
+@pytest.mark.build_independent
 @pytest.mark.parametrize("name", sorted(BROKEN))
 def test_the_broken_complexes_fail_under_the_right_law(name: str) -> None:
     structure, law, stateful_laws = BROKEN[name]
@@ -172,6 +173,7 @@ class _ForgetfulDatabase(InMemoryExampleDatabase):
         pass
 
 
+@pytest.mark.build_independent
 @pytest.mark.parametrize("how", ["shared database lost the example", "forced seed"])
 def test_a_confirmed_failure_does_not_depend_on_the_users_database(how: str, monkeypatch: pytest.MonkeyPatch) -> None:
     # The rerun that confirms a failure once replayed the example from the user's database; when the example was
@@ -268,6 +270,7 @@ def test_cli_a_conforming_structure_exits_0(tmp_path: Path, monkeypatch: pytest.
     assert "(dims 2)" in r.stderr  # found by new(n) for n in 1..4
 
 
+@pytest.mark.build_independent
 def test_cli_a_broken_structure_exits_1_with_the_law_and_a_counterexample(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     (tmp_path / "my_broken_mod.py").write_text(
         "from broken_complexes import OrientationBlindFind\nfrom persistri.impl.maps.assoc_list import assoc_list\n"

@@ -9,6 +9,8 @@ error.
 from __future__ import annotations
 
 import importlib.util
+import re
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -31,6 +33,14 @@ def _needs(name: str) -> pytest.MarkDecorator:
     return pytest.mark.skipif(not _module_exists(name), reason=f"{BACKENDS[name]} does not exist yet")
 
 
+# The backends kept pure Python in the compiled twin: their suites run once, on the interpreted build
+# (``build_independent``, tests/conftest.py).  ``test_the_uncompiled_backends_are_not_in_the_twin`` keeps
+# this list true to ``tools/compiled_twin.py``.
+UNCOMPILED = ("assoc_list", "hamt", "immutables", "pyrsistent")
+_uncompiled = pytest.mark.build_independent
+
+
+@_uncompiled
 @_needs("assoc_list")
 class TestAssocList(OrdMapConformance):
     structure = _load("assoc_list")
@@ -43,6 +53,7 @@ class TestRedBlack(OrdMapConformance):
     structure = _load("red_black")
 
 
+@_uncompiled
 @_needs("hamt")
 class TestHamt(OrdMapConformance):
     structure = _load("hamt")
@@ -53,11 +64,13 @@ class TestRedBlackArena(OrdMapConformance):
     structure = _load("red_black_arena")
 
 
+@_uncompiled
 @_needs("immutables")
 class TestImmutables(OrdMapConformance):
     structure = _load("immutables")
 
 
+@_uncompiled
 @_needs("pyrsistent")
 class TestPyrsistent(OrdMapConformance):
     structure = _load("pyrsistent")
@@ -105,3 +118,20 @@ def test_missing_operations() -> None:
         "inDomain", "remove", "numItems", "listItemsi", "listKeys", "foldli",
     ]
     assert missing_operations(object()) == list(ORD_MAP_OPERATIONS)
+
+
+def test_the_uncompiled_backends_are_not_in_the_twin() -> None:
+    """The classes left to the interpreted run are those of :data:`UNCOMPILED`, and no module of theirs
+    (the backend's module or one named after it) is compiled by ``tools/compiled_twin.py``."""
+    marked = {
+        name
+        for name, cls in globals().items()
+        if name.startswith("Test") and any(m.name == "build_independent" for m in getattr(cls, "pytestmark", []))
+    }
+    assert marked == {"TestAssocList", "TestHamt", "TestImmutables", "TestPyrsistent"}
+    source = (Path(__file__).resolve().parents[1] / "tools" / "compiled_twin.py").read_text(encoding="utf-8")
+    compiled = re.findall(r'"persistri/([a-z_/]+)\.py"', source)
+    assert "impl/maps/red_black_tree" in compiled  # the list was found
+    for name in UNCOMPILED:
+        module = BACKENDS[name].split(":")[0].removeprefix("persistri.").replace(".", "/")
+        assert not [path for path in compiled if path.startswith(module)], (name, module)

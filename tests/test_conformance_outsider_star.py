@@ -13,6 +13,10 @@ from cli_contract import invoke
 
 from persistri.spec.conformance import SimpCompConformance, missing_simpcomp_operations, run_simpcomp_conformance
 
+# What these tests check is the conformance engine (persistri.spec), which the compiled twin does not
+# compile: they run once, on the interpreted build (tests/conftest.py, ``build_independent``).
+pytestmark = pytest.mark.build_independent
+
 SMALL = {"max_examples": 10, "workload_size": 20, "stateful_steps": 6, "derandomize": True}
 
 

@@ -14,6 +14,10 @@ from pathlib import Path
 import pytest
 from hypothesis import settings
 
+# What these tests check is the conformance engine (persistri.spec), which the compiled twin does not
+# compile: they run once, on the interpreted build (tests/conftest.py, ``build_independent``).
+pytestmark = pytest.mark.build_independent
+
 settings.register_profile("conformance-user-default", max_examples=60, database=None, derandomize=True)
 
 

@@ -23,6 +23,10 @@ from persistri.impl.maps.assoc_list import assoc_list
 from persistri.spec.conformance import ORD_MAP_TESTS, NotAnOrdMap, OrdMapConformance, run_conformance
 from persistri.spec.ord_map_laws import ORD_MAP_LAWS, LawViolation
 
+# What these tests check is the conformance engine (persistri.spec), which the compiled twin does not
+# compile: they run once, on the interpreted build (tests/conftest.py, ``build_independent``).
+pytestmark = pytest.mark.build_independent
+
 # Laws a history may legitimately find broken first: the miscounting map's insertWith
 # miscounts as its insert does, and the insertWith law checks the count too.
 ALSO = {"miscounting": {"insertWith"}}

@@ -64,6 +64,7 @@ def test_exceptions_are_described_with_their_message_or_their_line() -> None:
     assert raised(AssertionError()) == "AssertionError (no message)"
 
 
+@pytest.mark.build_independent
 def test_an_outside_complex_whose_vertices_compare_by_identity_conforms() -> None:
     # Each determinism session makes its vertices afresh; answers holding them were compared with ==, so a
     # correct complex whose vertices have identity equality failed determinism ("find(version 1, …) answered
@@ -76,6 +77,7 @@ def test_an_outside_complex_whose_vertices_compare_by_identity_conforms() -> Non
     assert report.count("passed") == len(SIMPCOMP_TESTS) - 1  # invariants skipped: no check(c)
 
 
+@pytest.mark.build_independent
 @pytest.mark.parametrize(
     ("broken", "test", "seen"),
     [(LowGrepOneOrientation(), "grep", "expected the 2-faces [["), (VerticesDropTheLast(), "agrees", "vertices(c) = [")],
