@@ -9,7 +9,8 @@ Point inputs (:func:`read_points`):
   columns are chosen by number or by the header's names (``fields``); without a
   choice a header naming ``x`` and ``y`` (and ``z``) among other columns picks
   those (``id,x,y`` → ``x, y``), else every column is read;
-* ``.ply`` — the vertices of a PLY file, through meshio.
+* ``.ply`` — the vertices of a PLY file, through meshio (an integer of an ASCII PLY that its
+  property's type would round, ``9007199254740993`` as a ``double``, is refused naming its line).
 
 Mesh outputs (:func:`write_mesh`): ``.ply``, ``.obj``, ``.off``, ``.stl`` through
 meshio, and ``.npz`` holding named arrays.
@@ -148,8 +149,9 @@ _PLY_SIZES: dict[str, int] = {
 """Bytes of each PLY scalar type (PLY 1.0's names and their sized aliases)."""
 
 
-def _ply_vertex_header(path: Path) -> tuple[int, list[str]]:
-    """The vertex count and the vertex properties' names that the PLY header of ``path`` announces.
+def _ply_vertex_header(path: Path) -> tuple[int, list[str], int | None]:
+    """The vertex count and the vertex properties' names that the PLY header of ``path`` announces, and for an
+    ASCII file the line (from 1) of the first vertex (each element of an ASCII PLY takes one line).
 
     Checked here, before meshio reads the data: meshio's ``read`` prints and exits the process on a
     file that is no PLY, its ASCII reader silently returns fewer vertices than announced (a truncated
@@ -165,11 +167,14 @@ def _ply_vertex_header(path: Path) -> tuple[int, list[str]]:
         ascii_ = False
         elements = 0
         first = False  # whether the vertex element comes first (its data then starts the body)
+        lines = 1  # the header's lines read so far
+        before = 0  # the lines of the elements before the vertex element (ASCII)
         record: int | None = 0  # bytes of one vertex of a binary file (None: a list property, no fixed size)
         for _ in range(100_000):
             raw = fh.readline(4096)
             if not raw:
                 raise InputFileError(path, "a damaged PLY header (no end_header line)")
+            lines += 1
             words = raw.decode("latin-1").split()
             if words == ["end_header"]:
                 break
@@ -178,6 +183,8 @@ def _ply_vertex_header(path: Path) -> tuple[int, list[str]]:
             elif words[:1] == ["element"]:
                 element = words[1] if len(words) > 1 else ""
                 elements += 1
+                if count is None and element != "vertex" and len(words) == 3 and words[2].isdecimal():
+                    before += int(words[2])
                 if element == "vertex":
                     if len(words) != 3 or not words[2].isdecimal():
                         raise InputFileError(path, f"a damaged PLY header (line {shown(raw.decode('latin-1').strip())})")
@@ -202,13 +209,13 @@ def _ply_vertex_header(path: Path) -> tuple[int, list[str]]:
         listed = ", ".join(n if len(n) <= 40 else n[:39] + "…" for n in names[:8]) + (", …" if len(names) > 8 else "")
         where = " as the first three (in ASCII PLY)" if ascii_ else ""
         raise InputFileError(path, f"PLY vertices with the properties {listed or 'none'}: persistri reads x, y, z{where}")
-    return count, names
+    return count, names, (lines + before + 1 if ascii_ else None)
 
 
 def _read_ply(path: Path) -> NDArray[Any]:
     from meshio import ply
 
-    count, _ = _ply_vertex_header(path)
+    count, _, first_line = _ply_vertex_header(path)
     try:
         mesh = ply.read(path)  # not meshio.read: it prints and exits on a ReadError
     except Exception as exc:  # meshio raises many types for malformed files
@@ -217,7 +224,39 @@ def _read_ply(path: Path) -> NDArray[Any]:
     pts: NDArray[Any] = np.asarray(mesh.points)
     if pts.ndim != 2 or pts.shape[0] != count:
         raise InputFileError(path, f"truncated: the PLY header announces {count:,} vertices, the file holds {len(pts):,}")
+    if first_line is not None:
+        _refuse_rounded_ply(path, pts, first_line)
     return pts
+
+
+_INTEGER_WORD = re.compile(r"[-+]?\d+")
+
+
+def _refuse_rounded_ply(path: Path, pts: NDArray[Any], first_line: int) -> None:
+    """Raise :class:`InputFileError` for the first integer x, y or z of an ASCII PLY (vertex ``i`` on line
+    ``first_line + i``) that reading it in its property's type rounded: ``9007199254740993`` as a ``double`` is
+    2^53, ``16777217`` as a ``float`` is 2^24.  Only rows with a coordinate at or beyond the type's exact
+    integers (2^53, 2^24) are looked up on their line, so other files cost one vectorised comparison.
+    """
+    if pts.dtype.kind != "f" or pts.shape[1] < 3:
+        return
+    with np.errstate(invalid="ignore"):
+        big = (np.abs(pts[:, :3]) >= 2.0 ** (np.finfo(pts.dtype).nmant + 1)).any(axis=1)
+    if not big.any():
+        return
+    text = path.read_bytes().decode("latin-1").replace("\r\n", "\n").replace("\r", "\n").split("\n")
+    for row in np.flatnonzero(big).tolist():
+        line = first_line + row
+        for word, value in zip(text[line - 1].split()[:3], pts[row, :3].tolist()):
+            if _INTEGER_WORD.fullmatch(word) and int(word) != value:
+                kind = "float64" if pts.dtype == np.float64 else f"{pts.dtype}, its PLY property's type"
+                hint = "" if pts.dtype == np.float64 else " (declare the property double)"
+                raise InputFileError(
+                    path,
+                    f"{word} is not exactly representable as {kind}: reading it would round it to {value:.17g}, and "
+                    f"persistri never rounds its input{hint}",
+                    line=line,
+                )
 
 
 def _ply_fields(path: Path, fields: Fields) -> list[int]:

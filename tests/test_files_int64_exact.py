@@ -79,3 +79,35 @@ def test_a_npy_point_file_integer_a_double_rounds_is_refused_naming_the_row(tmp_
         warnings.simplefilter("error")
         with pytest.raises(InputFileError, match=rf"p.npy: row 2 is not exactly representable as float64: \[{value}, 5, 0\]"):
             read_points(path, (3,))
+
+
+def _ascii_ply(path: Path, kind: str, rows: list[str], before: str = "") -> None:
+    head = ["ply", "format ascii 1.0", *([before] if before else []), "element vertex 4"]
+    head += [f"property {kind} {c}" for c in "xyz"] + ["end_header"]
+    path.write_text("\n".join(head + rows) + "\n")
+
+
+@pytest.mark.parametrize(
+    ("kind", "token", "read_as", "line", "before"),
+    [
+        ("double", str(B + 1), B, 10, ""),
+        ("double", str(-(B + 3)), -(B + 4), 10, ""),
+        ("float", "16777217", 16777216, 12, "element face 0\nproperty list uchar int vertex_indices"),
+    ],
+)
+def test_an_ascii_ply_integer_its_type_rounds_is_refused_naming_the_line(
+    tmp_path: Path, kind: str, token: str, read_as: int, line: int, before: str
+) -> None:
+    """meshio reads an ASCII PLY's numbers in the declared type: 2^53 + 1 as a double was 2^53, and four points
+    off a plane could land on it."""
+    path = tmp_path / "p.ply"
+    _ascii_ply(path, kind, ["0 0 0", f"1 0 {B}", f"0 {token} 0", "1 1 3"], before)
+    with pytest.raises(InputFileError, match=rf"p.ply: line {line}: {token} is not exactly representable as "
+                       rf"float(64|32, its PLY property's type): reading it would round it to {read_as}"):
+        read_points(path, (3,))
+
+
+def test_an_ascii_ply_of_exact_large_numbers_is_read(tmp_path: Path) -> None:
+    path = tmp_path / "p.ply"
+    _ascii_ply(path, "double", ["0 0 0", f"1 0 {B}", "0 1 1e300", f"{2**60} 1 3"])
+    assert read_points(path, (3,)).tolist() == [[0, 0, 0], [1, 0, B], [0, 1, 1e300], [2**60, 1, 3]]
