@@ -14,9 +14,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from persistri._arrays import read_only, refuse_other_dimension
-from persistri._scipy_options import check_qhull_options, closed_error, delaunay_lifting, keeps_coplanar, lifting_constants
+from persistri._scipy_options import (
+    check_qhull_options, closed_error, delaunay_lifting, keeps_coplanar, lifted, lifted_planes, lifting_constants,
+)
 from persistri.impl.complex.adjacency import triangle_neighbors, vertex_neighbor_vertices, vertex_to_simplex
-from persistri.impl.geometry.barycentric import barycentric_transforms, lifted_equations, paraboloid_lift
+from persistri.impl.geometry.barycentric import barycentric_transforms
 from persistri.impl.geometry.points import as_points
 from persistri.impl.stats import Stats
 from persistri.impl.terrain.delaunay_history import DelaunayHistory
@@ -85,7 +87,13 @@ class Delaunay(Generic[H]):
       scipy's numbers up to rounding under the same ``qhull_options``, whose ``Qbb``
       and ``Qz`` set the lifting as they set scipy's (given options replace scipy's
       defaults: :mod:`persistri._scipy_options`); the exact decisions are
-      ``find_simplex``'s;
+      ``find_simplex``'s.  Far out (coordinates near 1e154 and beyond, where
+      ``|x|²`` exceeds the doubles and Qhull refuses the input) they are computed
+      on the points scaled by a power of two, never with a numpy warning: finite
+      under ``Qbb`` (scipy's default); without it the lifting ``|x|²`` itself is
+      beyond the doubles, and ``lift_points`` gives ``inf``, ``equations`` ``±inf``
+      offsets (and NaN normals: steeper planes than float64 normalises), and
+      ``plane_distance`` ``±inf`` or NaN;
     * ``min_bound``, ``max_bound``, ``furthest_site`` (False), ``good`` (all ones, as
       scipy's without ``QG``), ``close()`` (ends incremental mode, else nothing to
       release), ``npoints``, ``ndim`` (2), ``nsimplex``, ``seed``, and ``result``,
@@ -373,14 +381,14 @@ class Delaunay(Generic[H]):
     def lift_points(self, x: ArrayLike) -> FloatArray:
         """``x`` (shape ``(..., 2)``) lifted to the paraboloid, shape ``(..., 3)``, float64."""
         flat, lead = self._query(x, "x")
-        return paraboloid_lift(flat, *self._lifting()).reshape(lead + (3,))
+        return lifted(flat, *self._lifting()).reshape(lead + (3,))
 
     @property
     def equations(self) -> FloatArray:
         """``(m, 4)`` float64: each triangle's lifted plane, ``[unit normal (pointing down), offset]``. O(m) once."""
         if self._equations is None:
             scale, shift = self._lifting()
-            self._equations = read_only(lifted_equations(self._points, self._simplices, scale, shift))
+            self._equations = read_only(lifted_planes(self._points, self._simplices, scale, shift))
         return self._equations
 
     def plane_distance(self, xi: ArrayLike) -> FloatArray:
@@ -391,7 +399,13 @@ class Delaunay(Generic[H]):
         """
         z = self.lift_points(xi)
         eq = self.equations
-        out: FloatArray = z @ eq[:, :3].T + eq[:, 3]
+        with np.errstate(all="ignore"):
+            out: FloatArray = z @ eq[:, :3].T + eq[:, 3]
+            if not bool(np.isfinite(out).all()):  # sums beyond the doubles far out: again scaled by 2^-j, scaled back
+                finite = np.abs(np.concatenate([z.ravel(), eq[:, 3]]))
+                j = int(np.frexp(finite[np.isfinite(finite)].max(initial=1.0))[1])
+                again = np.ldexp(np.ldexp(z, -j) @ eq[:, :3].T + np.ldexp(eq[:, 3], -j), j)
+                out = np.where(np.isfinite(out), out, again)  # inf or NaN where the lifting is (class docstring)
         return out
 
     @property

@@ -36,6 +36,7 @@ ValueError: ConvexHull: qhull_options 'QG4' would change the result, and persist
 
 from __future__ import annotations
 
+import math
 from typing import Any, Final
 
 import numpy as np
@@ -43,7 +44,7 @@ from numpy.typing import NDArray
 
 __all__ = [
     "MOOT_QHULL_OPTIONS", "LIFTING_OPTIONS", "check_qhull_options", "delaunay_lifting", "keeps_coplanar", "lifting_constants",
-    "closed_error",
+    "lifted", "lifted_planes", "closed_error",
 ]
 
 MOOT_QHULL_OPTIONS: Final[dict[str, str]] = {
@@ -145,24 +146,84 @@ def lifting_constants(points: NDArray[Any], qbb: bool, qz: bool) -> tuple[float,
     With both (scipy's defaults), :func:`~persistri.impl.geometry.barycentric.paraboloid_scaling`; with ``Qbb``
     alone, ``scale = M / (hi − lo)`` (no point at infinity: ``lo``/``hi`` the least/greatest ``|x|²``, ``M`` the
     largest absolute coordinate) and ``shift = −lo·scale``; without ``Qbb``, ``(1.0, 0.0)``: the lifting is ``|x|²``
-    itself.  Where the scaling is undefined (every ``|x|²`` equal: scipy refuses such cocircular input under
-    ``Qbb`` alone; overflow), ``(1.0, 0.0)``.  O(n).
+    itself.  Where some ``|x|²`` is beyond the doubles (coordinates near 1e154 and beyond), the same formulas on
+    the points scaled by a power of two, scaled back (``scale`` about ``1/M``, both finite: Qhull itself
+    refuses such input).  Where the scaling is undefined (every ``|x|²`` equal: scipy refuses such cocircular
+    input under ``Qbb`` alone), ``(1.0, 0.0)``.  O(n).
     """
     from persistri.impl.geometry.barycentric import paraboloid_scaling
 
     if not qbb:
         return 1.0, 0.0
-    if qz:
-        return paraboloid_scaling(points)
     with np.errstate(over="ignore", invalid="ignore"):
         sq = (points * points).sum(axis=1)
-        low, high = float(sq.min()), float(sq.max())
-        reach = float(np.abs(points).max())
-        room = high - low
-        if not (np.isfinite(room) and np.isfinite(reach)) or room <= 0.0 or reach == 0.0:
-            return 1.0, 0.0
-        scale = reach / room
-        return scale, -low * scale
+        over = sq.size > 0 and not bool(np.isfinite(sq).all() and np.isfinite(1.1 * sq.max()))
+    if over:  # |x|² (or Qhull's point at infinity, 1.1·max |x|²) beyond the doubles
+        return _scaled_constants(points, qz)
+    if qz:
+        return paraboloid_scaling(points)
+    low, high = float(sq.min()), float(sq.max())
+    reach = float(np.abs(points).max())
+    room = high - low
+    if not np.isfinite(room) or room <= 0.0 or reach == 0.0:
+        return 1.0, 0.0
+    scale = reach / room
+    return scale, -low * scale
+
+
+def _scaled_constants(points: NDArray[Any], qz: bool) -> tuple[float, float]:
+    """:func:`lifting_constants` under ``Qbb`` where ``|x|²`` overflows: computed on ``x·2^-k`` (``2^k`` about the
+    largest coordinate; each step rounds as the unscaled one would with an unbounded exponent), then
+    ``scale·2^-k`` and ``shift·2^k``. O(n)."""
+    k = int(np.frexp(np.abs(points).max())[1])
+    x = np.ldexp(points, -k)
+    with np.errstate(under="ignore"):
+        sq = (x * x).sum(axis=1)
+    low, high = float(sq.min()), float(sq.max())
+    reach = float(np.abs(x).max())
+    room = (1.1 * high if qz else high) - low
+    if room <= 0.0 or reach == 0.0:
+        return 1.0, 0.0
+    scale = reach / room
+    return math.ldexp(scale, -k), math.ldexp(-low * scale, k)
+
+
+def lifted(x: NDArray[np.float64], scale: float, shift: float) -> NDArray[np.float64]:
+    """``x`` (``(k, 2)``) lifted, ``(k, 3)``: :func:`~persistri.impl.geometry.barycentric.paraboloid_lift`, and for
+    the rows whose ``|x|²`` overflows, the lifting of ``x·2^-j`` by ``(scale·2^j, shift·2^-j)`` (which is
+    ``2^-j`` times theirs) scaled back: finite wherever the lifted value is a double (under ``Qbb``, always);
+    ``±inf`` where it is not (``|x|²`` itself, without ``Qbb``, beyond 1.8e308).  No numpy warning.  O(k).
+    """
+    from persistri.impl.geometry.barycentric import paraboloid_lift
+
+    with np.errstate(all="ignore"):
+        z = paraboloid_lift(x, scale, shift)
+        bad = ~np.isfinite(z[:, 2])
+        if bad.any():
+            j = int(np.frexp(np.abs(x[bad]).max())[1])
+            again = paraboloid_lift(np.ldexp(x[bad], -j), math.ldexp(scale, j), math.ldexp(shift, -j))
+            z[bad, 2] = np.ldexp(again[:, 2], j)
+    return z
+
+
+def lifted_planes(points: NDArray[np.float64], simplices: NDArray[Any], scale: float, shift: float) -> NDArray[np.float64]:
+    """Each triangle's lifted plane (:func:`~persistri.impl.geometry.barycentric.lifted_equations`); for those
+    that overflow, the planes of the points scaled by ``2^-j`` with the lifting of :func:`lifted` (the same unit
+    normals; the offsets scaled back by ``2^j``): finite under ``Qbb``; without it, where ``|x|²`` is beyond the
+    doubles, ``±inf`` offsets (and NaN normals: the normalisation's squares underflow for planes that steep).
+    No numpy warning.  O(n + m).
+    """
+    from persistri.impl.geometry.barycentric import lifted_equations
+
+    with np.errstate(all="ignore"):
+        eq = lifted_equations(points, simplices, scale, shift)
+        bad = ~np.isfinite(eq).all(axis=1)
+        if bad.any():
+            j = int(np.frexp(np.abs(points).max())[1])
+            again = lifted_equations(np.ldexp(points, -j), simplices[bad], math.ldexp(scale, j), math.ldexp(shift, -j))
+            again[:, 3] = np.ldexp(again[:, 3], j)
+            eq[bad] = again
+    return eq
 
 
 def closed_error(what: str) -> RuntimeError:
