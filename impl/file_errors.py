@@ -6,11 +6,12 @@ Shared by the point readers (:mod:`persistri.impl.files`), the text tables
 
 from __future__ import annotations
 
+import stat
 import zipfile
 from collections.abc import Sequence
 from pathlib import Path
 
-__all__ = ["InputFileError", "foreign_format", "quote", "shown", "widths", "os_error"]
+__all__ = ["InputFileError", "foreign_format", "quote", "shown", "widths", "os_error", "special_file"]
 
 _SHOWN = 40  # characters of a bad line or field quoted in a message
 
@@ -109,3 +110,27 @@ def _npz_advice(path: Path) -> str:
     noun = "array" if len(names) == 1 else "arrays"
     return (f"a NumPy archive (its {noun} {listed}): save the array to read alone, "
             f"e.g. np.save({first + '.npy'!r}, np.load({path.name!r})[{first!r}])")
+
+
+def special_file(path: Path) -> str | None:
+    """What ``path`` is when it exists and is neither a regular file nor a directory — a pipe (a FIFO,
+    ``/dev/stdin`` fed by a pipe), a socket, a device — as the end of a one-line error; None otherwise.
+
+    persistri's readers open their input more than once (a header checked before the data is read, a line
+    read again to name an error): a pipe would be emptied by the first reading and block the next for
+    ever, so such inputs are refused before anything opens them.  One ``stat``, which never blocks. O(1).
+    """
+    try:
+        mode = path.stat().st_mode
+    except (OSError, ValueError):  # missing, a broken link, an unreadable directory: the callers' own errors
+        return None
+    if stat.S_ISREG(mode) or stat.S_ISDIR(mode):
+        return None
+    what = (
+        "a pipe (FIFO)" if stat.S_ISFIFO(mode) else "a socket" if stat.S_ISSOCK(mode)
+        else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "not a regular file"
+    )
+    return (
+        f"{what}, not a regular file: persistri reads its input more than once, which a pipe cannot give; "
+        "save the data to a file and name that"
+    )

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from persistri.impl.file_errors import InputFileError, foreign_format, os_error, quote, shown, widths
+from persistri.impl.file_errors import InputFileError, foreign_format, os_error, quote, shown, special_file, widths
 from persistri.impl.geometry.points import as_points
 from persistri.impl.text_tables import Fields, read_text, read_text_table, text_of
 
@@ -303,7 +303,8 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None, fields: 
     file, the row of an array counting from 0) for a missing or unreadable
     file, an unknown extension, binary or non-UTF-8 text, a file with no
     points, a bad or ragged row, the wrong number of columns, a NaN or
-    infinite coordinate, or an integer float64 cannot hold exactly.
+    infinite coordinate, an integer float64 cannot hold exactly, or a pipe
+    (a FIFO: its readers open a file more than once).
     O(n) (a text file with a bad row is parsed about twice more to find it).
     """
     _check_columns(columns)
@@ -317,6 +318,9 @@ def read_points(path: str | Path, columns: Sequence[int] | None = None, fields: 
             raise InputFileError(p, f"a gzip-compressed {suffix or 'file'}: persistri decompresses text only ({', '.join(t + '.gz' for t in TEXT_FORMATS)}); decompress it first")
     if suffix not in POINT_FORMATS:
         raise InputFileError(p, f"unknown point format {suffix or '(no extension)'}; use one of {', '.join(POINT_FORMATS)}{foreign_format(p)}")
+    special = special_file(p)
+    if special is not None:  # a pipe: the readers open their file more than once, and would block for ever
+        raise InputFileError(p, special)
     try:
         if suffix in TEXT_FORMATS:
             arr, lines = read_text(p, columns, fields=fields)

@@ -94,10 +94,19 @@ def _formats(formats: Sequence[str]) -> str:
 def check_input(path: Path, formats: Sequence[str], *, kind: str, words: Sequence[str] = ()) -> None:
     """Fail unless ``path`` is a readable file with one of ``formats`` (``kind`` names them: "point", "grid").
 
-    ``words`` are inputs that are not files (``jacksboro``); they pass.
+    ``words`` are inputs that are not files (``jacksboro``); they pass.  ``-`` (standard input), a named pipe
+    and ``/dev/stdin`` fed by a pipe are refused (:func:`~persistri.impl.file_errors.special_file`) before
+    anything opens them: opening a pipe to test it would empty it.
     """
     if str(path).lower() in words:
         return
+    if str(path) == "-" and not path.exists():
+        fail(f"-: persistri does not read standard input; give the name of a {kind} file ({_formats(formats)})")
+    from persistri.impl.file_errors import special_file
+
+    special = special_file(path)
+    if special is not None:
+        fail(f"{path}: {special}")
     if path.is_symlink() and not path.exists():
         fail(f"{path}: a broken symbolic link (to {path.readlink()})")
     if not path.exists():

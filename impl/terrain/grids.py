@@ -414,6 +414,11 @@ def read_grid(source: str | Path) -> HeightGrid:
         raise ValueError(f"{path}: no such file")
     if path.is_dir():
         raise ValueError(f"{path}: a directory, not a file")
+    from persistri.impl.file_errors import special_file
+
+    special = special_file(path)
+    if special is not None:  # a pipe: read twice (a header, then the data), it would block for ever
+        raise ValueError(f"{path}: {special}")
     suffix = path.suffix.lower()
     if suffix == ".gz" and Path(path.stem).suffix.lower() in (".csv", ".txt"):
         suffix = Path(path.stem).suffix.lower()  # heights.csv.gz: the text reader decompresses it
