@@ -74,8 +74,10 @@ twin-build: install-dev
 	if [ $$status -eq 2 ]; then echo "twin-build: skipped, the compiled twin needs a C compiler and Python headers"; exit 0; fi; \
 	exit $$status
 
-# The whole suite on the twin, at the quick hypothesis profile: the thorough search of examples runs on the
-# interpreted build (`pytest`); the twin is the same source compiled, and its run checks every test on it.
+# The suite on the twin, at the quick hypothesis profile: the thorough search of examples runs on the
+# interpreted build (`pytest`); the twin is the same source compiled, and its run checks every test of
+# compiled code on it (tests marked build_independent, whose subject the twin does not compile, are left out
+# by tests/conftest.py).
 pytest-twin: twin-build
 	@$(BIN)/python tools/compiled_twin.py $(TWIN) >/dev/null; status=$$?; \
 	if [ $$status -eq 2 ]; then echo "pytest-twin: skipped, no compiled twin on this machine"; exit 0; fi; \
