@@ -62,7 +62,7 @@ pytest: install-dev
 # The compiled twin (tools/compiled_twin.py, docs/performance.md): the same source with the
 # bulldozer's loop and its predicate kernel compiled by mypyc, in $(TWIN).  Built only on a machine
 # with a C compiler and Python headers (persistri itself needs neither); where it is built, the
-# whole test suite runs on it.
+# test suite runs on it (below).
 TWIN := build/compiled
 
 compiled: install-dev
