@@ -399,9 +399,10 @@ class Delaunay(Generic[H]):
         """
         z = self.lift_points(xi)
         eq = self.equations
-        with np.errstate(all="ignore"):
+        with np.errstate(all="ignore"):  # |unit normal · z + offset| ≤ 3·max |z| + max |offset|: mostly no check
+            bound = 3.0 * float(np.abs(z).max(initial=0.0)) + float(np.abs(eq[:, 3]).max(initial=0.0))
             out: FloatArray = z @ eq[:, :3].T + eq[:, 3]
-            if not bool(np.isfinite(out).all()):  # sums beyond the doubles far out: again scaled by 2^-j, scaled back
+            if not bound < 1e308 and not bool(np.isfinite(out).all()):  # sums beyond the doubles far out: again scaled by 2^-j, scaled back
                 finite = np.abs(np.concatenate([z.ravel(), eq[:, 3]]))
                 j = int(np.frexp(finite[np.isfinite(finite)].max(initial=1.0))[1])
                 again = np.ldexp(np.ldexp(z, -j) @ eq[:, :3].T + np.ldexp(eq[:, 3], -j), j)

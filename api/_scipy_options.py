@@ -216,8 +216,8 @@ def lifted_planes(points: NDArray[np.float64], simplices: NDArray[Any], scale: f
 
     with np.errstate(all="ignore"):
         eq = lifted_equations(points, simplices, scale, shift)
-        bad = ~np.isfinite(eq).all(axis=1)
-        if bad.any():
+        if not bool(np.isfinite(eq).all()):  # one flat pass: the row-wise test only where it fails
+            bad = ~np.isfinite(eq).all(axis=1)
             j = int(np.frexp(np.abs(points).max())[1])
             again = lifted_equations(np.ldexp(points, -j), simplices[bad], math.ldexp(scale, j), math.ldexp(shift, -j))
             again[:, 3] = np.ldexp(again[:, 3], j)
