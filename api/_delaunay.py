@@ -91,9 +91,9 @@ class Delaunay(Generic[H]):
       ``|x|²`` exceeds the doubles and Qhull refuses the input) they are computed
       on the points scaled by a power of two, never with a numpy warning: finite
       under ``Qbb`` (scipy's default); without it the lifting ``|x|²`` itself is
-      beyond the doubles, and ``lift_points`` gives ``inf``, ``equations`` non-finite
-      (planes too steep for float64's normalisation), ``plane_distance`` ``±inf``
-      or NaN;
+      beyond the doubles, and ``lift_points`` gives ``inf``, ``equations`` finite
+      but vertical planes (a normal's ``z`` is 0: the lifting is steeper than a
+      double resolves), ``plane_distance`` ``±inf`` or NaN;
     * ``min_bound``, ``max_bound``, ``furthest_site`` (False), ``good`` (all ones, as
       scipy's without ``QG``), ``close()`` (ends incremental mode, else nothing to
       release), ``npoints``, ``ndim`` (2), ``nsimplex``, ``seed``, and ``result``,

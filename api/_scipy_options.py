@@ -210,7 +210,8 @@ def lifted_planes(points: NDArray[np.float64], simplices: NDArray[Any], scale: f
     """Each triangle's lifted plane (:func:`~persistri.impl.geometry.barycentric.lifted_equations`); for those
     that overflow, the planes of the points scaled by ``2^-j`` with the lifting of :func:`lifted` (the same unit
     normals; the offsets scaled back by ``2^j``): finite under ``Qbb``; without it, where ``|x|²`` is beyond the
-    doubles, non-finite (the normalisation's squares underflow for planes that steep).  No numpy warning.  O(n + m).
+    doubles, vertical (a normal's ``z`` is 0: the lifting is steeper than a double resolves).  No numpy warning.
+    O(n + m).
     """
     from persistri.impl.geometry.barycentric import lifted_equations
 

@@ -154,6 +154,10 @@ def lifted_equations(points: FloatArray, triangles: IndexArray, scale: float, sh
     size = np.maximum(np.abs(u).max(axis=1), np.abs(v).max(axis=1))
     exponent = np.frexp(np.where(size > 0, size, 1.0))[1][:, None]
     normal = np.cross(np.ldexp(u, -exponent), np.ldexp(v, -exponent))
+    # And the cross product by a power of two near its size: a plane steep beyond 2^500 (a lifting far out without
+    # Qbb) has a normal whose squares underflow, whose norm would be 0.
+    largest = np.abs(normal).max(axis=1)
+    normal = np.ldexp(normal, -np.frexp(np.where(largest > 0, largest, 1.0))[1][:, None])
     # Counterclockwise triangles give an upward cross product: flip it out of the lower hull.
     normal = -normal / np.linalg.norm(normal, axis=1, keepdims=True)
     offset = -(normal * la).sum(axis=1)
