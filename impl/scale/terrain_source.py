@@ -28,6 +28,7 @@ of §5's meshes at scale.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final, Protocol
@@ -75,12 +76,15 @@ class DemSource(Protocol):
         ...
 
 
-def _as_float(raw: NDArray[Any], name: str, r0: int, c0: int) -> FloatArray:
-    """A window as float64 (a copy), refusing integers float64 cannot hold exactly (their cell named)."""
+def _as_float(raw: NDArray[Any], name: str, r0: int, c0: int, nodata: NDArray[np.bool_] | None = None) -> FloatArray:
+    """A window as float64 (a copy), refusing integers float64 cannot hold exactly (their cell named; the
+    ``nodata`` cells, which the caller makes NaN, are not heights and may be anything)."""
     if raw.dtype.kind not in "biuf":
         raise ValueError(f"{name}: the heights are not numbers (dtype {raw.dtype})")
     if raw.dtype.kind in "iu" and raw.dtype.itemsize >= 8 and raw.size:
         big = np.abs(raw.astype(np.float64)) > _EXACT_INTEGER
+        if nodata is not None:
+            big &= ~nodata
         if bool(big.any()):
             r, c = np.argwhere(big)[0]
             raise ValueError(f"{name}: the integer height at (row {r0 + r}, col {c0 + c}) is not exactly representable as float64")
@@ -110,7 +114,7 @@ class TiffSource:
 
     path: str
     shape: tuple[int, int]
-    nodata: float | None
+    nodata: float | int | None
 
     @property
     def name(self) -> str:
@@ -132,11 +136,14 @@ class TiffSource:
             raise ValueError(f"{self.path}: cannot decode rows {r0}–{r1 - 1}: {' '.join(str(exc).split()) or type(exc).__name__}") from None
         finally:
             log.disabled = quiet
-        out = _as_float(raw, self.path, r0, c0)
+        missing = None
         if self.nodata is not None:
             from persistri.impl.terrain.geotiff import nodata_cells  # in the band's type, as GDAL compares
 
-            out[nodata_cells(raw, self.nodata)] = np.nan
+            missing = nodata_cells(raw, self.nodata)
+        out = _as_float(raw, self.path, r0, c0, missing)
+        if missing is not None:
+            out[missing] = np.nan
         return out
 
 
@@ -334,10 +341,11 @@ def _open_tiff(path: Path) -> tuple[TiffSource, GridTransform | None]:
         for code, name in ((33550, "ModelPixelScale"), (33922, "ModelTiepoint"), (34264, "ModelTransformation")):
             if name not in geokeys and page.tags.valueof(code) is not None:
                 geokeys[name] = page.tags.valueof(code)
-    nodata = None
+    nodata: float | int | None = None
     if nodata_tag is not None:
-        try:
-            nodata = float(str(nodata_tag).strip().strip("\x00"))
+        text = str(nodata_tag).strip().strip("\x00")
+        try:  # an integer band's tag as the integer it spells (UInt64 max rounds to 2^64 as a double), as GDAL reads it
+            nodata = int(text) if np.dtype(page.dtype).kind in "iu" and re.fullmatch(r"[-+]?\d+", text) else float(text)
         except ValueError:
             raise ValueError(f"{path}: GDAL_NODATA tag is not a number: {nodata_tag!r}") from None
     return TiffSource(str(path), (shape[0], shape[1]), nodata), _tiff_transform(path, geokeys)
