@@ -46,10 +46,7 @@ No-data cells (the file's no-data value, NaN) become NaN in :attr:`HeightGrid.he
 
 from __future__ import annotations
 
-import decimal
 import logging
-import math
-import numbers
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -59,6 +56,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from persistri.impl.terrain.crs import Crs
+from persistri.impl.terrain.exact_heights import exact_objects, float_heights, ragged_row, refuse_rounded
 
 __all__ = [
     "GRID_FORMATS",
@@ -77,6 +75,9 @@ GRID_FORMATS: Final = (".npy", ".npz", ".asc", ".csv", ".txt", ".tif", ".tiff", 
 
 NODATA_RULES: Final = ("error", "fill", "min")
 """The named no-data rules of :func:`as_heights` (a number is accepted too)."""
+
+_float_heights = float_heights
+"""geotiff's name for :func:`~persistri.impl.terrain.exact_heights.float_heights` (kept importable from here)."""
 
 _NPZ_NAMES: Final = ("elevation", "heights", "z", "dem")
 
@@ -205,11 +206,11 @@ def as_heights(
     try:
         raw = np.asarray(heights)
     except (ValueError, TypeError) as exc:
-        raise ValueError(f"{what}: not a rectangular 2D array{_ragged_row(heights) or f' (ragged rows?): {exc}'}") from None
+        raise ValueError(f"{what}: not a rectangular 2D array{ragged_row(heights) or f' (ragged rows?): {exc}'}") from None
     if raw.dtype == object:
-        raw = _exact_objects(raw, what)
+        raw = exact_objects(raw, what)
     elif raw.dtype.kind == "f" and raw.ndim == 2 and not isinstance(heights, np.ndarray):
-        _refuse_rounded(heights, raw, what)
+        refuse_rounded(heights, raw, what)
     if raw.dtype.kind not in "biuf":
         raise TypeError(f"{what}: expected real numbers, not {raw.dtype}")
     if raw.ndim != 2:
@@ -282,67 +283,6 @@ def as_heights(
 # -- reading -------------------------------------------------------------------------------
 
 
-def _exact_objects(raw: NDArray[Any], what: str) -> NDArray[np.float64]:
-    """A 2D object array of Python numbers (integers beyond 2^64, Fractions, Decimals) as the float64 heights they
-    are exactly; :class:`ValueError` naming the first cell a double cannot hold, or for anything else (ragged rows,
-    entries that are not real numbers).  O(rows · cols)."""
-    if raw.ndim != 2:
-        raise ValueError(f"{what}: not a rectangular 2D array of real numbers (ragged rows or non-numeric entries)")
-    out = np.empty(raw.shape, dtype=np.float64)
-    for r, row in enumerate(raw.tolist()):
-        for c, x in enumerate(row):
-            if not isinstance(x, (numbers.Real, decimal.Decimal)):
-                hint = " (a no-data cell is NaN)" if x is None else ""
-                raise ValueError(f"{what}: cell (row {r}, col {c}) holds {type(x).__name__} {x!r:.40}, not a real number{hint}")
-            try:
-                f = float(x)
-            except (OverflowError, ValueError):  # beyond the doubles; a signalling NaN
-                f = math.inf
-            if f == f and f != x:
-                raise ValueError(f"{what}: cell (row {r}, col {c}) is {x!r:.60}, not exactly representable as float64")
-            out[r, c] = f
-    return out
-
-
-def _refuse_rounded(heights: object, raw: NDArray[Any], what: str) -> None:
-    """:class:`ValueError` naming the first cell of the nested lists ``heights`` that numpy rounded reading them as
-    the floats ``raw`` (a list mixing integers with floats is float64 to numpy: 2^53 + 1 becomes 2^53); each cell is
-    compared with the number it came from (Python compares an int with a float exactly) where it is 2^53 or
-    more.  O(rows · cols), vectorised but for such cells."""
-    with np.errstate(invalid="ignore"):
-        big = np.abs(raw) >= 2.0**53  # an integer below 2^53 converts exactly: only these cells can be rounded
-    if not big.any():
-        return
-    objs = np.asarray(heights, dtype=object)
-    if objs.shape != raw.shape:
-        return
-    inexact = np.zeros(raw.shape, dtype=bool)
-    # numpy's integer scalars compare with a float through float64: compared as Python ints instead
-    exact = np.array([int(x) if isinstance(x, np.integer) else x for x in objs[big].tolist()], dtype=object)
-    inexact[big] = np.not_equal(exact, raw[big]).astype(bool)
-    if inexact.any():
-        r, c = np.argwhere(inexact)[0]
-        raise ValueError(
-            f"{what}: cell (row {r}, col {c}) is {objs[r, c]!r:.60}, not exactly representable as float64 (numpy reads "
-            f"this list as float64, which rounds it; persistri never rounds its input)"
-        )
-
-
-def _ragged_row(heights: object) -> str:
-    """``": row 1 has 1 entry, not 2"`` for the first row of a list of rows whose length differs from row 0's; else "".
-
-    Only on the error path of :func:`as_heights`; O(rows).
-    """
-    try:
-        lengths = [len(row) for row in heights]  # type: ignore[attr-defined]
-    except TypeError:
-        return ""
-    for k, n in enumerate(lengths):
-        if n != lengths[0]:
-            return f": row {k} has {n} {'entry' if n == 1 else 'entries'}, not {lengths[0]}"
-    return ""
-
-
 def jacksboro() -> HeightGrid:
     """The Jacksboro fault DEM shipped with matplotlib: 344 × 403 heights (m), row 0 the northernmost.
 
@@ -368,37 +308,12 @@ def _from_npz(data: Any, source: str) -> HeightGrid:
                 f"{source}: cannot tell which array holds the heights ({held}); name it one of {', '.join(_NPZ_NAMES)}"
             )
         chosen = two_d[0]
-    heights = _float_heights(arrays[chosen], source)
+    heights = float_heights(arrays[chosen], source)
     transform = None
     if all(k in arrays and arrays[k].ndim == 0 for k in ("xmin", "ymin", "dx", "dy")):
         # matplotlib's sample: 'ymin' is the latitude of row 0 (the north edge), rows go south.
         transform = GridTransform(float(arrays["xmin"]), float(arrays["ymin"]), float(arrays["dx"]), -abs(float(arrays["dy"])))
     return HeightGrid(heights, transform, source)
-
-
-def _float_heights(a: NDArray[Any], source: str, nodata: NDArray[np.bool_] | None = None) -> NDArray[np.float64]:
-    """The heights of the band ``a`` as float64, read from ``source``; a :class:`ValueError` naming the first cell
-    (not among the ``nodata`` cells, which the caller makes NaN) holding an integer a double would round
-    (int64 or uint64 beyond 2^53: ``9007199254740993``, ``2**63 - 1``).  O(size), vectorised.
-    """
-    if a.dtype.kind not in "biuf":
-        raise ValueError(f"{source}: the heights are not numbers (dtype {a.dtype})")
-    out: NDArray[np.float64] = np.asarray(a, dtype=np.float64)
-    if a.dtype.kind in "iu" and a.itemsize >= 8:
-        # Cast back and compare in the band's type; a double at or beyond 2^63 (2^64 unsigned) has no integer there
-        # to cast to (numpy would warn "invalid value") and is inexact: int64 max rounds up to 2^63.
-        with np.errstate(invalid="ignore"):
-            inexact = (out >= 2.0 ** (8 * a.itemsize - (a.dtype.kind == "i"))) | (out.astype(a.dtype) != a)
-        if nodata is not None:
-            inexact &= ~nodata
-        if inexact.any():
-            r, c = (int(v) for v in np.argwhere(inexact)[0]) if a.ndim == 2 else (0, int(np.argmax(inexact)))
-            raise ValueError(
-                f"{source}: an integer height is not exactly representable as float64: cell (row {r}, col {c}) is "
-                f"{int(a[r, c] if a.ndim == 2 else a.flat[c])} (beyond 2^53, a double would round it; persistri "
-                "never rounds its input)"
-            )
-    return out
 
 
 def read_grid(source: str | Path) -> HeightGrid:
@@ -425,7 +340,7 @@ def read_grid(source: str | Path) -> HeightGrid:
     if suffix == ".npy":
         from persistri.impl.files import read_npy
 
-        grid = HeightGrid(_float_heights(read_npy(path), str(path)), None, str(path))
+        grid = HeightGrid(float_heights(read_npy(path), str(path)), None, str(path))
     elif suffix == ".npz":
         grid = _read_npz(path)
     elif suffix == ".asc":
@@ -473,7 +388,7 @@ def _read_png(path: Path) -> HeightGrid:
             pixels = np.asarray(image)
     except (UnidentifiedImageError, OSError, SyntaxError) as exc:  # Pillow's words for a file that is no (whole) PNG
         raise ValueError(f"{path}: cannot read PNG ({' '.join(str(exc).split()) or type(exc).__name__})") from None
-    return HeightGrid(_float_heights(pixels, str(path)), None, str(path))
+    return HeightGrid(float_heights(pixels, str(path)), None, str(path))
 
 
 def _read_text_grid(path: Path) -> HeightGrid:
