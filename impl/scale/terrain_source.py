@@ -59,7 +59,6 @@ LAZY_FORMATS: Final = (".npy", ".tif", ".tiff", ".zarr")
 """The formats read in windows (the others are read whole)."""
 
 _ZARR_NAMES: Final = ("elevation", "heights", "z", "dem")
-_EXACT_INTEGER: Final = 2**53
 
 
 class DemSource(Protocol):
@@ -81,14 +80,17 @@ def _as_float(raw: NDArray[Any], name: str, r0: int, c0: int, nodata: NDArray[np
     ``nodata`` cells, which the caller makes NaN, are not heights and may be anything)."""
     if raw.dtype.kind not in "biuf":
         raise ValueError(f"{name}: the heights are not numbers (dtype {raw.dtype})")
-    if raw.dtype.kind in "iu" and raw.dtype.itemsize >= 8 and raw.size:
-        big = np.abs(raw.astype(np.float64)) > _EXACT_INTEGER
-        if nodata is not None:
-            big &= ~nodata
-        if bool(big.any()):
-            r, c = np.argwhere(big)[0]
-            raise ValueError(f"{name}: the integer height at (row {r0 + r}, col {c0 + c}) is not exactly representable as float64")
     out: FloatArray = np.array(raw, dtype=np.float64, copy=True)
+    if raw.dtype.kind in "iu" and raw.dtype.itemsize >= 8 and raw.size:
+        # Cast back and compared in the band's type (2^53 + 1 becomes 2^53, which is not beyond 2^53); a double at
+        # or beyond 2^63 (2^64 unsigned) has no integer there to cast to and is inexact: int64 max rounds up to 2^63.
+        with np.errstate(invalid="ignore"):
+            inexact = (out >= 2.0 ** (8 * raw.dtype.itemsize - (raw.dtype.kind == "i"))) | (out.astype(raw.dtype) != raw)
+        if nodata is not None:
+            inexact &= ~nodata
+        if bool(inexact.any()):
+            r, c = np.argwhere(inexact)[0]
+            raise ValueError(f"{name}: the integer height at (row {r0 + r}, col {c0 + c}) is not exactly representable as float64")
     return out
 
 
