@@ -30,7 +30,8 @@ from numpy.typing import NDArray
 
 from persistri.impl.file_errors import shown
 from persistri.impl.terrain.crs import crs_from_geokeys
-from persistri.impl.terrain.grids import GridTransform, HeightGrid, _float_heights
+from persistri.impl.terrain.exact_heights import float_heights
+from persistri.impl.terrain.grids import GridTransform, HeightGrid
 
 __all__ = ["nodata_cells", "read_geotiff"]
 
@@ -77,7 +78,7 @@ def read_geotiff(path: Path) -> HeightGrid:
         except ValueError:
             raise ValueError(f"{path}: GDAL_NODATA tag is not a number: {shown(str(nodata))}") from None
         missing = nodata_cells(data, value)
-    heights = _float_heights(data, str(path), missing).copy()  # no-data cells need not be exact heights
+    heights = float_heights(data, str(path), missing).copy()  # no-data cells need not be exact heights
     if missing is not None:
         heights[missing] = np.nan
     return HeightGrid(heights, _tiff_transform(path, geokeys), str(path))

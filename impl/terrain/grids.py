@@ -76,8 +76,6 @@ GRID_FORMATS: Final = (".npy", ".npz", ".asc", ".csv", ".txt", ".tif", ".tiff", 
 NODATA_RULES: Final = ("error", "fill", "min")
 """The named no-data rules of :func:`as_heights` (a number is accepted too)."""
 
-_float_heights = float_heights
-"""geotiff's name for :func:`~persistri.impl.terrain.exact_heights.float_heights` (kept importable from here)."""
 
 _NPZ_NAMES: Final = ("elevation", "heights", "z", "dem")
 
