@@ -68,25 +68,34 @@ def as_points(points: ArrayLike, dim: int, *, what: str = "points") -> NDArray[n
     return out
 
 
-def _refuse_rounded_numbers(points: object, raw: NDArray[Any], what: str) -> None:
-    """Raise :class:`ValueError` naming the first row of the nested sequence ``points`` whose Python numbers numpy
-    rounded when it read them as ``raw`` (floats): it reads a list mixing integers with floats, or integers of
-    both signs beyond 2^63, as float64, and rounds the integers a double cannot hold (2^53 + 1 becomes 2^53, and
-    four points off a plane may land on it).  Each entry is compared with the number it came from (Python
-    compares an int with a float exactly).  O(n).
+def rounded_by_numpy(values: object, raw: NDArray[Any]) -> tuple[NDArray[Any], NDArray[np.bool_]] | None:
+    """Where numpy rounded the nested sequence ``values`` reading it as the floats ``raw``: the entries as Python
+    objects and the mask of those that differ from the number they came from, or None if none does.
+
+    numpy reads a list mixing integers with floats, or integers of both signs beyond 2^63, as float64, and
+    rounds the integers a double cannot hold (2^53 + 1 becomes 2^53).  Only entries of magnitude 2^53 or more
+    can be rounded, so only those are compared, each with its Python number (Python compares an int with a
+    float exactly; numpy's integer scalars are compared as Python ints).  O(n), vectorised but for such entries.
     """
     with np.errstate(invalid="ignore"):
         big = np.abs(raw) >= 2.0**53  # an integer below 2^53 converts exactly: only these cells can be rounded
     if not big.any():
-        return
-    objs = np.asarray(points, dtype=object)
+        return None
+    objs = np.asarray(values, dtype=object)
     if objs.shape != raw.shape:
-        return
+        return None
     inexact = np.zeros(raw.shape, dtype=bool)
-    # numpy's integer scalars compare with a float through float64: compared as Python ints instead
     exact = np.array([int(x) if isinstance(x, np.integer) else x for x in objs[big].tolist()], dtype=object)
     inexact[big] = np.not_equal(exact, raw[big]).astype(bool)
-    if inexact.any():
+    return (objs, inexact) if inexact.any() else None
+
+
+def _refuse_rounded_numbers(points: object, raw: NDArray[Any], what: str) -> None:
+    """Raise :class:`ValueError` naming the first row of the nested sequence ``points`` whose numbers numpy rounded
+    reading them as ``raw`` (:func:`rounded_by_numpy`: four points off a plane may land on it).  O(n)."""
+    found = rounded_by_numpy(points, raw)
+    if found is not None:
+        objs, inexact = found
         row = int(np.argmax(inexact.any(axis=1)))
         raise ValueError(
             f"{what}: row {row} is not exactly representable as float64: {reprlib.repr(objs[row].tolist())} "

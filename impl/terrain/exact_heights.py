@@ -20,6 +20,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from persistri.impl.geometry.points import rounded_by_numpy
+
 __all__ = ["exact_objects", "refuse_rounded", "ragged_row", "float_heights"]
 
 
@@ -47,21 +49,12 @@ def exact_objects(raw: NDArray[Any], what: str) -> NDArray[np.float64]:
 
 def refuse_rounded(heights: object, raw: NDArray[Any], what: str) -> None:
     """:class:`ValueError` naming the first cell of the nested lists ``heights`` that numpy rounded reading them as
-    the floats ``raw`` (a list mixing integers with floats is float64 to numpy: 2^53 + 1 becomes 2^53); each cell is
-    compared with the number it came from (Python compares an int with a float exactly) where it is 2^53 or
-    more.  O(rows · cols), vectorised but for such cells."""
-    with np.errstate(invalid="ignore"):
-        big = np.abs(raw) >= 2.0**53  # an integer below 2^53 converts exactly: only these cells can be rounded
-    if not big.any():
-        return
-    objs = np.asarray(heights, dtype=object)
-    if objs.shape != raw.shape:
-        return
-    inexact = np.zeros(raw.shape, dtype=bool)
-    # numpy's integer scalars compare with a float through float64: compared as Python ints instead
-    exact = np.array([int(x) if isinstance(x, np.integer) else x for x in objs[big].tolist()], dtype=object)
-    inexact[big] = np.not_equal(exact, raw[big]).astype(bool)
-    if inexact.any():
+    the floats ``raw`` (:func:`~persistri.impl.geometry.points.rounded_by_numpy`: a list mixing integers with
+    floats is float64 to numpy, and 2^53 + 1 becomes 2^53).  O(rows · cols), vectorised but for cells of 2^53 or
+    more."""
+    found = rounded_by_numpy(heights, raw)
+    if found is not None:
+        objs, inexact = found
         r, c = np.argwhere(inexact)[0]
         raise ValueError(
             f"{what}: cell (row {r}, col {c}) is {objs[r, c]!r:.60}, not exactly representable as float64 (numpy reads "
