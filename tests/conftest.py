@@ -40,10 +40,12 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     """
     if not os.environ.get("PERSISTRI_TWIN"):
         return
-    dropped = [item for item in items if item.get_closest_marker("build_independent")]
+    kept, dropped = [], []
+    for item in items:
+        (dropped if item.get_closest_marker("build_independent") else kept).append(item)
     if dropped:
         config.hook.pytest_deselected(items=dropped)
-        items[:] = [item for item in items if not item.get_closest_marker("build_independent")]
+        items[:] = kept
 
 
 def pytest_report_header() -> str:

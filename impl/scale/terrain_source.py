@@ -82,10 +82,9 @@ def _as_float(raw: NDArray[Any], name: str, r0: int, c0: int, nodata: NDArray[np
         raise ValueError(f"{name}: the heights are not numbers (dtype {raw.dtype})")
     out: FloatArray = np.array(raw, dtype=np.float64, copy=True)
     if raw.dtype.kind in "iu" and raw.dtype.itemsize >= 8 and raw.size:
-        # Cast back and compared in the band's type (2^53 + 1 becomes 2^53, which is not beyond 2^53); a double at
-        # or beyond 2^63 (2^64 unsigned) has no integer there to cast to and is inexact: int64 max rounds up to 2^63.
-        with np.errstate(invalid="ignore"):
-            inexact = (out >= 2.0 ** (8 * raw.dtype.itemsize - (raw.dtype.kind == "i"))) | (out.astype(raw.dtype) != raw)
+        from persistri.impl.terrain.exact_heights import rounded_integers
+
+        inexact = rounded_integers(raw, out)  # 2^53 + 1 becomes 2^53, which is not beyond 2^53: cast back
         if nodata is not None:
             inexact &= ~nodata
         if bool(inexact.any()):

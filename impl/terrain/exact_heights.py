@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from persistri.impl.geometry.points import rounded_by_numpy
 
-__all__ = ["exact_objects", "refuse_rounded", "ragged_row", "float_heights"]
+__all__ = ["exact_objects", "refuse_rounded", "ragged_row", "float_heights", "rounded_integers"]
 
 
 def exact_objects(raw: NDArray[Any], what: str) -> NDArray[np.float64]:
@@ -77,6 +77,15 @@ def ragged_row(heights: object) -> str:
     return ""
 
 
+def rounded_integers(a: NDArray[Any], out: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """The cells of the 64-bit integer array ``a`` that its float64 copy ``out`` rounded.  Each is cast back and
+    compared in ``a``'s type; a double at or beyond 2^63 (2^64 unsigned) has no integer there to cast to (numpy
+    would warn "invalid value") and is inexact: int64 max rounds up to 2^63.  O(size), vectorised."""
+    with np.errstate(invalid="ignore"):
+        inexact: NDArray[np.bool_] = (out >= 2.0 ** (8 * a.itemsize - (a.dtype.kind == "i"))) | (out.astype(a.dtype) != a)
+    return inexact
+
+
 def float_heights(a: NDArray[Any], source: str, nodata: NDArray[np.bool_] | None = None) -> NDArray[np.float64]:
     """The heights of the band ``a`` as float64, read from ``source``; a :class:`ValueError` naming the first cell
     (not among the ``nodata`` cells, which the caller makes NaN) holding an integer a double would round
@@ -86,10 +95,7 @@ def float_heights(a: NDArray[Any], source: str, nodata: NDArray[np.bool_] | None
         raise ValueError(f"{source}: the heights are not numbers (dtype {a.dtype})")
     out: NDArray[np.float64] = np.asarray(a, dtype=np.float64)
     if a.dtype.kind in "iu" and a.itemsize >= 8:
-        # Cast back and compare in the band's type; a double at or beyond 2^63 (2^64 unsigned) has no integer there
-        # to cast to (numpy would warn "invalid value") and is inexact: int64 max rounds up to 2^63.
-        with np.errstate(invalid="ignore"):
-            inexact = (out >= 2.0 ** (8 * a.itemsize - (a.dtype.kind == "i"))) | (out.astype(a.dtype) != a)
+        inexact = rounded_integers(a, out)
         if nodata is not None:
             inexact &= ~nodata
         if inexact.any():
